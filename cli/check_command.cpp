@@ -1,0 +1,122 @@
+// mbd check SCENE: load and assemble a scene, and report its mobility.
+#include "commands.hpp"
+
+#include <mbd/kinematics.hpp>
+#include <mbd/mobility.hpp>
+#include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+
+namespace mbd::cli {
+
+namespace {
+
+std::string body_list(const Model& model, const std::vector<int>& bodies) {
+    std::string out;
+    for (size_t k = 0; k < bodies.size(); ++k) {
+        if (k) out += ", ";
+        out += model.body_name(bodies[k]);
+    }
+    return out;
+}
+
+std::string plural(int n, const char* word) {
+    return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
+std::string number(double x) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.6g", x);
+    return buffer;
+}
+
+}  // namespace
+
+void add_check_command(CLI::App& app, Commands& commands) {
+    CLI::App* sub = app.add_subcommand(
+        "check", "Load and assemble a scene; print its bodies, joints, forces, drivers, degrees of freedom "
+                 "(Gruebler count and rank of C_q) and redundant constraints");
+    auto scene = std::make_shared<std::string>();
+    auto tolerance = std::make_shared<double>(1e-9);
+    sub->add_option("SCENE", *scene, "Scene file (YAML)")->required();
+    sub->add_option("--rank-tolerance", *tolerance, "Relative tolerance of the rank of C_q")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+
+    commands[sub] = [scene, tolerance] {
+        Registry registry;
+        const Model model = load_scene(*scene, registry);
+        std::cout << "scene: " << *scene << " (" << to_string(model.dimension) << ")\n";
+
+        size_t width = 4;
+        for (const auto& b : model.bodies) width = std::max(width, b.name.size());
+        for (const auto& j : model.joints) width = std::max(width, j.name.size());
+        for (const auto& f : model.forces) width = std::max(width, f.name.size());
+        for (const auto& d : model.drivers) width = std::max(width, d.name.size());
+        const int w = static_cast<int>(width) + 2;
+
+        std::cout << "\nbodies (" << model.bodies.size() << "):\n";
+        for (const auto& b : model.bodies) std::cout << "  " << std::left << std::setw(w) << b.name << "mass " << number(b.mass) << '\n';
+        std::cout << "joints (" << model.joints.size() << "):\n";
+        for (const auto& j : model.joints)
+            std::cout << "  " << std::left << std::setw(w) << j.name << std::setw(14) << j.type << body_list(model, j.bodies)
+                      << "  (" << plural(j.joint->rows(), "equation") << ")\n";
+        std::cout << "forces (" << model.forces.size() << "):\n";
+        for (const auto& f : model.forces)
+            std::cout << "  " << std::left << std::setw(w) << f.name << std::setw(14) << f.type << body_list(model, f.bodies) << '\n';
+        std::cout << "drivers (" << model.drivers.size() << "):\n";
+        for (const auto& d : model.drivers)
+            std::cout << "  " << std::left << std::setw(w) << d.name << "drives joint '" << model.joints[d.joint].name
+                      << "' (" << model.joints[d.joint].type << ")\n";
+
+        // assemble with the drivers at t = 0
+        const ConstraintSystem system(model, true);
+        State state = model.initial_state();
+        state.t = 0.0;
+        const AssemblyReport assembly = assemble_positions(system, state);
+        std::cout << "\nassembled at t = 0 in " << plural(assembly.iterations, "Newton iteration") << " (max |C| = "
+                  << number(assembly.residual) << ")\n";
+
+        const MobilityReport mobility = analyse_mobility(model, state, *tolerance);
+        std::cout << "coordinates: " << mobility.coordinates << " velocities, " << mobility.constraint_rows
+                  << " joint equations, " << mobility.driver_rows << " driver equations\n";
+        std::cout << "degrees of freedom (Gruebler count): " << mobility.gruebler_dof << '\n';
+        std::cout << "degrees of freedom (rank of C_q): " << mobility.rank_dof << "  (rank " << mobility.rank << ")\n";
+        if (!mobility.redundant.empty()) {
+            std::cout << "redundant constraint rows (" << mobility.redundant.size() << "):\n";
+            for (const RowOwner& o : mobility.redundant) std::cout << "  " << o.describe() << '\n';
+        }
+
+        if (!model.drivers.empty()) {
+            ConstraintValues values;
+            system.evaluate(state, values);
+            Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr{Eigen::MatrixXd(values.J)};
+            qr.setThreshold(*tolerance);
+            const int full_rank = static_cast<int>(qr.rank());
+            const int drivers = static_cast<int>(model.drivers.size());
+            const int free_dof = model.nv() - full_rank;
+            if (full_rank < mobility.rank + drivers)
+                std::cout << "warning: the drivers are not independent of each other and the joints ("
+                          << plural(mobility.rank + drivers - full_rank, "redundant driver equation") << ")\n";
+            if (free_dof == 0)
+                std::cout << "kinematically driven: yes (" << plural(drivers, "driver") << (drivers == 1 ? " fixes" : " fix")
+                          << " the remaining "
+                          << plural(mobility.rank_dof, "degree") << " of freedom)\n";
+            else
+                std::cout << "kinematically driven: no (" << plural(free_dof, "degree")
+                          << " of freedom left free; kinematics carries " << (free_dof == 1 ? "it" : "them")
+                          << " along with minimum-norm steps)\n";
+        } else {
+            std::cout << "kinematically driven: no (no drivers)\n";
+        }
+        return 0;
+    };
+}
+
+}  // namespace mbd::cli

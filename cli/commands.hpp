@@ -1,0 +1,22 @@
+// The subcommands of the `mbd` command, one file each.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <map>
+#include <string>
+
+namespace mbd::cli {
+
+// A subcommand registers its options on `app` and returns the action to run
+// when it is selected. Actions return the process exit code and let exceptions
+// propagate to main(), which prints them.
+using Action = std::function<int()>;
+using Commands = std::map<const CLI::App*, Action>;
+
+void add_plugins_command(CLI::App& app, Commands& commands);
+void add_check_command(CLI::App& app, Commands& commands);
+void add_kinematics_command(CLI::App& app, Commands& commands);
+
+}  // namespace mbd::cli

@@ -1,0 +1,131 @@
+// mbd kinematics SCENE --t-end T --step H [--output out.csv]: kinematically driven
+// motion (book Secs. 3.7-3.8), written in the CSV contract of mbd/csv.hpp or
+// printed as a short table.
+#include "commands.hpp"
+
+#include <mbd/csv.hpp>
+#include <mbd/kinematics.hpp>
+#include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+namespace mbd::cli {
+
+namespace {
+
+struct KinematicsArguments {
+    std::string scene;
+    double t_end = 0.0;
+    double step = 0.0;
+    std::string output;
+    double tolerance = 1e-10;
+    int max_iterations = 50;
+    std::string algebra = "auto";
+    int rows = 11;
+};
+
+void print_table(const std::vector<std::string>& columns, const std::vector<std::vector<double>>& rows) {
+    // one block of at most 8 columns (after t) per paragraph, so wide models stay readable
+    const size_t per_block = 8;
+    for (size_t first = 1; first < columns.size(); first += per_block) {
+        const size_t last = std::min(columns.size(), first + per_block);
+        if (first > 1) std::cout << '\n';
+        std::printf("%12s", "t");
+        for (size_t c = first; c < last; ++c) std::printf(" %15s", columns[c].c_str());
+        std::printf("\n");
+        for (const auto& row : rows) {
+            std::printf("%12.6g", row[0]);
+            for (size_t c = first; c < last; ++c) std::printf(" %15.8g", row[c]);
+            std::printf("\n");
+        }
+        std::fflush(stdout);
+    }
+}
+
+}  // namespace
+
+void add_kinematics_command(CLI::App& app, Commands& commands) {
+    CLI::App* sub = app.add_subcommand(
+        "kinematics", "Kinematically driven motion: assembly, velocities and accelerations at t = 0, h, 2h, ..., t_end");
+    auto args = std::make_shared<KinematicsArguments>();
+    sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
+    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(CLI::NonNegativeNumber);
+    sub->add_option("--step", args->step, "Output step h [s]")->required()->check(CLI::PositiveNumber);
+    sub->add_option("-o,--output", args->output,
+                    "CSV file (columns: t, positions, velocities per body); without it a short table is printed");
+    sub->add_option("--tolerance", args->tolerance, "Newton-Raphson tolerance on max |C|")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--max-iterations", args->max_iterations, "Newton-Raphson iterations per output time")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--linear-algebra", args->algebra, "Minimum-norm solver: auto, dense or sparse")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "dense", "sparse"}));
+    sub->add_option("--rows", args->rows, "Rows of the printed table (without --output)")
+        ->capture_default_str()
+        ->check(CLI::Range(2, 100000));
+
+    commands[sub] = [args] {
+        KinematicsOptions options;
+        options.newton.tolerance = args->tolerance;
+        options.newton.max_iterations = args->max_iterations;
+        options.newton.algebra = parse_linear_algebra(args->algebra);
+
+        Registry registry;
+        const Model model = load_scene(args->scene, registry);
+        const std::vector<std::string> columns = motion_columns(model);
+
+        if (!args->output.empty()) {
+            CsvWriter writer(args->output, columns);  // removes its partial file if the run fails
+            long samples = 0;
+            run_kinematics(
+                model, args->t_end, args->step,
+                [&](const State& state, const Eigen::VectorXd&) {
+                    writer.row(motion_values(model, state));
+                    ++samples;
+                    return true;
+                },
+                options);
+            writer.close();
+            std::cout << "wrote " << samples << " samples (t = 0 to " << args->t_end << ") to " << args->output << '\n';
+            return 0;
+        }
+
+        // a few evenly spaced samples, always the first and the last
+        const double ratio = args->t_end / args->step;
+        const long intervals = std::max(0L, static_cast<long>(std::ceil(ratio - 1e-9 * std::max(1.0, ratio))));
+        const long stride = std::max(1L, (intervals + args->rows - 2) / (args->rows - 1));
+        std::vector<std::vector<double>> rows;
+        std::vector<double> last;
+        long index = 0;
+        run_kinematics(
+            model, args->t_end, args->step,
+            [&](const State& state, const Eigen::VectorXd&) {
+                std::vector<double> values = motion_values(model, state);
+                for (double x : values)
+                    if (!std::isfinite(x)) throw std::runtime_error("non-finite value in the motion at t = " + std::to_string(state.t));
+                if (index % stride == 0)
+                    rows.push_back(values);
+                else
+                    last = values;
+                ++index;
+                return true;
+            },
+            options);
+        if (!last.empty() && (rows.empty() || rows.back()[0] < last[0])) {
+            if (rows.size() >= static_cast<size_t>(args->rows)) rows.pop_back();
+            rows.push_back(last);
+        }
+        std::cout << "kinematics of " << args->scene << ": " << index << " samples, " << rows.size() << " shown\n\n";
+        print_table(columns, rows);
+        return 0;
+    };
+}
+
+}  // namespace mbd::cli

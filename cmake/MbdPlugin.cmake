@@ -1,0 +1,30 @@
+# mbd_add_plugin(<kind> <type> SOURCES <files...> [LINK <targets...>])
+# Builds the shared-library plugin libmbd_<kind>_<type>.so from its sources,
+# against the SDK headers only. Used in the mbd tree and, through
+# find_package(mbd), by outside plugin authors (mbd_add_joint_plugin).
+function(mbd_add_plugin kind type)
+  cmake_parse_arguments(ARG "" "OUTPUT_DIRECTORY" "SOURCES;LINK" ${ARGN})
+  set(target mbd_${kind}_${type})
+  add_library(${target} MODULE ${ARG_SOURCES})
+  if(TARGET mbd_sdk)
+    target_link_libraries(${target} PRIVATE mbd_sdk ${ARG_LINK})
+  else()
+    target_link_libraries(${target} PRIVATE mbd::sdk ${ARG_LINK})
+  endif()
+  set_target_properties(${target} PROPERTIES PREFIX "lib" CXX_VISIBILITY_PRESET hidden)
+  if(ARG_OUTPUT_DIRECTORY)
+    set_target_properties(${target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})
+  elseif(DEFINED MBD_PLUGIN_BUILD_DIR)
+    set_target_properties(${target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${MBD_PLUGIN_BUILD_DIR})
+    install(TARGETS ${target} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/${MBD_PLUGIN_SUBDIR})
+    set_property(GLOBAL APPEND PROPERTY MBD_PLUGIN_TARGETS ${target})
+  endif()
+endfunction()
+
+function(mbd_add_joint_plugin type)
+  mbd_add_plugin(joint ${type} ${ARGN})
+endfunction()
+
+function(mbd_add_force_plugin type)
+  mbd_add_plugin(force ${type} ${ARGN})
+endfunction()

@@ -1,0 +1,24 @@
+// Degrees of freedom by the Gruebler count and by the rank of C_q, and the
+// names of redundant constraint rows when the two differ.
+#pragma once
+
+#include <mbd/constraint_system.hpp>
+
+#include <string>
+#include <vector>
+
+namespace mbd {
+
+struct MobilityReport {
+    int coordinates = 0;          // velocity coordinates (3 or 6 per body)
+    int constraint_rows = 0;      // joint rows (drivers excluded)
+    int driver_rows = 0;
+    int gruebler_dof = 0;         // coordinates - constraint_rows
+    int rank = 0;                 // rank of the joint Jacobian
+    int rank_dof = 0;             // coordinates - rank
+    std::vector<RowOwner> redundant;  // rows dependent on earlier rows
+};
+
+MobilityReport analyse_mobility(const Model& model, const State& state, double rank_tolerance = 1e-9);
+
+}  // namespace mbd

@@ -1,0 +1,97 @@
+// The Model: an immutable description of a multibody system, built once from a
+// scene and never changed by a run (the Model/State split of Pinocchio and
+// MuJoCo). A run owns a State (t, q, v).
+#pragma once
+
+#include <mbd/sdk/force.hpp>
+#include <mbd/sdk/joint.hpp>
+#include <mbd/sdk/state.hpp>
+#include <mbd/sdk/time_function.hpp>
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mbd {
+
+constexpr int kGround = -1;  // body index of the ground in element body lists
+
+struct Body {
+    std::string name;
+    double mass = 0.0;
+    Mat3 inertia = Mat3::Zero();   // about the mass centre, body axes (planar: (2,2) = J)
+    // initial state (t = 0)
+    Vec3 position = Vec3::Zero();  // mass centre, world (planar: z = 0)
+    double angle = 0.0;            // planar
+    Vec4 euler_parameters = Vec4(1, 0, 0, 0);  // spatial
+    Vec3 velocity = Vec3::Zero();
+    Vec3 angular_velocity = Vec3::Zero();      // world axes (planar: z component = thetadot)
+    std::string where;             // file:line of its definition
+};
+
+struct JointInstance {
+    std::string name;
+    std::string type;
+    std::vector<int> bodies;       // body indices, kGround for the ground
+    std::vector<Marker> markers;   // joint frame on each body
+    std::shared_ptr<const Joint> joint;
+    std::string where;
+};
+
+struct ForceInstance {
+    std::string name;
+    std::string type;
+    std::vector<int> bodies;
+    std::vector<Marker> markers;
+    std::shared_ptr<const Force> force;
+    std::string where;
+};
+
+// A driver prescribes the coordinate of a 1-DOF joint: s(q) - f(t) = 0.
+struct Driver {
+    std::string name;
+    int joint = -1;                // index into Model::joints
+    std::shared_ptr<const TimeFunction> motion;
+    std::string where;
+};
+
+class Model {
+public:
+    std::string name;
+    std::string source;            // scene file path (or label)
+    Dimension dimension = Dimension::Planar;
+    Vec3 gravity = Vec3::Zero();
+    std::vector<Body> bodies;      // the ground is implicit (index kGround)
+    std::vector<JointInstance> joints;
+    std::vector<ForceInstance> forces;
+    std::vector<Driver> drivers;
+
+    int body_count() const { return static_cast<int>(bodies.size()); }
+    int nq() const { return body_count() * coordinates_per_body(dimension); }
+    int nv() const { return body_count() * velocities_per_body(dimension); }
+    int q_offset(int body) const { return body * coordinates_per_body(dimension); }
+    int v_offset(int body) const { return body * velocities_per_body(dimension); }
+
+    // Index of a body by name: kGround for "ground", -2 when unknown.
+    int body_index(const std::string& body_name) const;
+    std::string body_name(int index) const;
+
+    // The state given in the scene at t = 0 (not necessarily assembled).
+    State initial_state() const;
+};
+
+// q <- q (+) dv: add a velocity-like increment to positions. Planar: plain sum.
+// Spatial: R += dR and Euler parameters rotated by the body-frame rotation
+// vector (exponential map), which keeps them normalised.
+void advance_positions(const Model& model, Eigen::VectorXd& q, const Eigen::VectorXd& dv);
+
+// Time derivative of the coordinates: planar qdot = v; spatial Rdot = v_R and
+// pdot = 1/2 Gbar^T wbar (book Eq. 8.48 in Euler parameters).
+Eigen::VectorXd coordinate_rates(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+
+// Rescale every body's Euler parameters to unit length (spatial); no-op planar.
+void normalize_euler_parameters(const Model& model, Eigen::VectorXd& q);
+
+}  // namespace mbd

@@ -1,0 +1,65 @@
+// The plugin registry (Boost.DLL). It scans the plugin folders, reads the type
+// names, kinds and ABI versions each library exports (from the ELF symbol
+// table, without loading the library), and loads a library only when a scene
+// asks for one of its types.
+#pragma once
+
+#include <mbd/sdk/plugin.hpp>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mbd {
+
+struct PluginType {
+    std::string kind;       // "joint", "force", "formulation", ...
+    std::string type;       // e.g. "revolute"
+    int abi = 0;
+    std::filesystem::path library;
+};
+
+class Registry {
+public:
+    // The folder installed beside libmbd_core (lib/mbd/plugins), then every
+    // folder in MBD_PLUGIN_PATH (colon-separated). Earlier folders win.
+    static std::vector<std::filesystem::path> default_search_path();
+
+    explicit Registry(std::vector<std::filesystem::path> search_path = default_search_path());
+    ~Registry();
+    Registry(const Registry&) = delete;
+    Registry& operator=(const Registry&) = delete;
+
+    const std::vector<std::filesystem::path>& search_path() const { return search_path_; }
+    // Every type found, of every ABI (types with the wrong ABI are listed but refused).
+    const std::vector<PluginType>& types() const { return types_; }
+    // Names of usable types of one kind, sorted.
+    std::vector<std::string> type_names(const std::string& kind) const;
+    bool has(const std::string& kind, const std::string& type) const;
+
+    // Create an element; throws InputError naming the element and listing the
+    // known types when the type is unknown, or explaining an ABI mismatch.
+    std::shared_ptr<const Joint> create_joint(const JointSpec& spec, const std::string& where);
+    std::shared_ptr<const Force> create_force(const ForceSpec& spec, const std::string& where);
+
+    // Libraries opened so far (absolute paths), in the order they were opened.
+    std::vector<std::string> loaded_libraries() const;
+    // Files in the search path that look like plugins but were skipped, with the reason.
+    const std::vector<std::string>& problems() const { return problems_; }
+
+private:
+    struct Library;
+    const PluginType& find(const std::string& kind, const std::string& type, const std::string& owner,
+                           const std::string& where) const;
+    std::shared_ptr<Library> open(const std::filesystem::path& library);
+
+    std::vector<std::filesystem::path> search_path_;
+    std::vector<PluginType> types_;
+    std::vector<std::string> problems_;
+    std::map<std::string, std::shared_ptr<Library>> opened_;
+    std::vector<std::string> open_order_;
+};
+
+}  // namespace mbd

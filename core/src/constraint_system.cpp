@@ -1,0 +1,100 @@
+#include <mbd/constraint_system.hpp>
+
+#include <cmath>
+
+namespace mbd {
+
+std::string RowOwner::describe() const {
+    if (kind == Kind::Driver) return "driver '" + element_name + "'";
+    return "joint '" + element_name + "' (" + row_name + ")";
+}
+
+ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers)
+    : model_(&model), include_drivers_(include_drivers), poses_(model) {
+    const int nvb = velocities_per_body(model.dimension);
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+        const JointInstance& ji = model.joints[j];
+        const int r = ji.joint->rows();
+        joint_offset_.push_back(rows_);
+        for (int k = 0; k < r; ++k)
+            owners_.push_back({RowOwner::Kind::Joint, static_cast<int>(j), k, ji.name, ji.joint->row_name(k)});
+        rows_ += r;
+        ConstraintEval eval;
+        eval.resize(r, nvb * static_cast<int>(ji.bodies.size()));
+        joint_eval_.push_back(std::move(eval));
+    }
+    joint_rows_ = rows_;
+    if (include_drivers_) {
+        for (size_t d = 0; d < model.drivers.size(); ++d) {
+            const Driver& dr = model.drivers[d];
+            owners_.push_back({RowOwner::Kind::Driver, static_cast<int>(d), 0, dr.name, "coordinate"});
+            ++rows_;
+            CoordinateEval eval;
+            eval.J.setZero(nvb * static_cast<int>(model.joints[dr.joint].bodies.size()));
+            driver_eval_.push_back(std::move(eval));
+        }
+    }
+}
+
+void ConstraintSystem::evaluate(const State& state, ConstraintValues& out) const {
+    const Model& m = *model_;
+    const int nvb = velocities_per_body(m.dimension);
+    poses_.update(state);
+    out.C.resize(rows_);
+    out.C_t.resize(rows_);
+    out.gamma.resize(rows_);
+    triplets_.clear();
+
+    // scatter one row's body blocks into the sparse Jacobian, skipping the ground
+    auto scatter = [&](int row, const std::vector<int>& bodies, const auto& row_values) {
+        for (size_t b = 0; b < bodies.size(); ++b) {
+            if (bodies[b] == kGround) continue;
+            const int col0 = m.v_offset(bodies[b]);
+            for (int c = 0; c < nvb; ++c) {
+                const double value = row_values(nvb * static_cast<int>(b) + c);
+                if (value != 0.0) triplets_.emplace_back(row, col0 + c, value);
+            }
+        }
+    };
+
+    for (size_t j = 0; j < m.joints.size(); ++j) {
+        const JointInstance& ji = m.joints[j];
+        ConstraintEval& e = joint_eval_[j];
+        e.C.setZero();
+        e.J.setZero();
+        e.C_t.setZero();
+        e.gamma.setZero();
+        poses_.fill(ji.bodies, state.t, view_);
+        ji.joint->evaluate(view_, e);
+        const int r0 = joint_offset_[j];
+        out.C.segment(r0, e.C.size()) = e.C;
+        out.C_t.segment(r0, e.C.size()) = e.C_t;
+        out.gamma.segment(r0, e.C.size()) = e.gamma;
+        for (int r = 0; r < e.C.size(); ++r) scatter(r0 + r, ji.bodies, e.J.row(r));
+    }
+
+    if (include_drivers_) {
+        for (size_t d = 0; d < m.drivers.size(); ++d) {
+            const Driver& dr = m.drivers[d];
+            const JointInstance& ji = m.joints[dr.joint];
+            CoordinateEval& e = driver_eval_[d];
+            e.J.setZero();
+            e.gamma = 0.0;
+            poses_.fill(ji.bodies, state.t, view_);
+            ji.joint->coordinate(view_, e);
+            const TimeValue f = dr.motion->evaluate(state.t);
+            // book Sec. 3.6 driving constraints: C = s(q) - f(t), C_t = -fdot, gamma = gamma_s + fddot
+            const int row = joint_rows_ + static_cast<int>(d);
+            const double residual = e.value - f.f;
+            out.C[row] = e.periodic ? wrap_angle(residual) : residual;
+            out.C_t[row] = -f.df;
+            out.gamma[row] = e.gamma + f.ddf;
+            scatter(row, ji.bodies, e.J);
+        }
+    }
+
+    out.J.resize(rows_, m.nv());
+    out.J.setFromTriplets(triplets_.begin(), triplets_.end());
+}
+
+}  // namespace mbd

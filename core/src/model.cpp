@@ -1,0 +1,66 @@
+#include <mbd/model.hpp>
+
+namespace mbd {
+
+int Model::body_index(const std::string& body_name) const {
+    if (body_name == "ground") return kGround;
+    for (int k = 0; k < body_count(); ++k)
+        if (bodies[k].name == body_name) return k;
+    return -2;
+}
+
+std::string Model::body_name(int index) const {
+    return index == kGround ? std::string("ground") : bodies.at(index).name;
+}
+
+State Model::initial_state() const {
+    State s;
+    s.t = 0.0;
+    s.q.setZero(nq());
+    s.v.setZero(nv());
+    for (int k = 0; k < body_count(); ++k) {
+        const Body& b = bodies[k];
+        if (dimension == Dimension::Planar) {
+            s.q.segment<3>(q_offset(k)) << b.position.x(), b.position.y(), b.angle;
+            s.v.segment<3>(v_offset(k)) << b.velocity.x(), b.velocity.y(), b.angular_velocity.z();
+        } else {
+            s.q.segment<3>(q_offset(k)) = b.position;
+            s.q.segment<4>(q_offset(k) + 3) = b.euler_parameters.normalized();
+            s.v.segment<3>(v_offset(k)) = b.velocity;
+            // the scene gives the angular velocity in world axes; v holds body axes
+            const Mat3 A = rotation_from_euler_parameters(b.euler_parameters.normalized());
+            s.v.segment<3>(v_offset(k) + 3) = A.transpose() * b.angular_velocity;
+        }
+    }
+    return s;
+}
+
+void advance_positions(const Model& model, Eigen::VectorXd& q, const Eigen::VectorXd& dv) {
+    if (model.dimension == Dimension::Planar) {
+        q += dv;
+        return;
+    }
+    for (int k = 0; k < model.body_count(); ++k) {
+        const int iq = model.q_offset(k), iv = model.v_offset(k);
+        q.segment<3>(iq) += dv.segment<3>(iv);
+        q.segment<4>(iq + 3) = rotate_euler_parameters_body(q.segment<4>(iq + 3), dv.segment<3>(iv + 3));
+    }
+}
+
+Eigen::VectorXd coordinate_rates(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+    if (model.dimension == Dimension::Planar) return v;
+    Eigen::VectorXd qdot(model.nq());
+    for (int k = 0; k < model.body_count(); ++k) {
+        const int iq = model.q_offset(k), iv = model.v_offset(k);
+        qdot.segment<3>(iq) = v.segment<3>(iv);
+        qdot.segment<4>(iq + 3) = 0.5 * euler_Gbar(q.segment<4>(iq + 3)).transpose() * v.segment<3>(iv + 3);
+    }
+    return qdot;
+}
+
+void normalize_euler_parameters(const Model& model, Eigen::VectorXd& q) {
+    if (model.dimension == Dimension::Planar) return;
+    for (int k = 0; k < model.body_count(); ++k) q.segment<4>(model.q_offset(k) + 3).normalize();
+}
+
+}  // namespace mbd

@@ -1,0 +1,192 @@
+#include <mbd/registry.hpp>
+
+#include <boost/dll/library_info.hpp>
+#include <boost/dll/runtime_symbol_info.hpp>
+#include <boost/dll/shared_library.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <regex>
+#include <set>
+#include <sstream>
+
+namespace mbd {
+
+namespace fs = std::filesystem;
+
+// An opened plugin library. Every object a plugin creates keeps a reference to
+// it, so the code of the object's virtual functions cannot be unloaded under it.
+struct Registry::Library {
+    boost::dll::shared_library handle;
+};
+
+namespace {
+
+const std::regex& symbol_pattern() {
+    static const std::regex pattern("^mbd_abi([0-9]+)__([a-z0-9_]+?)__([a-z0-9_]+)$");
+    return pattern;
+}
+
+bool looks_like_library(const fs::path& p) {
+    const std::string name = p.filename().string();
+    return p.extension() == ".so" || name.find(".so.") != std::string::npos;
+}
+
+std::string join(const std::vector<std::string>& items, const std::string& separator) {
+    std::string out;
+    for (size_t k = 0; k < items.size(); ++k) out += (k ? separator : "") + items[k];
+    return out;
+}
+
+}  // namespace
+
+std::vector<fs::path> Registry::default_search_path() {
+    std::vector<fs::path> path;
+    // lib/mbd/plugins beside the folder holding libmbd_core (build and install trees alike)
+    const fs::path core = boost::dll::this_line_location();
+    path.push_back(core.parent_path() / MBD_PLUGIN_SUBDIR);
+    if (const char* extra = std::getenv("MBD_PLUGIN_PATH")) {
+        std::stringstream in(extra);
+        std::string item;
+        while (std::getline(in, item, ':'))
+            if (!item.empty()) path.emplace_back(item);
+    }
+    return path;
+}
+
+Registry::Registry(std::vector<fs::path> search_path) : search_path_(std::move(search_path)) {
+    std::set<std::string> seen;  // kind/type already provided by an earlier folder
+    for (const fs::path& dir : search_path_) {
+        std::error_code ec;
+        if (!fs::is_directory(dir, ec)) continue;
+        std::vector<fs::path> files;
+        for (const auto& entry : fs::directory_iterator(dir, ec))
+            if (entry.is_regular_file() && looks_like_library(entry.path())) files.push_back(entry.path());
+        std::sort(files.begin(), files.end());
+        for (const fs::path& file : files) {
+            std::vector<std::string> symbols;
+            try {
+                boost::dll::library_info info(file);
+                symbols = info.symbols("mbdplug");
+            } catch (const std::exception& e) {
+                problems_.push_back(file.string() + ": not a readable shared library (" + e.what() + ")");
+                continue;
+            }
+            for (const std::string& symbol : symbols) {
+                std::smatch m;
+                if (!std::regex_match(symbol, m, symbol_pattern())) continue;
+                PluginType t{m[2], m[3], std::stoi(m[1]), fs::absolute(file)};
+                const std::string key = t.kind + "/" + t.type;
+                if (t.abi != MBD_ABI_VERSION) {
+                    problems_.push_back(file.string() + ": " + t.kind + " type '" + t.type + "' was built for plugin ABI " +
+                                        std::to_string(t.abi) + ", this mbd uses ABI " +
+                                        std::to_string(MBD_ABI_VERSION) + "; rebuild it against this SDK");
+                } else if (seen.count(key)) {
+                    continue;  // shadowed by an earlier folder
+                } else {
+                    seen.insert(key);
+                }
+                types_.push_back(t);
+            }
+        }
+    }
+}
+
+Registry::~Registry() = default;
+
+std::vector<std::string> Registry::type_names(const std::string& kind) const {
+    std::vector<std::string> names;
+    for (const PluginType& t : types_)
+        if (t.kind == kind && t.abi == MBD_ABI_VERSION) names.push_back(t.type);
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+    return names;
+}
+
+bool Registry::has(const std::string& kind, const std::string& type) const {
+    for (const PluginType& t : types_)
+        if (t.kind == kind && t.type == type && t.abi == MBD_ABI_VERSION) return true;
+    return false;
+}
+
+const PluginType& Registry::find(const std::string& kind, const std::string& type, const std::string& owner,
+                                 const std::string& where) const {
+    const PluginType* wrong_abi = nullptr;
+    for (const PluginType& t : types_) {
+        if (t.kind != kind || t.type != type) continue;
+        if (t.abi == MBD_ABI_VERSION) return t;
+        wrong_abi = &t;
+    }
+    if (wrong_abi)
+        throw InputError(where, owner + ": " + kind + " type '" + type + "' is provided by " +
+                                    wrong_abi->library.string() + ", built for plugin ABI " +
+                                    std::to_string(wrong_abi->abi) + " but this mbd uses ABI " +
+                                    std::to_string(MBD_ABI_VERSION) + "; rebuild the plugin against this SDK");
+    std::vector<std::string> known = type_names(kind);
+    std::string folders;
+    for (const fs::path& p : search_path_) folders += (folders.empty() ? "" : ", ") + p.string();
+    throw InputError(where, owner + ": unknown " + kind + " type '" + type + "'; known " + kind +
+                                " types: " + (known.empty() ? std::string("(none)") : join(known, ", ")) +
+                                " (plugin folders searched: " + folders +
+                                "; add a folder with MBD_PLUGIN_PATH)");
+}
+
+std::shared_ptr<Registry::Library> Registry::open(const fs::path& library) {
+    const std::string key = library.string();
+    auto it = opened_.find(key);
+    if (it != opened_.end()) return it->second;
+    auto lib = std::make_shared<Library>();
+    lib->handle.load(library, boost::dll::load_mode::rtld_lazy | boost::dll::load_mode::rtld_local);
+    opened_[key] = lib;
+    open_order_.push_back(key);
+    return lib;
+}
+
+namespace {
+
+template <class Product, class Factory, class Spec>
+std::shared_ptr<const Product> create_with(const std::shared_ptr<void>& keep_alive, Factory& factory, const Spec& spec) {
+    std::unique_ptr<Product> made = factory(spec);
+    if (!made) return nullptr;
+    Product* raw = made.release();
+    // the deleter runs the plugin's destructor, then lets go of the library
+    return std::shared_ptr<const Product>(raw, [keep_alive](const Product* p) { delete p; });
+}
+
+}  // namespace
+
+std::shared_ptr<const Joint> Registry::create_joint(const JointSpec& spec, const std::string& where) {
+    const std::string owner = "joint '" + spec.name + "'";
+    const PluginType& t = find("joint", spec.type, owner, where);
+    std::shared_ptr<Library> lib;
+    try {
+        lib = open(t.library);
+    } catch (const std::exception& e) {
+        throw InputError(where, owner + ": cannot load plugin " + t.library.string() + ": " + e.what());
+    }
+    const std::string symbol = "mbd_abi" + std::to_string(MBD_ABI_VERSION) + "__joint__" + spec.type;
+    auto& factory = lib->handle.get_alias<JointFactory>(symbol);
+    auto made = create_with<Joint>(std::static_pointer_cast<void>(lib), factory, spec);
+    if (!made) throw InputError(where, owner + ": plugin " + t.library.string() + " returned no joint");
+    return made;
+}
+
+std::shared_ptr<const Force> Registry::create_force(const ForceSpec& spec, const std::string& where) {
+    const std::string owner = "force '" + spec.name + "'";
+    const PluginType& t = find("force", spec.type, owner, where);
+    std::shared_ptr<Library> lib;
+    try {
+        lib = open(t.library);
+    } catch (const std::exception& e) {
+        throw InputError(where, owner + ": cannot load plugin " + t.library.string() + ": " + e.what());
+    }
+    const std::string symbol = "mbd_abi" + std::to_string(MBD_ABI_VERSION) + "__force__" + spec.type;
+    auto& factory = lib->handle.get_alias<ForceFactory>(symbol);
+    auto made = create_with<Force>(std::static_pointer_cast<void>(lib), factory, spec);
+    if (!made) throw InputError(where, owner + ": plugin " + t.library.string() + " returned no force");
+    return made;
+}
+
+std::vector<std::string> Registry::loaded_libraries() const { return open_order_; }
+
+}  // namespace mbd

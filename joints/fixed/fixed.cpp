@@ -1,0 +1,15 @@
+// The fixed joint plugin: planar (planar.hpp) and spatial (spatial.hpp) variants in one library.
+#include "planar.hpp"
+#include "spatial.hpp"
+
+#include <mbd/sdk/plugin.hpp>
+
+namespace {
+
+std::unique_ptr<mbd::Joint> make_fixed(const mbd::JointSpec& spec) {
+    return spec.dimension == mbd::Dimension::Planar ? make_planar_fixed(spec) : make_spatial_fixed(spec);
+}
+
+}  // namespace
+
+MBD_JOINT_PLUGIN(fixed, make_fixed)

@@ -1,0 +1,25 @@
+// Planar joint: body j moves in the x-y plane of the joint frame on body i.
+// z_i is perpendicular to x_j and y_j (DOT1(z_i, x_j), DOT1(z_i, y_j)), so the frames
+// stay parallel about z, and the origin of frame j stays in the plane (DOT2(z_i, d)).
+// Built from the book's primitives (Remarks, L11362). 3 rows, 3 DOF. Spatial only.
+#include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/spatial_primitives.hpp>
+
+#include <memory>
+
+std::unique_ptr<mbd::Joint> make_planar(const mbd::JointSpec& spec) {
+    using namespace mbd::spatial;
+    require_spatial_pair(spec,
+                         "in a planar scene every body already moves in the plane: remove the "
+                         "joint (leave the body free) or use a 'prismatic' or 'revolute' joint");
+    auto joint = std::make_unique<PrimitiveJoint>(spec);
+    joint->add_dot1(Z, X, "z-normal-1");
+    joint->add_dot1(Z, Y, "z-normal-2");
+    joint->add_dot2(Z, "in-plane");
+    joint->set_relative_motion(mbd::RelativeMotion{{prismatic_along(mbd::Vec3::UnitX()),
+                                                    prismatic_along(mbd::Vec3::UnitY()),
+                                                    revolute_about(mbd::Vec3::UnitZ())}});
+    return joint;
+}
+
+MBD_JOINT_PLUGIN(planar, make_planar)

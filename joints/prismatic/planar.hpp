@@ -1,0 +1,56 @@
+// Planar prismatic (translational) joint: two rows (book Eqs. 3.90-3.94, Ex. 3.14),
+//   "angle":         (theta^j + phi_j) - (theta^i + phi_i) - c = 0, c its initial value,
+//   "perpendicular": h^{iT} r_P^{ij} = 0, h^i = A^i h_bar^i, h_bar^i = marker i's y axis,
+// with the corrected Q_d2 (digest Sec. 3.3; the book's L4429 has a spurious term).
+// The sliding axis is marker i's x axis. Coordinate: s = axis_i . (R^j - r_P^i).
+#pragma once
+
+#include <mbd/sdk/joint.hpp>
+#include <mbd/sdk/planar_primitives.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace mbd {
+namespace planar {
+
+class PrismaticJoint final : public Joint {
+public:
+    // c: initial relative angle of the frames (zero when the markers coincide at t = 0).
+    PrismaticJoint(const Marker& mi, const Marker& mj, double c) : mi_(mi), mj_(mj), c_(c) {}
+
+    int rows() const override { return 2; }
+
+    void evaluate(const BodyStates& b, ConstraintEval& out) const override {
+        clear(out);
+        relative_angle(b, 0, mi_.angle, 1, mj_.angle, c_, out, 0);  // first row of Eq. 3.94
+        perpendicular_distance(b, 0, mi_, 1, mj_, out, 1);           // Eq. 3.94, corrected Q_d2
+    }
+
+    std::string row_name(int row) const override { return row == 0 ? "angle" : "perpendicular"; }
+
+    bool has_coordinate() const override { return true; }
+    void coordinate(const BodyStates& b, CoordinateEval& s) const override {
+        axial_travel_coordinate(b, 0, mi_, 1, s);
+    }
+
+    std::optional<RelativeMotion> relative_motion() const override {
+        RelativeMotion m;
+        m.freedoms.push_back({RelativeMotion::Kind::Prismatic, Vec3::UnitX(), 0.0});
+        return m;
+    }
+
+private:
+    Marker mi_, mj_;
+    double c_;
+};
+
+}  // namespace planar
+}  // namespace mbd
+
+inline std::unique_ptr<mbd::Joint> make_planar_prismatic(const mbd::JointSpec& spec) {
+    mbd::planar::check_spec(spec, 2, 2, true);
+    return std::make_unique<mbd::planar::PrismaticJoint>(spec.markers[0], spec.markers[1],
+                                                         mbd::planar::initial_relative_angle(spec));
+}

@@ -1,0 +1,15 @@
+// The revolute joint plugin: planar (planar.hpp) and spatial (spatial.hpp) variants in one library.
+#include "planar.hpp"
+#include "spatial.hpp"
+
+#include <mbd/sdk/plugin.hpp>
+
+namespace {
+
+std::unique_ptr<mbd::Joint> make_revolute(const mbd::JointSpec& spec) {
+    return spec.dimension == mbd::Dimension::Planar ? make_planar_revolute(spec) : make_spatial_revolute(spec);
+}
+
+}  // namespace
+
+MBD_JOINT_PLUGIN(revolute, make_revolute)

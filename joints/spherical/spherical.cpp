@@ -1,0 +1,18 @@
+// Spherical (ball) joint: the joint origins coincide (SPH, book Eqs. 7.159-7.166).
+// 3 rows, 3 rotational DOF. Spatial only.
+#include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/spatial_primitives.hpp>
+
+#include <memory>
+
+std::unique_ptr<mbd::Joint> make_spherical(const mbd::JointSpec& spec) {
+    using namespace mbd::spatial;
+    require_spatial_pair(spec, "in a planar scene use a 'revolute' joint (a point connection)");
+    auto joint = std::make_unique<PrimitiveJoint>(spec);
+    joint->add_sph();
+    // A ball has no axis; the axis field is unused (set to z for definiteness).
+    joint->set_relative_motion(mbd::RelativeMotion{{{mbd::RelativeMotion::Kind::Ball, mbd::Vec3::UnitZ(), 0.0}}});
+    return joint;
+}
+
+MBD_JOINT_PLUGIN(spherical, make_spherical)

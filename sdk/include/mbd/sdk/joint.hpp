@@ -1,0 +1,100 @@
+// The joint interface: what every joint plugin implements.
+//
+// A joint connects bodies (usually two) and contributes rows to the
+// constraint equations C(q, t) = 0 (book Eq. 3.108). For its rows it gives
+//   C       the residual,
+//   J       the Jacobian with respect to the velocities of its bodies, one block
+//           of velocities_per_body columns per body in the joint's body order
+//           (book Eqs. 3.130, 7.159-7.185),
+//   C_t     the partial time derivative (book Eq. 3.120: J v = -C_t),
+//   gamma   the acceleration right side Q_d (book Eq. 3.124: J vdot = gamma),
+// so that along any motion  Cddot = J vdot - gamma.
+// Columns belonging to the ground are written but ignored by the assembler.
+#pragma once
+
+#include <mbd/sdk/body_state.hpp>
+#include <mbd/sdk/params.hpp>
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mbd {
+
+// Preallocated output of a constraint evaluation (rows x cols set by the caller).
+struct ConstraintEval {
+    Eigen::VectorXd C;
+    Eigen::MatrixXd J;
+    Eigen::VectorXd C_t;
+    Eigen::VectorXd gamma;
+
+    void resize(int rows, int cols) {
+        C.setZero(rows);
+        J.setZero(rows, cols);
+        C_t.setZero(rows);
+        gamma.setZero(rows);
+    }
+};
+
+// A scalar joint coordinate s(q) (the angle of a revolute joint, the travel of a
+// prismatic one): value, gradient J_s (same column layout as the joint), and
+// gamma_s with sddot = J_s vdot - gamma_s. Drivers prescribe s = f(t).
+struct CoordinateEval {
+    double value = 0.0;
+    Eigen::RowVectorXd J;
+    double gamma = 0.0;
+    bool periodic = false;  // angle: residuals s - f(t) are wrapped to (-pi, pi]
+};
+
+// Relative-coordinate description of a joint (joint-constraint notes Sec. 5):
+// the free relative motions of the joint frame on body j with respect to the
+// joint frame on body i, about/along axes of the frame on body i, applied in
+// order. Recursive formulations use it to treat the joint as a tree edge.
+struct RelativeMotion {
+    enum class Kind { Revolute, Prismatic, Helical, Ball };
+    struct Freedom {
+        Kind kind;
+        Vec3 axis;           // unit, in the joint frame of body i
+        double pitch = 0.0;  // helical: translation per radian
+    };
+    std::vector<Freedom> freedoms;
+};
+
+// What the core hands a joint factory.
+struct JointSpec {
+    std::string name;
+    std::string type;
+    Dimension dimension = Dimension::Planar;
+    std::vector<BodyInfo> bodies;   // the connected bodies, in the scene's order
+    std::vector<Marker> markers;    // the joint frame on each body (coincident at t = 0)
+    Params params;                  // keys not consumed by the core
+};
+
+class MBD_SDK_API Joint {
+public:
+    virtual ~Joint() = default;
+
+    // Number of constraint equations this joint contributes.
+    virtual int rows() const = 0;
+
+    // Evaluate C, J, C_t and gamma into `out` (already sized rows() x cols).
+    virtual void evaluate(const BodyStates& bodies, ConstraintEval& out) const = 0;
+
+    // Short names of the rows for diagnostics ("x", "y", "z-parallel", ...).
+    virtual std::string row_name(int row) const { return "row " + std::to_string(row); }
+
+    // A row whose residual is periodic (it jumps by this period far from C = 0,
+    // like a wrapped angle) returns the period; 0 for ordinary rows.
+    virtual double row_period(int /*row*/) const { return 0.0; }
+
+    // 1-DOF joints expose their coordinate so a driver can prescribe it.
+    virtual bool has_coordinate() const { return false; }
+    virtual void coordinate(const BodyStates& /*bodies*/, CoordinateEval& /*out*/) const {}
+
+    // Joints that are tree edges describe their free relative motions.
+    virtual std::optional<RelativeMotion> relative_motion() const { return std::nullopt; }
+};
+
+}  // namespace mbd
