@@ -142,49 +142,32 @@ std::shared_ptr<Registry::Library> Registry::open(const fs::path& library) {
     return lib;
 }
 
-namespace {
-
-template <class Product, class Factory, class Spec>
-std::shared_ptr<const Product> create_with(const std::shared_ptr<void>& keep_alive, Factory& factory, const Spec& spec) {
-    std::unique_ptr<Product> made = factory(spec);
-    if (!made) return nullptr;
-    Product* raw = made.release();
-    // the deleter runs the plugin's destructor, then lets go of the library
-    return std::shared_ptr<const Product>(raw, [keep_alive](const Product* p) { delete p; });
-}
-
-}  // namespace
-
-std::shared_ptr<const Joint> Registry::create_joint(const JointSpec& spec, const std::string& where) {
-    const std::string owner = "joint '" + spec.name + "'";
-    const PluginType& t = find("joint", spec.type, owner, where);
+template <class Product, class Spec>
+std::shared_ptr<const Product> Registry::create(const std::string& kind, const Spec& spec, const std::string& where) {
+    using Factory = std::unique_ptr<Product>(const Spec&);
+    const std::string owner = kind + " '" + spec.name + "'";
+    const PluginType& t = find(kind, spec.type, owner, where);
     std::shared_ptr<Library> lib;
     try {
         lib = open(t.library);
     } catch (const std::exception& e) {
         throw InputError(where, owner + ": cannot load plugin " + t.library.string() + ": " + e.what());
     }
-    const std::string symbol = "mbd_abi" + std::to_string(MBD_ABI_VERSION) + "__joint__" + spec.type;
-    auto& factory = lib->handle.get_alias<JointFactory>(symbol);
-    auto made = create_with<Joint>(std::static_pointer_cast<void>(lib), factory, spec);
-    if (!made) throw InputError(where, owner + ": plugin " + t.library.string() + " returned no joint");
-    return made;
+    const std::string symbol = "mbd_abi" + std::to_string(MBD_ABI_VERSION) + "__" + kind + "__" + spec.type;
+    auto& factory = lib->handle.get_alias<Factory>(symbol);
+    std::unique_ptr<Product> made = factory(spec);
+    if (!made) throw InputError(where, owner + ": plugin " + t.library.string() + " returned nothing");
+    // the deleter runs the plugin's destructor, then lets go of the library
+    std::shared_ptr<void> keep_alive = lib;
+    return std::shared_ptr<const Product>(made.release(), [keep_alive](const Product* p) { delete p; });
+}
+
+std::shared_ptr<const Joint> Registry::create_joint(const JointSpec& spec, const std::string& where) {
+    return create<Joint>("joint", spec, where);
 }
 
 std::shared_ptr<const Force> Registry::create_force(const ForceSpec& spec, const std::string& where) {
-    const std::string owner = "force '" + spec.name + "'";
-    const PluginType& t = find("force", spec.type, owner, where);
-    std::shared_ptr<Library> lib;
-    try {
-        lib = open(t.library);
-    } catch (const std::exception& e) {
-        throw InputError(where, owner + ": cannot load plugin " + t.library.string() + ": " + e.what());
-    }
-    const std::string symbol = "mbd_abi" + std::to_string(MBD_ABI_VERSION) + "__force__" + spec.type;
-    auto& factory = lib->handle.get_alias<ForceFactory>(symbol);
-    auto made = create_with<Force>(std::static_pointer_cast<void>(lib), factory, spec);
-    if (!made) throw InputError(where, owner + ": plugin " + t.library.string() + " returned no force");
-    return made;
+    return create<Force>("force", spec, where);
 }
 
 std::vector<std::string> Registry::loaded_libraries() const { return open_order_; }

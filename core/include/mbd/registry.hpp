@@ -54,6 +54,8 @@ private:
     const PluginType& find(const std::string& kind, const std::string& type, const std::string& owner,
                            const std::string& where) const;
     std::shared_ptr<Library> open(const std::filesystem::path& library);
+    template <class Product, class Spec>
+    std::shared_ptr<const Product> create(const std::string& kind, const Spec& spec, const std::string& where);
 
     std::vector<std::filesystem::path> search_path_;
     std::vector<PluginType> types_;

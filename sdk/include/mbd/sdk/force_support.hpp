@@ -1,0 +1,224 @@
+// Helpers for force plugins: forces written once as templates on the scalar type,
+// evaluated with doubles for Q and with forward-mode automatic differentiation
+// (Eigen AutoDiffScalar) for the exact Jacobians dQ/dq and dQ/dv, plus parameter
+// readers with scene locations. Used by every plugins/forces/<type>.
+#pragma once
+
+#include <mbd/sdk/force.hpp>
+#include <mbd/sdk/params.hpp>
+#include <mbd/sdk/time_function.hpp>
+
+#include <unsupported/Eigen/AutoDiff>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+// ---------------------------------------------------------------------------
+// Generalized forces are written once, as templates on the scalar type S, of
+// per-body states (PlanarT<S> / SpatialT<S>). Evaluated with S = double they
+// give Q; evaluated with forward-mode automatic differentiation (Eigen's
+// AutoDiffScalar, seeded with the position increments and the velocities of
+// every body) they give the exact Jacobians dQ/dq and dQ/dv, with the
+// architecture's conventions: planar increments (dR, dtheta); spatial (dR,
+// dpi_bar) with A -> A exp(skew(dpi_bar)), whose first-order part A (I +
+// skew(dpi_bar)) is all a first derivative at dpi_bar = 0 needs.
+// ---------------------------------------------------------------------------
+namespace mbd::force_support {
+
+template <int N>
+using AD = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
+template <class S>
+using V2 = Eigen::Matrix<S, 2, 1>;
+template <class S>
+using V3 = Eigen::Matrix<S, 3, 1>;
+template <class S>
+using M2 = Eigen::Matrix<S, 2, 2>;
+template <class S>
+using M3 = Eigen::Matrix<S, 3, 3>;
+template <class S>
+using VX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+
+inline double value_of(double x) { return x; }
+template <class D>
+double value_of(const Eigen::AutoDiffScalar<D>& x) { return x.value(); }
+
+// A scalar seeded as the independent variable number `col` (AD) or a plain value (double).
+template <class S>
+struct Seed {
+    static S make(double v, int) { return v; }
+};
+template <int N>
+struct Seed<Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>> {
+    static AD<N> make(double v, int col) { return AD<N>(v, N, col); }
+};
+
+template <class S>
+M3<S> skew_t(const V3<S>& a) {
+    M3<S> s;
+    s << S(0), -a.z(), a.y(), a.z(), S(0), -a.x(), -a.y(), a.x(), S(0);
+    return s;
+}
+template <class S>
+M2<S> rot2(const S& th) {
+    using std::cos;
+    using std::sin;
+    const S c = cos(th), s = sin(th);
+    M2<S> a;
+    a << c, -s, s, c;
+    return a;
+}
+
+template <class S>
+struct PlanarT {
+    V2<S> R, Rdot;
+    S theta, omega;
+    M2<S> A;
+    V2<S> point(const Vec2& u) const { return R + A * u.cast<S>(); }
+    V2<S> A_theta_u(const Vec2& u) const { return A * perp(u).cast<S>(); }  // A_theta u = A perp(u) (Eq. 3.28)
+    V2<S> point_velocity(const Vec2& u) const { return Rdot + A_theta_u(u) * omega; }
+};
+template <class S>
+struct SpatialT {
+    V3<S> R, Rdot, wbar;
+    M3<S> A;
+    V3<S> point(const Vec3& u) const { return R + A * u.cast<S>(); }
+    V3<S> point_velocity(const Vec3& u) const { return Rdot + A * wbar.cross(u.cast<S>()); }
+    V3<S> omega() const { return A * wbar; }
+};
+
+// States of all bodies; body k's position increments are variables 3k.. (planar) or
+// 6k.. (spatial), its velocities follow after all the increments.
+template <class S>
+std::vector<PlanarT<S>> planar_states(const BodyStates& b) {
+    const int nb = b.size(), n = 3 * nb;
+    std::vector<PlanarT<S>> out(nb);
+    for (int k = 0; k < nb; ++k) {
+        const PlanarBody& s = b.planar(k);
+        PlanarT<S>& o = out[k];
+        o.R << Seed<S>::make(s.R.x(), 3 * k), Seed<S>::make(s.R.y(), 3 * k + 1);
+        o.theta = Seed<S>::make(s.theta, 3 * k + 2);
+        o.A = rot2(o.theta);
+        o.Rdot << Seed<S>::make(s.Rdot.x(), n + 3 * k), Seed<S>::make(s.Rdot.y(), n + 3 * k + 1);
+        o.omega = Seed<S>::make(s.omega, n + 3 * k + 2);
+    }
+    return out;
+}
+template <class S>
+std::vector<SpatialT<S>> spatial_states(const BodyStates& b) {
+    const int nb = b.size(), n = 6 * nb;
+    std::vector<SpatialT<S>> out(nb);
+    for (int k = 0; k < nb; ++k) {
+        const SpatialBody& s = b.spatial(k);
+        SpatialT<S>& o = out[k];
+        V3<S> dpi;
+        for (int c = 0; c < 3; ++c) {
+            o.R[c] = Seed<S>::make(s.R[c], 6 * k + c);
+            dpi[c] = Seed<S>::make(0.0, 6 * k + 3 + c);
+            o.Rdot[c] = Seed<S>::make(s.Rdot[c], n + 6 * k + c);
+            o.wbar[c] = Seed<S>::make(s.omega_bar[c], n + 6 * k + 3 + c);
+        }
+        o.A = s.A.cast<S>() * (M3<S>::Identity() + skew_t<S>(dpi));
+    }
+    return out;
+}
+
+// Q += f(states) for a functor f templated on the state vector type.
+template <class F>
+void add_value(const BodyStates& b, const F& f, Eigen::Ref<Eigen::VectorXd> Q) {
+    if (!b.planar_bodies.empty())
+        Q += f(planar_states<double>(b));
+    else
+        Q += f(spatial_states<double>(b));
+}
+
+template <int NV, int NB, class F>
+void add_jacobians_impl(const BodyStates& b, const F& f, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
+                        Eigen::Ref<Eigen::MatrixXd> dQ_dv) {
+    constexpr int n = NV * NB;
+    using S = AD<2 * n>;
+    VX<S> q;
+    if constexpr (NV == 3)
+        q = f(planar_states<S>(b));
+    else
+        q = f(spatial_states<S>(b));
+    for (int r = 0; r < n; ++r) {
+        const auto& d = q[r].derivatives();
+        if (d.size() != 2 * n) continue;  // a constant entry
+        for (int c = 0; c < n; ++c) {
+            dQ_dq(r, c) += d[c];
+            dQ_dv(r, c) += d[n + c];
+        }
+    }
+}
+template <int NB, class F>
+void add_jacobians(const BodyStates& b, const F& f, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
+                   Eigen::Ref<Eigen::MatrixXd> dQ_dv) {
+    if (!b.planar_bodies.empty())
+        add_jacobians_impl<3, NB>(b, f, dQ_dq, dQ_dv);
+    else
+        add_jacobians_impl<6, NB>(b, f, dQ_dq, dQ_dv);
+}
+
+// Errors name the force and say what to do.
+[[noreturn]] inline void fail(const ForceSpec& spec, const std::string& message,
+                              const Param* where = nullptr) {
+    std::string loc = where ? where->location() : std::string();
+    if (loc.empty()) loc = spec.params.location();
+    throw InputError(loc, "force '" + spec.name + "': " + message);
+}
+
+inline double read_number(const ForceSpec& spec, const std::string& key, const Param& p) {
+    if (p.is_scalar()) {
+        try {
+            size_t used = 0;
+            const double v = std::stod(p.text, &used);
+            if (used == p.text.size() && std::isfinite(v)) return v;
+        } catch (const std::exception&) {
+        }
+    }
+    fail(spec, "'" + key + "' must be a number" + (p.is_scalar() ? ", got '" + p.text + "'" : std::string()),
+         &p);
+}
+// A number under `key`; without a fallback the key is required.
+inline double number(const ForceSpec& spec, const std::string& key, const double* fallback = nullptr) {
+    if (!spec.params.has(key)) {
+        if (fallback) return *fallback;
+        fail(spec, "missing key '" + key + "'");
+    }
+    return read_number(spec, key, spec.params.at(key));
+}
+inline double non_negative(const ForceSpec& spec, const std::string& key, const double* fallback = nullptr) {
+    const double v = number(spec, key, fallback);
+    if (v < 0)
+        fail(spec, "'" + key + "' must not be negative, got " + std::to_string(v),
+             spec.params.has(key) ? &spec.params.at(key) : nullptr);
+    return v;
+}
+// A list of exactly `size` numbers (all >= 0 when non_negative).
+inline Eigen::VectorXd number_list(const ForceSpec& spec, const std::string& key, int size, bool non_neg) {
+    const Param& p = spec.params.at(key);
+    if (!p.is_list() || static_cast<int>(p.items.size()) != size)
+        fail(spec, "'" + key + "' must be a list of " + std::to_string(size) + " numbers for a " +
+                       to_string(spec.dimension) + " model" +
+                       (p.is_list() ? ", got " + std::to_string(p.items.size()) : std::string()),
+             &p);
+    Eigen::VectorXd v(size);
+    for (int k = 0; k < size; ++k) {
+        v[k] = read_number(spec, key, p.items[k]);
+        if (non_neg && v[k] < 0) fail(spec, "'" + key + "' entries must not be negative", &p.items[k]);
+    }
+    return v;
+}
+inline void expect_bodies(const ForceSpec& spec, int count, const std::string& what) {
+    if (static_cast<int>(spec.bodies.size()) != count)
+        fail(spec, "a " + spec.type + " connects " + what + ", got " + std::to_string(spec.bodies.size()) +
+                       " bodies");
+}
+// World position of a marker origin at t = 0.
+inline Vec3 initial_point(const BodyInfo& body, const Vec3& u_bar) {
+    return body.position + body.orientation * u_bar;
+}
+
+}  // namespace mbd::force_support
