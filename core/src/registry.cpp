@@ -143,7 +143,7 @@ std::shared_ptr<Registry::Library> Registry::open(const fs::path& library) {
 }
 
 template <class Product, class Spec>
-std::shared_ptr<const Product> Registry::create(const std::string& kind, const Spec& spec, const std::string& where) {
+std::shared_ptr<Product> Registry::create(const std::string& kind, const Spec& spec, const std::string& where) {
     using Factory = std::unique_ptr<Product>(const Spec&);
     const std::string owner = kind + " '" + spec.name + "'";
     const PluginType& t = find(kind, spec.type, owner, where);
@@ -159,7 +159,7 @@ std::shared_ptr<const Product> Registry::create(const std::string& kind, const S
     if (!made) throw InputError(where, owner + ": plugin " + t.library.string() + " returned nothing");
     // the deleter runs the plugin's destructor, then lets go of the library
     std::shared_ptr<void> keep_alive = lib;
-    return std::shared_ptr<const Product>(made.release(), [keep_alive](const Product* p) { delete p; });
+    return std::shared_ptr<Product>(made.release(), [keep_alive](const Product* p) { delete p; });
 }
 
 std::shared_ptr<const Joint> Registry::create_joint(const JointSpec& spec, const std::string& where) {
@@ -168,6 +168,10 @@ std::shared_ptr<const Joint> Registry::create_joint(const JointSpec& spec, const
 
 std::shared_ptr<const Force> Registry::create_force(const ForceSpec& spec, const std::string& where) {
     return create<Force>("force", spec, where);
+}
+
+std::shared_ptr<Formulation> Registry::create_formulation(const FormulationSpec& spec, const std::string& where) {
+    return create<Formulation>("formulation", spec, where);
 }
 
 std::vector<std::string> Registry::loaded_libraries() const { return open_order_; }

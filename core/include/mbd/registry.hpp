@@ -4,6 +4,7 @@
 // asks for one of its types.
 #pragma once
 
+#include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/plugin.hpp>
 
 #include <filesystem>
@@ -43,6 +44,8 @@ public:
     // known types when the type is unknown, or explaining an ABI mismatch.
     std::shared_ptr<const Joint> create_joint(const JointSpec& spec, const std::string& where);
     std::shared_ptr<const Force> create_force(const ForceSpec& spec, const std::string& where);
+    // Formulations are stateful (scratch space): each call gives a new instance.
+    std::shared_ptr<Formulation> create_formulation(const FormulationSpec& spec, const std::string& where);
 
     // Libraries opened so far (absolute paths), in the order they were opened.
     std::vector<std::string> loaded_libraries() const;
@@ -55,7 +58,7 @@ private:
                            const std::string& where) const;
     std::shared_ptr<Library> open(const std::filesystem::path& library);
     template <class Product, class Spec>
-    std::shared_ptr<const Product> create(const std::string& kind, const Spec& spec, const std::string& where);
+    std::shared_ptr<Product> create(const std::string& kind, const Spec& spec, const std::string& where);
 
     std::vector<std::filesystem::path> search_path_;
     std::vector<PluginType> types_;

@@ -1,0 +1,64 @@
+// Time integrators, shared by all formulations (book Secs. 6.11-6.12 and the
+// multibody literature). They see a formulation only through OdeProblem: its
+// size, y' = f(t, y), the projection hook after accepted steps, and, for the
+// implicit index-3 integrator, the System and the formulation behind it.
+#pragma once
+
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/system.hpp>
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mbd {
+
+class OdeProblem {
+public:
+    virtual ~OdeProblem() = default;
+    virtual int size() const = 0;
+    virtual void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) = 0;  // throws DynamicsError
+    virtual bool project(double t, Eigen::VectorXd& y) = 0;
+    // For integrators that work on the second-order DAE directly (index 3).
+    virtual const System* system() const { return nullptr; }
+    virtual Formulation* formulation() { return nullptr; }
+};
+
+struct IntegratorSettings {
+    double tolerance = 1e-6;    // relative and absolute tolerance of adaptive integrators
+    double step = 0.0;          // fixed step (rk4, generalized_alpha); initial step guess for adaptive ones (0: automatic)
+    double min_step = 1e-12;    // below this an adaptive integrator stops with "step size collapse"
+    long max_steps = 50000000;
+    double rho_infinity = 0.8;  // generalized-alpha spectral radius at infinity
+};
+
+struct IntegratorStats {
+    long steps = 0;
+    long rejected_steps = 0;
+    long rhs_evaluations = 0;
+    long jacobian_evaluations = 0;
+    long newton_iterations = 0;
+};
+
+// Called at every output time with y there; returning false stops the run.
+using OutputCallback = std::function<bool(double t, const Eigen::VectorXd& y)>;
+
+class Integrator {
+public:
+    virtual ~Integrator() = default;
+    virtual std::string name() const = 0;
+    virtual bool adaptive() const = 0;
+    // Advance y from t0 through every output time (increasing, the last is the
+    // end time). Throws DynamicsError naming the time and the cause.
+    virtual void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
+                           const OutputCallback& output, IntegratorStats& stats) = 0;
+};
+
+// Known names: rk4, dopri5, generalized_alpha, cvode. Throws InputError listing them.
+std::unique_ptr<Integrator> make_integrator(const std::string& name, const IntegratorSettings& settings);
+std::vector<std::string> integrator_names();
+
+}  // namespace mbd

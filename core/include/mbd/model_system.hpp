@@ -1,0 +1,66 @@
+// The core's implementation of the SDK's System over a Model: what
+// formulation, statics and inverse-dynamics plugins see.
+#pragma once
+
+#include <mbd/constraint_system.hpp>
+#include <mbd/kinematics.hpp>
+#include <mbd/model.hpp>
+#include <mbd/sdk/system.hpp>
+
+#include <memory>
+
+namespace mbd {
+
+class ModelSystem final : public System {
+public:
+    explicit ModelSystem(const Model& model, KinematicsOptions kinematics = {});
+
+    const Model& model() const { return *model_; }
+
+    Dimension dimension() const override { return model_->dimension; }
+    const std::string& name() const override { return model_->name; }
+    int body_count() const override { return model_->body_count(); }
+    const BodyInfo& body(int index) const override { return bodies_.at(index); }
+    Vec3 gravity() const override { return model_->gravity; }
+    int joint_count() const override { return static_cast<int>(joints_.size()); }
+    const JointInfo& joint(int index) const override { return joints_.at(index); }
+    int driver_count() const override { return static_cast<int>(drivers_.size()); }
+    const DriverInfo& driver(int index) const override { return drivers_.at(index); }
+    int force_count() const override { return static_cast<int>(forces_.size()); }
+    const ForceInfo& force(int index) const override { return forces_.at(index); }
+    std::string describe_row(int row) const override;
+
+    State initial_state() const override { return model_->initial_state(); }
+    void advance_positions(Eigen::VectorXd& q, const Eigen::VectorXd& dv) const override;
+    Eigen::VectorXd coordinate_rates(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const override;
+    void normalize(Eigen::VectorXd& q) const override;
+
+    const Eigen::SparseMatrix<double>& mass_matrix() const override { return mass_; }
+    void generalized_forces(const State& state, Eigen::VectorXd& Q) const override;
+    void force_jacobians(const State& state, Eigen::SparseMatrix<double>& dQ_dq,
+                         Eigen::SparseMatrix<double>& dQ_dv) const override;
+    double kinetic_energy(const State& state) const override;
+    double potential_energy(const State& state) const override;
+    bool conservative() const override;
+
+    void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) const override;
+    void assemble(State& state, bool include_drivers = true) const override;
+    void consistent_velocities(State& state, bool include_drivers = true) const override;
+
+private:
+    const Model* model_;
+    KinematicsOptions kinematics_;
+    std::vector<BodyInfo> bodies_;
+    std::vector<JointInfo> joints_;
+    std::vector<DriverInfo> drivers_;
+    std::vector<ForceInfo> forces_;
+    Eigen::SparseMatrix<double> mass_;
+    ConstraintSystem with_drivers_;
+    ConstraintSystem joints_only_;
+    mutable BodyPoses poses_;
+    mutable BodyStates view_;
+    mutable Eigen::VectorXd element_q_;
+    mutable Eigen::MatrixXd element_dq_, element_dv_;
+};
+
+}  // namespace mbd

@@ -1,0 +1,92 @@
+// The formulation interface: how a plugin writes the equations of motion of a
+// System for the integrators (plugin kind "formulation").
+//
+// Every formulation presents a first-order ODE y' = f(t, y) on a state vector
+// of its own choosing (augmented: y = [q; v]; embedding: independent
+// coordinates; Hamiltonian: coordinates and momenta), maps it to and from the
+// engine's State, and may pull y back onto the constraint manifold after each
+// accepted step (coordinate projection). Formulations that can be integrated
+// as an index-3 DAE by an implicit integrator say so; such an integrator then
+// works on the System's M, Q, C and J directly.
+#pragma once
+
+#include <mbd/sdk/params.hpp>
+#include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/system.hpp>
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace mbd {
+
+// A run that cannot go on (singular saddle point, Newton failure in a
+// projection, ...). `time` is when it happened; the message names the cause
+// and the joints involved.
+class MBD_SDK_API DynamicsError : public std::runtime_error {
+public:
+    DynamicsError(double time, const std::string& message) : std::runtime_error(message), time_(time) {}
+    double time() const { return time_; }
+
+private:
+    double time_;
+};
+
+enum class Stabilization { None, Projection, Baumgarte };
+
+struct FormulationOptions {
+    std::string algebra = "auto";   // "auto" | "dense" | "sparse"
+    int sparse_threshold = 300;     // Auto: sparse above this many velocity coordinates
+    Stabilization stabilization = Stabilization::Projection;
+    double baumgarte_alpha = 10.0;  // Cddot + 2 alpha Cdot + beta^2 C = 0 (book Sec. 6.12)
+    double baumgarte_beta = 10.0;
+    double projection_tolerance = 1e-12;
+};
+
+class MBD_SDK_API Formulation {
+public:
+    virtual ~Formulation() = default;
+
+    // Bind to a system; allocate all scratch here so the hot path does not allocate.
+    virtual void bind(const System& system, const FormulationOptions& options) = 0;
+
+    // --- the ODE y' = f(t, y)
+    virtual int ode_size() const = 0;
+    // y from a consistent state (assembled, consistent velocities).
+    virtual void to_ode(const State& state, Eigen::VectorXd& y) const = 0;
+    // The engine's state (q, v) from y.
+    virtual void from_ode(double t, const Eigen::VectorXd& y, State& state) const = 0;
+    // f(t, y); throws DynamicsError when the equations cannot be solved.
+    virtual void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) = 0;
+    // After an accepted step: pull y back onto the manifold (positions and
+    // velocities, unit Euler parameters). Returns false if that failed.
+    virtual bool project(double /*t*/, Eigen::VectorXd& /*y*/) { return true; }
+
+    // --- results
+    // Lagrange multipliers of every constraint row (joints, then drivers) at a
+    // consistent state: reactions and actuator efforts come from these.
+    virtual void multipliers(const State& state, Eigen::VectorXd& lambda) = 0;
+    // Accelerations vdot at a state.
+    virtual void accelerations(const State& state, Eigen::VectorXd& vdot) = 0;
+    // The formulation's conserved quantity where it has one (Hamiltonian: H).
+    virtual bool has_hamiltonian() const { return false; }
+    virtual double hamiltonian(double /*t*/, const Eigen::VectorXd& /*y*/) const { return 0.0; }
+
+    // True if an implicit integrator may solve this formulation's index-3 DAE
+    // M vdot + J^T lambda = Q, C(q, t) = 0 on the System directly.
+    virtual bool supports_index3() const { return false; }
+};
+
+struct FormulationSpec {
+    std::string name;   // the formulation's name as selected (same as type)
+    std::string type;   // e.g. "augmented"
+    Params params;      // formulation keys from the scene's `formulation:` map, if any
+};
+
+using FormulationFactory = std::unique_ptr<Formulation>(const FormulationSpec& spec);
+
+}  // namespace mbd
+
+#define MBD_FORMULATION_PLUGIN(type, factory) MBD_REGISTER_PLUGIN(formulation, type, factory)

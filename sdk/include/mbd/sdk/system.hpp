@@ -1,0 +1,100 @@
+// The multibody system as analysis plugins see it (formulations, statics,
+// inverse dynamics). The core implements it over its Model; plugins include
+// only this header, never core headers.
+//
+// Layout: q and v per body as in body_state.hpp; constraint rows are every
+// joint's rows in scene order, then one row per driver. Every Jacobian is with
+// respect to v (spatial: (dR, dpi_bar)); position increments are applied with
+// advance_positions().
+#pragma once
+
+#include <mbd/sdk/body_state.hpp>
+#include <mbd/sdk/force.hpp>
+#include <mbd/sdk/joint.hpp>
+#include <mbd/sdk/state.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/Sparse>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mbd {
+
+struct JointInfo {
+    std::string name;
+    std::string type;
+    std::vector<int> bodies;        // body indices; -1 is the ground
+    std::vector<Marker> markers;    // the joint frame on each body
+    int first_row = 0;              // its rows in the constraint vector
+    int rows = 0;
+    std::shared_ptr<const Joint> joint;
+};
+
+struct DriverInfo {
+    std::string name;
+    int joint = -1;                 // the driven joint
+    int row = 0;                    // its row in the constraint vector (after all joint rows)
+};
+
+struct ForceInfo {
+    std::string name;
+    std::string type;
+    std::vector<int> bodies;
+    std::shared_ptr<const Force> force;
+};
+
+class MBD_SDK_API System {
+public:
+    virtual ~System() = default;
+
+    // --- description
+    virtual Dimension dimension() const = 0;
+    virtual const std::string& name() const = 0;
+    virtual int body_count() const = 0;
+    virtual const BodyInfo& body(int index) const = 0;      // mass, inertia, initial pose
+    int nq() const { return body_count() * coordinates_per_body(dimension()); }
+    int nv() const { return body_count() * velocities_per_body(dimension()); }
+    virtual Vec3 gravity() const = 0;
+
+    virtual int joint_count() const = 0;
+    virtual const JointInfo& joint(int index) const = 0;
+    virtual int driver_count() const = 0;
+    virtual const DriverInfo& driver(int index) const = 0;
+    virtual int force_count() const = 0;
+    virtual const ForceInfo& force(int index) const = 0;
+    int joint_rows() const { return joint_count() ? joint(joint_count() - 1).first_row + joint(joint_count() - 1).rows : 0; }
+    int constraint_rows(bool include_drivers = true) const { return joint_rows() + (include_drivers ? driver_count() : 0); }
+    // "joint 'O' (x)" or "driver 'motor'", for messages
+    virtual std::string describe_row(int row) const = 0;
+
+    // --- state
+    virtual State initial_state() const = 0;               // as given in the scene (not assembled)
+    virtual void advance_positions(Eigen::VectorXd& q, const Eigen::VectorXd& dv) const = 0;
+    virtual Eigen::VectorXd coordinate_rates(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const = 0;
+    virtual void normalize(Eigen::VectorXd& q) const = 0;  // unit Euler parameters
+
+    // --- dynamics terms
+    // Constant block-diagonal mass matrix: planar diag(m, m, J); spatial diag(m I, Jbar).
+    virtual const Eigen::SparseMatrix<double>& mass_matrix() const = 0;
+    // All applied generalized forces plus, for spatial bodies, the gyroscopic
+    // term -wbar x (Jbar wbar) (book Eq. 7.155's Q_v). Q has size nv.
+    virtual void generalized_forces(const State& state, Eigen::VectorXd& Q) const = 0;
+    // dQ/dq (position increments) and dQ/dv of generalized_forces(): exact where the
+    // force elements give Jacobians, central finite differences for the others.
+    virtual void force_jacobians(const State& state, Eigen::SparseMatrix<double>& dQ_dq,
+                                 Eigen::SparseMatrix<double>& dQ_dv) const = 0;
+    virtual double kinetic_energy(const State& state) const = 0;
+    virtual double potential_energy(const State& state) const = 0;  // conservative parts
+    virtual bool conservative() const = 0;                          // every force conservative
+
+    // --- constraints (joints, then drivers when include_drivers)
+    virtual void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) const = 0;
+
+    // --- kinematics (the core's Newton-Raphson; throws std::runtime_error naming the worst joint)
+    virtual void assemble(State& state, bool include_drivers = true) const = 0;  // positions
+    virtual void consistent_velocities(State& state, bool include_drivers = true) const = 0;
+};
+
+}  // namespace mbd
