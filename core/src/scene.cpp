@@ -349,6 +349,7 @@ private:
 
     // --- the sections
     void build();
+    void load_formulation(const Param& node);
     void load_body(const Param& node, int index);
     void load_joint(const Param& node, int index);
     void load_force(const Param& node, int index);
@@ -382,7 +383,8 @@ void Loader::build() {
     if (!root_.is_map())
         root_.fail("a scene must be a map of keys (name, dimension, gravity, bodies, joints, forces, drivers)");
 
-    check_keys(root_, "scene", {"name", "dimension", "gravity", "bodies", "joints", "forces", "drivers"});
+    check_keys(root_, "scene",
+               {"name", "dimension", "gravity", "bodies", "joints", "forces", "drivers", "formulation"});
 
     model_.source = file_;
     if (const Param* name = find(root_, "name")) {
@@ -402,6 +404,7 @@ void Loader::build() {
                        quote(dimension.is_scalar() ? dimension.text : std::string("a list or map")));
 
     if (const Param* g = find(root_, "gravity")) model_.gravity = space_vector(*g, "gravity", "scene");
+    if (const Param* f = find(root_, "formulation")) load_formulation(*f);
 
     if (!find(root_, "bodies"))
         throw InputError(where(root_), "the scene needs 'bodies' (a list of at least one body)");
@@ -423,6 +426,23 @@ void Loader::build() {
         const Param& drivers = list_section("drivers");
         for (size_t k = 0; k < drivers.items.size(); ++k) load_driver(drivers.items[k], static_cast<int>(k));
     }
+}
+
+// ---------------------------------------------------------------- formulation
+
+// `formulation: NAME` or `formulation: {type: NAME, ...keys of that formulation}`.
+// The plugin reads (and checks) its own keys when the analysis creates it.
+void Loader::load_formulation(const Param& node) {
+    const Param* type = &node;
+    if (node.is_map()) {
+        type = find(node, "type");
+        if (!type) node.fail("scene: 'formulation' needs a 'type' (for example augmented)");
+    }
+    if (!type->is_scalar() || type->text.empty())
+        type->fail("scene: 'formulation' must name a formulation (for example augmented)");
+    model_.formulation = type->text;
+    model_.formulation_node = std::make_shared<Param>(node);
+    model_.formulation_where = where(node);
 }
 
 // ---------------------------------------------------------------- bodies

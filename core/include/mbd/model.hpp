@@ -67,6 +67,10 @@ public:
     std::vector<JointInstance> joints;
     std::vector<ForceInstance> forces;
     std::vector<Driver> drivers;
+    // The scene's choice of formulation (empty: none chosen; the command line decides).
+    std::string formulation;
+    std::shared_ptr<const Param> formulation_node;  // the `formulation:` node (name or map)
+    std::string formulation_where;
 
     int body_count() const { return static_cast<int>(bodies.size()); }
     int nq() const { return body_count() * coordinates_per_body(dimension); }
