@@ -6,6 +6,7 @@
 #include "commands.hpp"
 
 #include <mbd/kinematics.hpp>
+#include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/plugin.hpp>
 
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
     mbd::cli::add_plugins_command(app, actions);
     mbd::cli::add_check_command(app, actions);
     mbd::cli::add_kinematics_command(app, actions);
+    mbd::cli::add_simulate_command(app, actions);
 
     try {
         app.parse(argc, argv);
@@ -60,6 +62,9 @@ int main(int argc, char** argv) {
     } catch (const mbd::InputError& e) {
         std::cerr << "mbd: error: " << e.what() << '\n';
         return 2;
+    } catch (const mbd::DynamicsError& e) {
+        std::cerr << "mbd: error: at t = " << e.time() << ": " << e.what() << '\n';
+        return 1;
     } catch (const mbd::KinematicsError& e) {
         std::cerr << "mbd: error: " << e.what() << '\n';
         return 1;

@@ -174,6 +174,14 @@ std::shared_ptr<Formulation> Registry::create_formulation(const FormulationSpec&
     return create<Formulation>("formulation", spec, where);
 }
 
+std::shared_ptr<StaticsSolver> Registry::create_statics(const StaticsSpec& spec, const std::string& where) {
+    return create<StaticsSolver>("statics", spec, where);
+}
+
+std::shared_ptr<InverseSolver> Registry::create_inverse(const InverseSpec& spec, const std::string& where) {
+    return create<InverseSolver>("inverse", spec, where);
+}
+
 std::vector<std::string> Registry::loaded_libraries() const { return open_order_; }
 
 }  // namespace mbd

@@ -354,6 +354,8 @@ private:
     void load_joint(const Param& node, int index);
     void load_force(const Param& node, int index);
     void load_driver(const Param& node, int index);
+    void load_actuator(const Param& node, int index);
+    void load_joint_limits(const Param& node, JointInstance& joint) const;
     void add_gravity();
 
     // The joint-style frame of an element (point, axis, x_axis, axes), in world at t = 0.
@@ -384,7 +386,7 @@ void Loader::build() {
         root_.fail("a scene must be a map of keys (name, dimension, gravity, bodies, joints, forces, drivers)");
 
     check_keys(root_, "scene",
-               {"name", "dimension", "gravity", "bodies", "joints", "forces", "drivers", "formulation"});
+               {"name", "dimension", "gravity", "bodies", "joints", "forces", "drivers", "formulation", "actuators"});
 
     model_.source = file_;
     if (const Param* name = find(root_, "name")) {
@@ -425,6 +427,10 @@ void Loader::build() {
     if (find(root_, "drivers")) {
         const Param& drivers = list_section("drivers");
         for (size_t k = 0; k < drivers.items.size(); ++k) load_driver(drivers.items[k], static_cast<int>(k));
+    }
+    if (find(root_, "actuators")) {
+        const Param& actuators = list_section("actuators");
+        for (size_t k = 0; k < actuators.items.size(); ++k) load_actuator(actuators.items[k], static_cast<int>(k));
     }
 }
 
@@ -693,7 +699,7 @@ void Loader::load_joint(const Param& node, int index) {
                             " appears twice in 'bodies'; a joint connects different bodies");
 
     Params params(what, &node);
-    std::vector<std::string> core_keys{"name", "type", "bodies", "point", "axis"};
+    std::vector<std::string> core_keys{"name", "type", "bodies", "point", "axis", "limits"};
     if (!planar) {
         core_keys.push_back("x_axis");
         core_keys.push_back("axes");
@@ -716,6 +722,7 @@ void Loader::load_joint(const Param& node, int index) {
     const std::string at = key_where(node, "type");
     joint.joint = create_checked(params, node, what, [&] { return registry_.create_joint(spec, at); });
     if (!joint.joint) type.fail(what + ": the plugin for type " + quote(joint.type) + " created no joint");
+    load_joint_limits(node, joint);
     model_.joints.push_back(std::move(joint));
 }
 
@@ -882,6 +889,69 @@ void Loader::load_driver(const Param& node, int index) {
     const Param& motion = require(node, "motion", what, "a time function, e.g. {type: linear, initial: 0, rate: 1}");
     driver.motion = make_time_function(motion, what);
     model_.drivers.push_back(std::move(driver));
+}
+
+// ---------------------------------------------------------------- limits, actuators
+
+// `limits: [lo, hi]` on a 1-DOF joint's coordinate (statics turns them into bounds).
+void Loader::load_joint_limits(const Param& node, JointInstance& joint) const {
+    const Param* limits = find(node, "limits");
+    if (!limits) return;
+    const std::string what = "joint " + quote(joint.name);
+    if (!joint.joint->has_coordinate())
+        limits->fail(what + " (" + joint.type +
+                     ") has no single coordinate to limit; 'limits' go on revolute, prismatic or other 1-DOF joints");
+    const Eigen::VectorXd v = vector(*limits, "limits", what, 2, "[lo, hi] on the joint coordinate");
+    if (!(v[0] <= v[1]))
+        limits->fail(what + ": 'limits' [" + limits->items[0].text + ", " + limits->items[1].text +
+                     "] are infeasible: lo must not exceed hi");
+    joint.has_limits = true;
+    joint.limit_lo = v[0];
+    joint.limit_hi = v[1];
+    joint.limits_where = where(*limits);
+}
+
+// An actuator: {name, joint, bounds: [lo, hi], weight} acting along the joint's coordinate.
+void Loader::load_actuator(const Param& node, int index) {
+    const std::string fallback = "actuator #" + std::to_string(index + 1);
+    if (!node.is_map()) node.fail(fallback + " must be a map of keys (name, joint, bounds, weight)");
+    Actuator actuator;
+    actuator.name = find(node, "name") ? name_of(node, fallback) : "actuator" + std::to_string(index);
+    const std::string what = "actuator " + quote(actuator.name);
+    actuator.where = where(node);
+    check_keys(node, what, {"name", "joint", "bounds", "weight"});
+    for (const auto& other : model_.actuators)
+        if (other.name == actuator.name)
+            (find(node, "name") ? *find(node, "name") : node)
+                .fail("duplicate actuator name " + quote(actuator.name) + " (first defined at " + other.where +
+                      "); actuator names must be unique");
+    const Param& joint = require(node, "joint", what, "the name of the joint along whose coordinate it acts");
+    if (!joint.is_scalar() || joint.text.empty()) joint.fail(what + ": 'joint' must be a joint name");
+    for (int k = 0; k < static_cast<int>(model_.joints.size()); ++k)
+        if (model_.joints[k].name == joint.text) actuator.joint = k;
+    if (actuator.joint < 0) {
+        std::vector<std::string> names;
+        for (const auto& j : model_.joints) names.push_back(j.name);
+        joint.fail(what + ": unknown joint " + quote(joint.text) + "; defined joints are " +
+                   (names.empty() ? std::string("(none)") : join_quoted(names)));
+    }
+    const JointInstance& target = model_.joints[actuator.joint];
+    if (!target.joint->has_coordinate())
+        joint.fail(what + ": joint " + quote(target.name) + " (" + target.type +
+                   ") has no single coordinate to act along; use a revolute, prismatic or other 1-DOF joint");
+    if (const Param* bounds = find(node, "bounds")) {
+        const Eigen::VectorXd v = vector(*bounds, "bounds", what, 2, "[lo, hi] on the effort");
+        if (!(v[0] <= v[1]))
+            bounds->fail(what + ": 'bounds' [" + bounds->items[0].text + ", " + bounds->items[1].text +
+                         "] are infeasible: lo must not exceed hi");
+        actuator.lo = v[0];
+        actuator.hi = v[1];
+    }
+    if (const Param* weight = find(node, "weight")) {
+        actuator.weight = number(*weight, "weight", what);
+        if (!(actuator.weight > 0)) weight->fail(what + ": 'weight' must be positive, got " + weight->text);
+    }
+    model_.actuators.push_back(std::move(actuator));
 }
 
 }  // namespace

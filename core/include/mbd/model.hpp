@@ -38,6 +38,10 @@ struct JointInstance {
     std::vector<Marker> markers;   // joint frame on each body
     std::shared_ptr<const Joint> joint;
     std::string where;
+    // `limits: [lo, hi]` on the joint coordinate (1-DOF joints; statics bounds)
+    bool has_limits = false;
+    double limit_lo = 0.0, limit_hi = 0.0;
+    std::string limits_where;
 };
 
 struct ForceInstance {
@@ -57,6 +61,16 @@ struct Driver {
     std::string where;
 };
 
+// An actuator (inverse dynamics): a generalized force J_s^T tau along a 1-DOF
+// joint's coordinate, with effort bounds and a weight in the effort norm.
+struct Actuator {
+    std::string name;
+    int joint = -1;                // index into Model::joints
+    double lo = -1e300, hi = 1e300;  // effort bounds (N or N m); +-1e300: none
+    double weight = 1.0;
+    std::string where;
+};
+
 class Model {
 public:
     std::string name;
@@ -67,6 +81,7 @@ public:
     std::vector<JointInstance> joints;
     std::vector<ForceInstance> forces;
     std::vector<Driver> drivers;
+    std::vector<Actuator> actuators;  // `actuators:` (inverse dynamics)
     // The scene's choice of formulation (empty: none chosen; the command line decides).
     std::string formulation;
     std::shared_ptr<const Param> formulation_node;  // the `formulation:` node (name or map)

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/inverse.hpp>
+#include <mbd/sdk/statics.hpp>
 #include <mbd/sdk/plugin.hpp>
 
 #include <filesystem>
@@ -46,6 +48,9 @@ public:
     std::shared_ptr<const Force> create_force(const ForceSpec& spec, const std::string& where);
     // Formulations are stateful (scratch space): each call gives a new instance.
     std::shared_ptr<Formulation> create_formulation(const FormulationSpec& spec, const std::string& where);
+    // Statics and inverse-dynamics solvers (stateful): a new instance per call.
+    std::shared_ptr<StaticsSolver> create_statics(const StaticsSpec& spec, const std::string& where);
+    std::shared_ptr<InverseSolver> create_inverse(const InverseSpec& spec, const std::string& where);
 
     // Libraries opened so far (absolute paths), in the order they were opened.
     std::vector<std::string> loaded_libraries() const;

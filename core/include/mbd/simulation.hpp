@@ -1,0 +1,70 @@
+// Forward dynamics (book Sec. 1.7 and Secs. 6.6-6.12): the driver shared by every
+// formulation. It creates the formulation through the registry, binds it to a
+// ModelSystem, assembles a consistent initial state, integrates the formulation's
+// ODE with one of the integrators of integrator.hpp, and streams the samples
+// (optionally to CSV in the contract of csv.hpp, with joint reactions and
+// energy / constraint diagnostics).
+#pragma once
+
+#include <mbd/integrator.hpp>
+#include <mbd/model.hpp>
+#include <mbd/registry.hpp>
+#include <mbd/sdk/formulation.hpp>
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mbd {
+
+struct SimulationSettings {
+    std::string formulation;          // empty: the scene's `formulation:`, else "augmented"
+    std::string integrator = "dopri5";
+    IntegratorSettings integration;   // tolerance or fixed step
+    double t_end = 1.0;
+    double output_step = 0.0;         // 0: the fixed step if one is given, else t_end / 1000
+    std::string output;               // CSV path; empty: no file
+    bool reactions = false;           // add JOINT.fx JOINT.fy JOINT.tz (planar) / 6 columns (spatial)
+    bool diagnostics = false;         // add energies and constraint violations
+    // Overrides of the scene's formulation keys (empty: keep the scene's or the default).
+    std::optional<Stabilization> stabilization;
+    std::string algebra;              // "", "auto", "dense", "sparse"
+    std::optional<int> sparse_threshold;
+    bool progress = true;             // a progress bar on stderr when it is a terminal and the run is long
+};
+
+// One output sample, as given to the sample callback.
+struct SimulationSample {
+    State state;
+    const Eigen::VectorXd* lambda = nullptr;   // multipliers when reactions were asked for, else null
+};
+
+struct SimulationResult {
+    std::string formulation;
+    std::string integrator;
+    IntegratorStats stats;
+    double cpu_seconds = 0.0;
+    long rows = 0;                    // output samples
+    State final_state;
+    double final_position_violation = 0.0;   // max |C| at the last sample
+    double final_velocity_violation = 0.0;   // max |J v + C_t| at the last sample
+};
+
+// Column names of the extra CSV columns.
+std::vector<std::string> reaction_columns(const Model& model);
+std::vector<std::string> diagnostic_columns();  // kinetic_energy potential_energy constraint_position_violation constraint_velocity_violation
+
+// Returns false to stop the run early.
+using SimulationCallback = std::function<bool(const SimulationSample& sample)>;
+
+// Run forward dynamics. Throws InputError (unknown formulation or integrator,
+// bad formulation keys), KinematicsError (the initial state cannot be assembled)
+// or DynamicsError (the run failed at some time; when writing a CSV, the rows
+// written before the failure are kept in the file and the message says so).
+SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
+                          const SimulationCallback& callback = {});
+
+}  // namespace mbd

@@ -1,0 +1,60 @@
+// Statics and inverse dynamics over a Model (issue 6): builds the ModelSystem,
+// fills the plugin inputs (joint limits, actuators) from the scene, creates the
+// solver plugin through the registry, and computes joint reactions with
+// <mbd/sdk/reactions.hpp>. Used by `mbd statics`, `mbd inverse` and the tests.
+#pragma once
+
+#include <mbd/model.hpp>
+#include <mbd/model_system.hpp>
+#include <mbd/registry.hpp>
+#include <mbd/sdk/inverse.hpp>
+#include <mbd/sdk/statics.hpp>
+
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace mbd {
+
+// The reaction a joint exerts on its second body (or, when that is the ground,
+// the opposite of the reaction on the first), at the joint point, world axes.
+struct JointLoad {
+    std::string name;
+    Vec3 force = Vec3::Zero();
+    Vec3 torque = Vec3::Zero();
+};
+
+struct StaticsReport {
+    StaticsResult result;
+    std::vector<JointLoad> reactions;        // every joint, scene order
+    std::vector<JointLoad> driver_efforts;   // every driver (the effort holding its joint)
+    std::vector<double> coordinates;         // every joint's coordinate (NaN when it has none)
+};
+
+std::vector<JointLimit> scene_joint_limits(const Model& model);
+std::vector<ActuatorInfo> scene_actuators(const Model& model);
+
+// Equilibrium from the scene's configuration assembled at options.time.
+// Throws KinematicsError when the start cannot be assembled, InputError for an
+// unknown solver type; a solver failure is reported in result.converged/message.
+StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions options,
+                          const std::string& solver = "ipopt");
+
+// The scene file `model.source` with every body's position/orientation replaced
+// by `state` and its velocities removed (rest), written to `output`.
+void write_equilibrium_scene(const Model& model, const State& state, const std::filesystem::path& output);
+
+// Reactions from multipliers of every constraint row (or of the joint rows only).
+std::vector<JointLoad> joint_loads(const System& system, const State& state, const Eigen::VectorXd& lambda);
+
+// Inverse dynamics at t = 0, step, ..., t_end (kinematics from the drivers).
+// Throws DynamicsError naming the first time it fails, KinematicsError when the
+// drivers cannot be assembled.
+using InverseCallback = std::function<bool(const InverseSample& sample, const System& system)>;
+void run_inverse(const Model& model, Registry& registry, double t_end, double step, const InverseCallback& callback,
+                 InverseOptions options = {}, const std::string& solver = "ipopt");
+
+}  // namespace mbd

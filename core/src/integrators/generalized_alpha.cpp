@@ -1,0 +1,312 @@
+// Generalized-alpha (Chung & Hulbert 1993) applied to the index-3 constrained
+// equations of motion, in the form of Arnold & Bruls (2007), "Convergence of the
+// generalized-alpha scheme for constrained mechanical systems", Multibody Syst.
+// Dyn. 18:185-202:
+//
+//   M vdot_{n+1} + J(q_{n+1})^T lambda_{n+1} = Q(t_{n+1}, q_{n+1}, v_{n+1})
+//   C(q_{n+1}, t_{n+1}) = 0
+//   q_{n+1} = q_n (+) [h v_n + h^2 (1/2 - beta) a_n + h^2 beta a_{n+1}]
+//   v_{n+1} = v_n + h (1 - gamma) a_n + h gamma a_{n+1}
+//   (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) vdot_{n+1} + alpha_f vdot_n
+//
+// with alpha_m = (2 rho - 1)/(rho + 1), alpha_f = rho/(rho + 1),
+// gamma = 1/2 + alpha_f - alpha_m, beta = (gamma + 1/2)^2 / 4 (rho = rho_infinity).
+//
+// (+) is System::advance_positions: planar bodies add the increment; spatial
+// bodies add the translation and rotate the Euler parameters by the body-axis
+// rotation vector through the exponential map. Because v = (Rdot, wbar) lives in
+// the Lie algebra of R^3 x SO(3), this is the Lie-group generalized-alpha method
+// of Brls, Cardona & Arnold (2012) with the tangent operator T(h dq) replaced by
+// the identity in the iteration matrix only (the residual uses the exact map), so
+// the approximation slows Newton slightly for large rotations per step but does
+// not change the converged solution.
+//
+// Newton on (vdot_{n+1}, lambda_{n+1}) with the iteration matrix
+//   [ M - gamma' dQ/dv - beta' dQ/dq    J^T ]     beta'  = h^2 beta (1 - alpha_f)/(1 - alpha_m)
+//   [ J                                  0  ]     gamma' = h gamma (1 - alpha_f)/(1 - alpha_m)
+// where the constraint rows are scaled by 1/beta' (Bottasso, Bauchau & Cardona
+// 2007) so the matrix stays well conditioned as h -> 0. The geometric stiffness
+// d(J^T lambda)/dq is left out of the matrix (again: Newton rate only).
+#include "common.hpp"
+
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/system.hpp>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseLU>
+
+#include <algorithm>
+#include <cmath>
+
+namespace mbd::integrators {
+namespace {
+
+constexpr int kMaxNewton = 25;
+constexpr int kDenseLimit = 400;  // iteration matrices up to this size are factored dense
+
+class GeneralizedAlpha final : public Integrator {
+public:
+    explicit GeneralizedAlpha(const IntegratorSettings& settings) : settings_(settings) {}
+    std::string name() const override { return "generalized_alpha"; }
+    bool adaptive() const override { return false; }
+
+    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
+                   const OutputCallback& output, IntegratorStats& stats) override;
+
+private:
+    // Build the iteration matrix at `state_` and factor it.
+    void factor(double beta_p, double gamma_p, IntegratorStats& stats);
+    // Solve the factored system for rhs_ into sol_.
+    void solve();
+    // Initial accelerations and multipliers: [M J^T; J 0] [vdot; lambda] = [Q; gamma].
+    void initial_accelerations(double t, IntegratorStats& stats);
+    [[noreturn]] void newton_failure(double t, const std::string& cause) const;
+
+    IntegratorSettings settings_;
+    const System* system_ = nullptr;
+    int nv_ = 0, nc_ = 0;
+    double regularization_ = 0.0;
+
+    State state_;
+    ConstraintValues cv_;
+    Eigen::SparseMatrix<double> dQ_dq_, dQ_dv_;
+    Eigen::VectorXd Q_, r_, rhs_, sol_;
+    Eigen::VectorXd q_n_, v_n_, vdot_n_, a_n_, lambda_n_;
+    Eigen::VectorXd x_, lambda_, a_next_, increment_;
+    Eigen::MatrixXd dense_;
+    Eigen::PartialPivLU<Eigen::MatrixXd> dense_lu_;
+    std::vector<Eigen::Triplet<double>> triplets_;
+    Eigen::SparseMatrix<double> sparse_;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> sparse_lu_;
+    bool use_dense_ = true;
+};
+
+void GeneralizedAlpha::factor(double beta_p, double gamma_p, IntegratorStats& stats) {
+    const Eigen::SparseMatrix<double>& M = system_->mass_matrix();
+    system_->force_jacobians(state_, dQ_dq_, dQ_dv_);
+    ++stats.jacobian_evaluations;
+    const Eigen::SparseMatrix<double>& J = cv_.J;
+    if (use_dense_) {
+        dense_.setZero();
+        auto add = [&](const Eigen::SparseMatrix<double>& A, double s) {
+            for (int k = 0; k < A.outerSize(); ++k)
+                for (Eigen::SparseMatrix<double>::InnerIterator it(A, k); it; ++it) dense_(it.row(), it.col()) += s * it.value();
+        };
+        add(M, 1.0);
+        if (gamma_p != 0.0) add(dQ_dv_, -gamma_p);
+        if (beta_p != 0.0) add(dQ_dq_, -beta_p);
+        for (int k = 0; k < J.outerSize(); ++k)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(J, k); it; ++it) {
+                dense_(nv_ + it.row(), it.col()) += it.value();
+                dense_(it.col(), nv_ + it.row()) += it.value();
+            }
+        for (int i = 0; i < nc_; ++i) dense_(nv_ + i, nv_ + i) = -regularization_;
+        dense_lu_.compute(dense_);
+    } else {
+        triplets_.clear();
+        auto add = [&](const Eigen::SparseMatrix<double>& A, double s) {
+            for (int k = 0; k < A.outerSize(); ++k)
+                for (Eigen::SparseMatrix<double>::InnerIterator it(A, k); it; ++it)
+                    triplets_.emplace_back(it.row(), it.col(), s * it.value());
+        };
+        add(M, 1.0);
+        if (gamma_p != 0.0) add(dQ_dv_, -gamma_p);
+        if (beta_p != 0.0) add(dQ_dq_, -beta_p);
+        for (int k = 0; k < J.outerSize(); ++k)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(J, k); it; ++it) {
+                triplets_.emplace_back(nv_ + it.row(), it.col(), it.value());
+                triplets_.emplace_back(it.col(), nv_ + it.row(), it.value());
+            }
+        for (int i = 0; i < nc_; ++i) triplets_.emplace_back(nv_ + i, nv_ + i, -regularization_);
+        sparse_.resize(nv_ + nc_, nv_ + nc_);
+        sparse_.setFromTriplets(triplets_.begin(), triplets_.end());
+        sparse_lu_.analyzePattern(sparse_);
+        sparse_lu_.factorize(sparse_);
+        if (sparse_lu_.info() != Eigen::Success)
+            throw DynamicsError(state_.t, "generalized_alpha: the iteration matrix is singular at t = " +
+                                              format_time(state_.t) + " (redundant or singular constraints?)");
+    }
+}
+
+void GeneralizedAlpha::solve() {
+    if (use_dense_)
+        sol_.noalias() = dense_lu_.solve(rhs_);
+    else
+        sol_ = sparse_lu_.solve(rhs_);
+}
+
+void GeneralizedAlpha::newton_failure(double t, const std::string& cause) const {
+    std::string where;
+    if (nc_ > 0 && cv_.C.size() == nc_) {
+        Eigen::Index worst = 0;
+        const double c = cv_.C.cwiseAbs().maxCoeff(&worst);
+        where = "; worst constraint row: " + system_->describe_row(static_cast<int>(worst)) +
+                ", |C| = " + format_time(c);
+    }
+    throw DynamicsError(t, "generalized_alpha: Newton iteration did not converge at t = " + format_time(t) + " (" +
+                               cause + where + "); try a smaller step");
+}
+
+void GeneralizedAlpha::initial_accelerations(double t, IntegratorStats& stats) {
+    state_.t = t;
+    system_->generalized_forces(state_, Q_);
+    system_->constraints(state_, cv_, true);
+    ++stats.rhs_evaluations;
+    factor(0.0, 0.0, stats);  // [M J^T; J 0]
+    rhs_.head(nv_) = Q_;
+    rhs_.tail(nc_) = cv_.gamma;
+    solve();
+    if (!sol_.allFinite())
+        throw DynamicsError(t, "generalized_alpha: the initial accelerations cannot be solved at t = " +
+                                   format_time(t) + " (singular mass matrix or constraints)");
+    vdot_n_ = sol_.head(nv_);
+    lambda_n_ = sol_.tail(nc_);
+}
+
+void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y,
+                                 const std::vector<double>& output_times, const OutputCallback& output,
+                                 IntegratorStats& stats) {
+    const System* system = problem.system();
+    Formulation* formulation = problem.formulation();
+    if (!system || !formulation || !formulation->supports_index3())
+        throw InputError(name(), "generalized_alpha needs a formulation that supports index-3 (augmented)");
+    if (!(settings_.step > 0.0) || !std::isfinite(settings_.step))
+        throw InputError(name(), "needs a positive fixed step (settings.step), got " + format_time(settings_.step));
+    check_output_times(name(), t0, output_times);
+    system_ = system;
+    nv_ = system->nv();
+    nc_ = system->constraint_rows(true);
+    const int n = nv_ + nc_;
+    use_dense_ = n <= kDenseLimit;
+    if (use_dense_) {
+        dense_.resize(n, n);
+        dense_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+    }
+    Q_.resize(nv_);
+    r_.resize(nv_);
+    rhs_.resize(n);
+    sol_.resize(n);
+    x_.resize(nv_);
+    a_next_.resize(nv_);
+    increment_.resize(nv_);
+
+    formulation->from_ode(t0, y, state_);
+    state_.t = t0;
+    q_n_ = state_.q;
+    v_n_ = state_.v;
+
+    // regularisation of the zero block: keeps consistent redundant constraints solvable
+    const Eigen::SparseMatrix<double>& M = system->mass_matrix();
+    double m_max = 0.0;
+    for (int k = 0; k < M.outerSize(); ++k)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(M, k); it; ++it) m_max = std::max(m_max, std::abs(it.value()));
+    regularization_ = m_max > 0.0 ? 1e-12 / m_max : 1e-12;
+
+    const double rho = std::clamp(settings_.rho_infinity, 0.0, 1.0);
+    const double alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
+    const double alpha_f = rho / (rho + 1.0);
+    const double gamma = 0.5 + alpha_f - alpha_m;
+    const double beta = 0.25 * (gamma + 0.5) * (gamma + 0.5);
+
+    if (output_times.empty()) return;
+    initial_accelerations(t0, stats);
+    a_n_ = vdot_n_;
+    x_ = vdot_n_;
+    lambda_ = lambda_n_;
+
+    // Newton tolerance on position-level corrections (beta' |dvdot|) and on |C|.
+    const double newton_tol = std::max(1e-3 * settings_.tolerance, 1e-14);
+
+    auto update_kinematics = [&](double h, double t_next) {
+        a_next_ = (alpha_f * vdot_n_ - alpha_m * a_n_ + (1.0 - alpha_f) * x_) / (1.0 - alpha_m);
+        state_.v = v_n_ + (h * (1.0 - gamma)) * a_n_ + (h * gamma) * a_next_;
+        increment_ = h * v_n_ + (h * h * (0.5 - beta)) * a_n_ + (h * h * beta) * a_next_;
+        state_.q = q_n_;
+        system_->advance_positions(state_.q, increment_);
+        state_.t = t_next;
+    };
+
+    auto step = [&](double t, double h) {
+        const double t_next = t + h;
+        const double beta_p = h * h * beta * (1.0 - alpha_f) / (1.0 - alpha_m);
+        const double gamma_p = h * gamma * (1.0 - alpha_f) / (1.0 - alpha_m);
+        // predictor: accelerations and multipliers of the last step
+        x_ = vdot_n_;
+        lambda_ = lambda_n_;
+        bool converged = false;
+        double first = 0.0;
+        for (int it = 0; it < kMaxNewton; ++it) {
+            update_kinematics(h, t_next);
+            system_->generalized_forces(state_, Q_);
+            system_->constraints(state_, cv_, true);
+            ++stats.rhs_evaluations;
+            ++stats.newton_iterations;
+            r_.noalias() = M * x_;
+            r_ -= Q_;
+            if (nc_ > 0) r_.noalias() += cv_.J.transpose() * lambda_;
+            rhs_.head(nv_) = -r_;
+            if (nc_ > 0) rhs_.tail(nc_) = -cv_.C / beta_p;
+            if (!rhs_.allFinite()) newton_failure(t_next, "the residual became non-finite");
+            factor(beta_p, gamma_p, stats);
+            solve();
+            if (!sol_.allFinite()) newton_failure(t_next, "singular iteration matrix");
+            x_ += sol_.head(nv_);
+            if (nc_ > 0) lambda_ += sol_.tail(nc_);
+            const double dq = beta_p * sol_.head(nv_).lpNorm<Eigen::Infinity>();
+            const double c = nc_ > 0 ? cv_.C.lpNorm<Eigen::Infinity>() : 0.0;
+            const double scale = std::max(1.0, q_n_.lpNorm<Eigen::Infinity>());
+            if (it == 0) first = dq;
+            if (dq <= newton_tol * scale && c <= newton_tol * scale) {
+                // the correction just applied is negligible: accept
+                converged = true;
+                break;
+            }
+            if (it > 2 && dq > 1e3 * std::max(first, newton_tol)) newton_failure(t_next, "diverging corrections");
+        }
+        if (!converged) newton_failure(t_next, std::to_string(kMaxNewton) + " iterations");
+        update_kinematics(h, t_next);
+        a_n_ = a_next_;
+        vdot_n_ = x_;
+        lambda_n_ = lambda_;
+        q_n_ = state_.q;
+        v_n_ = state_.v;
+        system_->normalize(q_n_);
+        state_.q = q_n_;
+    };
+
+    double t = t0;
+    const double h = settings_.step;
+    const double eps = time_epsilon(t0, output_times.back());
+    for (double t_out : output_times) {
+        const double span = t_out - t;
+        if (span > eps) {
+            long steps = static_cast<long>(std::ceil(span / h - 1e-6));
+            if (steps < 1) steps = 1;
+            const double t_start = t;
+            for (long k = 1; k <= steps; ++k) {
+                if (stats.steps >= settings_.max_steps)
+                    throw DynamicsError(t, "generalized_alpha: the maximum number of steps (" +
+                                               std::to_string(settings_.max_steps) + ") was reached at t = " +
+                                               format_time(t));
+                const double t_next = (k == steps) ? t_out : t_start + static_cast<double>(k) * h;
+                step(t, t_next - t);
+                ++stats.steps;
+                t = t_next;
+            }
+        }
+        t = std::max(t, t_out);
+        state_.t = t;
+        state_.q = q_n_;
+        state_.v = v_n_;
+        formulation->to_ode(state_, y);
+        if (output && !output(t_out, y)) return;
+    }
+}
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_generalized_alpha(const IntegratorSettings& settings) {
+    return std::make_unique<GeneralizedAlpha>(settings);
+}
+
+}  // namespace mbd::integrators

@@ -1,0 +1,292 @@
+// Forward dynamics driver (see simulation.hpp).
+#include <mbd/simulation.hpp>
+
+#include <mbd/csv.hpp>
+#include <mbd/model_system.hpp>
+#include <mbd/sdk/reactions.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <sstream>
+#include <unistd.h>
+
+namespace mbd {
+
+namespace {
+
+std::string format_number(double x) {
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.9g", x);
+    return buffer;
+}
+
+const char* stabilization_name(Stabilization s) {
+    switch (s) {
+        case Stabilization::None: return "none";
+        case Stabilization::Projection: return "projection";
+        case Stabilization::Baumgarte: return "baumgarte";
+    }
+    return "projection";
+}
+
+// The OdeProblem the integrators see: the formulation's ODE and projection hook.
+class FormulationProblem final : public OdeProblem {
+public:
+    FormulationProblem(Formulation& formulation, const System& system) : formulation_(formulation), system_(system) {}
+    int size() const override { return formulation_.ode_size(); }
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { formulation_.rhs(t, y, ydot); }
+    bool project(double t, Eigen::VectorXd& y) override { return formulation_.project(t, y); }
+    const System* system() const override { return &system_; }
+    Formulation* formulation() override { return &formulation_; }
+
+private:
+    Formulation& formulation_;
+    const System& system_;
+};
+
+// A one-line progress bar on stderr, shown only when stderr is a terminal and the
+// run has already taken more than a second.
+class ProgressBar {
+public:
+    ProgressBar(bool enabled, double t0, double t_end)
+        : enabled_(enabled && ::isatty(::fileno(stderr)) && t_end > t0), t0_(t0), t_end_(t_end),
+          start_(std::chrono::steady_clock::now()) {}
+    ~ProgressBar() { finish(); }
+    void update(double t) {
+        if (!enabled_) return;
+        const auto now = std::chrono::steady_clock::now();
+        if (now - start_ < std::chrono::seconds(1)) return;
+        if (shown_ && now - last_ < std::chrono::milliseconds(100)) return;
+        last_ = now;
+        shown_ = true;
+        const double fraction = std::clamp((t - t0_) / (t_end_ - t0_), 0.0, 1.0);
+        const int width = 40, filled = static_cast<int>(fraction * width);
+        std::string bar(filled, '=');
+        if (filled < width) bar += '>' + std::string(width - filled - 1, ' ');
+        std::fprintf(stderr, "\r[%s] %3d%%  t = %.6g / %.6g s", bar.c_str(), static_cast<int>(100 * fraction), t,
+                     t_end_);
+        std::fflush(stderr);
+    }
+    void finish() {
+        if (shown_) {
+            std::fprintf(stderr, "\r%78s\r", "");
+            std::fflush(stderr);
+            shown_ = false;
+        }
+    }
+
+private:
+    bool enabled_;
+    double t0_, t_end_;
+    std::chrono::steady_clock::time_point start_, last_;
+    bool shown_ = false;
+};
+
+// The formulation's scene keys, with the command line's overrides written over
+// the keys the scene gives (a key the scene does not give is passed through
+// FormulationOptions instead, so formulations that do not read it never see it).
+Param formulation_node(const Model& model, const std::string& name, const SimulationSettings& settings) {
+    Param node;
+    node.kind = Param::Kind::Map;
+    if (model.formulation_node && model.formulation == name) {
+        node = *model.formulation_node;
+        if (!node.is_map()) {
+            Param type = node;
+            node = Param();
+            node.kind = Param::Kind::Map;
+            node.file = type.file;
+            node.line = type.line;
+            node.fields["type"] = type;
+        }
+    }
+    auto override_key = [&](const std::string& key, const std::string& value) {
+        auto it = node.fields.find(key);
+        if (it != node.fields.end()) it->second.text = value;
+    };
+    if (settings.stabilization) override_key("stabilization", stabilization_name(*settings.stabilization));
+    if (!settings.algebra.empty()) override_key("linear_algebra", settings.algebra);
+    if (settings.sparse_threshold) override_key("sparse_threshold", std::to_string(*settings.sparse_threshold));
+    return node;
+}
+
+double max_abs(const Eigen::VectorXd& x) { return x.size() ? x.lpNorm<Eigen::Infinity>() : 0.0; }
+
+}  // namespace
+
+std::vector<std::string> reaction_columns(const Model& model) {
+    std::vector<std::string> columns;
+    const bool planar = model.dimension == Dimension::Planar;
+    for (const JointInstance& j : model.joints) {
+        if (planar) {
+            for (const char* s : {".fx", ".fy", ".tz"}) columns.push_back(j.name + s);
+        } else {
+            for (const char* s : {".fx", ".fy", ".fz", ".tx", ".ty", ".tz"}) columns.push_back(j.name + s);
+        }
+    }
+    return columns;
+}
+
+std::vector<std::string> diagnostic_columns() {
+    return {"kinetic_energy", "potential_energy", "constraint_position_violation", "constraint_velocity_violation"};
+}
+
+SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
+                          const SimulationCallback& callback) {
+    SimulationResult result;
+    // --- the formulation: command line, else the scene's, else augmented
+    const std::string name =
+        !settings.formulation.empty() ? settings.formulation : (!model.formulation.empty() ? model.formulation : "augmented");
+    const std::string where =
+        (!settings.formulation.empty() || model.formulation_where.empty()) ? std::string() : model.formulation_where;
+    const Param node = formulation_node(model, name, settings);
+    FormulationSpec spec;
+    spec.name = name;
+    spec.type = name;
+    spec.params = Params("formulation '" + name + "'", &node);
+    std::shared_ptr<Formulation> formulation = registry.create_formulation(spec, where);
+    spec.params.mark_read("type");
+    const std::vector<std::string> unread = spec.params.unread_keys();
+    if (!unread.empty()) {
+        const Param& bad = node.fields.at(unread.front());
+        throw InputError(bad.location(), "formulation '" + name + "': unknown key '" + unread.front() + "'");
+    }
+    result.formulation = name;
+
+    // --- integrator (checked before any work)
+    if (!(settings.t_end > 0.0) || !std::isfinite(settings.t_end))
+        throw InputError("", "the end time must be positive, got " + format_number(settings.t_end));
+    std::unique_ptr<Integrator> integrator = make_integrator(settings.integrator, settings.integration);
+    result.integrator = integrator->name();
+
+    // --- bind and assemble a consistent initial state
+    ModelSystem system(model);
+    FormulationOptions options;
+    if (settings.stabilization) options.stabilization = *settings.stabilization;
+    if (!settings.algebra.empty()) options.algebra = settings.algebra;
+    if (settings.sparse_threshold) options.sparse_threshold = *settings.sparse_threshold;
+    formulation->bind(system, options);
+
+    State state = system.initial_state();
+    state.t = 0.0;
+    system.assemble(state, true);
+    system.consistent_velocities(state, true);
+    Eigen::VectorXd y;
+    formulation->to_ode(state, y);
+    if (!formulation->project(0.0, y))
+        throw DynamicsError(0.0, "the initial state could not be projected onto the constraints");
+
+    // --- output times 0, h, 2h, ..., t_end
+    double h = settings.output_step;
+    if (!(h > 0.0)) h = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;
+    if (!std::isfinite(h)) throw InputError("", "the output step must be positive and finite");
+    const double ratio = settings.t_end / h;
+    const long intervals = std::max(1L, static_cast<long>(std::ceil(ratio - 1e-9 * std::max(1.0, ratio))));
+    std::vector<double> times;
+    times.reserve(intervals);
+    for (long k = 1; k < intervals; ++k) times.push_back(static_cast<double>(k) * h);
+    times.push_back(settings.t_end);
+
+    // --- CSV
+    std::vector<std::string> columns = motion_columns(model);
+    if (settings.reactions)
+        for (auto& c : reaction_columns(model)) columns.push_back(c);
+    if (settings.diagnostics)
+        for (auto& c : diagnostic_columns()) columns.push_back(c);
+    std::unique_ptr<CsvWriter> writer;
+    if (!settings.output.empty()) writer = std::make_unique<CsvWriter>(settings.output, columns);
+
+    const bool planar = model.dimension == Dimension::Planar;
+    ConstraintValues cv;
+    Eigen::VectorXd lambda;
+    SimulationSample sample;
+    double last_written = 0.0;
+    bool any_written = false;
+    ProgressBar progress(settings.progress, 0.0, settings.t_end);
+
+    auto emit = [&](double t, const Eigen::VectorXd& yt) -> bool {
+        formulation->from_ode(t, yt, sample.state);
+        if (!sample.state.q.allFinite() || !sample.state.v.allFinite())
+            throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+        std::vector<double> row = motion_values(model, sample.state);
+        system.constraints(sample.state, cv, true);
+        result.final_position_violation = max_abs(cv.C);
+        Eigen::VectorXd velocity_residual = cv.C_t;
+        if (cv.J.rows() > 0) velocity_residual += cv.J * sample.state.v;
+        result.final_velocity_violation = max_abs(velocity_residual);
+        sample.lambda = nullptr;
+        if (settings.reactions) {
+            formulation->multipliers(sample.state, lambda);
+            sample.lambda = &lambda;
+            const std::vector<JointReaction> reactions = joint_reactions(system, sample.state, lambda);
+            for (const JointReaction& r : reactions) {
+                // the reaction on the joint's second body, world axes, at its joint point
+                Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+                if (r.on.size() >= 2 && r.on[1].body >= 0) {
+                    force = r.on[1].force;
+                    torque = r.on[1].torque;
+                } else if (r.on.size() >= 2) {
+                    // the second body is the ground: action and reaction (the joint's
+                    // constraint forces are self-equilibrated), moved to its point
+                    const Vec3 P = r.on[1].point;
+                    for (const BodyReaction& b : r.on) {
+                        if (b.body < 0) continue;
+                        force -= b.force;
+                        torque -= b.torque + (b.point - P).cross(b.force);
+                    }
+                }
+                if (planar) {
+                    row.push_back(force.x());
+                    row.push_back(force.y());
+                    row.push_back(torque.z());
+                } else {
+                    for (int k = 0; k < 3; ++k) row.push_back(force[k]);
+                    for (int k = 0; k < 3; ++k) row.push_back(torque[k]);
+                }
+            }
+        }
+        if (settings.diagnostics) {
+            row.push_back(system.kinetic_energy(sample.state));
+            row.push_back(system.potential_energy(sample.state));
+            row.push_back(result.final_position_violation);
+            row.push_back(result.final_velocity_violation);
+        }
+        for (size_t k = 0; k < row.size(); ++k)
+            if (!std::isfinite(row[k]))
+                throw DynamicsError(t, "non-finite value in output column '" + columns[k] +
+                                           "': the motion diverged (try a smaller tolerance or step)");
+        if (writer) writer->row(row);
+        last_written = t;
+        any_written = true;
+        ++result.rows;
+        result.final_state = sample.state;
+        progress.update(t);
+        return callback ? callback(sample) : true;
+    };
+
+    FormulationProblem problem(*formulation, system);
+    const std::clock_t cpu_start = std::clock();
+    try {
+        if (emit(0.0, y)) integrator->integrate(problem, 0.0, y, times, emit, result.stats);
+    } catch (const DynamicsError& e) {
+        progress.finish();
+        std::string message = e.what();
+        if (writer) {
+            // keep the complete rows written so far: the file is a valid prefix of the run
+            writer->close();
+            message += any_written ? "; the " + std::to_string(result.rows) + " rows up to t = " +
+                                         format_number(last_written) + " are kept in '" + settings.output + "'"
+                                   : std::string();
+        }
+        throw DynamicsError(e.time(), message);
+    }
+    result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+    progress.finish();
+    if (writer) writer->close();
+    return result;
+}
+
+}  // namespace mbd

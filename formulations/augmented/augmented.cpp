@@ -1,0 +1,583 @@
+// The augmented formulation of the constrained equations of motion (Shabana,
+// Computational Dynamics, Secs. 6.6-6.7; spatial form Sec. 7.9):
+//
+//     [ M  J^T ] [ vdot   ]   [ Q     ]
+//     [ J  0   ] [ lambda ] = [ gamma ]          (book Eq. 6.141; Eq. 7.157 spatial)
+//
+// M is the constant block-diagonal mass matrix (planar diag(m, m, J), spatial
+// diag(m I, Jbar)), J = C_q the constraint Jacobian with respect to v, Q the applied
+// generalized forces (plus the gyroscopic term, book Eq. 7.155), gamma = Q_d (book
+// Eq. 6.140), so that Cddot = J vdot - gamma = 0 (Eq. 6.139).
+//
+// State y = [q; v]; y' = [qdot(q, v); vdot] with qdot = v planar and, spatial,
+// Rdot = v_R, pdot = 1/2 Gbar^T wbar (book Eq. 8.48 in Euler parameters).
+//
+// Linear algebra: the KKT matrix is symmetric INDEFINITE (digest erratum: the book's
+// L8576 calls it positive definite), so it is not factored directly. M is block
+// diagonal SPD, so the range-space (Schur complement) route is used (the block
+// inverse of Eqs. 6.142-6.145):
+//     S = J M^-1 J^T,   S lambda = J M^-1 Q - gamma,   vdot = M^-1 (Q - J^T lambda).
+// With M^-1 = Lm Lm^T (per-body Cholesky factors) S = W W^T, W = J Lm.
+//   dense : S by a rank update of W, LDL^T with symmetric pivoting (Eigen LDLT);
+//           a (near) rank-deficient S (redundant constraints) falls back to the
+//           minimum-norm solution by a complete orthogonal decomposition, accepted
+//           only if the acceleration constraints are then satisfied.
+//   sparse: CHOLMOD factors W W^T directly (unsymmetric input, stype 0); the
+//           symbolic analysis is done once in bind() on W's fixed pattern (every
+//           row of a joint touches every velocity column of that joint's bodies).
+// Drift (FormulationOptions::stabilization): projection after each accepted step
+// (Newton on C(q, t) = 0 with steps of minimum kinetic-energy norm,
+// dq = -M^-1 J^T S^-1 C, then v <- v - M^-1 J^T S^-1 (J v + C_t)); Baumgarte
+// (book Sec. 6.12, L9420-9442: gamma - 2 alpha (J v + C_t) - beta^2 C); or none.
+#include <mbd/sdk/formulation.hpp>
+
+#include <Eigen/Dense>
+
+extern "C" {
+#include <cholmod.h>
+}
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mbd {
+namespace {
+
+std::string format_time(double t) {
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.10g", t);
+    return buffer;
+}
+
+class Augmented final : public Formulation {
+public:
+    explicit Augmented(const FormulationSpec& spec);
+    ~Augmented() override { release_cholmod(); }
+    Augmented(const Augmented&) = delete;
+    Augmented& operator=(const Augmented&) = delete;
+
+    void bind(const System& system, const FormulationOptions& options) override;
+    int ode_size() const override { return nq_ + nv_; }
+    void to_ode(const State& state, Eigen::VectorXd& y) const override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
+    bool project(double t, Eigen::VectorXd& y) override;
+    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
+    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+    bool supports_index3() const override { return true; }
+
+private:
+    // state_ -> cv_, Q_, vdot_, lambda_
+    void solve_dynamics(double t);
+    // factor S = J M^-1 J^T from cv_.J (dense or sparse); throws DynamicsError if singular
+    void factor(double t, const char* what);
+    // x <- S^-1 x (after factor())
+    void solve_S(Eigen::VectorXd& x);
+    // out = M^-1 x
+    void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const;
+    void redundant_rows_error(double t, const char* what) const;
+    void check_finite(double t, const Eigen::VectorXd& x, const char* what) const;
+    void release_cholmod();
+
+    // options from the scene's `formulation:` map (override bind()'s options)
+    std::optional<Stabilization> stabilization_;
+    std::optional<double> alpha_, beta_, projection_tolerance_;
+    std::optional<std::string> algebra_;
+    std::optional<int> sparse_threshold_;
+
+    const System* system_ = nullptr;
+    FormulationOptions options_;
+    bool sparse_ = false;
+    bool planar_ = true;
+    int nb_ = 0, nq_ = 0, nv_ = 0, nc_ = 0, nvb_ = 3, nqb_ = 3;
+
+    // per body: M^-1 block and its lower Cholesky factor Lm (M^-1 = Lm Lm^T)
+    std::vector<Eigen::Matrix<double, 6, 6>> minv_, lm_;
+
+    // scratch (allocated in bind)
+    State state_;
+    ConstraintValues cv_;
+    Eigen::VectorXd Q_, vdot_, lambda_, b_, tmp_nv_, tmp_nv2_, tmp_nc_, r_nc_, dv_;
+    // dense path
+    Eigen::MatrixXd Jd_, Wd_, S_;
+    Eigen::LDLT<Eigen::MatrixXd> ldlt_;
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_;
+    bool rank_deficient_ = false;
+    // sparse path
+    cholmod_common common_{};
+    bool cholmod_started_ = false;
+    cholmod_sparse* W_ = nullptr;
+    cholmod_factor* L_ = nullptr;
+    cholmod_dense* X_ = nullptr;
+    cholmod_dense* Y_ = nullptr;
+    cholmod_dense* E_ = nullptr;
+    double regularization_ = 0.0;
+};
+
+Stabilization parse_stabilization(const Param& p) {
+    if (p.text == "projection") return Stabilization::Projection;
+    if (p.text == "baumgarte") return Stabilization::Baumgarte;
+    if (p.text == "none") return Stabilization::None;
+    p.fail("'stabilization' must be projection, baumgarte or none, got '" + p.text + "'");
+}
+
+Augmented::Augmented(const FormulationSpec& spec) {
+    const Params& params = spec.params;
+    params.mark_read("type");
+    if (params.has("stabilization")) stabilization_ = parse_stabilization(params.at("stabilization"));
+    if (params.has("alpha")) alpha_ = params.non_negative("alpha", 0.0);
+    if (params.has("beta")) beta_ = params.number("beta");
+    if (params.has("projection_tolerance")) projection_tolerance_ = params.positive("projection_tolerance");
+    if (params.has("linear_algebra")) {
+        const std::string a = params.string("linear_algebra");
+        if (a != "auto" && a != "dense" && a != "sparse")
+            params.at("linear_algebra").fail("'linear_algebra' must be auto, dense or sparse, got '" + a + "'");
+        algebra_ = a;
+    }
+    if (params.has("sparse_threshold")) sparse_threshold_ = static_cast<int>(params.positive("sparse_threshold"));
+    const std::vector<std::string> unread = params.unread_keys();
+    if (!unread.empty())
+        params.fail("unknown key '" + unread.front() +
+                    "' for the augmented formulation; its keys are type, stabilization (projection, baumgarte, none), "
+                    "alpha, beta, projection_tolerance, linear_algebra (auto, dense, sparse), sparse_threshold");
+}
+
+void Augmented::release_cholmod() {
+    if (!cholmod_started_) return;
+    if (W_) cholmod_free_sparse(&W_, &common_);
+    if (L_) cholmod_free_factor(&L_, &common_);
+    if (X_) cholmod_free_dense(&X_, &common_);
+    if (Y_) cholmod_free_dense(&Y_, &common_);
+    if (E_) cholmod_free_dense(&E_, &common_);
+    cholmod_finish(&common_);
+    cholmod_started_ = false;
+}
+
+void Augmented::bind(const System& system, const FormulationOptions& options) {
+    release_cholmod();
+    system_ = &system;
+    options_ = options;
+    if (stabilization_) options_.stabilization = *stabilization_;
+    if (alpha_) options_.baumgarte_alpha = *alpha_;
+    if (beta_) options_.baumgarte_beta = *beta_;
+    if (projection_tolerance_) options_.projection_tolerance = *projection_tolerance_;
+    if (algebra_) options_.algebra = *algebra_;
+    if (sparse_threshold_) options_.sparse_threshold = *sparse_threshold_;
+
+    planar_ = system.dimension() == Dimension::Planar;
+    nvb_ = velocities_per_body(system.dimension());
+    nqb_ = coordinates_per_body(system.dimension());
+    nb_ = system.body_count();
+    nq_ = system.nq();
+    nv_ = system.nv();
+    nc_ = system.constraint_rows(true);
+    if (options_.algebra == "dense")
+        sparse_ = false;
+    else if (options_.algebra == "sparse")
+        sparse_ = true;
+    else
+        sparse_ = nv_ > options_.sparse_threshold;
+
+    // M^-1 per body and its Cholesky factor (M is constant: book Eqs. 6.61-6.63)
+    const Eigen::SparseMatrix<double>& M = system.mass_matrix();
+    minv_.assign(nb_, Eigen::Matrix<double, 6, 6>::Zero());
+    lm_.assign(nb_, Eigen::Matrix<double, 6, 6>::Zero());
+    for (int b = 0; b < nb_; ++b) {
+        const int o = b * nvb_;
+        const Eigen::MatrixXd block = Eigen::MatrixXd(M.block(o, o, nvb_, nvb_));
+        const Eigen::MatrixXd inv = block.inverse();
+        Eigen::LLT<Eigen::MatrixXd> llt(inv);
+        if (llt.info() != Eigen::Success)
+            throw InputError("", "augmented formulation: the mass matrix of body '" + system.body(b).name +
+                                     "' is not positive definite");
+        minv_[b].topLeftCorner(nvb_, nvb_) = inv;
+        lm_[b].topLeftCorner(nvb_, nvb_) = llt.matrixL();
+    }
+
+    state_.t = 0.0;
+    state_.q.setZero(nq_);
+    state_.v.setZero(nv_);
+    Q_.setZero(nv_);
+    vdot_.setZero(nv_);
+    lambda_.setZero(nc_);
+    b_.setZero(nc_);
+    tmp_nc_.setZero(nc_);
+    r_nc_.setZero(nc_);
+    tmp_nv_.setZero(nv_);
+    tmp_nv2_.setZero(nv_);
+    dv_.setZero(nv_);
+    cv_.C.setZero(nc_);
+    cv_.C_t.setZero(nc_);
+    cv_.gamma.setZero(nc_);
+    rank_deficient_ = false;
+
+    if (!sparse_) {
+        Jd_.setZero(nc_, nv_);
+        Wd_.setZero(nc_, nv_);
+        S_.setZero(nc_, nc_);
+        ldlt_ = Eigen::LDLT<Eigen::MatrixXd>(nc_);
+        cod_ = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(nc_, nc_);
+        Jd_.setZero(), Wd_.setZero(), S_.setZero();
+        return;
+    }
+
+    // Sparse: the fixed pattern of W = J Lm, column by column. Column c of body b holds
+    // every row of every joint or driver that connects body b.
+    std::vector<std::vector<int>> rows_of_body(nb_);
+    auto add_rows = [&](const std::vector<int>& bodies, int first, int count) {
+        for (int body : bodies)
+            if (body >= 0)
+                for (int r = first; r < first + count; ++r) rows_of_body[body].push_back(r);
+    };
+    for (int j = 0; j < system.joint_count(); ++j) {
+        const JointInfo& info = system.joint(j);
+        add_rows(info.bodies, info.first_row, info.rows);
+    }
+    for (int d = 0; d < system.driver_count(); ++d) {
+        const DriverInfo& info = system.driver(d);
+        add_rows(system.joint(info.joint).bodies, info.row, 1);
+    }
+    size_t nnz = 0;
+    for (auto& rows : rows_of_body) {
+        std::sort(rows.begin(), rows.end());
+        rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+        nnz += rows.size() * nvb_;
+    }
+    cholmod_start(&common_);
+    cholmod_started_ = true;
+    common_.print = 0;
+    common_.error_handler = nullptr;
+    common_.supernodal = CHOLMOD_AUTO;
+    W_ = cholmod_allocate_sparse(nc_, nv_, std::max<size_t>(nnz, 1), 1, 1, 0, CHOLMOD_REAL, &common_);
+    if (!W_) throw std::runtime_error("augmented formulation: CHOLMOD could not allocate W");
+    int* p = static_cast<int*>(W_->p);
+    int* ri = static_cast<int*>(W_->i);
+    int k = 0;
+    for (int b = 0; b < nb_; ++b)
+        for (int c = 0; c < nvb_; ++c) {
+            p[b * nvb_ + c] = k;
+            for (int r : rows_of_body[b]) ri[k++] = r;
+        }
+    p[nv_] = k;
+    std::fill_n(static_cast<double*>(W_->x), std::max<size_t>(nnz, 1), 0.0);
+    L_ = cholmod_analyze(W_, &common_);  // orders and analyses W W^T once
+    if (!L_) throw std::runtime_error("augmented formulation: CHOLMOD analysis failed");
+}
+
+void Augmented::to_ode(const State& state, Eigen::VectorXd& y) const {
+    y.resize(nq_ + nv_);
+    y.head(nq_) = state.q;
+    y.tail(nv_) = state.v;
+}
+
+void Augmented::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+    state.t = t;
+    state.q = y.head(nq_);
+    state.v = y.tail(nv_);
+}
+
+void Augmented::apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const {
+    if (planar_) {
+        for (int b = 0; b < nb_; ++b)
+            out.segment<3>(3 * b).noalias() = minv_[b].topLeftCorner<3, 3>() * x.segment<3>(3 * b);
+    } else {
+        for (int b = 0; b < nb_; ++b) out.segment<6>(6 * b).noalias() = minv_[b] * x.segment<6>(6 * b);
+    }
+}
+
+void Augmented::check_finite(double t, const Eigen::VectorXd& x, const char* what) const {
+    if (x.allFinite()) return;
+    int worst = 0;
+    while (worst < x.size() && std::isfinite(x[worst])) ++worst;
+    std::string where;
+    if (worst < x.size() && x.size() == nv_) where = " (body '" + system_->body(worst / nvb_).name + "')";
+    throw DynamicsError(t, std::string("non-finite ") + what + where +
+                               ": the motion diverged (try a smaller tolerance or step)");
+}
+
+void Augmented::redundant_rows_error(double t, const char* what) const {
+    // Name the rows that depend on the others: a column-pivoted QR of J^T puts the
+    // independent rows first; the rest are redundant in this configuration.
+    std::string rows;
+    if (static_cast<double>(nc_) * nv_ <= 4e6) {
+        Eigen::MatrixXd Jt = Eigen::MatrixXd(cv_.J).transpose();
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jt);
+        qr.setThreshold(1e-9);
+        const int rank = static_cast<int>(qr.rank());
+        const auto& perm = qr.colsPermutation().indices();
+        int listed = 0;
+        for (int k = rank; k < nc_ && listed < 8; ++k, ++listed)
+            rows += (rows.empty() ? "" : ", ") + system_->describe_row(perm[k]);
+        if (nc_ - rank > 8) rows += ", ...";
+        if (!rows.empty())
+            rows = "; " + std::to_string(nc_ - rank) + " of " + std::to_string(nc_) +
+                   " constraint rows are redundant or the configuration is singular: " + rows;
+    } else if (sparse_ && L_ && L_->minor < static_cast<size_t>(nc_)) {
+        const int* perm = static_cast<const int*>(L_->Perm);
+        const int row = perm ? perm[L_->minor] : static_cast<int>(L_->minor);
+        rows = "; the rows are dependent at " + system_->describe_row(row);
+    }
+    throw DynamicsError(t, std::string("singular saddle point (") + what +
+                               "): the constraint Jacobian has dependent rows" + rows +
+                               " (remove redundant joints, or check for a locked or singular position)");
+}
+
+void Augmented::factor(double t, const char* what) {
+    const Eigen::SparseMatrix<double>& J = cv_.J;
+    rank_deficient_ = false;
+    if (nc_ == 0) return;
+    if (!sparse_) {
+        Jd_.setZero();
+        for (int c = 0; c < J.outerSize(); ++c)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) Jd_(it.row(), it.col()) = it.value();
+        for (int b = 0; b < nb_; ++b) {
+            const int o = b * nvb_;
+            if (planar_)
+                Wd_.middleCols<3>(o).noalias() = Jd_.middleCols<3>(o) * lm_[b].topLeftCorner<3, 3>();
+            else
+                Wd_.middleCols<6>(o).noalias() = Jd_.middleCols<6>(o) * lm_[b];
+        }
+        S_.setZero();
+        S_.selfadjointView<Eigen::Lower>().rankUpdate(Wd_);
+        ldlt_.compute(S_);
+        const auto& D = ldlt_.vectorD();
+        const double dmax = D.cwiseAbs().maxCoeff();
+        const double dmin = D.minCoeff();
+        if (ldlt_.info() != Eigen::Success || !(dmax > 0) || dmin <= 1e-12 * dmax) {
+            // (near) rank deficient: minimum-norm multipliers, checked by the caller
+            S_.triangularView<Eigen::StrictlyUpper>() = S_.transpose().eval();
+            cod_.setThreshold(1e-11);
+            cod_.compute(S_);
+            rank_deficient_ = true;
+        }
+        return;
+    }
+    // sparse: W = J Lm on W's fixed pattern
+    double* wx = static_cast<double*>(W_->x);
+    const int* wp = static_cast<const int*>(W_->p);
+    const int* wi = static_cast<const int*>(W_->i);
+    std::fill(wx, wx + wp[nv_], 0.0);
+    for (int c = 0; c < J.outerSize(); ++c) {
+        const int b = c / nvb_, i = c % nvb_;
+        for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
+            for (int j = 0; j <= i; ++j) {
+                const double l = lm_[b](i, j);
+                if (l == 0.0) continue;
+                const int col = b * nvb_ + j;
+                const int* begin = wi + wp[col];
+                const int* end = wi + wp[col + 1];
+                const int* pos = std::lower_bound(begin, end, static_cast<int>(it.row()));
+                if (pos == end || *pos != it.row())
+                    throw std::logic_error("augmented formulation: a Jacobian entry outside its joint's bodies (row " +
+                                           system_->describe_row(static_cast<int>(it.row())) + ")");
+                wx[pos - wi] += it.value() * l;
+            }
+        }
+    }
+    regularization_ = 0.0;
+    cholmod_factorize(W_, L_, &common_);
+    if (common_.status == CHOLMOD_NOT_POSDEF || L_->minor < static_cast<size_t>(nc_)) {
+        // rank deficient: damped least squares (W W^T + delta I), refined and checked by the caller
+        double max_diagonal = 0.0;
+        for (int c = 0; c < nv_; ++c)
+            for (int k = wp[c]; k < wp[c + 1]; ++k) max_diagonal = std::max(max_diagonal, wx[k] * wx[k]);
+        regularization_ = 1e-12 * std::max(max_diagonal, 1e-300);
+        double beta[2] = {regularization_, 0.0};
+        cholmod_factorize_p(W_, beta, nullptr, 0, L_, &common_);
+        if (common_.status != CHOLMOD_OK || L_->minor < static_cast<size_t>(nc_)) redundant_rows_error(t, what);
+        rank_deficient_ = true;
+    } else if (common_.status != CHOLMOD_OK) {
+        throw DynamicsError(t, std::string("CHOLMOD failed to factor J M^-1 J^T (") + what + ")");
+    }
+}
+
+void Augmented::solve_S(Eigen::VectorXd& x) {
+    if (nc_ == 0) return;
+    if (!sparse_) {
+        if (rank_deficient_) {
+            tmp_nc_ = x;
+            x.noalias() = cod_.solve(tmp_nc_);
+        } else {
+            ldlt_.solveInPlace(x);
+        }
+        return;
+    }
+    cholmod_dense B;
+    B.nrow = nc_;
+    B.ncol = 1;
+    B.nzmax = nc_;
+    B.d = nc_;
+    B.x = x.data();
+    B.z = nullptr;
+    B.xtype = CHOLMOD_REAL;
+    B.dtype = CHOLMOD_DOUBLE;
+    if (!cholmod_solve2(CHOLMOD_A, L_, &B, nullptr, &X_, nullptr, &Y_, &E_, &common_))
+        throw std::runtime_error("augmented formulation: CHOLMOD solve failed");
+    tmp_nc_ = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(X_->x), nc_);
+    if (rank_deficient_) {
+        // two steps of iterative refinement against the undamped S = W W^T
+        const Eigen::Map<const Eigen::SparseMatrix<double>> W(nc_, nv_, static_cast<int>(static_cast<int*>(W_->p)[nv_]),
+                                                              static_cast<const int*>(W_->p),
+                                                              static_cast<const int*>(W_->i),
+                                                              static_cast<const double*>(W_->x));
+        for (int pass = 0; pass < 2; ++pass) {
+            tmp_nv2_.noalias() = W.transpose() * tmp_nc_;
+            r_nc_.noalias() = W * tmp_nv2_;
+            r_nc_ = x - r_nc_;
+            B.x = r_nc_.data();
+            if (!cholmod_solve2(CHOLMOD_A, L_, &B, nullptr, &X_, nullptr, &Y_, &E_, &common_))
+                throw std::runtime_error("augmented formulation: CHOLMOD solve failed");
+            tmp_nc_ += Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(X_->x), nc_);
+        }
+    }
+    x = tmp_nc_;
+}
+
+void Augmented::solve_dynamics(double t) {
+    const System& sys = *system_;
+    sys.constraints(state_, cv_, true);
+    sys.generalized_forces(state_, Q_);
+    check_finite(t, Q_, "generalized forces");
+
+    // gamma, with Baumgarte's terms when selected (book Sec. 6.12, L9420-9442)
+    lambda_ = cv_.gamma;
+    if (options_.stabilization == Stabilization::Baumgarte && nc_ > 0) {
+        tmp_nc_.noalias() = cv_.J * state_.v;
+        tmp_nc_ += cv_.C_t;
+        const double a = options_.baumgarte_alpha, bb = options_.baumgarte_beta;
+        lambda_ -= 2.0 * a * tmp_nc_;
+        lambda_ -= bb * bb * cv_.C;
+    }
+    // keep the right-hand side gamma_s in vdot-space check below
+    const double gamma_norm = nc_ ? lambda_.lpNorm<Eigen::Infinity>() : 0.0;
+    b_ = lambda_;  // gamma_s
+
+    // Schur complement: S lambda = J M^-1 Q - gamma_s (block inverse of Eq. 6.141, Eqs. 6.142-6.145)
+    apply_Minv(Q_, tmp_nv_);
+    if (nc_ > 0) {
+        factor(t, "J M^-1 J^T");
+        lambda_.noalias() = cv_.J * tmp_nv_;
+        lambda_ -= b_;
+        solve_S(lambda_);
+        // vdot = M^-1 (Q - J^T lambda): Q_c = -J^T lambda (book Eq. 6.128)
+        tmp_nv2_.noalias() = cv_.J.transpose() * lambda_;
+        tmp_nv2_ = Q_ - tmp_nv2_;
+        apply_Minv(tmp_nv2_, vdot_);
+    } else {
+        vdot_ = tmp_nv_;
+    }
+    check_finite(t, vdot_, "accelerations");
+
+    if (nc_ > 0) {
+        // the acceleration constraints must hold (J vdot = gamma_s, Eq. 6.139): this
+        // catches a singular saddle point that the factorization did not flag
+        tmp_nc_.noalias() = cv_.J * vdot_;
+        tmp_nc_ -= b_;
+        double scale = 1.0 + gamma_norm;
+        for (int c = 0; c < cv_.J.outerSize(); ++c)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(cv_.J, c); it; ++it)
+                scale = std::max(scale, std::abs(it.value() * vdot_[c]));
+        if (!(tmp_nc_.lpNorm<Eigen::Infinity>() <= 1e-6 * scale)) redundant_rows_error(t, "J vdot = gamma has no solution");
+        check_finite(t, lambda_, "Lagrange multipliers");
+    }
+}
+
+void Augmented::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
+    state_.t = t;
+    state_.q = y.head(nq_);
+    state_.v = y.tail(nv_);
+    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    solve_dynamics(t);
+    ydot.resize(nq_ + nv_);
+    if (planar_) {
+        ydot.head(nq_) = state_.v;
+    } else {
+        // Rdot = v_R, pdot = 1/2 Gbar^T wbar (book Eq. 8.48 with Gbar of Eq. 8.44)
+        for (int b = 0; b < nb_; ++b) {
+            const int iq = 7 * b, iv = 6 * b;
+            ydot.segment<3>(iq) = state_.v.segment<3>(iv);
+            const Vec4 p = state_.q.segment<4>(iq + 3);
+            ydot.segment<4>(iq + 3).noalias() = 0.5 * euler_Gbar(p).transpose() * state_.v.segment<3>(iv + 3);
+        }
+    }
+    ydot.tail(nv_) = vdot_;
+}
+
+bool Augmented::project(double t, Eigen::VectorXd& y) {
+    const System& sys = *system_;
+    state_.t = t;
+    state_.q = y.head(nq_);
+    state_.v = y.tail(nv_);
+    sys.normalize(state_.q);  // unit Euler parameters
+    if (options_.stabilization != Stabilization::Projection || nc_ == 0) {
+        y.head(nq_) = state_.q;
+        return true;
+    }
+    const double tol = options_.projection_tolerance;
+    // positions: Newton on C(q, t) = 0 with steps of least kinetic-energy norm,
+    // dq = -M^-1 J^T (J M^-1 J^T)^-1 C (the min-norm Newton of book Eqs. 3.111-3.117 in the M metric)
+    bool converged = false;
+    for (int iteration = 0; iteration < 25; ++iteration) {
+        sys.constraints(state_, cv_, true);
+        const double violation = cv_.C.lpNorm<Eigen::Infinity>();
+        if (!std::isfinite(violation)) return false;
+        if (violation <= tol) {
+            converged = true;
+            break;
+        }
+        factor(t, "position projection");
+        lambda_ = cv_.C;
+        solve_S(lambda_);
+        tmp_nv_.noalias() = cv_.J.transpose() * lambda_;
+        apply_Minv(tmp_nv_, dv_);
+        dv_ = -dv_;
+        sys.advance_positions(state_.q, dv_);
+        if (dv_.lpNorm<Eigen::Infinity>() <= 1e-3 * tol) {
+            sys.constraints(state_, cv_, true);
+            converged = cv_.C.lpNorm<Eigen::Infinity>() <= 1e3 * tol;
+            break;
+        }
+    }
+    if (!converged) return false;
+    // velocities: v <- v - M^-1 J^T S^-1 (J v + C_t) (book Eq. 6.138 holds afterwards)
+    factor(t, "velocity projection");
+    lambda_.noalias() = cv_.J * state_.v;
+    lambda_ += cv_.C_t;
+    solve_S(lambda_);
+    tmp_nv_.noalias() = cv_.J.transpose() * lambda_;
+    apply_Minv(tmp_nv_, dv_);
+    state_.v -= dv_;
+    if (!state_.q.allFinite() || !state_.v.allFinite()) return false;
+    y.head(nq_) = state_.q;
+    y.tail(nv_) = state_.v;
+    return true;
+}
+
+void Augmented::multipliers(const State& state, Eigen::VectorXd& lambda) {
+    state_.t = state.t;
+    state_.q = state.q;
+    state_.v = state.v;
+    solve_dynamics(state.t);
+    lambda = lambda_;
+}
+
+void Augmented::accelerations(const State& state, Eigen::VectorXd& vdot) {
+    state_.t = state.t;
+    state_.q = state.q;
+    state_.v = state.v;
+    solve_dynamics(state.t);
+    vdot = vdot_;
+}
+
+}  // namespace
+
+std::unique_ptr<Formulation> make_augmented(const FormulationSpec& spec) { return std::make_unique<Augmented>(spec); }
+
+}  // namespace mbd
+
+MBD_FORMULATION_PLUGIN(augmented, mbd::make_augmented)

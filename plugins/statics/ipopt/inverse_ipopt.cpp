@@ -1,0 +1,273 @@
+// Inverse dynamics (plugin kind "inverse", type "ipopt"). See docs/statics.md.
+//
+// At each time, with the acceleration a prescribed by the drivers:
+//     B tau - J_j^T lambda = r,   r = M a - Q,   B = [J_s(1)^T ... J_s(na)^T]
+// Premultiplying by a null-space basis Z of J_j (Z^T J_j^T = 0) removes the joint
+// multipliers: G tau = h with G = Z^T B, h = Z^T r. Fully actuated: G is square and
+// nonsingular, tau is exact (= -lambda_driver of the augmented formulation).
+// Redundant: minimum sum w tau^2, the weighted pseudo-inverse solution; when it
+// violates a bound, an Ipopt QP (min 1/2 tau^T W tau, G tau = h, lo <= tau <= hi).
+// Then lambda from J_j^T lambda = B tau - r (least squares, exact when consistent).
+#include "evaluator.hpp"
+#include "ipopt_common.hpp"
+
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/inverse.hpp>
+
+#include <IpIpoptApplication.hpp>
+#include <IpTNLP.hpp>
+
+#include <Eigen/Dense>
+
+#include <sstream>
+
+namespace mbd::ipopt_plugin {
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+
+// min 1/2 sum w_i tau_i^2  s.t.  G tau = h,  lo <= tau <= hi
+class EffortQP : public Ipopt::TNLP {
+public:
+    EffortQP(const Eigen::MatrixXd& G, const Eigen::VectorXd& h, const Eigen::VectorXd& w, const Eigen::VectorXd& lo,
+             const Eigen::VectorXd& hi, const Eigen::VectorXd& start)
+        : G_(G), h_(h), w_(w), lo_(lo), hi_(hi), start_(start) {}
+    Eigen::VectorXd tau;
+    bool done = false;
+
+    bool get_nlp_info(Index& n, Index& m, Index& nj, Index& nh, IndexStyleEnum& style) override {
+        n = static_cast<Index>(w_.size());
+        m = static_cast<Index>(G_.rows());
+        nj = n * m;
+        nh = n;
+        style = C_STYLE;
+        return true;
+    }
+    bool get_bounds_info(Index n, Number* xl, Number* xu, Index m, Number* gl, Number* gu) override {
+        for (Index i = 0; i < n; ++i) {
+            xl[i] = lo_[i] <= -1e299 ? -1e19 : lo_[i];
+            xu[i] = hi_[i] >= 1e299 ? 1e19 : hi_[i];
+        }
+        for (Index i = 0; i < m; ++i) gl[i] = gu[i] = h_[i];
+        return true;
+    }
+    bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
+        for (Index i = 0; i < n; ++i) x[i] = start_[i];
+        return true;
+    }
+    bool eval_f(Index n, const Number* x, bool, Number& f) override {
+        f = 0;
+        for (Index i = 0; i < n; ++i) f += 0.5 * w_[i] * x[i] * x[i];
+        return true;
+    }
+    bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
+        for (Index i = 0; i < n; ++i) g[i] = w_[i] * x[i];
+        return true;
+    }
+    bool eval_g(Index n, const Number* x, bool, Index m, Number* g) override {
+        const Eigen::VectorXd v = G_ * Eigen::Map<const Eigen::VectorXd>(x, n);
+        for (Index i = 0; i < m; ++i) g[i] = v[i];
+        return true;
+    }
+    bool eval_jac_g(Index n, const Number*, bool, Index m, Index, Index* r, Index* c, Number* v) override {
+        Index e = 0;
+        for (Index i = 0; i < m; ++i)
+            for (Index j = 0; j < n; ++j, ++e) {
+                if (v) v[e] = G_(i, j);
+                else { r[e] = i; c[e] = j; }
+            }
+        return true;
+    }
+    bool eval_h(Index n, const Number*, bool, Number sigma, Index, const Number*, bool, Index, Index* r, Index* c,
+                Number* v) override {
+        for (Index i = 0; i < n; ++i) {
+            if (v) v[i] = sigma * w_[i];
+            else { r[i] = i; c[i] = i; }
+        }
+        return true;
+    }
+    void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*, const Number*, Index,
+                           const Number*, const Number*, Number, const Ipopt::IpoptData*,
+                           Ipopt::IpoptCalculatedQuantities*) override {
+        tau = Eigen::Map<const Eigen::VectorXd>(x, n);
+        done = true;
+    }
+
+private:
+    Eigen::MatrixXd G_;
+    Eigen::VectorXd h_, w_, lo_, hi_, start_;
+};
+
+// Orthonormal basis of the null space of A (rows x n), and the rank.
+Eigen::MatrixXd null_space(const Eigen::MatrixXd& A, int n, int& rank) {
+    if (A.rows() == 0) {
+        rank = 0;
+        return Eigen::MatrixXd::Identity(n, n);
+    }
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
+    const Eigen::VectorXd& s = svd.singularValues();
+    rank = 0;
+    for (int i = 0; i < s.size(); ++i)
+        if (s[i] > 1e-10 * std::max(1.0, s[0])) ++rank;
+    return svd.matrixV().rightCols(n - rank);
+}
+
+std::string fmt(double x) {
+    std::ostringstream o;
+    o.precision(6);
+    o << x;
+    return o.str();
+}
+
+class IpoptInverse final : public InverseSolver {
+public:
+    void bind(const System& system, const InverseOptions& options) override {
+        sys_ = &system;
+        opt_ = options;
+        if (opt_.actuators.empty())
+            throw std::invalid_argument("inverse dynamics needs at least one actuator (scene key 'actuators')");
+        std::vector<int> joints;
+        for (const auto& a : opt_.actuators) joints.push_back(a.joint);
+        ev_ = std::make_unique<Evaluator>(system, 0.0, joints);
+    }
+
+    InverseSample solve(const State& state, const Eigen::VectorXd& acceleration) override {
+        const System& sys = *sys_;
+        const int nv = sys.nv(), mj = sys.constraint_rows(false), na = static_cast<int>(opt_.actuators.size());
+        const double t = state.t;
+        InverseSample out;
+        out.state = state;
+        out.acceleration = acceleration;
+
+        // the drivers must prescribe the motion
+        ConstraintValues all;
+        sys.constraints(state, all, true);
+        {
+            int rank = 0;
+            null_space(Eigen::MatrixXd(all.J), nv, rank);
+            if (rank < nv) {
+                throw DynamicsError(t, "the drivers do not prescribe the motion at t = " + fmt(t) + ": " +
+                                           std::to_string(nv - rank) +
+                                           " degree(s) of freedom are free; add drivers so that the motion is "
+                                           "fully prescribed (kinematically driven)");
+            }
+            const Eigen::VectorXd ra = Eigen::MatrixXd(all.J) * acceleration - all.gamma;
+            if (ra.size() && ra.cwiseAbs().maxCoeff() > 1e-6 * (1.0 + all.gamma.cwiseAbs().maxCoeff()))
+                throw DynamicsError(t, "the prescribed acceleration is inconsistent with the drivers at t = " + fmt(t));
+        }
+
+        Eigen::VectorXd Q;
+        sys.generalized_forces(state, Q);
+        const Eigen::VectorXd r = sys.mass_matrix() * acceleration - Q;
+        Eigen::MatrixXd Jj = Eigen::MatrixXd(all.J).topRows(mj);
+        Eigen::MatrixXd B = Eigen::MatrixXd::Zero(nv, na);
+        for (int a = 0; a < na; ++a) {
+            const Coordinate c = ev_->coordinate(opt_.actuators[a].joint, state.q);
+            for (const auto& e : c.grad) B(e.first, a) += e.second;
+        }
+        int rank_j = 0;
+        const Eigen::MatrixXd Z = null_space(Jj, nv, rank_j);
+        const Eigen::MatrixXd G0 = Z.transpose() * B;
+        const Eigen::VectorXd h0 = Z.transpose() * r;
+        // independent equations only (rows of G0 may be dependent)
+        Eigen::VectorXd w(na), lo(na), hi(na);
+        for (int a = 0; a < na; ++a) {
+            w[a] = opt_.actuators[a].weight;
+            lo[a] = opt_.actuators[a].lo;
+            hi[a] = opt_.actuators[a].hi;
+        }
+        const Eigen::VectorXd winv_sqrt = w.cwiseSqrt().cwiseInverse();
+        const Eigen::MatrixXd Gw = G0 * winv_sqrt.asDiagonal();
+        Eigen::VectorXd tau = Eigen::VectorXd::Zero(na);
+        int rank_g = 0;
+        if (G0.rows() > 0) {
+            Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Gw);
+            cod.setThreshold(1e-10);
+            tau = winv_sqrt.asDiagonal() * cod.solve(h0);
+            rank_g = static_cast<int>(cod.rank());
+        }
+        const double scale = 1.0 + r.cwiseAbs().maxCoeff() + (B.cwiseAbs() * tau.cwiseAbs()).maxCoeff();
+        const double consistency = G0.rows() ? (G0 * tau - h0).cwiseAbs().maxCoeff() : 0.0;
+        if (consistency > 1e-8 * scale)
+            throw DynamicsError(t, "the actuators cannot produce the prescribed motion at t = " + fmt(t) + ": " +
+                                       std::to_string(G0.rows()) + " degree(s) of freedom but the actuators span " +
+                                       std::to_string(rank_g) + " (under-actuated; residual " + fmt(consistency) + ")");
+        const bool unique = rank_g == na;
+        out.method = unique ? "exact" : "pseudo-inverse";
+
+        // bounds
+        int worst = -1;
+        double excess = 0.0;
+        for (int a = 0; a < na; ++a) {
+            const double e = std::max(lo[a] - tau[a], tau[a] - hi[a]);
+            if (e > excess + 1e-12 * (1.0 + std::abs(tau[a]))) {
+                excess = e;
+                worst = a;
+            }
+        }
+        if (worst >= 0) {
+            const auto& act = opt_.actuators[worst];
+            if (unique)
+                throw DynamicsError(t, "actuator '" + act.name + "' needs an effort of " + fmt(tau[worst]) + " at t = " +
+                                           fmt(t) + ", outside its bounds [" + fmt(act.lo) + ", " + fmt(act.hi) +
+                                           "] (the efforts are unique: fully actuated)");
+            // reduce to independent rows, then the bounded QP
+            Eigen::JacobiSVD<Eigen::MatrixXd> svd(G0, Eigen::ComputeThinU);
+            const Eigen::MatrixXd U = svd.matrixU().leftCols(rank_g);
+            const Eigen::MatrixXd G = U.transpose() * G0;
+            const Eigen::VectorXd h = U.transpose() * h0;
+            Ipopt::SmartPtr<EffortQP> qp = new EffortQP(G, h, w, lo, hi, tau.cwiseMax(lo).cwiseMin(hi));
+            Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+            app->Options()->SetIntegerValue("print_level", opt_.print_level);
+            app->Options()->SetStringValue("sb", "yes");
+            app->Options()->SetNumericValue("tol", 1e-12);
+            app->Options()->SetNumericValue("constr_viol_tol", 1e-10 * scale);
+            app->Options()->SetStringValue("mehrotra_algorithm", "yes");
+            app->Options()->SetStringValue("hessian_constant", "yes");
+            app->Options()->SetStringValue("jac_c_constant", "yes");
+            app->Initialize();
+            const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(qp);
+            if (!succeeded(status) || !qp->done) {
+                std::string names;
+                for (int a = 0; a < na; ++a)
+                    names += (a ? ", " : "") + opt_.actuators[a].name + " [" + fmt(lo[a]) + ", " + fmt(hi[a]) + "]";
+                throw DynamicsError(t, "the actuator bounds cannot be met at t = " + fmt(t) + " (Ipopt: " +
+                                           status_name(status) + "); the minimum-effort solution needs '" +
+                                           act.name + "' = " + fmt(tau[worst]) + "; bounds: " + names);
+            }
+            tau = qp->tau;
+            out.method = "qp";
+            out.bounds_active = true;
+        }
+        out.efforts = tau;
+
+        // joint multipliers: J_j^T lambda = B tau - r
+        const Eigen::VectorXd rhs = B * tau - r;
+        if (mj > 0) {
+            Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Jj.transpose());
+            out.lambda = cod.solve(rhs);
+            const double res = (Jj.transpose() * out.lambda - rhs).cwiseAbs().maxCoeff();
+            if (res > 1e-7 * scale)
+                throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " + fmt(t) +
+                                           " (residual " + fmt(res) + ")");
+        } else {
+            out.lambda.resize(0);
+            if (rhs.cwiseAbs().maxCoeff() > 1e-7 * scale)
+                throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " + fmt(t));
+        }
+        return out;
+    }
+
+private:
+    const System* sys_ = nullptr;
+    InverseOptions opt_;
+    std::unique_ptr<Evaluator> ev_;
+};
+
+std::unique_ptr<InverseSolver> make_ipopt_inverse(const InverseSpec&) { return std::make_unique<IpoptInverse>(); }
+
+}  // namespace
+}  // namespace mbd::ipopt_plugin
+
+MBD_INVERSE_PLUGIN(ipopt, mbd::ipopt_plugin::make_ipopt_inverse)

@@ -1,0 +1,182 @@
+// Joint reactions from Lagrange multipliers (Shabana, Computational Dynamics,
+// Sec. 6.6 and Sec. 6.8, Eqs. 6.146-6.148), header-only so that every analysis
+// (forward dynamics, statics, inverse dynamics) computes them the same way.
+//
+// The generalized constraint forces are Q_c = -J^T lambda (book Eq. 6.128); per joint
+// k and body i, (Q_c^i)_k = -(C_k)_{q^i}^T lambda_k (Eq. 6.146) is a force at the mass
+// centre and a moment (planar: about z; spatial: in BODY axes, because the velocity
+// columns are (dR, dpi_bar)). Moving it to the joint point P (the origin of the joint's
+// marker on that body, u_P = A u_bar_P) gives the equipollent force and torque at
+// the joint (Eq. 6.147): F = Q_R, T_P = T_cm - u_P x F (Eq. 6.148 by virtual work).
+//
+// A driver's row (s(q) - f(t) = 0) adds the actuator effort; it is reported
+// separately (driver_reactions) so that a joint's reaction is what its bearing carries
+// and the driver's is what the motor supplies.
+#pragma once
+
+#include <mbd/sdk/system.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/Sparse>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mbd {
+
+// The reaction of one joint (or driver) on one of its bodies, at the joint point.
+struct BodyReaction {
+    int body = -1;                       // body index (the ground is never listed)
+    Vec3 force = Vec3::Zero();           // world axes (planar: z = 0)
+    Vec3 torque = Vec3::Zero();          // world axes, about the joint point (planar: only z)
+    Vec3 force_joint = Vec3::Zero();     // the same in the joint frame (this body's marker axes)
+    Vec3 torque_joint = Vec3::Zero();
+    Vec3 point = Vec3::Zero();           // the joint point P in world
+    // The generalized constraint force on the body's velocity rows (Eq. 6.146):
+    // planar (Fx, Fy, M_z) at the mass centre; spatial (F world, M body axes).
+    Eigen::Matrix<double, 6, 1> generalized = Eigen::Matrix<double, 6, 1>::Zero();
+};
+
+struct JointReaction {
+    std::string name;                    // joint (or driver) name
+    int element = -1;                    // joint or driver index
+    bool driver = false;
+    std::vector<int> bodies;             // the element's bodies, as in JointInfo (-1 ground)
+    std::vector<BodyReaction> on;        // one entry per element body, same order (ground: body = -1, zero)
+};
+
+namespace reactions_detail {
+
+// Pose of a body at state: rotation A (3x3, planar embedded) and mass centre R.
+inline void body_pose(const System& system, const State& state, int body, Mat3& A, Vec3& R) {
+    if (system.dimension() == Dimension::Planar) {
+        const int o = 3 * body;
+        R = Vec3(state.q[o], state.q[o + 1], 0.0);
+        A = Mat3::Identity();
+        A.topLeftCorner<2, 2>() = planar_rotation(state.q[o + 2]);
+    } else {
+        const int o = 7 * body;
+        R = state.q.segment<3>(o);
+        const Vec4 p = state.q.segment<4>(o + 3);
+        A = rotation_from_euler_parameters(p / p.norm());
+    }
+}
+
+// Marker axes in body coordinates (planar: rotation by the marker angle).
+inline Mat3 marker_axes(const System& system, const Marker& m) {
+    if (system.dimension() == Dimension::Planar) {
+        Mat3 a = Mat3::Identity();
+        a.topLeftCorner<2, 2>() = planar_rotation(m.angle);
+        return a;
+    }
+    return m.A_bar;
+}
+
+// Reactions on the bodies of one element from rows [first, first + count) of J and lambda.
+inline JointReaction element_reaction(const System& system, const State& state,
+                                      const Eigen::SparseMatrix<double, Eigen::RowMajor>& J,
+                                      const Eigen::VectorXd& lambda, const JointInfo& joint, int first, int count) {
+    const bool planar = system.dimension() == Dimension::Planar;
+    const int nvb = velocities_per_body(system.dimension());
+    JointReaction out;
+    out.bodies = joint.bodies;
+    out.on.resize(joint.bodies.size());
+    for (size_t k = 0; k < joint.bodies.size(); ++k) {
+        BodyReaction& r = out.on[k];
+        const int body = joint.bodies[k];
+        r.body = body;
+        const Marker& marker = joint.markers.at(k);
+        if (body < 0) {
+            r.point = marker.u_bar;  // the ground frame is the world
+            if (planar) r.point.z() = 0.0;
+            continue;
+        }
+        // generalized constraint force -J_k^T lambda_k on this body's columns (Eq. 6.146)
+        Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+        const int c0 = body * nvb;
+        for (int row = first; row < first + count; ++row) {
+            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(J, row); it; ++it) {
+                const int c = static_cast<int>(it.col());
+                if (c >= c0 && c < c0 + nvb) g[c - c0] -= it.value() * lambda[row];
+            }
+        }
+        r.generalized = g;
+        Mat3 A;
+        Vec3 R;
+        body_pose(system, state, body, A, R);
+        Vec3 u_bar = marker.u_bar;
+        if (planar) u_bar.z() = 0.0;
+        const Vec3 u = A * u_bar;  // u_P = A u_bar_P
+        r.point = R + u;
+        Vec3 torque_cm;
+        if (planar) {
+            r.force = Vec3(g[0], g[1], 0.0);
+            torque_cm = Vec3(0.0, 0.0, g[2]);
+        } else {
+            r.force = g.head<3>();
+            torque_cm = A * g.tail<3>();  // the generalized moment is in body axes
+        }
+        // move to the joint point: T_P = T_cm - u_P x F (Eq. 6.147)
+        r.torque = torque_cm - u.cross(r.force);
+        const Mat3 frame = A * marker_axes(system, marker);  // joint frame on this body, world axes
+        r.force_joint = frame.transpose() * r.force;
+        r.torque_joint = frame.transpose() * r.torque;
+    }
+    return out;
+}
+
+inline void check_sizes(const System& system, const State& state, const Eigen::VectorXd& lambda) {
+    if (state.q.size() != system.nq() || state.v.size() != system.nv())
+        throw std::invalid_argument("joint_reactions: the state does not match the system");
+    if (lambda.size() != system.constraint_rows(true) && lambda.size() != system.constraint_rows(false))
+        throw std::invalid_argument("joint_reactions: " + std::to_string(lambda.size()) +
+                                    " multipliers for " + std::to_string(system.constraint_rows(true)) +
+                                    " constraint rows");
+}
+
+}  // namespace reactions_detail
+
+// Reactions of every joint on each of its bodies (joint rows only), in scene order.
+// lambda holds one multiplier per constraint row (joints then drivers, or joints only).
+inline std::vector<JointReaction> joint_reactions(const System& system, const State& state,
+                                                  const Eigen::VectorXd& lambda) {
+    reactions_detail::check_sizes(system, state, lambda);
+    const bool drivers = lambda.size() == system.constraint_rows(true) && system.driver_count() > 0;
+    ConstraintValues cv;
+    system.constraints(state, cv, drivers);
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> J = cv.J;
+    std::vector<JointReaction> out;
+    out.reserve(system.joint_count());
+    for (int j = 0; j < system.joint_count(); ++j) {
+        const JointInfo& info = system.joint(j);
+        JointReaction r = reactions_detail::element_reaction(system, state, J, lambda, info, info.first_row, info.rows);
+        r.name = info.name;
+        r.element = j;
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+// The actuator effort of every driver on the bodies of its joint (empty when lambda
+// has no driver rows). For a revolute driver this is the motor torque pair.
+inline std::vector<JointReaction> driver_reactions(const System& system, const State& state,
+                                                   const Eigen::VectorXd& lambda) {
+    reactions_detail::check_sizes(system, state, lambda);
+    std::vector<JointReaction> out;
+    if (lambda.size() != system.constraint_rows(true) || system.driver_count() == 0) return out;
+    ConstraintValues cv;
+    system.constraints(state, cv, true);
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> J = cv.J;
+    for (int d = 0; d < system.driver_count(); ++d) {
+        const DriverInfo& info = system.driver(d);
+        JointReaction r = reactions_detail::element_reaction(system, state, J, lambda, system.joint(info.joint), info.row, 1);
+        r.name = info.name;
+        r.element = d;
+        r.driver = true;
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+}  // namespace mbd

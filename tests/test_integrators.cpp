@@ -1,0 +1,615 @@
+// Time integrators (core/src/integrators/) against independent oracles:
+//   Ex. 6.12 (book, Sec. 6.11): three explicit Euler steps and one RK4 step of the
+//     driven pendulum f(y, t) = [y2, 30 sin 5t - 14.715 cos y1] (digest 11.9-11.10,
+//     with the digest's corrected RK4 exponent);
+//   closed-form solutions of smooth ODEs (order of RK4, DOPRI5 tolerance and dense
+//     output, CVODE tolerance);
+//   a mass on a spring with k = 1e8 (explicit methods unstable or slow, the implicit
+//     generalized-alpha stable, energy from the closed-form expression);
+//   a pendulum through the real scene loader and ModelSystem, integrated as an
+//     index-3 DAE by generalized_alpha and compared with the 1-DOF pendulum
+//     equation J_O phi'' = -m g c sin(phi) written here.
+// No expected number comes from the engine's own output.
+#include "support/test_support.hpp"
+
+#include <mbd/integrator.hpp>
+#include <mbd/model_system.hpp>
+#include <mbd/scene.hpp>
+#include <mbd/sdk/formulation.hpp>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Eigen::VectorXd;
+
+// An OdeProblem from a lambda; optional projection.
+class FunctionProblem : public mbd::OdeProblem {
+public:
+    using Rhs = std::function<void(double, const VectorXd&, VectorXd&)>;
+    using Project = std::function<bool(double, VectorXd&)>;
+    FunctionProblem(int n, Rhs f, Project p = {}) : n_(n), f_(std::move(f)), p_(std::move(p)) {}
+    int size() const override { return n_; }
+    void rhs(double t, const VectorXd& y, VectorXd& ydot) override {
+        ydot.resize(n_);
+        f_(t, y, ydot);
+        ++calls;
+    }
+    bool project(double t, VectorXd& y) override { return p_ ? p_(t, y) : true; }
+    long calls = 0;
+
+private:
+    int n_;
+    Rhs f_;
+    Project p_;
+};
+
+struct Run {
+    std::vector<double> t;
+    std::vector<VectorXd> y;
+    mbd::IntegratorStats stats;
+};
+
+Run run(const std::string& name, const mbd::IntegratorSettings& settings, mbd::OdeProblem& problem, double t0,
+        VectorXd y0, const std::vector<double>& outputs) {
+    Run r;
+    auto integrator = mbd::make_integrator(name, settings);
+    integrator->integrate(
+        problem, t0, y0, outputs,
+        [&](double t, const VectorXd& y) {
+            r.t.push_back(t);
+            r.y.push_back(y);
+            return true;
+        },
+        r.stats);
+    return r;
+}
+
+std::vector<double> grid(double t0, double t1, int n) {
+    std::vector<double> out;
+    for (int k = 1; k <= n; ++k) out.push_back(t0 + (t1 - t0) * k / n);
+    return out;
+}
+
+// --- Ex. 6.12: f(y, t) = [y2, 30 sin 5t - 14.715 cos y1]
+FunctionProblem ex612() {
+    return FunctionProblem(2, [](double t, const VectorXd& y, VectorXd& f) {
+        f[0] = y[1];
+        f[1] = 30.0 * std::sin(5.0 * t) - 14.715 * std::cos(y[0]);
+    });
+}
+
+// --- y' = -y + sin t, y(0) = y0: y = (y0 + 1/2) e^-t + (sin t - cos t)/2
+double smooth_exact(double t, double y0) { return (y0 + 0.5) * std::exp(-t) + 0.5 * (std::sin(t) - std::cos(t)); }
+FunctionProblem smooth() {
+    return FunctionProblem(1, [](double t, const VectorXd& y, VectorXd& f) { f[0] = -y[0] + std::sin(t); });
+}
+
+// --- harmonic oscillator x'' = -w^2 x, x(0) = 1, x'(0) = 0: x = cos wt
+constexpr double kOmega = 2.0;
+FunctionProblem oscillator() {
+    return FunctionProblem(2, [](double, const VectorXd& y, VectorXd& f) {
+        f[0] = y[1];
+        f[1] = -kOmega * kOmega * y[0];
+    });
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- factory
+
+TEST(IntegratorFactory, KnowsItsIntegratorsAndListsThemForUnknownNames) {
+    const std::vector<std::string> names = mbd::integrator_names();
+    for (const char* expected : {"euler", "rk4", "dopri5", "generalized_alpha", "cvode"}) {
+        EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
+        EXPECT_EQ(mbd::make_integrator(expected, {})->name(), expected);
+    }
+    EXPECT_TRUE(mbd::make_integrator("dopri5", {})->adaptive());
+    EXPECT_FALSE(mbd::make_integrator("rk4", {})->adaptive());
+    try {
+        mbd::make_integrator("rk45", {});
+        FAIL() << "no InputError";
+    } catch (const mbd::InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("rk45"), std::string::npos) << what;
+        for (const std::string& n : names) EXPECT_NE(what.find(n), std::string::npos) << what;
+    }
+}
+
+// ---------------------------------------------------------------- book Ex. 6.12
+
+TEST(BookEx612, ThreeEulerSteps) {
+    FunctionProblem problem = ex612();
+    mbd::IntegratorSettings s;
+    s.step = 0.01;
+    const Run r = run("euler", s, problem, 0.0, VectorXd::Zero(2), {0.01, 0.02, 0.03});
+    ASSERT_EQ(r.y.size(), 3u);
+    // printed values; tolerance: half a unit of the last printed digit
+    EXPECT_NEAR(r.y[0][0], 0.0, 1e-15);
+    EXPECT_NEAR(r.y[0][1], -0.14715, 5e-9);
+    EXPECT_NEAR(r.y[1][0], -0.0014715, 5e-11);
+    EXPECT_NEAR(r.y[1][1], -0.279306, 5e-7);
+    EXPECT_NEAR(r.y[2][0], -4.26456e-3, 5e-9);
+    EXPECT_NEAR(r.y[2][1], -0.396506, 5e-7);
+    EXPECT_EQ(r.stats.steps, 3);
+    EXPECT_EQ(r.stats.rhs_evaluations, 3);
+}
+
+TEST(BookEx612, OneRk4Step) {
+    FunctionProblem problem = ex612();
+    mbd::IntegratorSettings s;
+    s.step = 0.01;
+    const Run r = run("rk4", s, problem, 0.0, VectorXd::Zero(2), {0.01});
+    ASSERT_EQ(r.y.size(), 1u);
+    std::printf("RK4 Ex. 6.12 y1 = [%.10e, %.10e]\n", r.y[0][0], r.y[0][1]);
+    // digest 11.10: y1 = [-7.10753e-4, -0.1396516] (the book's -0.71075e-4 is a misprint)
+    EXPECT_NEAR(r.y[0][0], -7.10753e-4, 1e-8);
+    EXPECT_NEAR(r.y[0][1], -0.1396516, 1e-7);  // printed to 7 decimals
+    // and not the misprinted exponent
+    EXPECT_GT(std::abs(r.y[0][0] - (-0.71075e-4)), 1e-4);
+    EXPECT_EQ(r.stats.rhs_evaluations, 4);
+}
+
+// ---------------------------------------------------------------- smooth problems
+
+TEST(Rk4, FourthOrderOnTheHarmonicOscillator) {
+    const double T = 5.0;
+    std::vector<double> errors;
+    for (double h : {0.1, 0.05, 0.025, 0.0125}) {
+        FunctionProblem problem = oscillator();
+        mbd::IntegratorSettings s;
+        s.step = h;
+        VectorXd y0(2);
+        y0 << 1.0, 0.0;
+        const Run r = run("rk4", s, problem, 0.0, y0, {T});
+        const double e = std::max(std::abs(r.y.back()[0] - std::cos(kOmega * T)),
+                                  std::abs(r.y.back()[1] + kOmega * std::sin(kOmega * T)));
+        errors.push_back(e);
+    }
+    for (size_t k = 1; k < errors.size(); ++k) {
+        const double order = std::log2(errors[k - 1] / errors[k]);
+        std::printf("RK4 oscillator: error %.3e -> %.3e, order %.3f\n", errors[k - 1], errors[k], order);
+        EXPECT_GT(order, 3.5);
+        EXPECT_LT(order, 4.5);
+    }
+}
+
+TEST(Rk4, HitsOutputTimesThatAreNotMultiplesOfTheStep) {
+    FunctionProblem problem = smooth();
+    mbd::IntegratorSettings s;
+    s.step = 0.03;
+    VectorXd y0(1);
+    y0 << 2.0;
+    const std::vector<double> outputs = {0.1, 0.25, 0.25, 1.0};
+    const Run r = run("rk4", s, problem, 0.0, y0, outputs);
+    ASSERT_EQ(r.t.size(), outputs.size());
+    for (size_t k = 0; k < outputs.size(); ++k) {
+        EXPECT_EQ(r.t[k], outputs[k]);
+        EXPECT_NEAR(r.y[k][0], smooth_exact(outputs[k], 2.0), 1e-7) << outputs[k];
+    }
+}
+
+TEST(Dopri5, MeetsTightToleranceAndDenseOutputIsAccurate) {
+    FunctionProblem problem = smooth();
+    mbd::IntegratorSettings s;
+    s.tolerance = 1e-10;
+    VectorXd y0(1);
+    y0 << 2.0;
+    // 997 outputs at irregular times, many more than the steps: most come from the
+    // continuous extension
+    std::vector<double> outputs;
+    for (int k = 1; k <= 997; ++k) outputs.push_back(10.0 * k / 997.0);
+    const Run r = run("dopri5", s, problem, 0.0, y0, outputs);
+    ASSERT_EQ(r.t.size(), outputs.size());
+    double worst = 0.0;
+    for (size_t k = 0; k < outputs.size(); ++k)
+        worst = std::max(worst, std::abs(r.y[k][0] - smooth_exact(outputs[k], 2.0)));
+    std::printf("DOPRI5 tol 1e-10: %ld steps, %ld rejected, %ld rhs; worst error over %zu outputs %.3e\n",
+                r.stats.steps, r.stats.rejected_steps, r.stats.rhs_evaluations, outputs.size(), worst);
+    EXPECT_LT(r.stats.steps, 500);  // so most outputs are interpolated
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_EQ(r.stats.rhs_evaluations, problem.calls);
+
+    // and the end point alone
+    FunctionProblem p2 = smooth();
+    const Run end = run("dopri5", s, p2, 0.0, y0, {10.0});
+    const double e_end = std::abs(end.y.back()[0] - smooth_exact(10.0, 2.0));
+    std::printf("DOPRI5 tol 1e-10: end error %.3e in %ld steps\n", e_end, end.stats.steps);
+    EXPECT_LT(e_end, 1e-9);
+}
+
+TEST(Dopri5, DenseOutputOnTheOscillatorAtLooseTolerance) {
+    // At tol 1e-6 the steps are long; outputs between them still match cos(wt) to ~tol.
+    FunctionProblem problem = oscillator();
+    mbd::IntegratorSettings s;
+    s.tolerance = 1e-6;
+    VectorXd y0(2);
+    y0 << 1.0, 0.0;
+    const std::vector<double> outputs = grid(0.0, 3.0, 301);
+    const Run r = run("dopri5", s, problem, 0.0, y0, outputs);
+    double worst = 0.0;
+    for (size_t k = 0; k < outputs.size(); ++k) worst = std::max(worst, std::abs(r.y[k][0] - std::cos(kOmega * outputs[k])));
+    std::printf("DOPRI5 oscillator tol 1e-6: %ld steps for %zu outputs, worst error %.3e\n", r.stats.steps,
+                outputs.size(), worst);
+    EXPECT_LT(r.stats.steps, 100);
+    EXPECT_LT(worst, 1e-5);
+}
+
+TEST(Dopri5, ProjectionKeepsTheInvariantAndRestartsFsal) {
+    // rotation on the unit circle, projected back to |y| = 1 after each step
+    long projections = 0;
+    FunctionProblem problem(
+        2,
+        [](double, const VectorXd& y, VectorXd& f) {
+            f[0] = -y[1];
+            f[1] = y[0];
+        },
+        [&](double, VectorXd& y) {
+            ++projections;
+            y.normalize();
+            return true;
+        });
+    mbd::IntegratorSettings s;
+    s.tolerance = 1e-5;
+    VectorXd y0(2);
+    y0 << 1.0, 0.0;
+    const Run r = run("dopri5", s, problem, 0.0, y0, grid(0.0, 20.0, 40));
+    for (size_t k = 0; k < r.t.size(); ++k) {
+        EXPECT_NEAR(r.y[k].norm(), 1.0, 1e-14);
+        EXPECT_NEAR(r.y[k][0], std::cos(r.t[k]), 1e-4);
+    }
+    EXPECT_GE(projections, r.stats.steps);
+    EXPECT_EQ(r.stats.rhs_evaluations, problem.calls);
+}
+
+TEST(Dopri5, StepSizeCollapseIsADynamicsError) {
+    // y' = -1/(2y), y(0) = 1: y = sqrt(1 - t) ends at t = 1 with an infinite slope
+    FunctionProblem problem(1, [](double, const VectorXd& y, VectorXd& f) { f[0] = -0.5 / y[0]; });
+    mbd::IntegratorSettings s;
+    s.tolerance = 1e-8;
+    VectorXd y0(1);
+    y0 << 1.0;
+    try {
+        run("dopri5", s, problem, 0.0, y0, {2.0});
+        FAIL() << "no DynamicsError";
+    } catch (const mbd::DynamicsError& e) {
+        std::printf("DOPRI5 singular problem: %s\n", e.what());
+        EXPECT_NEAR(e.time(), 1.0, 1e-3);
+        const std::string what = e.what();
+        EXPECT_TRUE(what.find("step size collapse") != std::string::npos ||
+                    what.find("non-finite") != std::string::npos)
+            << what;
+    }
+}
+
+TEST(Dopri5, MaxStepsIsADynamicsError) {
+    FunctionProblem problem = oscillator();
+    mbd::IntegratorSettings s;
+    s.tolerance = 1e-8;
+    s.max_steps = 20;
+    VectorXd y0(2);
+    y0 << 1.0, 0.0;
+    try {
+        run("dopri5", s, problem, 0.0, y0, {100.0});
+        FAIL() << "no DynamicsError";
+    } catch (const mbd::DynamicsError& e) {
+        EXPECT_NE(std::string(e.what()).find("maximum number of steps"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Cvode, MeetsItsToleranceOnTheSmoothOde) {
+    for (double tol : {1e-6, 1e-9}) {
+        FunctionProblem problem = smooth();
+        mbd::IntegratorSettings s;
+        s.tolerance = tol;
+        VectorXd y0(1);
+        y0 << 2.0;
+        const std::vector<double> outputs = grid(0.0, 10.0, 100);
+        const Run r = run("cvode", s, problem, 0.0, y0, outputs);
+        ASSERT_EQ(r.t.size(), outputs.size());
+        double worst = 0.0;
+        for (size_t k = 0; k < outputs.size(); ++k)
+            worst = std::max(worst, std::abs(r.y[k][0] - smooth_exact(outputs[k], 2.0)));
+        std::printf("CVODE tol %.0e: %ld steps, %ld rejected, %ld rhs, %ld jac, %ld newton; worst error %.3e\n",
+                    tol, r.stats.steps, r.stats.rejected_steps, r.stats.rhs_evaluations,
+                    r.stats.jacobian_evaluations, r.stats.newton_iterations, worst);
+        // BDF global error: a small multiple of the local tolerance
+        EXPECT_LT(worst, 20.0 * tol);
+        EXPECT_GT(r.stats.steps, 0);
+        EXPECT_GT(r.stats.newton_iterations, 0);
+    }
+}
+
+TEST(Cvode, RhsErrorsPropagateAsDynamicsError) {
+    FunctionProblem problem(1, [](double t, const VectorXd& y, VectorXd& f) {
+        if (t > 0.5) throw mbd::DynamicsError(t, "singular saddle point (test)");
+        f[0] = -y[0];
+    });
+    VectorXd y0(1);
+    y0 << 1.0;
+    try {
+        run("cvode", {}, problem, 0.0, y0, {1.0});
+        FAIL() << "no DynamicsError";
+    } catch (const mbd::DynamicsError& e) {
+        EXPECT_NE(std::string(e.what()).find("singular saddle point (test)"), std::string::npos) << e.what();
+        EXPECT_GT(e.time(), 0.5);
+    }
+}
+
+// ---------------------------------------------------------------- stiff spring, k = 1e8
+
+namespace {
+
+constexpr double kStiff = 1e8;
+FunctionProblem stiff_spring() {
+    return FunctionProblem(2, [](double, const VectorXd& y, VectorXd& f) {
+        f[0] = y[1];
+        f[1] = -kStiff * y[0];
+    });
+}
+double stiff_energy(double x, double v) { return 0.5 * v * v + 0.5 * kStiff * x * x; }
+
+}  // namespace
+
+TEST(StiffSpring, Rk4AtAMillisecondIsDetectedAsUnstable) {
+    FunctionProblem problem = stiff_spring();
+    mbd::IntegratorSettings s;
+    s.step = 1e-3;  // h w = 10, far outside RK4's stability interval (2.8)
+    VectorXd y0(2);
+    y0 << 1e-3, 0.0;
+    try {
+        run("rk4", s, problem, 0.0, y0, grid(0.0, 1.0, 100));
+        FAIL() << "no DynamicsError";
+    } catch (const mbd::DynamicsError& e) {
+        std::printf("RK4 stiff spring: %s\n", e.what());
+        const std::string what = e.what();
+        EXPECT_TRUE(what.find("grew without bound") != std::string::npos ||
+                    what.find("non-finite") != std::string::npos)
+            << what;
+        EXPECT_GT(e.time(), 0.0);
+        EXPECT_LT(e.time(), 1.0);
+    }
+}
+
+TEST(StiffSpring, Dopri5SucceedsOnlyWithManySmallSteps) {
+    FunctionProblem problem = stiff_spring();
+    mbd::IntegratorSettings s;
+    s.tolerance = 1e-6;
+    VectorXd y0(2);
+    y0 << 1e-3, 0.0;
+    const Run r = run("dopri5", s, problem, 0.0, y0, grid(0.0, 1.0, 100));
+    const VectorXd& y = r.y.back();
+    const double e0 = stiff_energy(1e-3, 0.0);
+    std::printf("DOPRI5 stiff spring: %ld steps, %ld rejected, %ld rhs; x(1) = %.6e (exact %.6e), E(1)/E0 = %.6f\n",
+                r.stats.steps, r.stats.rejected_steps, r.stats.rhs_evaluations, y[0], 1e-3 * std::cos(1e4),
+                stiff_energy(y[0], y[1]) / e0);
+    // stability bound h w < 3.3: at least w T / 3.3 ~ 3000 steps
+    EXPECT_GT(r.stats.steps, 3000);
+    EXPECT_NEAR(stiff_energy(y[0], y[1]) / e0, 1.0, 0.05);
+}
+
+// ---------------------------------------------------------------- systems for generalized_alpha
+
+namespace {
+
+// A minimal formulation for tests: y = [q; v], f = [qdot; vdot] with vdot from
+// the augmented (KKT) system [M J^T; J 0][vdot; lambda] = [Q; gamma], dense.
+class TestFormulation : public mbd::Formulation {
+public:
+    void bind(const mbd::System& system, const mbd::FormulationOptions&) override { system_ = &system; }
+    int ode_size() const override { return system_->nq() + system_->nv(); }
+    void to_ode(const mbd::State& state, VectorXd& y) const override {
+        y.resize(ode_size());
+        y << state.q, state.v;
+    }
+    void from_ode(double t, const VectorXd& y, mbd::State& state) const override {
+        state.t = t;
+        state.q = y.head(system_->nq());
+        state.v = y.tail(system_->nv());
+    }
+    void rhs(double t, const VectorXd& y, VectorXd& ydot) override {
+        mbd::State s;
+        from_ode(t, y, s);
+        VectorXd vdot, lambda;
+        solve(s, vdot, lambda);
+        ydot.resize(ode_size());
+        ydot << system_->coordinate_rates(s.q, s.v), vdot;
+    }
+    void multipliers(const mbd::State& state, VectorXd& lambda) override {
+        VectorXd vdot;
+        solve(state, vdot, lambda);
+    }
+    void accelerations(const mbd::State& state, VectorXd& vdot) override {
+        VectorXd lambda;
+        solve(state, vdot, lambda);
+    }
+    bool supports_index3() const override { return true; }
+
+private:
+    void solve(const mbd::State& s, VectorXd& vdot, VectorXd& lambda) const {
+        const int nv = system_->nv();
+        mbd::ConstraintValues cv;
+        system_->constraints(s, cv, true);
+        const int nc = static_cast<int>(cv.C.size());
+        VectorXd Q;
+        system_->generalized_forces(s, Q);
+        Eigen::MatrixXd A = Eigen::MatrixXd::Zero(nv + nc, nv + nc);
+        A.topLeftCorner(nv, nv) = Eigen::MatrixXd(system_->mass_matrix());
+        const Eigen::MatrixXd J(cv.J);
+        A.block(nv, 0, nc, nv) = J;
+        A.block(0, nv, nv, nc) = J.transpose();
+        VectorXd b(nv + nc);
+        b << Q, cv.gamma;
+        const VectorXd x = A.fullPivLu().solve(b);
+        vdot = x.head(nv);
+        lambda = x.tail(nc);
+    }
+    const mbd::System* system_ = nullptr;
+};
+
+class SystemProblem : public mbd::OdeProblem {
+public:
+    SystemProblem(const mbd::System& system, mbd::Formulation& formulation) : system_(system), formulation_(formulation) {}
+    int size() const override { return formulation_.ode_size(); }
+    void rhs(double t, const VectorXd& y, VectorXd& ydot) override { formulation_.rhs(t, y, ydot); }
+    bool project(double t, VectorXd& y) override { return formulation_.project(t, y); }
+    const mbd::System* system() const override { return &system_; }
+    mbd::Formulation* formulation() override { return &formulation_; }
+
+private:
+    const mbd::System& system_;
+    mbd::Formulation& formulation_;
+};
+
+struct Loaded {
+    mbd::Model model;
+    std::unique_ptr<mbd::ModelSystem> system;
+    TestFormulation formulation;
+    mbd::State state;
+};
+
+std::unique_ptr<Loaded> load(const std::string& relative) {
+    auto l = std::make_unique<Loaded>();
+    l->model = mbd::load_scene(mbd::test::scene_path(relative), mbd::test::shared_registry());
+    l->system = std::make_unique<mbd::ModelSystem>(l->model);
+    l->formulation.bind(*l->system, {});
+    l->state = l->system->initial_state();
+    l->system->assemble(l->state);
+    l->system->consistent_velocities(l->state);
+    return l;
+}
+
+}  // namespace
+
+TEST(GeneralizedAlpha, RefusesProblemsWithoutAnIndex3Formulation) {
+    FunctionProblem problem = stiff_spring();
+    mbd::IntegratorSettings s;
+    s.step = 1e-3;
+    VectorXd y0(2);
+    y0 << 1e-3, 0.0;
+    try {
+        run("generalized_alpha", s, problem, 0.0, y0, {1.0});
+        FAIL() << "no InputError";
+    } catch (const mbd::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("generalized_alpha needs a formulation that supports index-3 (augmented)"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+// scenes/dynamics/stiff-spring.yaml: 1 kg block on a prismatic guide along x,
+// spring k = 1e8 to the ground, rest length 1, released at x = 1.001.
+TEST(StiffSpring, GeneralizedAlphaIsStableAtAMillisecond) {
+    auto l = load("dynamics/stiff-spring.yaml");
+    ASSERT_EQ(l->system->nv(), 3);
+    SystemProblem problem(*l->system, l->formulation);
+    VectorXd y0;
+    l->formulation.to_ode(l->state, y0);
+    const double k = 1e8;
+    auto energy = [&](const VectorXd& y) {
+        const double x = y[0], vx = y[3];
+        return 0.5 * vx * vx + 0.5 * k * (x - 1.0) * (x - 1.0);
+    };
+    const double e0 = energy(y0);
+    EXPECT_NEAR(e0, 50.0, 1e-6);
+    for (double rho : {1.0, 0.8, 0.5}) {
+        mbd::IntegratorSettings s;
+        s.step = 1e-3;
+        s.rho_infinity = rho;
+        const Run r = run("generalized_alpha", s, problem, 0.0, y0, grid(0.0, 1.0, 100));
+        ASSERT_EQ(r.y.size(), 100u);
+        double e_max = 0.0;
+        for (const VectorXd& y : r.y) {
+            ASSERT_TRUE(y.allFinite());
+            e_max = std::max(e_max, energy(y));
+            EXPECT_NEAR(y[1], 0.0, 1e-9);  // the guide holds
+            EXPECT_NEAR(y[2], 0.0, 1e-9);
+        }
+        const double e_end = energy(r.y.back());
+        std::printf("generalized_alpha stiff spring rho_inf %.1f: %ld steps, %ld newton, max E/E0 %.6f, E(1)/E0 %.3e\n",
+                    rho, r.stats.steps, r.stats.newton_iterations, e_max / e0, e_end / e0);
+        EXPECT_LE(e_max, e0 * (1.0 + 1e-6));  // energy never grows
+        if (rho < 1.0) EXPECT_LT(e_end, 1e-3 * e0);  // the unresolved 1e4 rad/s mode is damped out
+        else EXPECT_NEAR(e_end / e0, 1.0, 1e-6);      // rho_inf = 1: no numerical dissipation
+    }
+}
+
+TEST(StiffSpring, Rk4ThroughTheSceneIsAlsoStopped) {
+    auto l = load("dynamics/stiff-spring.yaml");
+    SystemProblem problem(*l->system, l->formulation);
+    VectorXd y0;
+    l->formulation.to_ode(l->state, y0);
+    mbd::IntegratorSettings s;
+    s.step = 1e-3;
+    EXPECT_THROW(run("rk4", s, problem, 0.0, y0, grid(0.0, 1.0, 100)), mbd::DynamicsError);
+}
+
+// scenes/examples/planar-revolute.yaml: a 1 m slender link (m = 1, J = 1/12) pinned
+// at the origin, released at rest 30 degrees from the vertical. 1-DOF equation:
+// J_O phi'' = -m g c sin(phi), J_O = 1/3, c = 1/2, phi = theta_body + pi/2.
+TEST(GeneralizedAlpha, PendulumConvergesAtSecondOrderAndHoldsTheConstraint) {
+    auto l = load("examples/planar-revolute.yaml");
+    ASSERT_EQ(l->system->nv(), 3);
+    ASSERT_EQ(l->system->constraint_rows(), 2);
+    SystemProblem problem(*l->system, l->formulation);
+    VectorXd y0;
+    l->formulation.to_ode(l->state, y0);
+    const double pi = std::acos(-1.0);
+    const double phi0 = y0[2] + pi / 2;
+    ASSERT_NEAR(phi0, pi / 6, 1e-12);
+
+    // reference: the 1-DOF equation, DOPRI5 at tol 1e-13
+    const double w2 = 1.0 * 9.81 * 0.5 / (1.0 / 3.0);
+    FunctionProblem one_dof(2, [&](double, const VectorXd& y, VectorXd& f) {
+        f[0] = y[1];
+        f[1] = -w2 * std::sin(y[0]);
+    });
+    const double T = 1.0;
+    const std::vector<double> outputs = grid(0.0, T, 20);
+    mbd::IntegratorSettings ref_settings;
+    ref_settings.tolerance = 1e-13;
+    VectorXd z0(2);
+    z0 << phi0, 0.0;
+    const Run ref = run("dopri5", ref_settings, one_dof, 0.0, z0, outputs);
+
+    std::vector<double> errors;
+    for (double h : {0.01, 0.005, 0.0025}) {
+        mbd::IntegratorSettings s;
+        s.step = h;
+        s.rho_infinity = 0.8;
+        const Run r = run("generalized_alpha", s, problem, 0.0, y0, outputs);
+        ASSERT_EQ(r.y.size(), outputs.size());
+        double err = 0.0, c_max = 0.0;
+        for (size_t k = 0; k < outputs.size(); ++k) {
+            const VectorXd& y = r.y[k];
+            err = std::max(err, std::abs(y[2] + pi / 2 - ref.y[k][0]));
+            // the joint itself, written here: the point (0, 0) on the link at -0.5 along its x axis
+            const double cx = y[0] - 0.5 * std::cos(y[2]), cy = y[1] - 0.5 * std::sin(y[2]);
+            c_max = std::max({c_max, std::abs(cx), std::abs(cy)});
+            mbd::State st;
+            l->formulation.from_ode(outputs[k], y, st);
+            mbd::ConstraintValues cv;
+            l->system->constraints(st, cv);
+            EXPECT_LT(cv.C.lpNorm<Eigen::Infinity>(), 1e-9);
+        }
+        std::printf("generalized_alpha pendulum h = %.4f: max angle error %.3e, max |C| %.2e, %ld steps, %ld newton, "
+                    "%ld jacobians\n",
+                    h, err, c_max, r.stats.steps, r.stats.newton_iterations, r.stats.jacobian_evaluations);
+        EXPECT_LT(c_max, 1e-9);  // Newton tolerance 1e-3 * settings.tolerance
+        errors.push_back(err);
+    }
+    for (size_t k = 1; k < errors.size(); ++k) {
+        const double order = std::log2(errors[k - 1] / errors[k]);
+        std::printf("generalized_alpha pendulum: order %.3f\n", order);
+        EXPECT_GT(order, 1.7);
+        EXPECT_LT(order, 2.3);
+    }
+}

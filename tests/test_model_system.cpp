@@ -1,0 +1,152 @@
+// The System the core hands to analysis plugins: mass matrix, generalized
+// forces with the gyroscopic term, their Jacobians (analytic, and numerical
+// for elements without them), and the energies, against independent sums.
+#include "support/test_support.hpp"
+
+#include <mbd/model_system.hpp>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace mbd {
+namespace {
+
+const char* kSpatialScene = R"(
+name: two bodies on springs
+dimension: spatial
+gravity: [0, -9.81, 0]
+bodies:
+  - {name: a, mass: 2, inertia: [[0.3, 0.01, 0.02], [0.01, 0.4, 0.03], [0.02, 0.03, 0.5]], position: [0, 0, 0]}
+  - {name: b, mass: 3, inertia: [0.2, 0.5, 0.7], position: [1, 0.2, -0.1],
+     orientation: {axis: [1, 2, 3], angle: 0.7}, angular_velocity: [1, -2, 3]}
+joints:
+  - {name: ball, type: spherical, bodies: [ground, a], point: [0, 0.5, 0]}
+forces:
+  - {type: spring_damper, bodies: [a, b], points: [[0.1, 0, 0], [0, 0.1, 0]], stiffness: 300, damping: 4, rest_length: 0.8}
+  - {type: bushing, bodies: [ground, b], stiffness: [10, 20, 30, 1, 2, 3], damping: [1, 1, 1, 0.1, 0.1, 0.1]}
+  - {type: quadratic_drag, bodies: [a, b], coefficient: 0.7}
+)";
+
+struct Fixture {
+    Registry registry{{test::build_plugin_dir(), std::filesystem::path(MBD_TEST_PLUGIN_DIR)}};
+    Model model = load_scene_text(kSpatialScene, "springs.yaml", registry);
+    ModelSystem system{model};
+};
+
+State random_state(const Model& model, std::mt19937& rng) {
+    std::normal_distribution<double> n(0.0, 0.5);
+    State s = model.initial_state();
+    Eigen::VectorXd dq(model.nv());
+    for (int k = 0; k < dq.size(); ++k) dq[k] = n(rng);
+    advance_positions(model, s.q, dq);
+    for (int k = 0; k < s.v.size(); ++k) s.v[k] = 2 * n(rng);
+    s.t = 0.3;
+    return s;
+}
+
+TEST(ModelSystem, MassMatrixIsBlockDiagonalOfMassesAndBodyInertias) {
+    Fixture f;
+    const Eigen::MatrixXd M(f.system.mass_matrix());
+    ASSERT_EQ(M.rows(), 12);
+    Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(12, 12);
+    expected.block<3, 3>(0, 0) = 2 * Mat3::Identity();
+    expected.block<3, 3>(3, 3) << 0.3, 0.01, 0.02, 0.01, 0.4, 0.03, 0.02, 0.03, 0.5;
+    expected.block<3, 3>(6, 6) = 3 * Mat3::Identity();
+    expected.block<3, 3>(9, 9) = Vec3(0.2, 0.5, 0.7).asDiagonal();
+    EXPECT_LT((M - expected).norm(), 1e-15);
+}
+
+TEST(ModelSystem, KineticEnergyIsTranslationalPlusRotational) {
+    Fixture f;
+    std::mt19937 rng(7);
+    const State s = random_state(f.model, rng);
+    double T = 0;
+    for (int k = 0; k < 2; ++k) {
+        const Vec3 v = s.v.segment<3>(6 * k), w = s.v.segment<3>(6 * k + 3);
+        T += 0.5 * f.model.bodies[k].mass * v.squaredNorm() + 0.5 * w.dot(f.model.bodies[k].inertia * w);
+    }
+    EXPECT_NEAR(f.system.kinetic_energy(s), T, 1e-12 * T);
+}
+
+TEST(ModelSystem, GyroscopicMomentIsIncluded) {
+    // with the forces' contributions removed, the rotational rows hold -w x (J w)
+    Fixture f;
+    std::mt19937 rng(11);
+    const State s = random_state(f.model, rng);
+    Eigen::VectorXd Q;
+    f.system.generalized_forces(s, Q);
+    Eigen::VectorXd forces_only = Eigen::VectorXd::Zero(12);
+    BodyPoses poses(f.model);
+    poses.update(s);
+    for (const ForceInstance& fi : f.model.forces) {
+        Eigen::VectorXd local = Eigen::VectorXd::Zero(6 * fi.bodies.size());
+        fi.force->evaluate(poses.view(fi.bodies, s.t), local);
+        for (size_t b = 0; b < fi.bodies.size(); ++b)
+            if (fi.bodies[b] != kGround) forces_only.segment<6>(6 * fi.bodies[b]) += local.segment<6>(6 * b);
+    }
+    for (int k = 0; k < 2; ++k) {
+        const Vec3 w = s.v.segment<3>(6 * k + 3);
+        const Vec3 gyro = -w.cross(f.model.bodies[k].inertia * w);
+        EXPECT_LT((Q.segment<3>(6 * k + 3) - forces_only.segment<3>(6 * k + 3) - gyro).norm(), 1e-12);
+    }
+}
+
+TEST(ModelSystem, ForceJacobiansMatchFiniteDifferencesIncludingElementsWithoutJacobians) {
+    Fixture f;
+    EXPECT_FALSE(f.model.forces.back().force->has_jacobians());  // the drag goes through the numerical path
+    std::mt19937 rng(3);
+    for (int trial = 0; trial < 3; ++trial) {
+        const State s = random_state(f.model, rng);
+        Eigen::SparseMatrix<double> Kq, Kv;
+        f.system.force_jacobians(s, Kq, Kv);
+        Eigen::MatrixXd Kq_fd(12, 12), Kv_fd(12, 12);
+        const double h = 1e-6;
+        for (int c = 0; c < 12; ++c) {
+            Eigen::VectorXd dv = Eigen::VectorXd::Zero(12);
+            dv[c] = h;
+            Eigen::VectorXd Qp, Qm;
+            State sp = s, sm = s;
+            advance_positions(f.model, sp.q, dv);
+            advance_positions(f.model, sm.q, -dv);
+            f.system.generalized_forces(sp, Qp);
+            f.system.generalized_forces(sm, Qm);
+            Kq_fd.col(c) = (Qp - Qm) / (2 * h);
+            sp = s;
+            sm = s;
+            sp.v[c] += h;
+            sm.v[c] -= h;
+            f.system.generalized_forces(sp, Qp);
+            f.system.generalized_forces(sm, Qm);
+            Kv_fd.col(c) = (Qp - Qm) / (2 * h);
+        }
+        EXPECT_LT((Eigen::MatrixXd(Kq) - Kq_fd).norm() / Kq_fd.norm(), 1e-6);
+        EXPECT_LT((Eigen::MatrixXd(Kv) - Kv_fd).norm() / Kv_fd.norm(), 1e-6);
+    }
+}
+
+TEST(ModelSystem, PotentialEnergyOfGravityIsMinusMassTimesGravityDotPosition) {
+    const char* scene = R"(
+dimension: spatial
+gravity: [0, -9.81, 0]
+bodies:
+  - {name: a, mass: 2, inertia: [1, 1, 1], position: [0.5, 1.5, 0]}
+  - {name: b, mass: 3, inertia: [1, 1, 1], position: [0, -2, 4]}
+)";
+    Registry registry({test::build_plugin_dir()});
+    Model model = load_scene_text(scene, "fall.yaml", registry);
+    ModelSystem system(model);
+    EXPECT_NEAR(system.potential_energy(model.initial_state()), 2 * 9.81 * 1.5 + 3 * 9.81 * -2, 1e-12);
+    EXPECT_TRUE(system.conservative());
+}
+
+TEST(ModelSystem, RowDescriptionsNameJointsAndDrivers) {
+    Fixture f;
+    EXPECT_EQ(f.system.joint_rows(), 3);
+    EXPECT_EQ(f.system.describe_row(0), "joint 'ball' (x)");
+    EXPECT_EQ(f.system.joint(0).first_row, 0);
+    EXPECT_EQ(f.system.joint(0).rows, 3);
+}
+
+}  // namespace
+}  // namespace mbd
