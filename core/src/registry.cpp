@@ -1,4 +1,5 @@
 #include <mbd/registry.hpp>
+#include <mbd/sdk/suggest.hpp>
 
 #include <boost/dll/library_info.hpp>
 #include <boost/dll/runtime_symbol_info.hpp>
@@ -123,9 +124,11 @@ const PluginType& Registry::find(const std::string& kind, const std::string& typ
                                     std::to_string(wrong_abi->abi) + " but this mbd uses ABI " +
                                     std::to_string(MBD_ABI_VERSION) + "; rebuild the plugin against this SDK");
     std::vector<std::string> known = type_names(kind);
+    const std::string best = nearest_name(type, known);
     std::string folders;
     for (const fs::path& p : search_path_) folders += (folders.empty() ? "" : ", ") + p.string();
-    throw InputError(where, owner + ": unknown " + kind + " type '" + type + "'; known " + kind +
+    throw InputError(where, owner + ": unknown " + kind + " type '" + type + "'; " +
+                                (best.empty() ? std::string() : "did you mean '" + best + "'? ") + "known " + kind +
                                 " types: " + (known.empty() ? std::string("(none)") : join(known, ", ")) +
                                 " (plugin folders searched: " + folders +
                                 "; add a folder with MBD_PLUGIN_PATH)");

@@ -6,6 +6,7 @@
 // line with the nearest accepted key as a suggestion; for plugin elements the
 // accepted keys are the core's keys plus the keys the plugin asked for.
 #include <mbd/scene.hpp>
+#include <mbd/sdk/suggest.hpp>
 
 #include <yaml-cpp/yaml.h>
 
@@ -42,36 +43,10 @@ std::string join_quoted(const std::vector<std::string>& items) {
     return join(q);
 }
 
-// Optimal-string-alignment distance (Levenshtein plus adjacent transpositions).
-int edit_distance(const std::string& a, const std::string& b) {
-    const size_t n = a.size(), m = b.size();
-    std::vector<std::vector<int>> d(n + 1, std::vector<int>(m + 1, 0));
-    for (size_t i = 0; i <= n; ++i) d[i][0] = static_cast<int>(i);
-    for (size_t j = 0; j <= m; ++j) d[0][j] = static_cast<int>(j);
-    for (size_t i = 1; i <= n; ++i) {
-        for (size_t j = 1; j <= m; ++j) {
-            const int cost = a[i - 1] == b[j - 1] ? 0 : 1;
-            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
-                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-        }
-    }
-    return d[n][m];
-}
-
 // " did you mean 'x'?" for the nearest accepted key, or the list of accepted keys.
 std::string suggestion(const std::string& key, const std::vector<std::string>& accepted) {
-    std::string best;
-    int best_distance = std::numeric_limits<int>::max();
-    for (const auto& candidate : accepted) {
-        const int dist = edit_distance(key, candidate);
-        if (dist < best_distance) {
-            best_distance = dist;
-            best = candidate;
-        }
-    }
-    const int limit = std::max(2, static_cast<int>(std::max(key.size(), best.size())) / 2);
-    if (!best.empty() && best_distance <= limit) return "did you mean " + quote(best) + "?";
+    const std::string best = nearest_name(key, accepted);
+    if (!best.empty()) return "did you mean " + quote(best) + "?";
     if (accepted.empty()) return "remove it";
     return "accepted keys are " + join_quoted(accepted);
 }

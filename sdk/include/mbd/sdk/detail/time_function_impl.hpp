@@ -17,6 +17,7 @@
 #pragma once
 
 #include <mbd/sdk/params.hpp>
+#include <mbd/sdk/suggest.hpp>
 #include <mbd/sdk/time_function.hpp>
 
 #include <algorithm>
@@ -28,20 +29,6 @@
 
 namespace mbd {
 namespace detail {
-
-inline size_t tf_edit_distance(const std::string& a, const std::string& b) {
-    std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-    for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-    for (size_t i = 1; i <= a.size(); ++i) {
-        cur[0] = i;
-        for (size_t j = 1; j <= b.size(); ++j) {
-            const size_t sub = prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
-            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
-        }
-        std::swap(prev, cur);
-    }
-    return prev[b.size()];
-}
 
 inline std::string tf_join(const std::vector<std::string>& words) {
     std::string out;
@@ -102,15 +89,9 @@ public:
         for (const auto& kv : node_.fields) {
             if (kv.first == "type") continue;
             if (std::find(allowed.begin(), allowed.end(), kv.first) != allowed.end()) continue;
-            std::string best;
-            size_t best_d = std::string::npos;
-            for (const auto& a : allowed) {
-                const size_t d = tf_edit_distance(kv.first, a);
-                if (d < best_d) best_d = d, best = a;
-            }
+            const std::string best = nearest_name(kv.first, allowed);
             std::string msg = "unknown key '" + kv.first + "'";
-            if (!best.empty() && best_d <= std::max<size_t>(2, kv.first.size() / 2))
-                msg += " (did you mean '" + best + "'?)";
+            if (!best.empty()) msg += " (did you mean '" + best + "'?)";
             msg += "; the keys of a " + type_ + " are: type, " + tf_join(allowed);
             fail(kv.second, msg);
         }
