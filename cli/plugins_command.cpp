@@ -11,7 +11,7 @@ namespace mbd::cli {
 
 void add_plugins_command(CLI::App& app, Commands& commands) {
     CLI::App* sub = app.add_subcommand(
-        "plugins", "List every joint, force and formulation type found in the plugin folders, with its library and ABI");
+        "plugins", "List every joint, force and formulation type found in the plugin folders, with its library, ABI and version");
     commands[sub] = [] {
         Registry registry;
         std::cout << "plugin search path:\n";
@@ -29,11 +29,11 @@ void add_plugins_command(CLI::App& app, Commands& commands) {
         }
         std::cout << '\n' << std::left << std::setw(static_cast<int>(kind_width) + 2) << "kind"
                   << std::setw(static_cast<int>(type_width) + 2) << "type" << std::setw(6) << "ABI"
-                  << "library\n";
+                  << std::setw(10) << "version" << "library\n";
         for (const auto& t : types) {
             std::cout << std::left << std::setw(static_cast<int>(kind_width) + 2) << t.kind
                       << std::setw(static_cast<int>(type_width) + 2) << t.type << std::setw(6) << t.abi
-                      << t.library.string();
+                      << std::setw(10) << t.version << t.library.string();
             if (t.abi != MBD_ABI_VERSION) std::cout << "  (refused: built for ABI " << t.abi << ")";
             std::cout << '\n';
         }

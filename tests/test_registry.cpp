@@ -26,6 +26,7 @@ TEST(Registry, FindsEveryStandardTypeWithoutLoadingAnything) {
     EXPECT_TRUE(registry.loaded_libraries().empty());
     for (const PluginType& t : registry.types()) {
         EXPECT_EQ(t.abi, MBD_ABI_VERSION);
+        EXPECT_EQ(t.version, MBD_TEST_VERSION) << t.library;  // read from the file, not loaded
         // one shared library per joint type and per force type
         if (t.kind == "joint" || t.kind == "force")
             EXPECT_EQ(t.library.filename().string(), "libmbd_" + t.kind + "_" + t.type + ".so");

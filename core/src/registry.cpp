@@ -73,10 +73,17 @@ Registry::Registry(std::vector<fs::path> search_path) : search_path_(std::move(s
                 problems_.push_back(file.string() + ": not a readable shared library (" + e.what() + ")");
                 continue;
             }
+            std::string version = "unknown";
+            static const std::regex version_pattern("^mbd_version__([0-9]+)_([0-9]+)_([0-9]+)$");
+            for (const std::string& symbol : symbols) {
+                std::smatch m;
+                if (std::regex_match(symbol, m, version_pattern))
+                    version = m[1].str() + "." + m[2].str() + "." + m[3].str();
+            }
             for (const std::string& symbol : symbols) {
                 std::smatch m;
                 if (!std::regex_match(symbol, m, symbol_pattern())) continue;
-                PluginType t{m[2], m[3], std::stoi(m[1]), fs::absolute(file)};
+                PluginType t{m[2], m[3], std::stoi(m[1]), fs::absolute(file), version};
                 const std::string key = t.kind + "/" + t.type;
                 if (t.abi != MBD_ABI_VERSION) {
                     problems_.push_back(file.string() + ": " + t.kind + " type '" + t.type + "' was built for plugin ABI " +

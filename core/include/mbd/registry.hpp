@@ -22,6 +22,7 @@ struct PluginType {
     std::string type;       // e.g. "revolute"
     int abi = 0;
     std::filesystem::path library;
+    std::string version;    // the library's version ("0.1.0"), "unknown" if it does not say
 };
 
 class Registry {
