@@ -18,6 +18,9 @@ using Commands = std::map<const CLI::App*, Action>;
 void add_plugins_command(CLI::App& app, Commands& commands);
 void add_check_command(CLI::App& app, Commands& commands);
 void add_kinematics_command(CLI::App& app, Commands& commands);
+void add_statics_command(CLI::App& app, Commands& commands);
+void add_inverse_command(CLI::App& app, Commands& commands);
 void add_simulate_command(CLI::App& app, Commands& commands);
+void add_plugin_check_command(CLI::App& app, Commands& commands);
 
 }  // namespace mbd::cli

@@ -29,7 +29,10 @@ int main(int argc, char** argv) {
     mbd::cli::add_plugins_command(app, actions);
     mbd::cli::add_check_command(app, actions);
     mbd::cli::add_kinematics_command(app, actions);
+    mbd::cli::add_statics_command(app, actions);
+    mbd::cli::add_inverse_command(app, actions);
     mbd::cli::add_simulate_command(app, actions);
+    mbd::cli::add_plugin_check_command(app, actions);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,243 @@
+// `mbd plugin check LIB.so`: load a joint or force plugin library and validate
+// every type it provides: its ABI, its Jacobians and gamma (and a joint's
+// driver coordinate) against finite differences on random states, force
+// Jacobians and Q = -dV/dq, and finite output on degenerate input. Each
+// failure is printed with the state that shows it; the exit status says pass
+// (0) or fail (1).
+#include "commands.hpp"
+
+#include <mbd/body_poses.hpp>
+#include <mbd/derivative_check.hpp>
+#include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <random>
+#include <sstream>
+
+namespace mbd::cli {
+namespace {
+
+struct CheckOptions {
+    std::string library;
+    std::vector<std::string> params;  // extra YAML keys for the element, e.g. "ratio: 2", one per entry
+    double tolerance = 1e-6;
+    unsigned seed = 20261121;
+};
+
+// The element's own keys, indented under its list item.
+std::string extra_keys(const std::vector<std::string>& params) {
+    std::ostringstream out;
+    for (const std::string& line : params)
+        if (!line.empty()) out << "    " << line << "\n";
+    return out.str();
+}
+
+// Two-body test scenes in which the element connects ground-body and body-body.
+std::string joint_scene(Dimension d, const std::string& type, const std::vector<std::string>& params) {
+    std::ostringstream s;
+    if (d == Dimension::Planar) {
+        s << "dimension: planar\nbodies:\n"
+          << "  - {name: a, mass: 1.3, inertia: 0.2, position: [0.3, 0.1], angle: 0.2}\n"
+          << "  - {name: b, mass: 0.7, inertia: 0.1, position: [0.8, -0.2], angle: -0.4}\n"
+          << "joints:\n"
+          << "  - name: to_ground\n    type: " << type << "\n    bodies: [ground, a]\n    point: [0.1, 0.05]\n"
+          << "    axis: [0.6, 0.8]\n" << extra_keys(params)
+          << "  - name: between\n    type: " << type << "\n    bodies: [a, b]\n    point: [0.5, 0.0]\n"
+          << "    axis: [0.6, 0.8]\n" << extra_keys(params);
+    } else {
+        s << "dimension: spatial\nbodies:\n"
+          << "  - {name: a, mass: 1.3, inertia: [0.2, 0.3, 0.4], position: [0.3, 0.1, 0.2], "
+             "orientation: {axis: [1, 2, 3], angle: 0.5}}\n"
+          << "  - {name: b, mass: 0.7, inertia: [0.1, 0.2, 0.25], position: [0.8, -0.2, 0.1], "
+             "orientation: {axis: [-1, 0.5, 2], angle: 1.1}}\n"
+          << "joints:\n";
+        for (const char* name : {"to_ground", "between"}) {
+            s << "  - name: " << name << "\n    type: " << type << "\n    bodies: "
+              << (std::string(name) == "to_ground" ? "[ground, a]" : "[a, b]")
+              << "\n    point: [0.5, 0.1, 0.2]\n    axes: [[0.3, 0.4, 0.866], [0.8, -0.6, 0.0]]\n"
+              << extra_keys(params);
+        }
+    }
+    return s.str();
+}
+
+std::string force_scene(Dimension d, const std::string& type, const std::vector<std::string>& params, bool two_bodies) {
+    std::ostringstream s;
+    const bool planar = d == Dimension::Planar;
+    s << "dimension: " << (planar ? "planar" : "spatial") << "\n";
+    if (type == "gravity") s << "gravity: " << (planar ? "[0.3, -9.81]" : "[0.3, -9.81, 0.2]") << "\n";
+    s << "bodies:\n";
+    if (planar)
+        s << "  - {name: a, mass: 1.3, inertia: 0.2, position: [0.3, 0.1], angle: 0.2}\n"
+          << "  - {name: b, mass: 0.7, inertia: 0.1, position: [0.8, -0.2], angle: -0.4}\n";
+    else
+        s << "  - {name: a, mass: 1.3, inertia: [0.2, 0.3, 0.4], position: [0.3, 0.1, 0.2], "
+             "orientation: {axis: [1, 2, 3], angle: 0.5}}\n"
+          << "  - {name: b, mass: 0.7, inertia: [0.1, 0.2, 0.25], position: [0.8, -0.2, 0.1], "
+             "orientation: {axis: [-1, 0.5, 2], angle: 1.1}}\n";
+    if (type == "gravity") return s.str();
+    const std::string p = planar ? "[0.05, 0.02]" : "[0.05, 0.02, -0.03]";
+    s << "forces:\n  - name: element\n    type: " << type << "\n";
+    if (two_bodies)
+        s << "    bodies: [a, b]\n    points: [" << p << ", " << p << "]\n";
+    else
+        s << "    body: a\n    point: " << p << "\n";
+    s << extra_keys(params);
+    return s.str();
+}
+
+// Evaluate every element at a degenerate state (all bodies at the origin, at
+// rest, then moving fast): the outputs must stay finite.
+bool finite_on_degenerate_input(const Model& model) {
+    for (double speed : {0.0, 1e3}) {
+        State s = model.initial_state();
+        for (int b = 0; b < model.body_count(); ++b) {
+            s.q.segment(model.q_offset(b), 3).setZero();
+            if (model.dimension == Dimension::Spatial) s.q.segment<4>(model.q_offset(b) + 3) << 1, 0, 0, 0;
+        }
+        s.v.setConstant(speed);
+        BodyPoses poses(model);
+        poses.update(s);
+        const int nvb = velocities_per_body(model.dimension);
+        for (const JointInstance& j : model.joints) {
+            ConstraintEval e;
+            e.resize(j.joint->rows(), nvb * static_cast<int>(j.bodies.size()));
+            j.joint->evaluate(poses.view(j.bodies, s.t), e);
+            if (!(e.C.allFinite() && e.J.allFinite() && e.C_t.allFinite() && e.gamma.allFinite())) return false;
+        }
+        for (const ForceInstance& f : model.forces) {
+            Eigen::VectorXd Q = Eigen::VectorXd::Zero(nvb * static_cast<int>(f.bodies.size()));
+            f.force->evaluate(poses.view(f.bodies, s.t), Q);
+            if (!Q.allFinite()) return false;
+        }
+    }
+    return true;
+}
+
+struct Verdict {
+    int checked = 0;
+    int failed = 0;
+};
+
+void report(const std::string& what, const DerivativeErrors& e, double tolerance, bool degenerate_ok, Verdict& v) {
+    ++v.checked;
+    struct Item {
+        const char* name;
+        double value;
+    };
+    const Item items[] = {{"Jacobian dC/dq (joints) or dQ/dq (forces)", e.jacobian},
+                          {"gamma (Cddot = J vdot - gamma)", e.gamma},
+                          {"coordinate gradient J_s", e.coordinate_jacobian},
+                          {"coordinate gamma_s", e.coordinate_gamma},
+                          {"dQ/dv", e.velocity_jacobian},
+                          {"Q = -dV/dq", e.potential}};
+    bool ok = e.finite && degenerate_ok;
+    for (const Item& item : items) ok = ok && item.value <= tolerance;
+    std::printf("%-5s %s\n", ok ? "PASS" : "FAIL", what.c_str());
+    for (const Item& item : items) {
+        const bool bad = item.value > tolerance;
+        if (bad || item.value > 0) std::printf("        %-44s %.2e%s\n", item.name, item.value, bad ? "  <-- exceeds tolerance" : "");
+    }
+    if (!e.finite) std::printf("        non-finite output at a random state\n");
+    if (!degenerate_ok) std::printf("        non-finite output on degenerate input (bodies at the origin, at rest or moving fast)\n");
+    if (!ok) {
+        std::printf("        state showing it: %s\n", e.worst_state.c_str());
+        ++v.failed;
+    }
+}
+
+int run_check(const CheckOptions& o) {
+    namespace fs = std::filesystem;
+    const fs::path library = fs::canonical(o.library);
+    Registry registry({library.parent_path()});
+    for (const std::string& problem : registry.problems())
+        if (problem.find(library.string()) != std::string::npos || problem.find(o.library) != std::string::npos) {
+            std::printf("FAIL  %s\n", problem.c_str());
+            return 1;
+        }
+    std::vector<PluginType> mine;
+    for (const PluginType& t : registry.types())
+        if (fs::equivalent(t.library, library)) mine.push_back(t);
+    if (mine.empty()) {
+        std::printf("FAIL  %s exports no mbd plugin type (register types with MBD_JOINT_PLUGIN or MBD_FORCE_PLUGIN)\n",
+                    library.c_str());
+        return 1;
+    }
+    std::printf("library %s: ABI %d (host %d), version %s\n", library.c_str(), mine.front().abi, MBD_ABI_VERSION,
+                mine.front().version.c_str());
+
+    Verdict verdict;
+    std::mt19937 rng(o.seed);
+    for (const PluginType& t : mine) {
+        if (t.kind != "joint" && t.kind != "force") {
+            std::printf("skip  %s '%s': only joint and force plugins are checked\n", t.kind.c_str(), t.type.c_str());
+            continue;
+        }
+        int dimensions_checked = 0;
+        std::string last_error;
+        for (Dimension d : {Dimension::Planar, Dimension::Spatial}) {
+            const std::string tag = t.kind + " '" + t.type + "' (" + to_string(d) + ")";
+            std::vector<std::string> scenes;
+            if (t.kind == "joint") {
+                scenes.push_back(joint_scene(d, t.type, o.params));
+            } else {
+                scenes.push_back(force_scene(d, t.type, o.params, true));
+                scenes.push_back(force_scene(d, t.type, o.params, false));
+            }
+            bool loaded = false;
+            for (const std::string& text : scenes) {
+                Model model;
+                try {
+                    model = load_scene_text(text, "plugin-check.yaml", registry);
+                } catch (const InputError& e) {
+                    last_error = e.what();
+                    continue;
+                }
+                loaded = true;
+                ++dimensions_checked;
+                const bool degenerate_ok = finite_on_degenerate_input(model);
+                if (t.kind == "joint") {
+                    for (const JointInstance& j : model.joints)
+                        report(tag + ", joint '" + j.name + "' [" + model.body_name(j.bodies[0]) + ", " +
+                                   model.body_name(j.bodies[1]) + "]",
+                               check_joint_derivatives(model, j, rng), o.tolerance, degenerate_ok, verdict);
+                } else {
+                    for (const ForceInstance& f : model.forces)
+                        if (f.type == t.type) report(tag, check_force_derivatives(model, f, rng), o.tolerance, degenerate_ok, verdict);
+                }
+                break;
+            }
+            if (!loaded) std::printf("note  %s not checked: %s\n", tag.c_str(), last_error.c_str());
+        }
+        if (dimensions_checked == 0) {
+            std::printf("FAIL  %s '%s' could not be created in a planar or a spatial test scene; if it needs keys, "
+                        "pass them with --params 'key: value' (last error: %s)\n",
+                        t.kind.c_str(), t.type.c_str(), last_error.c_str());
+            ++verdict.failed;
+        }
+    }
+    std::printf("%d checked, %d failed\n", verdict.checked, verdict.failed);
+    return verdict.failed == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+void add_plugin_check_command(CLI::App& app, Commands& commands) {
+    CLI::App* plugin = app.add_subcommand("plugin", "Work with one plugin library");
+    plugin->require_subcommand(1);
+    CLI::App* check = plugin->add_subcommand(
+        "check", "Validate a joint or force plugin: ABI, Jacobians and gamma against finite differences, "
+                 "degenerate input");
+    auto options = std::make_shared<CheckOptions>();
+    check->add_option("LIBRARY", options->library, "The plugin library (.so)")->required()->check(CLI::ExistingFile);
+    check->add_option("--params", options->params,
+                      "A YAML key the element needs, e.g. --params 'ratio: 2' (repeat for more keys)");
+    check->add_option("--tolerance", options->tolerance, "Largest relative error accepted (default 1e-6)");
+    check->add_option("--seed", options->seed, "Seed of the random states");
+    commands[plugin] = [options] { return run_check(*options); };
+}
+
+}  // namespace mbd::cli

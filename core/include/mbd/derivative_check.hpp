@@ -1,0 +1,36 @@
+// Finite-difference validation of joint and force plugins: a joint's Jacobian
+// against central differences of C, its gamma against the second time
+// derivative of C along random smooth trajectories (Cddot = J vdot - gamma),
+// the same for its driver coordinate; a force's Jacobians against central
+// differences of Q, and Q = -dV/dq for conservative forces. The states are
+// random and off the constraint manifold. Used by the generic joint test and
+// by `mbd plugin check`.
+#pragma once
+
+#include <mbd/model.hpp>
+
+#include <random>
+#include <string>
+
+namespace mbd {
+
+struct DerivativeErrors {
+    // relative errors (|a - b| / max(1, |b|)), worst over the trials
+    double jacobian = 0.0;
+    double gamma = 0.0;
+    double coordinate_jacobian = 0.0;
+    double coordinate_gamma = 0.0;
+    double velocity_jacobian = 0.0;   // forces: dQ/dv
+    double potential = 0.0;           // conservative forces: Q + dV/dq
+    bool finite = true;               // every value evaluated was finite
+    std::string worst_state;          // a description of the state behind the largest error
+
+    double worst() const;
+};
+
+DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance& joint, std::mt19937& rng,
+                                         int trials = 5);
+DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance& force, std::mt19937& rng,
+                                         int trials = 5);
+
+}  // namespace mbd

@@ -1,0 +1,301 @@
+#include <mbd/derivative_check.hpp>
+
+#include <mbd/body_poses.hpp>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace mbd {
+
+double DerivativeErrors::worst() const {
+    return std::max({jacobian, gamma, coordinate_jacobian, coordinate_gamma, velocity_jacobian, potential});
+}
+
+namespace {
+
+// A smooth trajectory through a random state: every body moves with its own
+// sinusoids; spatial orientation is p0 (x) Rx(a(t)) Ry(b(t)) Rz(c(t)).
+class Trajectory {
+public:
+    Trajectory(const Model& model, const State& base, std::mt19937& rng) : model_(model), base_(base) {
+        std::uniform_real_distribution<double> amp(-0.4, 0.4), freq(0.5, 2.5), phase(0, 6.283);
+        const int n = model.body_count() * 6;
+        a_.resize(n);
+        w_.resize(n);
+        ph_.resize(n);
+        for (int k = 0; k < n; ++k) {
+            a_[k] = amp(rng);
+            w_[k] = freq(rng);
+            ph_[k] = phase(rng);
+        }
+    }
+
+    // value, first and second derivative of the k-th scalar signal
+    double f(int k, double t, int derivative = 0) const {
+        const double s = std::sin(w_[k] * t + ph_[k]), c = std::cos(w_[k] * t + ph_[k]);
+        if (derivative == 0) return a_[k] * s;
+        if (derivative == 1) return a_[k] * w_[k] * c;
+        return -a_[k] * w_[k] * w_[k] * s;
+    }
+
+    State state(double t) const {
+        State s = base_;
+        s.t = t;
+        for (int b = 0; b < model_.body_count(); ++b) {
+            const int iq = model_.q_offset(b), iv = model_.v_offset(b);
+            if (model_.dimension == Dimension::Planar) {
+                for (int c = 0; c < 3; ++c) {
+                    s.q[iq + c] = base_.q[iq + c] + f(6 * b + c, t);
+                    s.v[iv + c] = f(6 * b + c, t, 1);
+                }
+            } else {
+                for (int c = 0; c < 3; ++c) {
+                    s.q[iq + c] = base_.q[iq + c] + f(6 * b + c, t);
+                    s.v[iv + c] = f(6 * b + c, t, 1);
+                }
+                const double al = f(6 * b + 3, t), be = f(6 * b + 4, t), ga = f(6 * b + 5, t);
+                Vec4 p = base_.q.segment<4>(iq + 3);
+                p = quaternion_product(p, euler_parameters_from_axis_angle(Vec3::UnitX(), al));
+                p = quaternion_product(p, euler_parameters_from_axis_angle(Vec3::UnitY(), be));
+                p = quaternion_product(p, euler_parameters_from_axis_angle(Vec3::UnitZ(), ga));
+                s.q.segment<4>(iq + 3) = p;
+                const Mat3 Ry = Eigen::AngleAxisd(be, Vec3::UnitY()).toRotationMatrix();
+                const Mat3 Rz = Eigen::AngleAxisd(ga, Vec3::UnitZ()).toRotationMatrix();
+                s.v.segment<3>(iv + 3) = (Ry * Rz).transpose() * (f(6 * b + 3, t, 1) * Vec3::UnitX()) +
+                                         Rz.transpose() * (f(6 * b + 4, t, 1) * Vec3::UnitY()) +
+                                         f(6 * b + 5, t, 1) * Vec3::UnitZ();
+            }
+        }
+        return s;
+    }
+
+    // vdot by a fourth-order central difference of v(t) (exact enough as an oracle input)
+    Eigen::VectorXd acceleration(double t) const {
+        const double h = 1e-3;
+        return (state(t - 2 * h).v - 8 * state(t - h).v + 8 * state(t + h).v - state(t + 2 * h).v) / (12 * h);
+    }
+
+private:
+    const Model& model_;
+    State base_;
+    std::vector<double> a_, w_, ph_;
+};
+
+std::string describe(const Model& model, const State& s) {
+    std::ostringstream out;
+    out.precision(6);
+    out << "t = " << s.t;
+    for (int b = 0; b < model.body_count(); ++b) {
+        out << "; " << model.bodies[b].name << " q = [" << s.q.segment(model.q_offset(b), coordinates_per_body(model.dimension)).transpose()
+            << "] v = [" << s.v.segment(model.v_offset(b), velocities_per_body(model.dimension)).transpose() << "]";
+    }
+    return out.str();
+}
+
+// A random state near the scene's configuration, off any constraint manifold.
+State random_state(const Model& model, std::mt19937& rng) {
+    State base = model.initial_state();
+    std::normal_distribution<double> noise(0.0, 0.3);
+    Eigen::VectorXd jolt(model.nv());
+    for (int k = 0; k < jolt.size(); ++k) jolt[k] = noise(rng);
+    advance_positions(model, base.q, jolt);
+    for (int k = 0; k < base.v.size(); ++k) base.v[k] = 3 * noise(rng);
+    base.t = 0.37;
+    return base;
+}
+
+// Relative error of a against b with a floor so that zero entries do not divide by zero.
+double relative(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return (a - b).norm() / std::max(1.0, b.norm());
+}
+
+}  // namespace
+
+DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance& ji, std::mt19937& rng, int trials) {
+    DerivativeErrors worst;
+    const int nvb = velocities_per_body(model.dimension);
+    const int cols = nvb * static_cast<int>(ji.bodies.size());
+    BodyPoses poses(model);
+    ConstraintEval e;
+    CoordinateEval ce;
+    auto eval = [&](const State& s) {
+        poses.update(s);
+        e.resize(ji.joint->rows(), cols);
+        ji.joint->evaluate(poses.view(ji.bodies, s.t), e);
+        ce = CoordinateEval{};
+        ce.J.setZero(cols);
+        if (ji.joint->has_coordinate()) ji.joint->coordinate(poses.view(ji.bodies, s.t), ce);
+    };
+    // the state perturbed along velocity direction dv (exponential map for rotations)
+    auto moved = [&](const State& s, const Eigen::VectorXd& dv) {
+        State out = s;
+        advance_positions(model, out.q, dv);
+        return out;
+    };
+
+    for (int trial = 0; trial < trials; ++trial) {
+        Trajectory path(model, random_state(model, rng), rng);
+        const double t = 0.37 + trial;
+        const State s = path.state(t);
+        eval(s);
+        const Eigen::VectorXd C0 = e.C, gamma = e.gamma;
+        const Eigen::MatrixXd J = e.J;
+        const double s0 = ce.value, gamma_s = ce.gamma;
+        const Eigen::RowVectorXd J_s = ce.J;
+
+        // Jacobian: central differences of C along each velocity direction of each body
+        const double h = 1e-6;
+        Eigen::MatrixXd J_fd = Eigen::MatrixXd::Zero(J.rows(), J.cols());
+        Eigen::RowVectorXd Js_fd = Eigen::RowVectorXd::Zero(cols);
+        for (size_t b = 0; b < ji.bodies.size(); ++b) {
+            if (ji.bodies[b] == kGround) continue;
+            for (int c = 0; c < nvb; ++c) {
+                Eigen::VectorXd dv = Eigen::VectorXd::Zero(model.nv());
+                dv[model.v_offset(ji.bodies[b]) + c] = h;
+                eval(moved(s, dv));
+                const Eigen::VectorXd Cp = e.C;
+                const double sp = ce.value;
+                eval(moved(s, -dv));
+                Eigen::VectorXd dC = Cp - e.C;
+                for (int r = 0; r < dC.size(); ++r) {
+                    const double period = ji.joint->row_period(r);
+                    if (period > 0) dC[r] -= period * std::round(dC[r] / period);
+                }
+                J_fd.col(nvb * b + c) = dC / (2 * h);
+                Js_fd[nvb * b + c] = ji.joint->has_coordinate() ? wrap_angle(sp - ce.value) / (2 * h) : 0.0;
+            }
+        }
+        // ground columns are ignored: compare only moving-body columns
+        for (size_t b = 0; b < ji.bodies.size(); ++b) {
+            if (ji.bodies[b] != kGround) continue;
+            J_fd.middleCols(nvb * b, nvb).setZero();
+            Js_fd.segment(nvb * b, nvb).setZero();
+        }
+        Eigen::MatrixXd J_cmp = J;
+        Eigen::RowVectorXd Js_cmp = J_s;
+        for (size_t b = 0; b < ji.bodies.size(); ++b)
+            if (ji.bodies[b] == kGround) {
+                J_cmp.middleCols(nvb * b, nvb).setZero();
+                Js_cmp.segment(nvb * b, nvb).setZero();
+            }
+        worst.finite = worst.finite && C0.allFinite() && J.allFinite() && gamma.allFinite() && std::isfinite(s0) &&
+                       J_s.allFinite() && std::isfinite(gamma_s);
+        const double before = worst.worst();
+        worst.jacobian = std::max(worst.jacobian, (J_cmp - J_fd).norm() / std::max(1.0, J_fd.norm()));
+
+        // gamma: Cddot along the trajectory by a fourth-order central difference
+        const double ht = 1e-3;
+        auto C_at = [&](double tt) {
+            eval(path.state(tt));
+            return std::make_pair(Eigen::VectorXd(e.C), ce.value);
+        };
+        auto m2 = C_at(t - 2 * ht), m1 = C_at(t - ht), p1 = C_at(t + ht), p2 = C_at(t + 2 * ht);
+        // rows with a periodic residual (screw helix) are unwrapped around C0
+        for (int r = 0; r < C0.size(); ++r) {
+            const double period = ji.joint->row_period(r);
+            if (period <= 0) continue;
+            for (auto* sample : {&m2, &m1, &p1, &p2}) {
+                const double d = sample->first[r] - C0[r];
+                sample->first[r] = C0[r] + d - period * std::round(d / period);
+            }
+        }
+        const Eigen::VectorXd Cddot =
+            (-m2.first + 16 * m1.first - 30 * C0 + 16 * p1.first - p2.first) / (12 * ht * ht);
+        // select the moving-body velocity entries of the joint's bodies
+        const Eigen::VectorXd vdot_all = path.acceleration(t);
+        Eigen::VectorXd vdot = Eigen::VectorXd::Zero(cols);
+        for (size_t b = 0; b < ji.bodies.size(); ++b)
+            if (ji.bodies[b] != kGround) vdot.segment(nvb * b, nvb) = vdot_all.segment(model.v_offset(ji.bodies[b]), nvb);
+        const Eigen::VectorXd gamma_fd = J_cmp * vdot - Cddot;
+        worst.gamma = std::max(worst.gamma, relative(gamma, gamma_fd));
+
+        if (ji.joint->has_coordinate()) {
+            worst.coordinate_jacobian = std::max(worst.coordinate_jacobian,
+                                                 (Js_cmp - Js_fd).norm() / std::max(1.0, Js_fd.norm()));
+            // unwrap the angle samples around s0
+            auto unwrap = [&](double x) { return s0 + wrap_angle(x - s0); };
+            const double sddot = (-unwrap(m2.second) + 16 * unwrap(m1.second) - 30 * s0 + 16 * unwrap(p1.second) -
+                                  unwrap(p2.second)) /
+                                 (12 * ht * ht);
+            const double gs_fd = Js_cmp.dot(vdot) - sddot;
+            worst.coordinate_gamma =
+                std::max(worst.coordinate_gamma, std::abs(gamma_s - gs_fd) / std::max(1.0, std::abs(gs_fd)));
+        }
+        if (worst.worst() > before) worst.worst_state = describe(model, s);
+    }
+    return worst;
+}
+
+DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance& fi, std::mt19937& rng, int trials) {
+    DerivativeErrors worst;
+    const int nvb = velocities_per_body(model.dimension);
+    const int n = nvb * static_cast<int>(fi.bodies.size());
+    BodyPoses poses(model);
+    auto Q_at = [&](const State& s) {
+        poses.update(s);
+        Eigen::VectorXd Q = Eigen::VectorXd::Zero(n);
+        fi.force->evaluate(poses.view(fi.bodies, s.t), Q);
+        return Q;
+    };
+    auto V_at = [&](const State& s) {
+        poses.update(s);
+        return fi.force->potential_energy(poses.view(fi.bodies, s.t));
+    };
+    for (int trial = 0; trial < trials; ++trial) {
+        const State s = random_state(model, rng);
+        const Eigen::VectorXd Q = Q_at(s);
+        worst.finite = worst.finite && Q.allFinite();
+        Eigen::MatrixXd Kq = Eigen::MatrixXd::Zero(n, n), Kv = Eigen::MatrixXd::Zero(n, n);
+        if (fi.force->has_jacobians()) {
+            poses.update(s);
+            fi.force->jacobians(poses.view(fi.bodies, s.t), Kq, Kv);
+            worst.finite = worst.finite && Kq.allFinite() && Kv.allFinite();
+        }
+        Eigen::MatrixXd Kq_fd = Eigen::MatrixXd::Zero(n, n), Kv_fd = Eigen::MatrixXd::Zero(n, n);
+        Eigen::VectorXd dV = Eigen::VectorXd::Zero(n);
+        const double h = 1e-6;
+        for (size_t b = 0; b < fi.bodies.size(); ++b) {
+            if (fi.bodies[b] == kGround) continue;
+            for (int c = 0; c < nvb; ++c) {
+                Eigen::VectorXd dv = Eigen::VectorXd::Zero(model.nv());
+                dv[model.v_offset(fi.bodies[b]) + c] = h;
+                State plus = s, minus = s;
+                advance_positions(model, plus.q, dv);
+                advance_positions(model, minus.q, -dv);
+                Kq_fd.col(nvb * b + c) = (Q_at(plus) - Q_at(minus)) / (2 * h);
+                dV[nvb * b + c] = (V_at(plus) - V_at(minus)) / (2 * h);
+                plus = s;
+                minus = s;
+                plus.v += dv;
+                minus.v -= dv;
+                Kv_fd.col(nvb * b + c) = (Q_at(plus) - Q_at(minus)) / (2 * h);
+            }
+        }
+        // compare only the moving bodies' rows and columns
+        for (size_t b = 0; b < fi.bodies.size(); ++b)
+            if (fi.bodies[b] == kGround) {
+                for (auto* m : {&Kq, &Kv, &Kq_fd, &Kv_fd}) {
+                    m->middleRows(nvb * b, nvb).setZero();
+                    m->middleCols(nvb * b, nvb).setZero();
+                }
+            }
+        const double before = worst.worst();
+        if (fi.force->has_jacobians()) {
+            worst.jacobian = std::max(worst.jacobian, (Kq - Kq_fd).norm() / std::max(1.0, Kq_fd.norm()));
+            worst.velocity_jacobian = std::max(worst.velocity_jacobian, (Kv - Kv_fd).norm() / std::max(1.0, Kv_fd.norm()));
+        }
+        if (fi.force->is_conservative()) {
+            Eigen::VectorXd Qm = Q;
+            for (size_t b = 0; b < fi.bodies.size(); ++b)
+                if (fi.bodies[b] == kGround) Qm.segment(nvb * b, nvb).setZero();
+            worst.potential = std::max(worst.potential, relative(Qm, -dV));
+        }
+        if (worst.worst() > before) worst.worst_state = describe(model, s);
+    }
+    return worst;
+}
+
+}  // namespace mbd

@@ -1,0 +1,62 @@
+// `mbd plugin check`: passes our own plugins, fails a deliberately broken one
+// for the right reason, and refuses a plugin of another ABI.
+#include "support/test_support.hpp"
+
+#include <gtest/gtest.h>
+
+namespace mbd {
+namespace {
+
+std::string plugin(const std::string& file) { return (test::build_plugin_dir() / file).string(); }
+std::string test_plugin(const std::string& file) { return (std::filesystem::path(MBD_TEST_PLUGIN_DIR) / file).string(); }
+
+TEST(PluginCheck, StandardJointAndForcePluginsPass) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"libmbd_joint_revolute.so", ""},
+        {"libmbd_joint_screw.so", " --params 'pitch: 0.02'"},
+        {"libmbd_force_spring_damper.so", " --params 'stiffness: 100' --params 'damping: 2'"},
+        {"libmbd_force_point_force.so", " --params 'force: [1, -2]'"},  // planar components: planar only
+        {"libmbd_force_gravity.so", ""}};
+    for (const auto& [lib, params] : cases) {
+        const auto r = test::run_mbd("plugin check " + plugin(lib) + params);
+        EXPECT_EQ(r.exit_code, 0) << lib << "\n" << r.out << r.err;
+        EXPECT_NE(r.out.find(" 0 failed"), std::string::npos) << r.out;
+    }
+}
+
+TEST(PluginCheck, GearPairNeedsItsKeysAndPassesWithThem) {
+    const auto without = test::run_mbd("plugin check " + plugin("libmbd_joint_gear_pair.so"));
+    EXPECT_EQ(without.exit_code, 1);
+    EXPECT_NE(without.out.find("--params"), std::string::npos) << without.out;
+    const auto with = test::run_mbd("plugin check " + plugin("libmbd_joint_gear_pair.so") + " --params 'radii: [0.1, 0.3]'");
+    EXPECT_EQ(with.exit_code, 0) << with.out << with.err;
+}
+
+TEST(PluginCheck, BrokenGammaFailsForThatReasonOnly) {
+    const auto r = test::run_mbd("plugin check " + test_plugin("libmbd_joint_broken_pin.so"));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("FAIL  joint 'broken_pin' (planar)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("gamma (Cddot = J vdot - gamma)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("exceeds tolerance"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("state showing it: t = "), std::string::npos) << r.out;
+    // the Jacobian itself is right: its line must not be flagged
+    const size_t jac = r.out.find("Jacobian dC/dq");
+    ASSERT_NE(jac, std::string::npos) << r.out;
+    const std::string jac_line = r.out.substr(jac, r.out.find('\n', jac) - jac);
+    EXPECT_EQ(jac_line.find("exceeds"), std::string::npos) << jac_line;
+}
+
+TEST(PluginCheck, WrongAbiIsRefused) {
+    const auto r = test::run_mbd("plugin check " + test_plugin("libmbd_joint_wrong_abi.so"));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.out.find("ABI 999"), std::string::npos) << r.out;
+}
+
+TEST(PluginCheck, NotAPluginIsRefused) {
+    const auto r = test::run_mbd("plugin check " + (std::filesystem::path(MBD_BUILD_DIR) / "lib/libmbd_core.so").string());
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.out.find("exports no mbd plugin type"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace mbd
