@@ -3,8 +3,10 @@
 
 #include <mbd/kinematics.hpp>
 #include <mbd/mobility.hpp>
+#include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
+#include <mbd/sdk/topology.hpp>
 
 #include <Eigen/Dense>
 
@@ -114,6 +116,11 @@ void add_check_command(CLI::App& app, Commands& commands) {
                           << " along with minimum-norm steps)\n";
         } else {
             std::cout << "kinematically driven: no (no drivers)\n";
+        }
+        {  // the embedding formulation's path (sdk/include/mbd/sdk/topology.hpp)
+            std::string reason;
+            const bool recursive = recursive_embedding_possible(ModelSystem(model), &reason);
+            std::cout << "embedding: " << (recursive ? "recursive" : "dense") << " path (" << reason << ")\n";
         }
         return 0;
     };

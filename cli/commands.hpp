@@ -22,5 +22,6 @@ void add_statics_command(CLI::App& app, Commands& commands);
 void add_inverse_command(CLI::App& app, Commands& commands);
 void add_simulate_command(CLI::App& app, Commands& commands);
 void add_plugin_check_command(CLI::App& app, Commands& commands);
+void add_bench_command(CLI::App& app, Commands& commands);
 
 }  // namespace mbd::cli

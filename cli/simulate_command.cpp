@@ -8,6 +8,8 @@
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -30,6 +32,8 @@ struct SimulateArguments {
     std::string stabilization;
     std::string algebra;
     bool quiet = false;
+    bool error_estimate = false;  // --error-estimate: a second run, 10x tighter (or half the step)
+    bool json = false;
 };
 
 }  // namespace
@@ -65,6 +69,10 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
     sub->add_option("--linear-algebra", args->algebra, "Linear algebra of the formulation: auto, dense or sparse")
         ->check(CLI::IsMember({"auto", "dense", "sparse"}));
     sub->add_flag("-q,--quiet", args->quiet, "No summary and no progress bar");
+    sub->add_flag("--error-estimate", args->error_estimate,
+                  "Also run at a ten times tighter tolerance (fixed step: half the step) and end with the CPU time "
+                  "and the estimated global error of the positions at the output times");
+    sub->add_flag("--json", args->json, "Print the summary as one JSON object on stdout");
 
     commands[sub] = [args] {
         Registry registry;
@@ -86,7 +94,67 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         settings.algebra = args->algebra;
         settings.progress = !args->quiet;
 
-        const SimulationResult r = simulate(model, registry, settings);
+        // --error-estimate: the mass-centre positions at the output times of this run and of
+        // a tighter one; their largest distance, times the Richardson factor 2^p / (2^p - 1)
+        // for a fixed-step integrator of order p (adaptive: the difference itself).
+        std::vector<Eigen::VectorXd> positions, tight_positions;
+        auto collect = [&model](std::vector<Eigen::VectorXd>& into) {
+            return [&model, &into](const SimulationSample& s) {
+                const int per = coordinates_per_body(model.dimension), n = model.dimension == Dimension::Planar ? 2 : 3;
+                Eigen::VectorXd p(n * model.body_count());
+                for (int b = 0; b < model.body_count(); ++b) p.segment(n * b, n) = s.state.q.segment(per * b, n);
+                into.push_back(p);
+                return true;
+            };
+        };
+        SimulationCallback callback;
+        if (args->error_estimate) callback = collect(positions);
+        const SimulationResult r = simulate(model, registry, settings, callback);
+        double estimate = NAN;
+        std::string against;
+        if (args->error_estimate) {
+            SimulationSettings tight = settings;
+            tight.output.clear();
+            tight.progress = false;
+            tight.reactions = tight.diagnostics = false;
+            if (!(tight.output_step > 0.0))
+                tight.output_step = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;
+            double factor = 1.0;
+            if (settings.integration.step > 0.0 && (r.integrator == "euler" || r.integrator == "rk4" ||
+                                                   r.integrator == "generalized_alpha")) {
+                tight.integration.step = 0.5 * settings.integration.step;
+                const double order = r.integrator == "euler" ? 1.0 : r.integrator == "rk4" ? 4.0 : 2.0;
+                factor = std::pow(2.0, order) / (std::pow(2.0, order) - 1.0);
+                against = "step " + std::to_string(tight.integration.step);
+            } else {
+                tight.integration.tolerance = 0.1 * settings.integration.tolerance;
+                char b[40];
+                std::snprintf(b, sizeof b, "tol %g", tight.integration.tolerance);
+                against = b;
+            }
+            simulate(model, registry, tight, collect(tight_positions));
+            double worst = 0.0;
+            const size_t n = std::min(positions.size(), tight_positions.size());
+            for (size_t k = 0; k < n; ++k) {
+                const Eigen::VectorXd d = positions[k] - tight_positions[k];
+                const int dim = model.dimension == Dimension::Planar ? 2 : 3;
+                for (int b = 0; b < model.body_count(); ++b) worst = std::max(worst, d.segment(dim * b, dim).norm());
+            }
+            estimate = factor * worst;
+        }
+        if (args->json) {
+            std::printf("{\"scene\": \"%s\", \"formulation\": \"%s\", \"integrator\": \"%s\", \"t_end\": %.9g, "
+                        "\"rows\": %ld, \"steps\": %ld, \"rejected_steps\": %ld, \"rhs_evaluations\": %ld, "
+                        "\"cpu_s\": %.6g, \"position_violation\": %.6g, \"velocity_violation\": %.6g",
+                        args->scene.c_str(), r.formulation.c_str(), r.integrator.c_str(), args->t_end, r.rows,
+                        r.stats.steps, r.stats.rejected_steps, r.stats.rhs_evaluations, r.cpu_seconds,
+                        r.final_position_violation, r.final_velocity_violation);
+            if (args->error_estimate)
+                std::printf(", \"error_estimate\": {\"position_error\": %.6g, \"cpu_s\": %.6g, \"against\": \"%s\"}",
+                            estimate, r.cpu_seconds, against.c_str());
+            std::printf("}\n");
+            return 0;
+        }
         if (!args->quiet) {
             std::printf("simulated %s: t = 0 to %g s, %ld rows written to %s\n", args->scene.c_str(), args->t_end,
                         r.rows, args->output.c_str());
@@ -97,6 +165,10 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
             std::printf("  final constraint violation: position %.3g, velocity %.3g\n", r.final_position_violation,
                         r.final_velocity_violation);
         }
+        if (args->error_estimate)
+            std::printf("error estimate: CPU time %.6g s, estimated global position error %.3g m (max over %zu output "
+                        "times; against a run at %s)\n",
+                        r.cpu_seconds, estimate, positions.size(), against.c_str());
         return 0;
     };
 }

@@ -9,6 +9,7 @@ packages=(
   coinor-libipopt-dev libsundials-dev
   libgtest-dev
   python3 python3-numpy
+  python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -15,17 +15,32 @@
 #include <mbd/integrator.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/scene.hpp>
+#include <mbd/simulation.hpp>
 #include <mbd/sdk/formulation.hpp>
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <string>
 #include <vector>
+
+// Count heap allocations (glibc: malloc may be interposed by the executable;
+// operator new and Eigen's aligned_malloc both go through it).
+extern "C" void* __libc_malloc(std::size_t size);
+namespace {
+std::atomic<bool> g_count_mallocs{false};
+std::atomic<long> g_mallocs{0};
+}  // namespace
+extern "C" void* malloc(std::size_t size) {
+    if (g_count_mallocs.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
+    return __libc_malloc(size);
+}
 
 namespace {
 
@@ -52,15 +67,15 @@ private:
     Project p_;
 };
 
-struct Run {
+struct RunResult {
     std::vector<double> t;
     std::vector<VectorXd> y;
     mbd::IntegratorStats stats;
 };
 
-Run run(const std::string& name, const mbd::IntegratorSettings& settings, mbd::OdeProblem& problem, double t0,
+RunResult run(const std::string& name, const mbd::IntegratorSettings& settings, mbd::OdeProblem& problem, double t0,
         VectorXd y0, const std::vector<double>& outputs) {
-    Run r;
+    RunResult r;
     auto integrator = mbd::make_integrator(name, settings);
     integrator->integrate(
         problem, t0, y0, outputs,
@@ -130,7 +145,7 @@ TEST(BookEx612, ThreeEulerSteps) {
     FunctionProblem problem = ex612();
     mbd::IntegratorSettings s;
     s.step = 0.01;
-    const Run r = run("euler", s, problem, 0.0, VectorXd::Zero(2), {0.01, 0.02, 0.03});
+    const RunResult r = run("euler", s, problem, 0.0, VectorXd::Zero(2), {0.01, 0.02, 0.03});
     ASSERT_EQ(r.y.size(), 3u);
     // printed values; tolerance: half a unit of the last printed digit
     EXPECT_NEAR(r.y[0][0], 0.0, 1e-15);
@@ -147,12 +162,26 @@ TEST(BookEx612, OneRk4Step) {
     FunctionProblem problem = ex612();
     mbd::IntegratorSettings s;
     s.step = 0.01;
-    const Run r = run("rk4", s, problem, 0.0, VectorXd::Zero(2), {0.01});
+    const RunResult r = run("rk4", s, problem, 0.0, VectorXd::Zero(2), {0.01});
     ASSERT_EQ(r.y.size(), 1u);
     std::printf("RK4 Ex. 6.12 y1 = [%.10e, %.10e]\n", r.y[0][0], r.y[0][1]);
-    // digest 11.10: y1 = [-7.10753e-4, -0.1396516] (the book's -0.71075e-4 is a misprint)
-    EXPECT_NEAR(r.y[0][0], -7.10753e-4, 1e-8);
-    EXPECT_NEAR(r.y[0][1], -0.1396516, 1e-7);  // printed to 7 decimals
+    // digest 11.10: y1 = [-7.10753e-4, -0.1396516] (the book's -0.71075e-4 is a misprint),
+    // to half a unit of the last printed digit
+    EXPECT_NEAR(r.y[0][0], -7.10753e-4, 5e-10);
+    EXPECT_NEAR(r.y[0][1], -0.1396516, 5e-8);
+    // the book's stage values (L9191-9232), recomputed here by hand to 1e-12
+    const double h = 0.01;
+    auto g = [](double t, double y1) { return 30.0 * std::sin(5.0 * t) - 14.715 * std::cos(y1); };
+    const double f1a = 0.0, f1b = h * g(0.0, 0.0);                                     // [0, -0.14715]
+    const double f2a = h * (f1b / 2), f2b = h * g(h / 2, f1a / 2);                     // [-0.73575e-3, -0.1396508]
+    const double f3a = h * (f2b / 2), f3b = h * g(h / 2, f2a / 2);                     // [-0.69825e-3, -0.1396508]
+    const double f4a = h * f3b, f4b = h * g(h, f3a);                                   // [-0.1396508e-2, -0.13215621]
+    EXPECT_NEAR(f1b, -0.14715, 5e-9);
+    EXPECT_NEAR(f2a, -0.73575e-3, 5e-9);
+    EXPECT_NEAR(f2b, -0.1396508, 5e-8);
+    EXPECT_NEAR(f4b, -0.13215621, 5e-9);
+    EXPECT_NEAR(r.y[0][0], (f1a + 2 * f2a + 2 * f3a + f4a) / 6, 1e-12);
+    EXPECT_NEAR(r.y[0][1], (f1b + 2 * f2b + 2 * f3b + f4b) / 6, 1e-12);
     // and not the misprinted exponent
     EXPECT_GT(std::abs(r.y[0][0] - (-0.71075e-4)), 1e-4);
     EXPECT_EQ(r.stats.rhs_evaluations, 4);
@@ -169,7 +198,7 @@ TEST(Rk4, FourthOrderOnTheHarmonicOscillator) {
         s.step = h;
         VectorXd y0(2);
         y0 << 1.0, 0.0;
-        const Run r = run("rk4", s, problem, 0.0, y0, {T});
+        const RunResult r = run("rk4", s, problem, 0.0, y0, {T});
         const double e = std::max(std::abs(r.y.back()[0] - std::cos(kOmega * T)),
                                   std::abs(r.y.back()[1] + kOmega * std::sin(kOmega * T)));
         errors.push_back(e);
@@ -189,7 +218,7 @@ TEST(Rk4, HitsOutputTimesThatAreNotMultiplesOfTheStep) {
     VectorXd y0(1);
     y0 << 2.0;
     const std::vector<double> outputs = {0.1, 0.25, 0.25, 1.0};
-    const Run r = run("rk4", s, problem, 0.0, y0, outputs);
+    const RunResult r = run("rk4", s, problem, 0.0, y0, outputs);
     ASSERT_EQ(r.t.size(), outputs.size());
     for (size_t k = 0; k < outputs.size(); ++k) {
         EXPECT_EQ(r.t[k], outputs[k]);
@@ -207,7 +236,7 @@ TEST(Dopri5, MeetsTightToleranceAndDenseOutputIsAccurate) {
     // continuous extension
     std::vector<double> outputs;
     for (int k = 1; k <= 997; ++k) outputs.push_back(10.0 * k / 997.0);
-    const Run r = run("dopri5", s, problem, 0.0, y0, outputs);
+    const RunResult r = run("dopri5", s, problem, 0.0, y0, outputs);
     ASSERT_EQ(r.t.size(), outputs.size());
     double worst = 0.0;
     for (size_t k = 0; k < outputs.size(); ++k)
@@ -220,7 +249,7 @@ TEST(Dopri5, MeetsTightToleranceAndDenseOutputIsAccurate) {
 
     // and the end point alone
     FunctionProblem p2 = smooth();
-    const Run end = run("dopri5", s, p2, 0.0, y0, {10.0});
+    const RunResult end = run("dopri5", s, p2, 0.0, y0, {10.0});
     const double e_end = std::abs(end.y.back()[0] - smooth_exact(10.0, 2.0));
     std::printf("DOPRI5 tol 1e-10: end error %.3e in %ld steps\n", e_end, end.stats.steps);
     EXPECT_LT(e_end, 1e-9);
@@ -234,7 +263,7 @@ TEST(Dopri5, DenseOutputOnTheOscillatorAtLooseTolerance) {
     VectorXd y0(2);
     y0 << 1.0, 0.0;
     const std::vector<double> outputs = grid(0.0, 3.0, 301);
-    const Run r = run("dopri5", s, problem, 0.0, y0, outputs);
+    const RunResult r = run("dopri5", s, problem, 0.0, y0, outputs);
     double worst = 0.0;
     for (size_t k = 0; k < outputs.size(); ++k) worst = std::max(worst, std::abs(r.y[k][0] - std::cos(kOmega * outputs[k])));
     std::printf("DOPRI5 oscillator tol 1e-6: %ld steps for %zu outputs, worst error %.3e\n", r.stats.steps,
@@ -261,7 +290,7 @@ TEST(Dopri5, ProjectionKeepsTheInvariantAndRestartsFsal) {
     s.tolerance = 1e-5;
     VectorXd y0(2);
     y0 << 1.0, 0.0;
-    const Run r = run("dopri5", s, problem, 0.0, y0, grid(0.0, 20.0, 40));
+    const RunResult r = run("dopri5", s, problem, 0.0, y0, grid(0.0, 20.0, 40));
     for (size_t k = 0; k < r.t.size(); ++k) {
         EXPECT_NEAR(r.y[k].norm(), 1.0, 1e-14);
         EXPECT_NEAR(r.y[k][0], std::cos(r.t[k]), 1e-4);
@@ -313,7 +342,7 @@ TEST(Cvode, MeetsItsToleranceOnTheSmoothOde) {
         VectorXd y0(1);
         y0 << 2.0;
         const std::vector<double> outputs = grid(0.0, 10.0, 100);
-        const Run r = run("cvode", s, problem, 0.0, y0, outputs);
+        const RunResult r = run("cvode", s, problem, 0.0, y0, outputs);
         ASSERT_EQ(r.t.size(), outputs.size());
         double worst = 0.0;
         for (size_t k = 0; k < outputs.size(); ++k)
@@ -341,6 +370,34 @@ TEST(Cvode, RhsErrorsPropagateAsDynamicsError) {
     } catch (const mbd::DynamicsError& e) {
         EXPECT_NE(std::string(e.what()).find("singular saddle point (test)"), std::string::npos) << e.what();
         EXPECT_GT(e.time(), 0.5);
+    }
+}
+
+TEST(Integrators, ExplicitStepsDoNotAllocate) {
+    // The same run over 1 s and over 3 s: the extra steps must not allocate.
+    for (const char* name : {"euler", "rk4", "dopri5"}) {
+        long counts[2] = {0, 0};
+        int i = 0;
+        for (double T : {1.0, 3.0}) {
+            FunctionProblem problem = oscillator();
+            mbd::IntegratorSettings s;
+            s.step = 1e-3;
+            s.tolerance = 1e-8;
+            auto integrator = mbd::make_integrator(name, s);
+            VectorXd y(2);
+            y << 1.0, 0.0;
+            mbd::IntegratorStats stats;
+            const std::vector<double> outputs = {T / 2, T};
+            const mbd::OutputCallback output = [](double, const VectorXd&) { return true; };
+            g_mallocs = 0;
+            g_count_mallocs = true;
+            integrator->integrate(problem, 0.0, y, outputs, output, stats);
+            g_count_mallocs = false;
+            counts[i++] = g_mallocs;
+            EXPECT_GT(stats.steps, 10) << name;
+        }
+        std::printf("%s: %ld allocations over 1 s, %ld over 3 s\n", name, counts[0], counts[1]);
+        EXPECT_EQ(counts[0], counts[1]) << name;
     }
 }
 
@@ -385,7 +442,7 @@ TEST(StiffSpring, Dopri5SucceedsOnlyWithManySmallSteps) {
     s.tolerance = 1e-6;
     VectorXd y0(2);
     y0 << 1e-3, 0.0;
-    const Run r = run("dopri5", s, problem, 0.0, y0, grid(0.0, 1.0, 100));
+    const RunResult r = run("dopri5", s, problem, 0.0, y0, grid(0.0, 1.0, 100));
     const VectorXd& y = r.y.back();
     const double e0 = stiff_energy(1e-3, 0.0);
     std::printf("DOPRI5 stiff spring: %ld steps, %ld rejected, %ld rhs; x(1) = %.6e (exact %.6e), E(1)/E0 = %.6f\n",
@@ -524,7 +581,7 @@ TEST(StiffSpring, GeneralizedAlphaIsStableAtAMillisecond) {
         mbd::IntegratorSettings s;
         s.step = 1e-3;
         s.rho_infinity = rho;
-        const Run r = run("generalized_alpha", s, problem, 0.0, y0, grid(0.0, 1.0, 100));
+        const RunResult r = run("generalized_alpha", s, problem, 0.0, y0, grid(0.0, 1.0, 100));
         ASSERT_EQ(r.y.size(), 100u);
         double e_max = 0.0;
         for (const VectorXd& y : r.y) {
@@ -550,6 +607,53 @@ TEST(StiffSpring, Rk4ThroughTheSceneIsAlsoStopped) {
     mbd::IntegratorSettings s;
     s.step = 1e-3;
     EXPECT_THROW(run("rk4", s, problem, 0.0, y0, grid(0.0, 1.0, 100)), mbd::DynamicsError);
+}
+
+// The same scene through the engine's own path: mbd::simulate with the augmented
+// formulation plugin (the other side of the integrator interface).
+TEST(StiffSpring, ThroughSimulateWithTheAugmentedFormulation) {
+    const mbd::Model model =
+        mbd::load_scene(mbd::test::scene_path("dynamics/stiff-spring.yaml"), mbd::test::shared_registry());
+    const double e0 = 50.0;  // 0.5 k (1e-3)^2
+    {
+        mbd::SimulationSettings s;
+        s.formulation = "augmented";
+        s.integrator = "generalized_alpha";
+        s.integration.step = 1e-3;
+        s.integration.rho_infinity = 0.8;
+        s.t_end = 1.0;
+        s.output_step = 0.01;
+        s.progress = false;
+        double e_max = 0.0, e_end = 0.0;
+        const mbd::SimulationResult r = mbd::simulate(model, mbd::test::shared_registry(), s,
+                                                      [&](const mbd::SimulationSample& sample) {
+                                                          const double x = sample.state.q[0], v = sample.state.v[0];
+                                                          e_end = 0.5 * v * v + 0.5 * 1e8 * (x - 1) * (x - 1);
+                                                          e_max = std::max(e_max, e_end);
+                                                          return true;
+                                                      });
+        std::printf("simulate augmented + generalized_alpha: %ld steps, %ld newton, max E/E0 %.6f, E(1)/E0 %.3e, "
+                    "final |C| %.2e\n",
+                    r.stats.steps, r.stats.newton_iterations, e_max / e0, e_end / e0, r.final_position_violation);
+        EXPECT_EQ(r.stats.steps, 1000);
+        EXPECT_LE(e_max, e0 * (1 + 1e-6));
+        EXPECT_LT(e_end, 1e-3 * e0);
+    }
+    {
+        mbd::SimulationSettings s;
+        s.formulation = "augmented";
+        s.integrator = "rk4";
+        s.integration.step = 1e-3;
+        s.t_end = 1.0;
+        s.progress = false;
+        try {
+            mbd::simulate(model, mbd::test::shared_registry(), s);
+            FAIL() << "no DynamicsError";
+        } catch (const mbd::DynamicsError& e) {
+            std::printf("simulate augmented + rk4: %s\n", e.what());
+            EXPECT_LT(e.time(), 1.0);
+        }
+    }
 }
 
 // scenes/examples/planar-revolute.yaml: a 1 m slender link (m = 1, J = 1/12) pinned
@@ -578,14 +682,14 @@ TEST(GeneralizedAlpha, PendulumConvergesAtSecondOrderAndHoldsTheConstraint) {
     ref_settings.tolerance = 1e-13;
     VectorXd z0(2);
     z0 << phi0, 0.0;
-    const Run ref = run("dopri5", ref_settings, one_dof, 0.0, z0, outputs);
+    const RunResult ref = run("dopri5", ref_settings, one_dof, 0.0, z0, outputs);
 
     std::vector<double> errors;
     for (double h : {0.01, 0.005, 0.0025}) {
         mbd::IntegratorSettings s;
         s.step = h;
         s.rho_infinity = 0.8;
-        const Run r = run("generalized_alpha", s, problem, 0.0, y0, outputs);
+        const RunResult r = run("generalized_alpha", s, problem, 0.0, y0, outputs);
         ASSERT_EQ(r.y.size(), outputs.size());
         double err = 0.0, c_max = 0.0;
         for (size_t k = 0; k < outputs.size(); ++k) {
@@ -611,5 +715,39 @@ TEST(GeneralizedAlpha, PendulumConvergesAtSecondOrderAndHoldsTheConstraint) {
         std::printf("generalized_alpha pendulum: order %.3f\n", order);
         EXPECT_GT(order, 1.7);
         EXPECT_LT(order, 2.3);
+    }
+}
+
+TEST(GeneralizedAlpha, LargeStepsConvergeOrFailNamingTheJoint) {
+    auto l = load("examples/planar-revolute.yaml");
+    SystemProblem problem(*l->system, l->formulation);
+    VectorXd y0;
+    l->formulation.to_ode(l->state, y0);
+    {
+        // h = 0.2 s (8 steps per period): Newton needs the geometric stiffness, added on slow contraction
+        mbd::IntegratorSettings s;
+        s.step = 0.2;
+        const RunResult r = run("generalized_alpha", s, problem, 0.0, y0, grid(0.0, 10.0, 10));
+        for (const VectorXd& y : r.y) {
+            const double cx = y[0] - 0.5 * std::cos(y[2]), cy = y[1] - 0.5 * std::sin(y[2]);
+            EXPECT_LT(std::max(std::abs(cx), std::abs(cy)), 1e-9);
+        }
+        std::printf("generalized_alpha pendulum h = 0.2: %ld steps, %ld newton\n", r.stats.steps,
+                    r.stats.newton_iterations);
+    }
+    {
+        // h = 5 s: hopeless; the error names the time and the joint row
+        mbd::IntegratorSettings s;
+        s.step = 5.0;
+        try {
+            run("generalized_alpha", s, problem, 0.0, y0, {10.0});
+            FAIL() << "no DynamicsError";
+        } catch (const mbd::DynamicsError& e) {
+            std::printf("generalized_alpha h = 5: %s\n", e.what());
+            const std::string what = e.what();
+            EXPECT_NE(what.find("Newton iteration did not converge at t = "), std::string::npos) << what;
+            EXPECT_NE(what.find("joint 'pivot'"), std::string::npos) << what;
+            EXPECT_TRUE(e.time() == 5.0 || e.time() == 10.0) << e.time();
+        }
     }
 }

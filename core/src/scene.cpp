@@ -361,7 +361,8 @@ void Loader::build() {
         root_.fail("a scene must be a map of keys (name, dimension, gravity, bodies, joints, forces, drivers)");
 
     check_keys(root_, "scene",
-               {"name", "dimension", "gravity", "bodies", "joints", "forces", "drivers", "formulation", "actuators"});
+               {"name", "dimension", "gravity", "bodies", "joints", "forces", "drivers", "formulation", "actuators",
+                "bench"});  // bench: read by `mbd bench` (core/src/bench.cpp), ignored here
 
     model_.source = file_;
     if (const Param* name = find(root_, "name")) {

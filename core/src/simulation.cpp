@@ -167,7 +167,10 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     FormulationOptions options;
     if (settings.stabilization) options.stabilization = *settings.stabilization;
     if (!settings.algebra.empty()) options.algebra = settings.algebra;
-    if (settings.sparse_threshold) options.sparse_threshold = *settings.sparse_threshold;
+    // Dense below, sparse above this many velocity coordinates: measured with
+    // bench/bench_augmented (docs/benchmarks.md), where the sparse path is as fast as
+    // the dense one at 30 coordinates and faster beyond.
+    options.sparse_threshold = settings.sparse_threshold ? *settings.sparse_threshold : 30;
     formulation->bind(system, options);
 
     State state = system.initial_state();
@@ -196,6 +199,8 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         for (auto& c : reaction_columns(model)) columns.push_back(c);
     if (settings.diagnostics)
         for (auto& c : diagnostic_columns()) columns.push_back(c);
+    const bool write_H = settings.diagnostics && formulation->has_hamiltonian();  // the formulation's H (e.g. hamiltonian)
+    if (write_H) columns.push_back("H");
     std::unique_ptr<CsvWriter> writer;
     if (!settings.output.empty()) writer = std::make_unique<CsvWriter>(settings.output, columns);
 
@@ -254,6 +259,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
             row.push_back(result.final_position_violation);
             row.push_back(result.final_velocity_violation);
         }
+        if (write_H) row.push_back(formulation->hamiltonian(t, yt));
         for (size_t k = 0; k < row.size(); ++k)
             if (!std::isfinite(row[k]))
                 throw DynamicsError(t, "non-finite value in output column '" + columns[k] +

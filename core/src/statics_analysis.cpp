@@ -7,6 +7,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -149,6 +151,67 @@ void write_equilibrium_scene(const Model& model, const State& state, const std::
         b.remove("velocity");
         b.remove("angular_velocity");
     }
+    // Joint (and world-frame force) points and axes describe the scene's initial
+    // configuration: move them with the bodies, from the markers of the first
+    // non-ground body, so that the markers stay where they are on the bodies.
+    auto pose = [&](int b, Mat3& A, Vec3& R) {
+        if (planar) {
+            R = Vec3(state.q[3 * b], state.q[3 * b + 1], 0.0);
+            A = Mat3::Identity();
+            A.topLeftCorner<2, 2>() = planar_rotation(state.q[3 * b + 2]);
+        } else {
+            R = state.q.segment<3>(7 * b);
+            A = rotation_from_euler_parameters(Vec4(state.q.segment<4>(7 * b + 3)).normalized());
+        }
+    };
+    auto list = [&](const Vec3& v) {
+        YAML::Node n;
+        for (int i = 0; i < (planar ? 2 : 3); ++i) n.push_back(v[i]);
+        n.SetStyle(YAML::EmitterStyle::Flow);
+        return n;
+    };
+    auto move_frame = [&](YAML::Node node, const std::vector<int>& element_bodies, const std::vector<Marker>& markers,
+                          bool always_point) {
+        for (size_t k = 0; k < element_bodies.size() && k < markers.size(); ++k) {
+            const int b = element_bodies[k];
+            if (b < 0) continue;
+            Mat3 A;
+            Vec3 R;
+            pose(b, A, R);
+            Vec3 u = markers[k].u_bar;
+            if (planar) u.z() = 0.0;
+            if (always_point || node["point"]) node["point"] = list(R + A * u);
+            const Mat3 W = planar ? Mat3(A * Eigen::AngleAxisd(markers[k].angle, Vec3::UnitZ()).toRotationMatrix())
+                                  : Mat3(A * markers[k].A_bar);
+            if (planar) {
+                if (node["axis"]) node["axis"] = list(W.col(0));
+            } else {
+                if (node["axis"]) node["axis"] = list(W.col(2));
+                if (node["x_axis"]) node["x_axis"] = list(W.col(0));
+                if (node["axes"]) {
+                    YAML::Node axes;
+                    axes.push_back(list(W.col(2)));
+                    axes.push_back(list(W.col(0)));
+                    axes.SetStyle(YAML::EmitterStyle::Flow);
+                    node["axes"] = axes;
+                }
+            }
+            return;
+        }
+    };
+    if (YAML::Node joints = root["joints"])
+        for (std::size_t k = 0; k < joints.size() && k < model.joints.size(); ++k)
+            move_frame(joints[k], model.joints[k].bodies, model.joints[k].markers, true);
+    if (YAML::Node forces = root["forces"]) {
+        const std::size_t offset = model.gravity.isZero(0.0) ? 0 : 1;  // the core's gravity element comes first
+        for (std::size_t k = 0; k < forces.size() && k + offset < model.forces.size(); ++k) {
+            YAML::Node f = forces[k];
+            const ForceInstance& fi = model.forces[k + offset];
+            if (fi.bodies.size() >= 2 && !f["points"] && (f["point"] || f["axis"]))
+                move_frame(f, fi.bodies, fi.markers, false);
+        }
+    }
+
     YAML::Emitter out;
     out.SetDoublePrecision(17);
     out << root;

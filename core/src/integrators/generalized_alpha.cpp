@@ -26,7 +26,10 @@
 //   [ J                                  0  ]     gamma' = h gamma (1 - alpha_f)/(1 - alpha_m)
 // where the constraint rows are scaled by 1/beta' (Bottasso, Bauchau & Cardona
 // 2007) so the matrix stays well conditioned as h -> 0. The geometric stiffness
-// d(J^T lambda)/dq is left out of the matrix (again: Newton rate only).
+// d(J^T lambda)/dq is left out of the matrix at first (it only changes the Newton
+// rate); if the iteration contracts slowly (a correction more than 1/4 of the
+// previous one, typical of large steps with large multipliers), it is added for the
+// rest of the step by forward differences of J^T lambda (dense path only).
 #include "common.hpp"
 
 #include <mbd/sdk/formulation.hpp>
@@ -55,7 +58,9 @@ public:
 
 private:
     // Build the iteration matrix at `state_` and factor it.
-    void factor(double beta_p, double gamma_p, IntegratorStats& stats);
+    void factor(double beta_p, double gamma_p, IntegratorStats& stats, bool geometric = false);
+    // Geometric stiffness d(J^T lambda)/dq by forward differences (dense path only).
+    void geometric_stiffness();
     // Solve the factored system for rhs_ into sol_.
     void solve();
     // Initial accelerations and multipliers: [M J^T; J 0] [vdot; lambda] = [Q; gamma].
@@ -73,7 +78,10 @@ private:
     Eigen::VectorXd Q_, r_, rhs_, sol_;
     Eigen::VectorXd q_n_, v_n_, vdot_n_, a_n_, lambda_n_;
     Eigen::VectorXd x_, lambda_, a_next_, increment_;
-    Eigen::MatrixXd dense_;
+    Eigen::MatrixXd dense_, geometric_;
+    ConstraintValues cv_fd_;
+    State state_fd_;
+    Eigen::VectorXd jt_lambda_, jt_lambda_fd_, unit_;
     Eigen::PartialPivLU<Eigen::MatrixXd> dense_lu_;
     std::vector<Eigen::Triplet<double>> triplets_;
     Eigen::SparseMatrix<double> sparse_;
@@ -81,7 +89,23 @@ private:
     bool use_dense_ = true;
 };
 
-void GeneralizedAlpha::factor(double beta_p, double gamma_p, IntegratorStats& stats) {
+void GeneralizedAlpha::geometric_stiffness() {
+    jt_lambda_.noalias() = cv_.J.transpose() * lambda_;
+    const double eps = 1e-7 * std::max(1.0, state_.q.lpNorm<Eigen::Infinity>());
+    for (int j = 0; j < nv_; ++j) {
+        state_fd_.t = state_.t;
+        state_fd_.q = state_.q;
+        state_fd_.v = state_.v;
+        unit_.setZero();
+        unit_[j] = eps;
+        system_->advance_positions(state_fd_.q, unit_);
+        system_->constraints(state_fd_, cv_fd_, true);
+        jt_lambda_fd_.noalias() = cv_fd_.J.transpose() * lambda_;
+        geometric_.col(j) = (jt_lambda_fd_ - jt_lambda_) / eps;
+    }
+}
+
+void GeneralizedAlpha::factor(double beta_p, double gamma_p, IntegratorStats& stats, bool geometric) {
     const Eigen::SparseMatrix<double>& M = system_->mass_matrix();
     system_->force_jacobians(state_, dQ_dq_, dQ_dv_);
     ++stats.jacobian_evaluations;
@@ -100,6 +124,10 @@ void GeneralizedAlpha::factor(double beta_p, double gamma_p, IntegratorStats& st
                 dense_(nv_ + it.row(), it.col()) += it.value();
                 dense_(it.col(), nv_ + it.row()) += it.value();
             }
+        if (geometric && nc_ > 0) {
+            geometric_stiffness();
+            dense_.topLeftCorner(nv_, nv_) += beta_p * geometric_;
+        }
         for (int i = 0; i < nc_; ++i) dense_(nv_ + i, nv_ + i) = -regularization_;
         dense_lu_.compute(dense_);
     } else {
@@ -180,6 +208,10 @@ void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd
     use_dense_ = n <= kDenseLimit;
     if (use_dense_) {
         dense_.resize(n, n);
+        geometric_.resize(nv_, nv_);
+        jt_lambda_.resize(nv_);
+        jt_lambda_fd_.resize(nv_);
+        unit_.resize(nv_);
         dense_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
     }
     Q_.resize(nv_);
@@ -234,7 +266,8 @@ void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd
         x_ = vdot_n_;
         lambda_ = lambda_n_;
         bool converged = false;
-        double first = 0.0;
+        bool geometric = false;  // switched on when the iteration contracts slowly
+        double first = 0.0, previous = 0.0;
         for (int it = 0; it < kMaxNewton; ++it) {
             update_kinematics(h, t_next);
             system_->generalized_forces(state_, Q_);
@@ -247,7 +280,7 @@ void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd
             rhs_.head(nv_) = -r_;
             if (nc_ > 0) rhs_.tail(nc_) = -cv_.C / beta_p;
             if (!rhs_.allFinite()) newton_failure(t_next, "the residual became non-finite");
-            factor(beta_p, gamma_p, stats);
+            factor(beta_p, gamma_p, stats, geometric);
             solve();
             if (!sol_.allFinite()) newton_failure(t_next, "singular iteration matrix");
             x_ += sol_.head(nv_);
@@ -256,6 +289,8 @@ void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd
             const double c = nc_ > 0 ? cv_.C.lpNorm<Eigen::Infinity>() : 0.0;
             const double scale = std::max(1.0, q_n_.lpNorm<Eigen::Infinity>());
             if (it == 0) first = dq;
+            if (it >= 1 && dq > 0.25 * previous) geometric = true;
+            previous = dq;
             if (dq <= newton_tol * scale && c <= newton_tol * scale) {
                 // the correction just applied is negligible: accept
                 converged = true;

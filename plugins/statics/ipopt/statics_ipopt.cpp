@@ -21,6 +21,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 
+#include <cstdlib>
 #include <random>
 #include <sstream>
 
@@ -457,6 +458,8 @@ public:
         app->Options()->SetStringValue("mu_strategy", "adaptive");
         app->Options()->SetStringValue("hessian_approximation",
                                        potential && opt.hessian != "limited-memory" ? "exact" : "limited-memory");
+        if (const char* check = std::getenv("MBD_IPOPT_DERIVATIVE_TEST"))  // debugging aid: first-order, second-order
+            app->Options()->SetStringValue("derivative_test", check);
         Ipopt::ApplicationReturnStatus status = app->Initialize();
         if (status != Ipopt::Solve_Succeeded) {
             res.status = status_name(status);
@@ -483,6 +486,7 @@ public:
             res.lambda = nlp->x_final.segment(nv, mc);
             for (int k = 0; k < nl; ++k) nu[k] = nlp->x_final[nv + mc + nl + k] - nlp->x_final[nv + mc + k];
         }
+        if (nl > 0 && nv <= 600) polish(sys, ev, res.state, res.lambda, nu, opt.limits);
         res.limit_multipliers = nu;
 
         // residual of the equilibrium equations
@@ -537,6 +541,60 @@ public:
     }
 
 private:
+    // Interior-point iterates stop a barrier distance (~tol / nu) inside an active
+    // limit. Newton steps on the square system [C; s_a - bound; Q - J^T lambda -
+    // J_a^T nu_a] = 0 (active limits as equalities) put them on it exactly.
+    static void polish(const System& sys, Evaluator& ev, State& state, Eigen::VectorXd& lambda, Eigen::VectorXd& nu,
+                       const std::vector<JointLimit>& limits) {
+        const int nv = sys.nv(), mc = sys.constraint_rows(true);
+        std::vector<int> act;
+        std::vector<double> bound;
+        for (size_t k = 0; k < limits.size(); ++k) {
+            const Coordinate c = ev.coordinate(limits[k].joint, state.q);
+            const double gap = 1e-6 * (1.0 + std::abs(c.value));
+            if (c.value - limits[k].lo < gap) { act.push_back(static_cast<int>(k)); bound.push_back(limits[k].lo); }
+            else if (limits[k].hi - c.value < gap) { act.push_back(static_cast<int>(k)); bound.push_back(limits[k].hi); }
+        }
+        if (act.empty()) return;
+        const int na = static_cast<int>(act.size()), n = nv + mc + na;
+        for (int it = 0; it < 4; ++it) {
+            ConstraintValues cv;
+            if (mc > 0) sys.constraints(state, cv, true);
+            Eigen::VectorXd Q;
+            sys.generalized_forces(state, Q);
+            Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+            Eigen::VectorXd F = Eigen::VectorXd::Zero(n);
+            Eigen::VectorXd R = Q;
+            if (mc > 0) {
+                const Eigen::MatrixXd J(cv.J);
+                A.block(0, 0, mc, nv) = J;
+                A.block(mc + na, nv, nv, mc) = -J.transpose();
+                F.head(mc) = cv.C;
+                R -= J.transpose() * lambda;
+            }
+            for (int a = 0; a < na; ++a) {
+                const Coordinate c = ev.coordinate(limits[act[a]].joint, state.q);
+                F[mc + a] = c.value - bound[a];
+                for (const auto& e : c.grad) {
+                    A(mc + a, e.first) += e.second;
+                    A(mc + na + e.first, nv + mc + a) -= e.second;
+                    R[e.first] -= e.second * nu[act[a]];
+                }
+            }
+            F.tail(nv) = R;
+            if (F.cwiseAbs().maxCoeff() < 1e-14 * (1.0 + Q.cwiseAbs().maxCoeff())) break;
+            ev.clear_blocks();
+            ev.add_force_jacobian(state.q, 1.0);
+            ev.add_constraint_curvature(state.q, lambda, nu, -1.0);
+            A.block(mc + na, 0, nv, nv) = ev.dense_blocks();
+            const Eigen::VectorXd d = A.fullPivLu().solve(-F);
+            if (!d.allFinite()) return;
+            sys.advance_positions(state.q, d.head(nv));
+            if (mc > 0) lambda += d.segment(nv, mc);
+            for (int a = 0; a < na; ++a) nu[act[a]] += d[nv + mc + a];
+        }
+    }
+
     // Reduced Hessian of the potential on the tangent space of the active constraints:
     // K = sym(-dQ/dq) + sym(d(J^T lambda + J_s^T nu)/dq), Z^T K Z with Z a null-space basis.
     static void stability(const System& sys, Evaluator& ev, StaticsResult& res, const StaticsOptions& opt,

@@ -1,0 +1,102 @@
+// mbd bench SCENE...: work-precision benchmark (error against CPU time, docs/benchmarks.md).
+// Every scene's `bench:` key gives its measure, reference and grid; each grid point is run
+// --repeat times (median CPU time). Writes one CSV and one JSON row per run.
+#include "commands.hpp"
+
+#include <mbd/bench.hpp>
+#include <mbd/registry.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+namespace mbd::cli {
+
+namespace {
+
+struct BenchArguments {
+    std::vector<std::string> scenes;
+    std::string csv = "bench.csv";
+    std::string json = "bench.json";
+    int repeat = 3;
+    std::string peers;
+    std::vector<std::string> formulations;
+    double tolerance_floor = 0.0;
+    bool quiet = false;
+};
+
+std::string fmt_g(double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g", x);
+    return b;
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, Commands& commands) {
+    CLI::App* sub = app.add_subcommand(
+        "bench", "Work-precision benchmark: run each scene's grid of formulation x integrator x tolerance (or step), "
+                 "measure the error against its reference and the CPU time");
+    auto args = std::make_shared<BenchArguments>();
+    sub->add_option("SCENE", args->scenes, "Benchmark scenes (YAML with a 'bench:' key)")->required();
+    sub->add_option("--csv", args->csv, "CSV output (one row per run)")->capture_default_str();
+    sub->add_option("--json", args->json, "JSON output (scenes with their references, and the rows)")
+        ->capture_default_str();
+    sub->add_option("--repeat", args->repeat, "Runs per grid point; the CPU time is their median")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--peers", args->peers,
+                    "Folder of the peer programs (mbd_peer_simbody, mbd_peer_mujoco); a missing one is reported and "
+                    "skipped");
+    sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable)");
+    sub->add_option("--min-tol", args->tolerance_floor, "Skip grid tolerances below this (a quick run)");
+    sub->add_flag("-q,--quiet", args->quiet, "No progress bar and no summary");
+
+    commands[sub] = [args] {
+        Registry registry;
+        BenchOptions options;
+        options.repeat = args->repeat;
+        options.peers_dir = args->peers;
+        options.progress = !args->quiet;
+        options.only_formulations = args->formulations;
+        options.tolerance_floor = args->tolerance_floor;
+        std::vector<BenchSceneResult> results;
+        const auto start = std::chrono::steady_clock::now();
+        for (const std::string& scene : args->scenes) {
+            results.push_back(run_bench_scene(scene, registry, options, [&](const std::string& text) {
+                std::fprintf(stderr, "mbd bench: %s: %s\n", scene.c_str(), text.c_str());
+            }));
+            write_bench_csv(args->csv, results);  // partial results survive an interrupted run
+            write_bench_json(args->json, results);
+            if (!args->quiet) {
+                const BenchSceneResult& r = results.back();
+                int ok = 0, failed = 0;
+                double best_cpu_at = NAN, best_err = NAN;
+                for (const BenchRow& row : r.rows) {
+                    if (row.status == "ok") ++ok; else ++failed;
+                    if (row.engine == "mbd" && row.status == "ok" && row.error <= 1e-6 &&
+                        !(row.cpu_s >= best_cpu_at)) {
+                        best_cpu_at = row.cpu_s;
+                        best_err = row.error;
+                    }
+                }
+                std::printf("%s: %d runs (%d failed or skipped); reference %s; best mbd CPU at error <= 1e-6: %s\n",
+                            r.spec.name.c_str(), ok + failed, failed, r.reference.description.c_str(),
+                            std::isfinite(best_cpu_at)
+                                ? (fmt_g(best_cpu_at) + " s (error " + fmt_g(best_err) + ")").c_str()
+                                : "not reached");
+                std::fflush(stdout);
+            }
+        }
+        if (!args->quiet) {
+            const double wall =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            std::printf("wrote %s and %s (%.1f s wall)\n", args->csv.c_str(), args->json.c_str(), wall);
+        }
+        return 0;
+    };
+}
+
+}  // namespace mbd::cli

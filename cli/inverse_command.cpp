@@ -1,0 +1,89 @@
+// mbd inverse SCENE --t-end T --step H [--output efforts.csv] [--reactions]:
+// actuator efforts that produce the motion the drivers prescribe (book Secs.
+// 1.7, 4.7, 6.13). See docs/statics.md.
+#include "commands.hpp"
+
+#include <mbd/csv.hpp>
+#include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
+#include <mbd/statics_analysis.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+namespace mbd::cli {
+
+namespace {
+
+struct InverseArguments {
+    std::string scene;
+    double t_end = 0.0;
+    double step = 0.0;
+    std::string output;
+    bool reactions = false;
+    std::string solver = "ipopt";
+};
+
+}  // namespace
+
+void add_inverse_command(CLI::App& app, Commands& commands) {
+    CLI::App* sub = app.add_subcommand(
+        "inverse", "Inverse dynamics: actuator efforts for the motion the drivers prescribe, at t = 0, h, ..., t_end");
+    auto args = std::make_shared<InverseArguments>();
+    sub->add_option("SCENE", args->scene, "Scene file (YAML) with drivers and 'actuators:'")->required();
+    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(CLI::NonNegativeNumber);
+    sub->add_option("--step", args->step, "Output step h [s]")->required()->check(CLI::PositiveNumber);
+    sub->add_option("-o,--output", args->output, "CSV file: t, one column per actuator (and reactions)");
+    sub->add_flag("--reactions", args->reactions, "Add JOINT.fx JOINT.fy JOINT.tz (planar; 6 columns spatial)");
+    sub->add_option("--solver", args->solver, "Inverse-dynamics plugin type")->capture_default_str();
+
+    commands[sub] = [args] {
+        Registry registry;
+        const Model model = load_scene(args->scene, registry);
+        std::vector<std::string> columns{"t"};
+        for (const Actuator& a : model.actuators) columns.push_back(a.name);
+        const bool planar = model.dimension == Dimension::Planar;
+        if (args->reactions)
+            for (const JointInstance& j : model.joints)
+                for (const char* s : planar ? std::vector<const char*>{".fx", ".fy", ".tz"}
+                                            : std::vector<const char*>{".fx", ".fy", ".fz", ".tx", ".ty", ".tz"})
+                    columns.push_back(j.name + s);
+
+        std::unique_ptr<CsvWriter> writer;
+        if (!args->output.empty()) writer = std::make_unique<CsvWriter>(args->output, columns);
+        long samples = 0;
+        if (!writer) {
+            for (const auto& c : columns) std::printf("%s%16s", c == "t" ? "" : " ", c.c_str());
+            std::printf("\n");
+        }
+        run_inverse(model, registry, args->t_end, args->step, [&](const InverseSample& s, const System& system) {
+            std::vector<double> row{s.state.t};
+            for (Eigen::Index a = 0; a < s.efforts.size(); ++a) row.push_back(s.efforts[a]);
+            if (args->reactions)
+                for (const JointLoad& l : joint_loads(system, s.state, s.lambda)) {
+                    if (planar) {
+                        row.insert(row.end(), {l.force.x(), l.force.y(), l.torque.z()});
+                    } else {
+                        row.insert(row.end(), {l.force.x(), l.force.y(), l.force.z(), l.torque.x(), l.torque.y(), l.torque.z()});
+                    }
+                }
+            if (writer) {
+                writer->row(row);
+            } else {
+                for (size_t k = 0; k < row.size(); ++k) std::printf("%s%16.9g", k ? " " : "", row[k]);
+                std::printf("\n");
+            }
+            ++samples;
+            return true;
+        });
+        if (writer) {
+            writer->close();
+            std::cout << "wrote " << samples << " samples of " << model.actuators.size() << " actuator efforts to "
+                      << args->output << '\n';
+        }
+        return 0;
+    };
+}
+
+}  // namespace mbd::cli

@@ -1,0 +1,214 @@
+// mbd statics SCENE [--json] [--output equilibrium.yaml]: static equilibrium
+// (book Sec. 5.6, Eq. 6.171) with the statics plugin, its joint reactions and
+// its stability. See docs/statics.md.
+#include "commands.hpp"
+
+#include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
+#include <mbd/statics_analysis.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace mbd::cli {
+
+namespace {
+
+struct StaticsArguments {
+    std::string scene;
+    bool json = false;
+    std::string output;
+    double time = 0.0;
+    std::string objective = "auto";
+    std::string hessian = "exact";
+    double tolerance = 1e-10;
+    int max_iterations = 500;
+    bool verbose = false;
+    std::string solver = "ipopt";
+};
+
+std::string num(double x) {
+    if (!std::isfinite(x)) return "null";
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", x);
+    return b;
+}
+
+std::string str(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        if (c == '\n') { out += "\\n"; continue; }
+        out += c;
+    }
+    return out + "\"";
+}
+
+std::string load_json(const JointLoad& l, bool planar) {
+    std::ostringstream o;
+    if (planar)
+        o << "{\"fx\": " << num(l.force.x()) << ", \"fy\": " << num(l.force.y()) << ", \"tz\": " << num(l.torque.z()) << "}";
+    else
+        o << "{\"fx\": " << num(l.force.x()) << ", \"fy\": " << num(l.force.y()) << ", \"fz\": " << num(l.force.z())
+          << ", \"tx\": " << num(l.torque.x()) << ", \"ty\": " << num(l.torque.y()) << ", \"tz\": " << num(l.torque.z())
+          << "}";
+    return o.str();
+}
+
+std::string to_json(const Model& model, const StaticsReport& rep, const std::vector<JointLimit>& limits) {
+    const StaticsResult& r = rep.result;
+    const bool planar = model.dimension == Dimension::Planar;
+    std::ostringstream o;
+    o << "{\"converged\": " << (r.converged ? "true" : "false") << ", \"status\": " << str(r.status)
+      << ", \"iterations\": " << r.iterations << ", \"residual\": " << num(r.residual)
+      << ", \"objective\": " << str(r.objective) << ", \"stability\": " << str(r.stability);
+    if (!r.message.empty()) o << ", \"message\": " << str(r.message);
+    o << ", \"tangent_eigenvalues\": [";
+    for (Eigen::Index i = 0; i < r.tangent_eigenvalues.size(); ++i) o << (i ? ", " : "") << num(r.tangent_eigenvalues[i]);
+    o << "], \"bodies\": {";
+    for (int b = 0; b < model.body_count(); ++b) {
+        o << (b ? ", " : "") << str(model.bodies[b].name) << ": ";
+        if (planar) {
+            o << "{\"x\": " << num(r.state.q[3 * b]) << ", \"y\": " << num(r.state.q[3 * b + 1])
+              << ", \"angle\": " << num(r.state.q[3 * b + 2]) << "}";
+        } else {
+            const char* keys[] = {"x", "y", "z", "e0", "e1", "e2", "e3"};
+            o << "{";
+            for (int i = 0; i < 7; ++i) o << (i ? ", " : "") << "\"" << keys[i] << "\": " << num(r.state.q[7 * b + i]);
+            o << "}";
+        }
+    }
+    o << "}, \"reactions\": {";
+    for (size_t j = 0; j < rep.reactions.size(); ++j)
+        o << (j ? ", " : "") << str(rep.reactions[j].name) << ": " << load_json(rep.reactions[j], planar);
+    o << "}, \"coordinates\": {";
+    for (size_t j = 0; j < rep.coordinates.size(); ++j)
+        o << (j ? ", " : "") << str(model.joints[j].name) << ": " << num(rep.coordinates[j]);
+    o << "}, \"drivers\": {";
+    const int joint_rows = r.lambda.size() - static_cast<int>(model.drivers.size());
+    for (size_t d = 0; d < model.drivers.size(); ++d) {
+        o << (d ? ", " : "") << str(model.drivers[d].name) << ": {\"multiplier\": "
+          << num(r.lambda.size() ? r.lambda[joint_rows + d] : NAN) << ", \"effort\": "
+          << num(r.lambda.size() ? -r.lambda[joint_rows + d] : NAN);
+        if (d < rep.driver_efforts.size()) o << ", \"load\": " << load_json(rep.driver_efforts[d], planar);
+        o << "}";
+    }
+    o << "}, \"limits\": {";
+    for (size_t k = 0; k < limits.size(); ++k) {
+        const bool active = k < r.limit_active.size() && r.limit_active[k];
+        const double nu = static_cast<Eigen::Index>(k) < r.limit_multipliers.size() ? r.limit_multipliers[k] : 0.0;
+        o << (k ? ", " : "") << str(model.joints[limits[k].joint].name) << ": {\"lo\": " << num(limits[k].lo)
+          << ", \"hi\": " << num(limits[k].hi) << ", \"active\": " << (active ? "true" : "false")
+          << ", \"multiplier\": " << num(nu) << ", \"effort\": " << num(-nu) << "}";
+    }
+    o << "}}";
+    return o.str();
+}
+
+void print_report(const std::string& scene, const Model& model, const StaticsReport& rep,
+                  const std::vector<JointLimit>& limits) {
+    const StaticsResult& r = rep.result;
+    const bool planar = model.dimension == Dimension::Planar;
+    std::printf("statics of %s: %s (Ipopt %s, %d iterations, objective: %s)\n", scene.c_str(),
+                r.converged ? "equilibrium found" : "FAILED", r.status.c_str(), r.iterations, r.objective.c_str());
+    std::printf("residual: %.3e (max |C|, |Q - J^T lambda|)\n", r.residual);
+    std::printf("stability: %s", r.stability.c_str());
+    if (r.tangent_eigenvalues.size())
+        std::printf(" (reduced Hessian on a %d-dimensional tangent space, eigenvalues %.6g .. %.6g)",
+                    r.tangent_dimension, r.tangent_eigenvalues.minCoeff(), r.tangent_eigenvalues.maxCoeff());
+    std::printf("\n\nbodies:\n");
+    for (int b = 0; b < model.body_count(); ++b) {
+        if (planar)
+            std::printf("  %-16s x = %14.8g  y = %14.8g  angle = %14.8g rad\n", model.bodies[b].name.c_str(),
+                        r.state.q[3 * b], r.state.q[3 * b + 1], r.state.q[3 * b + 2]);
+        else
+            std::printf("  %-16s R = [%.8g, %.8g, %.8g]  p = [%.8g, %.8g, %.8g, %.8g]\n", model.bodies[b].name.c_str(),
+                        r.state.q[7 * b], r.state.q[7 * b + 1], r.state.q[7 * b + 2], r.state.q[7 * b + 3],
+                        r.state.q[7 * b + 4], r.state.q[7 * b + 5], r.state.q[7 * b + 6]);
+    }
+    if (!rep.reactions.empty()) {
+        std::printf("\njoints (coordinate; reaction on the second body at the joint point, world axes):\n");
+        for (size_t j = 0; j < rep.reactions.size(); ++j) {
+            const JointLoad& l = rep.reactions[j];
+            std::printf("  %-16s ", l.name.c_str());
+            if (std::isfinite(rep.coordinates[j])) std::printf("s = %12.8g  ", rep.coordinates[j]);
+            else std::printf("%16s", "");
+            if (planar)
+                std::printf("F = [%.8g, %.8g]  T = %.8g\n", l.force.x(), l.force.y(), l.torque.z());
+            else
+                std::printf("F = [%.8g, %.8g, %.8g]  T = [%.8g, %.8g, %.8g]\n", l.force.x(), l.force.y(), l.force.z(),
+                            l.torque.x(), l.torque.y(), l.torque.z());
+        }
+    }
+    if (!model.drivers.empty()) {
+        std::printf("\ndrivers (effort along the joint coordinate = -lambda):\n");
+        const int joint_rows = r.lambda.size() - static_cast<int>(model.drivers.size());
+        for (size_t d = 0; d < model.drivers.size(); ++d)
+            std::printf("  %-16s effort = %.10g\n", model.drivers[d].name.c_str(), -r.lambda[joint_rows + d]);
+    }
+    if (!limits.empty()) {
+        std::printf("\nlimits:\n");
+        for (size_t k = 0; k < limits.size(); ++k)
+            std::printf("  %-16s [%g, %g]  %s  effort = %.10g\n", model.joints[limits[k].joint].name.c_str(), limits[k].lo,
+                        limits[k].hi, r.limit_active[k] ? "active" : "inactive", -r.limit_multipliers[k]);
+    }
+}
+
+}  // namespace
+
+void add_statics_command(CLI::App& app, Commands& commands) {
+    CLI::App* sub = app.add_subcommand(
+        "statics", "Static equilibrium (virtual work / minimum potential, Ipopt): configuration, reactions, stability");
+    auto args = std::make_shared<StaticsArguments>();
+    sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
+    sub->add_flag("--json", args->json, "Print one JSON object instead of the report");
+    sub->add_option("-o,--output", args->output, "Write the equilibrium as a scene file (positions replaced)");
+    sub->add_option("--time", args->time, "Time at which the drivers hold their joints")->capture_default_str();
+    sub->add_option("--objective", args->objective,
+                    "auto (potential when every force is conservative at rest), potential, virtual-work")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "potential", "virtual-work"}));
+    sub->add_option("--hessian", args->hessian, "exact or limited-memory (potential objective)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"exact", "limited-memory"}));
+    sub->add_option("--tolerance", args->tolerance, "Equilibrium tolerance (Ipopt tol, constr_viol_tol, dual_inf_tol)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--max-iterations", args->max_iterations, "Ipopt iterations")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--solver", args->solver, "Statics plugin type")->capture_default_str();
+    sub->add_flag("--verbose", args->verbose, "Show Ipopt's iteration log");
+
+    commands[sub] = [args] {
+        Registry registry;
+        const Model model = load_scene(args->scene, registry);
+        StaticsOptions options;
+        options.time = args->time;
+        options.objective = args->objective;
+        options.hessian = args->hessian;
+        options.tolerance = args->tolerance;
+        options.max_iterations = args->max_iterations;
+        options.print_level = args->verbose ? 5 : 0;
+        options.limits = scene_joint_limits(model);
+        const StaticsReport rep = run_statics(model, registry, options, args->solver);
+        if (args->json)
+            std::cout << to_json(model, rep, options.limits) << std::endl;
+        else
+            print_report(args->scene, model, rep, options.limits);
+        if (!rep.result.converged) {
+            std::cerr << "mbd: error: statics of " << args->scene << " failed: " << rep.result.message << '\n';
+            return 1;
+        }
+        if (!args->output.empty()) {
+            write_equilibrium_scene(model, rep.result.state, args->output);
+            if (!args->json) std::cout << "\nwrote the equilibrium scene to " << args->output << '\n';
+        }
+        return 0;
+    };
+}
+
+}  // namespace mbd::cli

@@ -1,0 +1,312 @@
+// The amalgamated formulation of the constrained equations of motion (Shabana,
+// Computational Dynamics, Sec. 4.6, Eqs. 4.17-4.20): the Newton-Euler equations of all
+// bodies with the generalized constraint forces Q_c as unknowns, the velocity
+// transformation of the embedding technique and the orthogonality of Q_c to it,
+//     M vdot = Q + Q_c                      (Eq. 4.17)
+//     vdot = B vdot_i + gamma'              (Eq. 4.18; rows of the independent components
+//                                            are the identification rows vdot_sel = vdot_i)
+//     B^T Q_c = 0                           (Eq. 4.19)
+// assembled as ONE sparse symmetric (indefinite) system (Eq. 4.20)
+//     [ M     I     0  ] [ vdot   ]   [ Q      ]
+//     [ I     0    -B  ] [ -Q_c   ] = [ gamma' ]
+//     [ 0   -B^T    0  ] [ vdot_i ]   [ 0      ]
+// of size 2 n_v + k and solved by sparse LU with pivoting (UMFPACK through Eigen's
+// UmfPackSupport), never reduced by hand to the embedding equations. B and gamma' come
+// from a coordinate partition of J (partition.hpp, velocity_transform.hpp; book
+// Eqs. 6.80-6.94). The matrix is symmetric but indefinite (its inertia has n_v + k
+// negative eigenvalues), so an LDL^T without pivoting (CHOLMOD) is not valid; UMFPACK's
+// LU with threshold pivoting is. The symbolic analysis is done once per partition (the
+// pattern is fixed: M's body blocks, identities, B's dependent rows x k, explicit zeros
+// kept).
+//
+// State y = [q; v] as the augmented formulation; drift: the same projection after each
+// accepted step (sdk/include/mbd/sdk/projection.hpp), or Baumgarte terms in gamma, or
+// none. Reactions: lambda from Q_c = -J^T lambda (book Eq. 6.128) on the kept rows,
+// J_d^T lambda = -Q_c,d (redundant rows get zero).
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/partition.hpp>
+#include <mbd/sdk/projection.hpp>
+#include <mbd/sdk/velocity_transform.hpp>
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <Eigen/UmfPackSupport>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mbd {
+namespace {
+
+std::string format_time(double t) {
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.10g", t);
+    return buffer;
+}
+
+Stabilization parse_stabilization(const Param& p) {
+    if (p.text == "projection") return Stabilization::Projection;
+    if (p.text == "baumgarte") return Stabilization::Baumgarte;
+    if (p.text == "none") return Stabilization::None;
+    p.fail("'stabilization' must be projection, baumgarte or none, got '" + p.text + "'");
+}
+
+class Amalgamated final : public Formulation {
+public:
+    explicit Amalgamated(const FormulationSpec& spec);
+
+    void bind(const System& system, const FormulationOptions& options) override;
+    int ode_size() const override { return nq_ + nv_; }
+    void to_ode(const State& state, Eigen::VectorXd& y) const override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
+    bool project(double t, Eigen::VectorXd& y) override;
+    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
+    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+
+    // for tests
+    const CoordinatePartition& partition() const { return part_; }
+    int block_size() const { return 2 * nv_ + static_cast<int>(part_.independent.size()); }
+
+private:
+    // state_ -> cv_, J_, Q_, vdot_, Qc_ (the block system, Eq. 4.20)
+    void solve_dynamics(double t);
+    void select(const State& state, bool initial);
+    void build_pattern();
+
+    std::optional<Stabilization> stabilization_;
+    std::optional<double> alpha_, beta_, projection_tolerance_;
+    double pivot_threshold_ = 0.1, reselect_ratio_ = 0.05, rank_tolerance_ = 1e-10;
+    bool log_ = false;
+
+    const System* system_ = nullptr;
+    FormulationOptions options_;
+    int nq_ = 0, nv_ = 0, nc_ = 0, nvb_ = 3;
+    Eigen::MatrixXd Mdense_;
+    CoordinatePartition part_;
+    bool analysed_ = false;
+
+    State state_;
+    ConstraintValues cv_;
+    Eigen::MatrixXd J_, B_;
+    Eigen::VectorXd Q_, gamma_s_, gamma_prime_, vdot_, Qc_, rhs_, x_, r_;
+    std::vector<Eigen::Triplet<double>> triplets_;
+    Eigen::SparseMatrix<double> K_;
+    Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu_;
+    DenseMetricSolver metric_;
+};
+
+Amalgamated::Amalgamated(const FormulationSpec& spec) {
+    const Params& params = spec.params;
+    params.mark_read("type");
+    if (params.has("stabilization")) stabilization_ = parse_stabilization(params.at("stabilization"));
+    if (params.has("alpha")) alpha_ = params.non_negative("alpha", 0.0);
+    if (params.has("beta")) beta_ = params.number("beta");
+    if (params.has("projection_tolerance")) projection_tolerance_ = params.positive("projection_tolerance");
+    if (params.has("pivot_threshold")) {
+        pivot_threshold_ = params.positive("pivot_threshold");
+        if (pivot_threshold_ > 1.0) params.at("pivot_threshold").fail("'pivot_threshold' must be in (0, 1]");
+    }
+    if (params.has("reselect_ratio")) reselect_ratio_ = params.non_negative("reselect_ratio", 0.05);
+    if (params.has("rank_tolerance")) rank_tolerance_ = params.positive("rank_tolerance");
+    if (params.has("log")) {
+        const std::string v = params.string("log");
+        if (v != "true" && v != "false") params.at("log").fail("'log' must be true or false");
+        log_ = v == "true";
+    }
+    const std::vector<std::string> unread = params.unread_keys();
+    if (!unread.empty())
+        params.fail("unknown key '" + unread.front() +
+                    "' for the amalgamated formulation; its keys are type, stabilization (projection, baumgarte, none), "
+                    "alpha, beta, projection_tolerance, pivot_threshold, reselect_ratio, rank_tolerance, log");
+}
+
+void Amalgamated::bind(const System& system, const FormulationOptions& options) {
+    system_ = &system;
+    options_ = options;
+    if (stabilization_) options_.stabilization = *stabilization_;
+    if (alpha_) options_.baumgarte_alpha = *alpha_;
+    if (beta_) options_.baumgarte_beta = *beta_;
+    if (projection_tolerance_) options_.projection_tolerance = *projection_tolerance_;
+    nq_ = system.nq();
+    nv_ = system.nv();
+    nc_ = system.constraint_rows(true);
+    nvb_ = velocities_per_body(system.dimension());
+    Mdense_ = Eigen::MatrixXd(system.mass_matrix());
+    metric_.bind(system);
+    state_.q.setZero(nq_);
+    state_.v.setZero(nv_);
+    Q_.setZero(nv_);
+    vdot_.setZero(nv_);
+    Qc_.setZero(nv_);
+    analysed_ = false;
+    // the partition at the assembled initial state (the run assembles the same way)
+    State s = system.initial_state();
+    s.t = 0.0;
+    try {
+        system.assemble(s, true);
+    } catch (const std::exception&) {
+        s = system.initial_state();  // the run itself reports the assembly failure
+    }
+    select(s, true);
+}
+
+void Amalgamated::select(const State& state, bool initial) {
+    system_->constraints(state, cv_, true);
+    J_ = Eigen::MatrixXd(cv_.J);
+    part_ = partition_coordinates(J_, initial ? pivot_threshold_ : 1.0, rank_tolerance_);
+    analysed_ = false;
+    if (initial && !part_.redundant.empty()) {
+        std::string rows;
+        for (int r : part_.redundant) rows += (rows.empty() ? "" : ", ") + system_->describe_row(r);
+        std::clog << "amalgamated: " << part_.redundant.size() << " redundant constraint row"
+                  << (part_.redundant.size() == 1 ? "" : "s") << " dropped: " << rows << '\n';
+    }
+}
+
+// The block matrix of Eq. 4.20 with unknowns x = [vdot; -Q_c; vdot_i].
+void Amalgamated::build_pattern() {
+    const int n = nv_, k = static_cast<int>(part_.independent.size());
+    triplets_.clear();
+    triplets_.reserve(static_cast<size_t>(n * nvb_ + 2 * n + 2 * (k + part_.rank * k) + 8));
+    // M (per-body blocks, explicit zeros kept so that the pattern never changes)
+    for (int b = 0; b < n / nvb_; ++b)
+        for (int i = 0; i < nvb_; ++i)
+            for (int j = 0; j < nvb_; ++j) triplets_.emplace_back(b * nvb_ + i, b * nvb_ + j, Mdense_(b * nvb_ + i, b * nvb_ + j));
+    // the identities coupling vdot and -Q_c
+    for (int i = 0; i < n; ++i) {
+        triplets_.emplace_back(i, n + i, 1.0);
+        triplets_.emplace_back(n + i, i, 1.0);
+    }
+    // -B and -B^T: the identification rows (independent components) and the dependent rows
+    for (int c = 0; c < k; ++c) {
+        const int row = part_.independent[c];  // identification row: vdot_row - vdot_i,c = 0
+        triplets_.emplace_back(n + row, 2 * n + c, -1.0);
+        triplets_.emplace_back(2 * n + c, n + row, -1.0);
+        for (int row : part_.dependent) {
+            triplets_.emplace_back(n + row, 2 * n + c, -B_(row, c));
+            triplets_.emplace_back(2 * n + c, n + row, -B_(row, c));
+        }
+    }
+    K_.resize(2 * n + k, 2 * n + k);
+    K_.setFromTriplets(triplets_.begin(), triplets_.end());
+}
+
+void Amalgamated::solve_dynamics(double t) {
+    const System& sys = *system_;
+    sys.constraints(state_, cv_, true);
+    J_ = Eigen::MatrixXd(cv_.J);
+    sys.generalized_forces(state_, Q_);
+    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged (try a smaller tolerance or step)");
+    gamma_s_ = cv_.gamma;
+    if (options_.stabilization == Stabilization::Baumgarte && nc_ > 0) {
+        const double a = options_.baumgarte_alpha, b = options_.baumgarte_beta;
+        gamma_s_ -= 2.0 * a * (cv_.J * state_.v + cv_.C_t);
+        gamma_s_ -= b * b * cv_.C;
+    }
+    // B and gamma' (Eqs. 4.18, 6.80-6.94) from the partition
+    if (!velocity_transform(J_, gamma_s_, part_, B_, gamma_prime_))
+        throw DynamicsError(t, "amalgamated: the dependent sub-Jacobian J_d is singular");
+    build_pattern();
+    const int n = nv_, k = static_cast<int>(part_.independent.size());
+    if (!analysed_) {
+        lu_.analyzePattern(K_);
+        analysed_ = true;
+    }
+    lu_.factorize(K_);
+    if (lu_.info() != Eigen::Success)
+        throw DynamicsError(t, "amalgamated: the block system of Eq. 4.20 is singular");
+    rhs_.setZero(2 * n + k);
+    rhs_.head(n) = Q_;
+    rhs_.segment(n, n) = gamma_prime_;
+    x_ = lu_.solve(rhs_);
+    // one step of iterative refinement (the identity blocks and M can differ by orders of magnitude)
+    r_ = rhs_ - K_ * x_;
+    x_ += lu_.solve(r_);
+    if (!x_.allFinite()) throw DynamicsError(t, "amalgamated: non-finite solution of the block system (Eq. 4.20)");
+    vdot_ = x_.head(n);
+    Qc_ = -x_.segment(n, n);
+}
+
+void Amalgamated::to_ode(const State& state, Eigen::VectorXd& y) const {
+    y.resize(nq_ + nv_);
+    y.head(nq_) = state.q;
+    y.tail(nv_) = state.v;
+}
+
+void Amalgamated::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+    state.t = t;
+    state.q = y.head(nq_);
+    state.v = y.tail(nv_);
+}
+
+void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
+    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    state_.t = t;
+    state_.q = y.head(nq_);
+    state_.v = y.tail(nv_);
+    solve_dynamics(t);
+    ydot.resize(nq_ + nv_);
+    ydot.head(nq_) = system_->coordinate_rates(state_.q, state_.v);
+    ydot.tail(nv_) = vdot_;
+}
+
+bool Amalgamated::project(double t, Eigen::VectorXd& y) {
+    const System& sys = *system_;
+    state_.t = t;
+    state_.q = y.head(nq_);
+    state_.v = y.tail(nv_);
+    sys.normalize(state_.q);
+    if (options_.stabilization == Stabilization::Projection && nc_ > 0) {
+        // the augmented formulation's projection (projection.hpp), dense S = J M^-1 J^T
+        const Eigen::VectorXd q0 = state_.q, v0 = state_.v;
+        const bool ok = project_onto_constraints(
+            sys, t, q0, v0, options_.projection_tolerance, state_, cv_,
+            [&](bool robust) { metric_.factor(cv_.J, robust); }, [&](Eigen::VectorXd& x) { metric_.solve(x); },
+            [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { metric_.apply_Minv(x, out); });
+        if (!ok) return false;
+    }
+    y.head(nq_) = state_.q;
+    y.tail(nv_) = state_.v;
+    // re-selection of the partition near a singular J_d (book Sec. 6.12); y = [q; v] does
+    // not depend on the partition, so this can happen at any projection
+    if (part_.rank > 0) {
+        system_->constraints(state_, cv_, true);
+        J_ = Eigen::MatrixXd(cv_.J);
+        const double ratio = dependent_pivot_ratio(J_, part_);
+        if (ratio < reselect_ratio_) {
+            CoordinatePartition fresh = partition_coordinates(J_, 1.0, rank_tolerance_);
+            if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh) > ratio) {
+                part_ = std::move(fresh);
+                analysed_ = false;
+                if (log_) std::clog << "amalgamated: t = " << format_time(t) << ": new coordinate partition\n";
+            }
+        }
+    }
+    return true;
+}
+
+void Amalgamated::accelerations(const State& state, Eigen::VectorXd& vdot) {
+    state_ = state;
+    solve_dynamics(state.t);
+    vdot = vdot_;
+}
+
+void Amalgamated::multipliers(const State& state, Eigen::VectorXd& lambda) {
+    state_ = state;
+    solve_dynamics(state.t);
+    // Q_c = -J^T lambda (book Eq. 6.128): J_d^T lambda_kept = -Q_c,d
+    multipliers_from_dependent_rows(J_, part_, Eigen::VectorXd(-Qc_), lambda);
+}
+
+}  // namespace
+
+std::unique_ptr<Formulation> make_amalgamated(const FormulationSpec& spec) { return std::make_unique<Amalgamated>(spec); }
+
+}  // namespace mbd
+
+MBD_FORMULATION_PLUGIN(amalgamated, mbd::make_amalgamated)

@@ -1,0 +1,103 @@
+// The embedding formulation of the equations of motion (Shabana, Computational Dynamics,
+// Sec. 4.5 and Sec. 6.5, Eqs. 6.79-6.99; coordinate partitioning Sec. 6.12):
+//     qdot = B qdot_i,   B^T M B qddot_i = B^T (Q - M gamma')        (book Eq. 6.95)
+// in the minimum number of equations (the degrees of freedom), with the constraint
+// rows (the System's joints and drivers) eliminated.
+//
+// Two paths, chosen from the scene (path: auto) or forced (path: dense | recursive):
+//   recursive  (recursive.hpp) the joints form a tree, every joint describes its relative
+//              motion and there are no drivers: joint coordinates, O(n) articulated-body
+//              algorithm; no constraint drift by construction.
+//   dense      (partitioned.hpp) anything else (closed loops, drivers, redundant rows):
+//              absolute coordinates, independent velocity components chosen by
+//              rank-revealing LU of J (partition.hpp), dependent positions by Newton-Raphson
+//              after each step, re-selection near singular configurations.
+// The choice is logged on std::clog ("embedding: recursive path (...)") and printed by
+// `mbd check` (topology.hpp: recursive_embedding_possible).
+#include "partitioned.hpp"
+#include "recursive.hpp"
+
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/topology.hpp>
+
+#include <iostream>
+#include <memory>
+
+namespace mbd {
+namespace {
+
+class Embedding final : public Formulation {
+public:
+    explicit Embedding(const FormulationSpec& spec);
+
+    void bind(const System& system, const FormulationOptions& options) override {
+        std::string reason;
+        const bool tree = recursive_embedding_possible(system, &reason);
+        bool recursive = settings_.path == "recursive" || (settings_.path == "auto" && tree);
+        if (recursive)
+            impl_ = std::make_unique<embedding::Recursive>(settings_);
+        else
+            impl_ = std::make_unique<embedding::Partitioned>(settings_);
+        if (settings_.log)
+            std::clog << "embedding: " << (recursive ? "recursive" : "dense") << " path (" << reason
+                      << (settings_.path != "auto" ? "; forced by path: " + settings_.path : std::string()) << ")\n";
+        impl_->bind(system, options);
+    }
+    int ode_size() const override { return impl_->ode_size(); }
+    void to_ode(const State& state, Eigen::VectorXd& y) const override { impl_->to_ode(state, y); }
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override { impl_->from_ode(t, y, state); }
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { impl_->rhs(t, y, ydot); }
+    bool project(double t, Eigen::VectorXd& y) override { return impl_->project(t, y); }
+    void multipliers(const State& state, Eigen::VectorXd& lambda) override { impl_->multipliers(state, lambda); }
+    void accelerations(const State& state, Eigen::VectorXd& vdot) override { impl_->accelerations(state, vdot); }
+
+private:
+    embedding::Settings settings_;
+    std::unique_ptr<Formulation> impl_;
+};
+
+Embedding::Embedding(const FormulationSpec& spec) {
+    const Params& params = spec.params;
+    params.mark_read("type");
+    if (params.has("path")) {
+        settings_.path = params.string("path");
+        if (settings_.path != "auto" && settings_.path != "dense" && settings_.path != "recursive")
+            params.at("path").fail("'path' must be auto, dense or recursive, got '" + settings_.path + "'");
+    }
+    if (params.has("pivot_threshold")) {
+        settings_.pivot_threshold = params.positive("pivot_threshold");
+        if (settings_.pivot_threshold > 1.0) params.at("pivot_threshold").fail("'pivot_threshold' must be in (0, 1]");
+    }
+    if (params.has("reselect_ratio")) settings_.reselect_ratio = params.non_negative("reselect_ratio", 0.05);
+    if (params.has("rank_tolerance")) settings_.rank_tolerance = params.positive("rank_tolerance");
+    if (params.has("newton_tolerance")) settings_.newton_tolerance = params.positive("newton_tolerance");
+    if (params.has("newton_iterations")) settings_.newton_iterations = static_cast<int>(params.positive("newton_iterations"));
+    if (params.has("independent")) {
+        const Param& p = params.at("independent");
+        if (p.is_scalar())
+            settings_.independent.push_back(p.text);
+        else if (p.is_list())
+            for (const Param& item : p.items) settings_.independent.push_back(item.text);
+        else
+            p.fail("'independent' must be a velocity component name or a list of them (e.g. [crank.angle])");
+    }
+    if (params.has("log")) {
+        const std::string v = params.string("log");
+        if (v != "true" && v != "false") params.at("log").fail("'log' must be true or false");
+        settings_.log = v == "true";
+    }
+    const std::vector<std::string> unread = params.unread_keys();
+    if (!unread.empty())
+        params.fail("unknown key '" + unread.front() +
+                    "' for the embedding formulation; its keys are type, path (auto, dense, recursive), "
+                    "pivot_threshold, reselect_ratio, rank_tolerance, newton_tolerance, newton_iterations, "
+                    "independent, log");
+}
+
+}  // namespace
+
+std::unique_ptr<Formulation> make_embedding(const FormulationSpec& spec) { return std::make_unique<Embedding>(spec); }
+
+}  // namespace mbd
+
+MBD_FORMULATION_PLUGIN(embedding, mbd::make_embedding)

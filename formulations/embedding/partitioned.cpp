@@ -1,0 +1,222 @@
+// The dense path of the embedding formulation: see partitioned.hpp.
+#include "partitioned.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <set>
+
+namespace mbd::embedding {
+
+namespace {
+bool same_set(std::vector<int> a, std::vector<int> b) {
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    return a == b;
+}
+}  // namespace
+
+void Partitioned::bind(const System& system, const FormulationOptions& options) {
+    system_ = &system;
+    options_ = options;
+    nq_ = system.nq();
+    nv_ = system.nv();
+    nc_ = system.constraint_rows(true);
+    names_ = velocity_names(system);
+    M_ = Eigen::MatrixXd(system.mass_matrix());
+    selected_ = false;
+    reselections_ = 0;
+    last_rhs_t_ = -std::numeric_limits<double>::infinity();
+    state_.q.setZero(nq_);
+    state_.v.setZero(nv_);
+    Q_.setZero(nv_);
+    // The ODE size needs the rank: select at the assembled initial state.
+    State s = system.initial_state();
+    s.t = 0.0;
+    try {
+        system.assemble(s, true);
+    } catch (const std::exception&) {
+        s = system.initial_state();  // the run itself will report the assembly failure
+    }
+    select(s, true);
+}
+
+int Partitioned::ode_size() const { return nq_ + nv_ - part_.rank; }
+
+std::string Partitioned::independent_names() const {
+    std::string out;
+    for (int c : part_.independent) out += (out.empty() ? "" : ", ") + names_[c];
+    return out.empty() ? std::string("(none)") : out;
+}
+
+void Partitioned::log_partition(double t, const char* what) const {
+    if (settings_.log) std::clog << "embedding: t = " << format_time(t) << ": independent coordinates " << what << independent_names() << '\n';
+}
+
+void Partitioned::evaluate(const State& state) const {
+    system_->constraints(state, cv_, true);
+    J_ = Eigen::MatrixXd(cv_.J);
+}
+
+void Partitioned::select(const State& state, bool initial) const {
+    evaluate(state);
+    if (initial && !settings_.independent.empty()) {
+        // the requested independent components last, with a tiny threshold: they stay
+        // independent whenever the others can form a nonsingular J_d
+        std::vector<int> last;
+        for (const std::string& name : settings_.independent) {
+            const auto it = std::find(names_.begin(), names_.end(), name);
+            if (it == names_.end())
+                throw InputError("", "embedding formulation: unknown velocity component '" + name +
+                                         "' in 'independent' (names are body.x, body.y, body.angle (planar) or "
+                                         "body.x, body.y, body.z, body.wx, body.wy, body.wz (spatial))");
+            last.push_back(static_cast<int>(it - names_.begin()));
+        }
+        part_ = partition_coordinates(J_, 1e-3, settings_.rank_tolerance, last);
+        if (!same_set(part_.independent, last))
+            throw InputError("", "embedding formulation: the requested independent coordinates (" +
+                                     std::to_string(last.size()) + ") are not a valid independent set here; a valid one is " +
+                                     independent_names());
+    } else {
+        part_ = partition_coordinates(J_, initial ? settings_.pivot_threshold : 1.0, settings_.rank_tolerance);
+    }
+    selected_ = true;
+    if (initial && settings_.log) {
+        log_partition(state.t, "");
+        if (!part_.redundant.empty()) {
+            std::string rows;
+            for (int r : part_.redundant) rows += (rows.empty() ? "" : ", ") + system_->describe_row(r);
+            std::clog << "embedding: " << part_.redundant.size() << " redundant constraint row"
+                      << (part_.redundant.size() == 1 ? "" : "s") << " dropped: " << rows << '\n';
+        }
+    }
+}
+
+void Partitioned::velocities(const Eigen::VectorXd& vi, Eigen::VectorXd& v) const {
+    // J_d v_d = -(J_i v_i + C_t) (book Eq. 6.168; Eq. 6.169), velocity_transform.hpp
+    dependent_velocities(J_, cv_.C_t, part_, vi, v);
+}
+
+double Partitioned::jd_pivot_ratio(const CoordinatePartition& p) const { return dependent_pivot_ratio(J_, p); }
+
+void Partitioned::solve_accelerations(double t, const CoordinatePartition& p, const State& state,
+                                      Eigen::VectorXd& vdot) const {
+    const int k = static_cast<int>(p.independent.size());
+    system_->generalized_forces(state, Q_);
+    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
+    // B (Eqs. 6.80-6.85) and gamma' (Eqs. 6.90-6.94), velocity_transform.hpp
+    Eigen::MatrixXd B;
+    Eigen::VectorXd g;
+    if (!velocity_transform(J_, cv_.gamma, p, B, g))
+        throw DynamicsError(t, "embedding: the dependent sub-Jacobian J_d is singular (independent coordinates " +
+                                   independent_names() + ")");
+    // B^T M B vdot_i = B^T (Q - M gamma') (book Eq. 6.95), Cholesky (Eq. 6.99)
+    const Eigen::MatrixXd MB = M_ * B;
+    const Eigen::MatrixXd Mbar = B.transpose() * MB;
+    const Eigen::VectorXd Qbar = B.transpose() * (Q_ - M_ * g);
+    Eigen::VectorXd vdot_i;
+    if (k > 0) {
+        const Eigen::LLT<Eigen::MatrixXd> llt(Mbar);
+        if (llt.info() != Eigen::Success)
+            throw DynamicsError(t, "embedding: B^T M B is not positive definite");
+        vdot_i = llt.solve(Qbar);
+    } else {
+        vdot_i.resize(0);
+    }
+    vdot = B * vdot_i + g;
+    if (!vdot.allFinite()) throw DynamicsError(t, "non-finite accelerations: the motion diverged");
+}
+
+void Partitioned::to_ode(const State& state, Eigen::VectorXd& y) const {
+    if (!selected_) select(state, true);
+    y.resize(ode_size());
+    y.head(nq_) = state.q;
+    for (size_t c = 0; c < part_.independent.size(); ++c) y[nq_ + c] = state.v[part_.independent[c]];
+}
+
+void Partitioned::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+    state.t = t;
+    state.q = y.head(nq_);
+    state.v.setZero(nv_);
+    State s{t, state.q, state.v};
+    evaluate(s);
+    velocities(y.tail(ode_size() - nq_), state.v);
+}
+
+void Partitioned::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
+    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    last_rhs_t_ = t;
+    state_.t = t;
+    state_.q = y.head(nq_);
+    state_.v.setZero(nv_);
+    evaluate(state_);  // J and C_t do not depend on v
+    velocities(y.tail(ode_size() - nq_), state_.v);
+    evaluate(state_);  // gamma does
+    Eigen::VectorXd vdot;
+    solve_accelerations(t, part_, state_, vdot);
+    ydot.resize(y.size());
+    ydot.head(nq_) = system_->coordinate_rates(state_.q, state_.v);
+    for (size_t c = 0; c < part_.independent.size(); ++c) ydot[nq_ + c] = vdot[part_.independent[c]];
+}
+
+bool Partitioned::project(double t, Eigen::VectorXd& y) {
+    const System& sys = *system_;
+    state_.t = t;
+    state_.q = y.head(nq_);
+    state_.v.setZero(nv_);
+    sys.normalize(state_.q);
+    const CoordinatePartition& p = part_;
+    // dependent positions by Newton-Raphson holding the independent directions:
+    // J_d dd = -C (kept rows), q <- q (+) P_d dd (book Sec. 6.12 step 3; Ch. 3 Eq. 3.117)
+    const double tol = settings_.newton_tolerance * std::max(1.0, state_.q.lpNorm<Eigen::Infinity>());
+    const bool converged =
+        correct_dependent_positions(sys, state_, p, tol, settings_.newton_iterations, cv_, J_);  // velocity_transform.hpp
+    if (!converged) return false;
+    // re-selection near a singular configuration (book Sec. 6.12), only at the end of an
+    // accepted step (see partitioned.hpp)
+    if (t >= last_rhs_t_ && p.rank > 0) {
+        const double ratio = jd_pivot_ratio(p);
+        if (ratio < settings_.reselect_ratio) {
+            Eigen::VectorXd v;
+            velocities(y.tail(ode_size() - nq_), v);
+            CoordinatePartition fresh = partition_coordinates(J_, 1.0, settings_.rank_tolerance);
+            if (fresh.rank != p.rank)
+                throw DynamicsError(t, "embedding: singular configuration, the constraint Jacobian has rank " +
+                                           std::to_string(fresh.rank) + " instead of " + std::to_string(p.rank));
+            if (!same_set(fresh.dependent, p.dependent) && jd_pivot_ratio(fresh) > ratio) {
+                part_ = std::move(fresh);
+                ++reselections_;
+                if (settings_.log) {
+                    char detail[80];
+                    std::snprintf(detail, sizeof detail, " (pivot ratio of J_d was %.3g)", ratio);
+                    std::clog << "embedding: t = " << format_time(t) << ": independent coordinates now "
+                              << independent_names() << detail << '\n';
+                }
+                for (size_t c = 0; c < part_.independent.size(); ++c) y[nq_ + c] = v[part_.independent[c]];
+            }
+        }
+    }
+    y.head(nq_) = state_.q;
+    return true;
+}
+
+void Partitioned::accelerations(const State& state, Eigen::VectorXd& vdot) {
+    evaluate(state);
+    CoordinatePartition p = part_;
+    if (jd_pivot_ratio(p) < settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, settings_.rank_tolerance);
+    solve_accelerations(state.t, p, state, vdot);
+}
+
+void Partitioned::multipliers(const State& state, Eigen::VectorXd& lambda) {
+    evaluate(state);
+    CoordinatePartition p = part_;
+    if (jd_pivot_ratio(p) < settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, settings_.rank_tolerance);
+    Eigen::VectorXd vdot;
+    solve_accelerations(state.t, p, state, vdot);
+    // J^T lambda = Q - M vdot (Q_c = -J^T lambda, book Eq. 6.128); its dependent rows
+    // J_d^T lambda_r = (Q - M vdot)_d determine lambda; redundant rows get zero
+    const Eigen::VectorXd r = Q_ - M_ * vdot;
+    multipliers_from_dependent_rows(J_, p, r, lambda);
+}
+
+}  // namespace mbd::embedding

@@ -1,0 +1,97 @@
+// The embedding formulation on absolute coordinates with velocity-level coordinate
+// partitioning (Shabana, Computational Dynamics, Sec. 6.5 Eqs. 6.79-6.99 and Sec. 6.12):
+// the dense path, for any scene (closed loops, drivers, redundant constraints).
+//
+// Partition: J (joints + drivers, n_c x n_v, with respect to v) is split by the
+// rank-revealing elimination of partition.hpp into dependent columns d (J_d = J[rows, d]
+// nonsingular, r x r) and independent columns i (k = n_v - r, the degrees of freedom);
+// rows that reduce to zero are redundant and dropped (named once on std::clog).
+//   velocities   J_d v_d = -(J_i v_i + C_t)             (book Eq. 6.169 / 6.168)
+//   B            v = B v_i,  B_i = I, B_d = -J_d^-1 J_i  (Eqs. 6.80-6.85)
+//   gamma'       vdot = B vdot_i + gamma', gamma'_d = J_d^-1 gamma, gamma'_i = 0 (Eqs. 6.90-6.94)
+//   dynamics     B^T M B vdot_i = B^T (Q - M gamma')    (Eq. 6.95; Mbar SPD, Cholesky, Eq. 6.99)
+//
+// ODE state (decision): y = [q; v_i], all n_q coordinates and the k independent velocity
+// components. Velocity components of spatial bodies (body-axis angular velocity) are not
+// derivatives of coordinates, so the independent set cannot be integrated alone; q is
+// integrated from qdot(q, v) and, after every accepted step (project()), the dependent
+// positions are corrected by Newton-Raphson holding the independent directions fixed:
+// J_d dd = -C, q <- q (+) P_d dd (advance_positions keeps unit Euler parameters). The
+// dependent velocities are recomputed from v_i in every evaluation (Eq. 6.169), so the
+// velocity constraints hold exactly and the positions to the Newton tolerance: no drift.
+//
+// Re-selection (Sec. 6.12, L9348-9418): after each accepted step the pivot ratio of J_d
+// (smallest / largest pivot of its complete-pivoting LU) is checked; below
+// `reselect_ratio` the partition is chosen again by complete pivoting on J at the
+// current configuration and v_i is rewritten in the new set (a log line names the time
+// and the new set). A switch changes the meaning of y's v_i part, so it is done only in
+// the projection of an accepted step (t >= the last rhs time); projections of dense
+// output copies inside a step never switch. Multistep integrators (cvode) keep a history
+// across the switch; use one-step integrators near singular configurations.
+#pragma once
+
+#include "settings.hpp"
+
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/partition.hpp>
+#include <mbd/sdk/velocity_transform.hpp>
+
+#include <Eigen/Dense>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace mbd::embedding {
+
+class Partitioned final : public Formulation {
+public:
+    explicit Partitioned(Settings settings) : settings_(std::move(settings)) {}
+
+    void bind(const System& system, const FormulationOptions& options) override;
+    int ode_size() const override;
+    void to_ode(const State& state, Eigen::VectorXd& y) const override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
+    bool project(double t, Eigen::VectorXd& y) override;
+    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
+    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+
+    // For tests and diagnostics.
+    const CoordinatePartition& partition() const { return part_; }
+    int reselections() const { return reselections_; }
+    std::string independent_names() const;
+
+private:
+    // part_ from J at state (the first time, or on re-selection)
+    void select(const State& state, bool initial) const;
+    // dense J (n_c x n_v) and C, C_t, gamma at state (gamma with state.v)
+    void evaluate(const State& state) const;
+    // full v from q (in state) and the independent components (Eq. 6.169); needs evaluate()
+    void velocities(const Eigen::VectorXd& vi, Eigen::VectorXd& v) const;
+    // vdot (and its pieces) at a consistent state, for partition p; needs evaluate()
+    void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot) const;
+    double jd_pivot_ratio(const CoordinatePartition& p) const;
+    void log_partition(double t, const char* what) const;
+
+    Settings settings_;
+    FormulationOptions options_;
+    const System* system_ = nullptr;
+    int nq_ = 0, nv_ = 0, nc_ = 0;
+    std::vector<std::string> names_;
+    Eigen::MatrixXd M_;
+
+    // the partition (mutable: chosen from the first state the formulation sees)
+    mutable CoordinatePartition part_;
+    mutable bool selected_ = false;
+    mutable int reselections_ = 0;
+    double last_rhs_t_ = -std::numeric_limits<double>::infinity();
+
+    // scratch
+    mutable ConstraintValues cv_;
+    mutable Eigen::MatrixXd J_;
+    mutable State state_;
+    mutable Eigen::VectorXd Q_;
+};
+
+}  // namespace mbd::embedding

@@ -1,0 +1,536 @@
+// The recursive (tree, joint-coordinate) path of the embedding formulation: see recursive.hpp.
+#include "recursive.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace mbd::embedding {
+
+namespace {
+
+Mat3 rot_z(double angle) {
+    Mat3 a = Mat3::Identity();
+    a.topLeftCorner<2, 2>() = planar_rotation(angle);
+    return a;
+}
+
+// angle of the rotation R about the unit axis a (R assumed to be such a rotation)
+double angle_about(const Vec3& a, const Mat3& R) {
+    const Vec3 e = any_perpendicular(a);
+    const Vec3 re = R * e;
+    return std::atan2(a.dot(e.cross(re)), e.dot(re));
+}
+
+// angle about the unit axis a that takes the direction x to the direction y (projected on the plane normal to a)
+double angle_taking(const Vec3& a, const Vec3& x, const Vec3& y) {
+    const Vec3 xp = x - a.dot(x) * a, yp = y - a.dot(y) * a;
+    return std::atan2(a.dot(xp.cross(yp)), xp.dot(yp));
+}
+
+bool rotational(RelativeMotion::Kind k) { return k == RelativeMotion::Kind::Revolute || k == RelativeMotion::Kind::Helical; }
+
+Vec4 conjugate(const Vec4& p) { return Vec4(p[0], -p[1], -p[2], -p[3]); }
+
+}  // namespace
+
+// Phi x, Phi^T f and P += Phi^T X Phi (X symmetric) with Phi = [[I, S], [0, E]], by 3x3 blocks
+Vec6 Recursive::phi_mul(const Body& c, const Vec6& x) {
+    Vec6 out;
+    out.head<3>() = x.head<3>() + c.S * x.tail<3>();
+    out.tail<3>() = c.E * x.tail<3>();
+    return out;
+}
+
+Vec6 Recursive::phiT_mul(const Body& c, const Vec6& f) {
+    Vec6 out;
+    out.head<3>() = f.head<3>();
+    out.tail<3>() = c.S.transpose() * f.head<3>() + c.E.transpose() * f.tail<3>();
+    return out;
+}
+
+void Recursive::add_phiT_X_phi(const Body& c, const Mat6& X, Mat6& P) {
+    const Mat3 X11 = X.topLeftCorner<3, 3>(), X12 = X.topRightCorner<3, 3>(), X21 = X.bottomLeftCorner<3, 3>(),
+               X22 = X.bottomRightCorner<3, 3>();
+    const Mat3 Y12 = X11 * c.S + X12 * c.E;
+    P.topLeftCorner<3, 3>() += X11;
+    P.topRightCorner<3, 3>() += Y12;
+    P.bottomLeftCorner<3, 3>() += Y12.transpose();
+    P.bottomRightCorner<3, 3>() += c.S.transpose() * Y12 + c.E.transpose() * (X21 * c.S + X22 * c.E);
+}
+
+Vec6 Recursive::to6(const Eigen::VectorXd& x, int body) const {
+    Vec6 out = Vec6::Zero();
+    if (planar_) {
+        out[0] = x[3 * body];
+        out[1] = x[3 * body + 1];
+        out[5] = x[3 * body + 2];
+    } else {
+        out = x.segment<6>(6 * body);
+    }
+    return out;
+}
+
+void Recursive::bind(const System& system, const FormulationOptions& /*options*/) {
+    system_ = &system;
+    planar_ = system.dimension() == Dimension::Planar;
+    nb_ = system.body_count();
+    nq_ = system.nq();
+    nv_ = system.nv();
+    std::string reason;
+    if (!recursive_embedding_possible(system, &reason))
+        throw InputError("", "embedding formulation: the recursive path needs a tree of joints in relative coordinates "
+                             "without drivers; this scene has " + reason + " (use path: dense or auto)");
+    const Topology topology = analyse_topology(system);
+    edges_.clear();
+    ns_ = nu_ = 0;
+    auto marker = [&](const Marker& m, Vec3& u, Mat3& A, double& angle) {
+        if (planar_) {
+            u = Vec3(m.u_bar.x(), m.u_bar.y(), 0.0);
+            A = rot_z(m.angle);
+            angle = m.angle;
+        } else {
+            u = m.u_bar;
+            A = m.A_bar;
+            angle = 0.0;
+        }
+    };
+    for (int b : topology.order) {
+        Edge e;
+        e.body = b;
+        e.parent = topology.parent_body[b];
+        e.joint = topology.parent_joint[b];
+        e.s0 = ns_;
+        e.u0 = nu_;
+        if (e.joint < 0) {  // free root: its own coordinates and velocities
+            e.ns = planar_ ? 3 : 7;
+            e.nu = planar_ ? 3 : 6;
+        } else {
+            const JointInfo& info = system.joint(e.joint);
+            const bool forward = info.bodies[1] == b;
+            e.child_slot = forward ? 1 : 0;
+            e.parent_slot = forward ? 0 : 1;
+            marker(info.markers.at(e.parent_slot), e.u_p, e.A_p, e.angle_p);
+            marker(info.markers.at(e.child_slot), e.u_c, e.A_c, e.angle_c);
+            e.p_p = euler_parameters_from_rotation(e.A_p);
+            e.p_c = euler_parameters_from_rotation(e.A_c);
+            std::vector<RelativeMotion::Freedom> list = info.joint->relative_motion()->freedoms;
+            if (!forward) std::reverse(list.begin(), list.end());  // the inverse motion's freedoms
+            int s = ns_, u = nu_;
+            for (const RelativeMotion::Freedom& f : list) {
+                Freedom g{f.kind, f.axis.normalized(), f.kind == RelativeMotion::Kind::Helical ? f.pitch : 0.0, s, u};
+                const bool ball = f.kind == RelativeMotion::Kind::Ball;
+                s += ball ? 4 : 1;
+                u += ball ? 3 : 1;
+                e.freedoms.push_back(g);
+            }
+            e.ns = s - ns_;
+            e.nu = u - nu_;
+        }
+        ns_ += e.ns;
+        nu_ += e.nu;
+        edges_.push_back(std::move(e));
+    }
+    int h = 0, d = 0;
+    for (Edge& e : edges_) {
+        e.h0 = h;
+        e.d0 = d;
+        h += 6 * e.nu;
+        d += e.nu * e.nu;
+    }
+    hpool_.assign(h, 0.0);
+    dpool_.assign(d, 0.0);
+    bodies_.assign(nb_, Body{});
+    sign_.assign(nb_, 1.0);
+    // the constant per-body blocks of M (read from the sparse matrix: never densify it)
+    std::vector<Mat6> blocks(nb_, Mat6::Zero());
+    const int nvb = planar_ ? 3 : 6;
+    const Eigen::SparseMatrix<double>& Ms = system.mass_matrix();
+    for (int col = 0; col < Ms.outerSize(); ++col)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(Ms, col); it; ++it)
+            if (it.row() / nvb == col / nvb) blocks[col / nvb](it.row() % nvb, col % nvb) = it.value();
+    for (const Edge& e : edges_) {
+        Body& body = bodies_[e.body];
+        if (planar_) {
+            body.m = blocks[e.body](0, 0);
+            body.J = blocks[e.body](2, 2) * Mat3::Identity();  // out-of-plane entries are never excited
+        } else {
+            body.m = blocks[e.body](0, 0);
+            body.J = blocks[e.body].bottomRightCorner<3, 3>();
+        }
+    }
+    state_.q.setZero(nq_);
+    state_.v.setZero(nv_);
+    Q_.setZero(nv_);
+    udot_.setZero(nu_);
+}
+
+void Recursive::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) const {
+    struct Column {
+        Vec3 g, o, t;  // H column: [g x (R_c - o) + t; A_c^T g]
+    };
+    Column cols[6];
+    for (const Edge& e : edges_) {
+        Body& c = bodies_[e.body];
+        if (e.joint < 0) {  // free root
+            c.S.setZero();
+            c.E.setZero();
+            c.a.setZero();
+            auto Hc = H(e);
+            Hc.setZero();
+            if (planar_) {
+                c.R = Vec3(s[e.s0], s[e.s0 + 1], 0.0);
+                c.theta = s[e.s0 + 2];
+                c.A = rot_z(c.theta);
+                c.v << u[e.u0], u[e.u0 + 1], 0, 0, 0, u[e.u0 + 2];
+                Hc(0, 0) = Hc(1, 1) = Hc(5, 2) = 1.0;
+            } else {
+                c.R = s.segment<3>(e.s0);
+                const Vec4 p = s.segment<4>(e.s0 + 3);
+                c.p = p / p.norm();
+                c.A = rotation_from_euler_parameters(c.p);
+                c.v = u.segment<6>(e.u0);
+                Hc.setIdentity();
+            }
+            c.w = c.A * c.v.tail<3>();
+            continue;
+        }
+        Vec3 Rp = Vec3::Zero(), Rpdot = Vec3::Zero(), wp = Vec3::Zero();
+        Mat3 Ap = Mat3::Identity();
+        Vec4 pf(1, 0, 0, 0);
+        double thp = 0.0;
+        if (e.parent >= 0) {
+            const Body& p = bodies_[e.parent];
+            Rp = p.R;
+            Ap = p.A;
+            pf = p.p;
+            thp = p.theta;
+            Rpdot = p.v.head<3>();
+            wp = p.w;
+        }
+        // the parent's joint frame; velocity-product terms with vdot_p = 0 (alpha_p = 0)
+        const Vec3 rho0 = Ap * e.u_p;
+        Vec3 o = Rp + rho0;
+        Mat3 Af = Ap * e.A_p;
+        if (!planar_) pf = quaternion_product(pf, e.p_p);
+        double theta = thp + e.angle_p;
+        Vec3 w = wp, alpha = Vec3::Zero();
+        Vec3 odot = Rpdot + wp.cross(rho0);
+        Vec3 oddot = wp.cross(wp.cross(rho0));
+        int ncol = 0;
+        for (const Freedom& f : e.freedoms) {
+            if (f.kind == RelativeMotion::Kind::Ball) {
+                const Vec4 p = s.segment<4>(f.s) / s.segment<4>(f.s).norm();
+                Af = Af * rotation_from_euler_parameters(p);
+                if (!planar_) pf = quaternion_product(pf, p);
+                const Vec3 ww = Af * u.segment<3>(f.u);
+                for (int m = 0; m < 3; ++m) cols[ncol++] = {Af.col(m), o, Vec3::Zero()};
+                alpha += w.cross(ww);
+                w += ww;
+                continue;
+            }
+            const double q = s[f.s], qd = u[f.u];
+            const Vec3 aw = Af * f.axis;
+            if (rotational(f.kind)) {
+                const Vec3 r = aw * (f.pitch * q);
+                const Vec3 lin = aw * f.pitch;
+                cols[ncol++] = {aw, o, lin};
+                oddot += alpha.cross(r) + w.cross(w.cross(r)) + 2.0 * w.cross(lin * qd);
+                odot += w.cross(r) + lin * qd;
+                o += r;
+                alpha += w.cross(aw * qd);
+                w += aw * qd;
+                Af = Af * Eigen::AngleAxisd(q, f.axis).toRotationMatrix();
+                if (planar_)
+                    theta += f.axis.z() > 0 ? q : -q;
+                else
+                    pf = quaternion_product(pf, euler_parameters_from_axis_angle(f.axis, q));
+            } else {  // prismatic
+                const Vec3 r = aw * q;
+                cols[ncol++] = {Vec3::Zero(), o, aw};
+                oddot += alpha.cross(r) + w.cross(w.cross(r)) + 2.0 * w.cross(aw * qd);
+                odot += w.cross(r) + aw * qd;
+                o += r;
+            }
+        }
+        // the child body from its joint frame
+        if (planar_) {
+            c.theta = theta - e.angle_c;
+            c.A = rot_z(c.theta);
+        } else {
+            c.A = Af * e.A_c.transpose();
+            c.p = quaternion_product(pf, conjugate(e.p_c));
+        }
+        const Vec3 rho = -(c.A * e.u_c);
+        c.R = o + rho;
+        c.w = w;
+        c.v.head<3>() = odot + w.cross(rho);
+        c.v.tail<3>() = c.A.transpose() * w;
+        c.a.head<3>() = oddot + alpha.cross(rho) + w.cross(w.cross(rho));
+        c.a.tail<3>() = c.A.transpose() * alpha;
+        auto Hc = H(e);
+        for (int k = 0; k < ncol; ++k) {
+            Hc.col(k).head<3>() = cols[k].g.cross(c.R - cols[k].o) + cols[k].t;
+            Hc.col(k).tail<3>() = c.A.transpose() * cols[k].g;
+        }
+        c.S = -skew(c.R - Rp) * Ap;
+        c.E = c.A.transpose() * Ap;
+    }
+}
+
+void Recursive::write_state(double t, State& state) const {
+    state.t = t;
+    state.q.resize(nq_);
+    state.v.resize(nv_);
+    for (int b = 0; b < nb_; ++b) {
+        const Body& body = bodies_[b];
+        if (planar_) {
+            state.q.segment<3>(3 * b) << body.R.x(), body.R.y(), body.theta;
+            state.v.segment<3>(3 * b) << body.v[0], body.v[1], body.v[5];
+        } else {
+            state.q.segment<3>(7 * b) = body.R;
+            state.q.segment<4>(7 * b + 3) = sign_[b] * body.p;
+            state.v.segment<6>(6 * b) = body.v;
+        }
+    }
+}
+
+void Recursive::articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot) const {
+    for (const Edge& e : edges_) {
+        Body& b = bodies_[e.body];
+        b.P.setZero();
+        b.P.topLeftCorner<3, 3>().diagonal().setConstant(b.m);
+        b.P.bottomRightCorner<3, 3>() = b.J;
+        b.z = -to6(Q, e.body);
+    }
+    // leaves to root: articulated inertias and bias forces
+    for (auto it = edges_.rbegin(); it != edges_.rend(); ++it) {
+        Body& c = bodies_[it->body];
+        const auto Hc = H(*it);
+        const Mat6X U = c.P * Hc;
+        const MatXX6 D = Hc.transpose() * U;
+        Eigen::LLT<MatXX6> llt(D);
+        if (llt.info() != Eigen::Success)
+            throw DynamicsError(t, "embedding: the articulated inertia of body '" + system_->body(it->body).name +
+                                       "' is singular across its joint");
+        auto Di = Dinv(*it);
+        Di = llt.solve(MatXX6::Identity(it->nu, it->nu));
+        if (it->parent < 0) continue;
+        const Mat6X UD = U * Di;
+        const Mat6 Pa = c.P - UD * U.transpose();
+        const Vec6 za = Pa * c.a + c.z - UD * (Hc.transpose() * c.z);
+        Body& p = bodies_[it->parent];
+        add_phiT_X_phi(c, Pa, p.P);
+        p.z.noalias() += phiT_mul(c, za);
+    }
+    // root to leaves: joint and body accelerations, joint constraint forces
+    udot.resize(nu_);
+    for (const Edge& e : edges_) {
+        Body& c = bodies_[e.body];
+        Vec6 base = c.a;
+        if (e.parent >= 0) base.noalias() += phi_mul(c, bodies_[e.parent].vdot);
+        const auto Hc = H(e);
+        const Mat6X U = c.P * Hc;
+        const VecX6 ud = -Dinv(e) * (U.transpose() * base + Hc.transpose() * c.z);
+        udot.segment(e.u0, e.nu) = ud;
+        c.vdot = base + Hc * ud;
+        c.f = c.P * c.vdot + c.z;
+    }
+    if (!udot.allFinite()) throw DynamicsError(t, "non-finite accelerations: the motion diverged");
+}
+
+void Recursive::vdot_system(Eigen::VectorXd& vdot) const {
+    vdot.resize(nv_);
+    for (int b = 0; b < nb_; ++b) {
+        const Vec6& a = bodies_[b].vdot;
+        if (planar_)
+            vdot.segment<3>(3 * b) << a[0], a[1], a[5];
+        else
+            vdot.segment<6>(6 * b) = a;
+    }
+}
+
+void Recursive::to_ode(const State& state, Eigen::VectorXd& y) const {
+    y.setZero(ns_ + nu_);
+    Eigen::VectorXd s = Eigen::VectorXd::Zero(ns_);
+    // poses from the state
+    auto pose = [&](int b, Vec3& R, Mat3& A, double& theta) {
+        if (b < 0) {
+            R.setZero();
+            A.setIdentity();
+            theta = 0.0;
+        } else if (planar_) {
+            R = Vec3(state.q[3 * b], state.q[3 * b + 1], 0.0);
+            theta = state.q[3 * b + 2];
+            A = rot_z(theta);
+        } else {
+            R = state.q.segment<3>(7 * b);
+            const Vec4 p = state.q.segment<4>(7 * b + 3);
+            A = rotation_from_euler_parameters(p / p.norm());
+            theta = 0.0;
+        }
+    };
+    // joint coordinates: decompose each joint's relative pose into its freedoms
+    for (const Edge& e : edges_) {
+        Vec3 Rc, Rp;
+        Mat3 Ac, Ap;
+        double thc, thp;
+        pose(e.body, Rc, Ac, thc);
+        if (e.joint < 0) {
+            if (planar_)
+                s.segment<3>(e.s0) = state.q.segment<3>(3 * e.body);
+            else
+                s.segment<7>(e.s0) = state.q.segment<7>(7 * e.body);
+            continue;
+        }
+        pose(e.parent, Rp, Ap, thp);
+        const Mat3 F0 = Ap * e.A_p, Fn = Ac * e.A_c;
+        const Mat3 Rrel = F0.transpose() * Fn;
+        const Vec3 drel = F0.transpose() * (Rc + Ac * e.u_c - Rp - Ap * e.u_p);
+        std::vector<const Freedom*> rots;
+        for (const Freedom& f : e.freedoms)
+            if (f.kind != RelativeMotion::Kind::Prismatic) rots.push_back(&f);
+        if (rots.size() == 1 && rots[0]->kind == RelativeMotion::Kind::Ball) {
+            s.segment<4>(rots[0]->s) = euler_parameters_from_rotation(Rrel);
+        } else if (rots.size() == 1) {
+            if (planar_) {  // unwrapped: the difference of the frames' absolute angles
+                const double rel = (thc + e.angle_c) - (thp + e.angle_p);
+                s[rots[0]->s] = rots[0]->axis.z() > 0 ? rel : -rel;
+            } else {
+                s[rots[0]->s] = angle_about(rots[0]->axis, Rrel);
+            }
+        } else if (rots.size() == 2) {
+            const Vec3 &a1 = rots[0]->axis, &a2 = rots[1]->axis;
+            const double s1 = angle_taking(a1, a2, Rrel * a2);
+            s[rots[0]->s] = s1;
+            s[rots[1]->s] = angle_about(a2, Eigen::AngleAxisd(s1, a1).toRotationMatrix().transpose() * Rrel);
+        }
+        // translations: drel = sum_k R_{<k} t_k, linear in the prismatic coordinates
+        Mat3 Rk = Mat3::Identity();
+        Vec3 known = Vec3::Zero();
+        Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6> C(3, 0);
+        std::vector<int> prismatic;
+        for (const Freedom& f : e.freedoms) {
+            if (f.kind == RelativeMotion::Kind::Prismatic) {
+                C.conservativeResize(3, C.cols() + 1);
+                C.col(C.cols() - 1) = Rk * f.axis;
+                prismatic.push_back(f.s);
+            } else if (f.kind == RelativeMotion::Kind::Ball) {
+                const Vec4 p = s.segment<4>(f.s);
+                Rk = Rk * rotation_from_euler_parameters(p);
+            } else {
+                known += Rk * f.axis * (f.pitch * s[f.s]);
+                Rk = Rk * Eigen::AngleAxisd(s[f.s], f.axis).toRotationMatrix();
+            }
+        }
+        if (!prismatic.empty()) {
+            const Eigen::VectorXd x = (C.transpose() * C).ldlt().solve(C.transpose() * (drel - known));
+            for (size_t k = 0; k < prismatic.size(); ++k) s[prismatic[k]] = x[k];
+        }
+    }
+    // speeds: kinematics at s (u = 0) gives Phi and H; u = H^+ (v_c - Phi v_p) per edge
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(nu_);
+    kinematics(s, u);
+    for (int b = 0; b < nb_ && !planar_; ++b)
+        sign_[b] = bodies_[b].p.dot(state.q.segment<4>(7 * b + 3)) < 0 ? -1.0 : 1.0;
+    for (const Edge& e : edges_) {
+        const Body& c = bodies_[e.body];
+        Vec6 rel = to6(state.v, e.body);
+        if (e.parent >= 0) rel -= phi_mul(c, to6(state.v, e.parent));
+        const auto Hc = H(e);
+        const MatXX6 HtH = Hc.transpose() * Hc;
+        u.segment(e.u0, e.nu) = HtH.ldlt().solve(Hc.transpose() * rel);
+    }
+    y.head(ns_) = s;
+    y.tail(nu_) = u;
+}
+
+void Recursive::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+    kinematics(y.head(ns_), y.tail(nu_));
+    write_state(t, state);
+}
+
+void Recursive::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
+    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    const Eigen::VectorXd u = y.tail(nu_);
+    kinematics(y.head(ns_), u);
+    write_state(t, state_);
+    system_->generalized_forces(state_, Q_);
+    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
+    articulated(t, Q_, udot_);
+    ydot.resize(ns_ + nu_);
+    // coordinate rates: sdot = u for 1-DOF freedoms; Euler parameters pdot = 1/2 Gbar^T wbar (book Eq. 8.48)
+    for (const Edge& e : edges_) {
+        if (e.joint < 0) {
+            if (planar_) {
+                ydot.segment<3>(e.s0) = u.segment<3>(e.u0);
+            } else {
+                ydot.segment<3>(e.s0) = u.segment<3>(e.u0);
+                const Vec4 p = y.segment<4>(e.s0 + 3);
+                ydot.segment<4>(e.s0 + 3) = 0.5 * euler_Gbar(p).transpose() * u.segment<3>(e.u0 + 3);
+            }
+            continue;
+        }
+        for (const Freedom& f : e.freedoms) {
+            if (f.kind == RelativeMotion::Kind::Ball)
+                ydot.segment<4>(f.s) = 0.5 * euler_Gbar(y.segment<4>(f.s)).transpose() * u.segment<3>(f.u);
+            else
+                ydot[f.s] = u[f.u];
+        }
+    }
+    ydot.tail(nu_) = udot_;
+}
+
+bool Recursive::project(double /*t*/, Eigen::VectorXd& y) {
+    for (const Edge& e : edges_) {
+        if (e.joint < 0 && !planar_) y.segment<4>(e.s0 + 3).normalize();
+        for (const Freedom& f : e.freedoms)
+            if (f.kind == RelativeMotion::Kind::Ball) y.segment<4>(f.s).normalize();
+    }
+    return y.allFinite();
+}
+
+void Recursive::accelerations(const State& state, Eigen::VectorXd& vdot) {
+    Eigen::VectorXd y;
+    to_ode(state, y);
+    kinematics(y.head(ns_), y.tail(nu_));
+    system_->generalized_forces(state, Q_);
+    articulated(state.t, Q_, udot_);
+    vdot_system(vdot);
+}
+
+void Recursive::multipliers(const State& state, Eigen::VectorXd& lambda) {
+    Eigen::VectorXd vdot;
+    accelerations(state, vdot);
+    ConstraintValues cv;
+    system_->constraints(state, cv, true);
+    const int nvb = planar_ ? 3 : 6;
+    lambda.setZero(system_->constraint_rows(true));
+    for (const Edge& e : edges_) {
+        if (e.joint < 0) continue;
+        const JointInfo& info = system_->joint(e.joint);
+        const Body& c = bodies_[e.body];
+        // the joint's generalized constraint forces on its bodies: f_c on the child,
+        // -Phi^T f_c on the parent; Q_c = -J^T lambda (book Eqs. 6.128, 6.146)
+        Vec6 on[2];
+        on[e.child_slot] = c.f;
+        on[e.parent_slot] = -phiT_mul(c, c.f);
+        Eigen::MatrixXd Jk = Eigen::MatrixXd::Zero(info.rows, 2 * nvb);
+        Eigen::VectorXd g = Eigen::VectorXd::Zero(2 * nvb);
+        for (int slot = 0; slot < 2; ++slot) {
+            const int body = info.bodies[slot];
+            if (body < 0) continue;
+            for (int k = 0; k < nvb; ++k) {
+                const int col = body * nvb + k;
+                for (Eigen::SparseMatrix<double>::InnerIterator it(cv.J, col); it; ++it)
+                    if (it.row() >= info.first_row && it.row() < info.first_row + info.rows)
+                        Jk(it.row() - info.first_row, slot * nvb + k) = it.value();
+                g[slot * nvb + k] = planar_ ? on[slot][k == 2 ? 5 : k] : on[slot][k];
+            }
+        }
+        // J_k^T lambda_k = -g (least squares on the joint's own rows)
+        lambda.segment(info.first_row, info.rows) = Jk.transpose().colPivHouseholderQr().solve(-g);
+    }
+}
+
+}  // namespace mbd::embedding

@@ -1,0 +1,137 @@
+// The recursive path of the embedding formulation: a tree of joints (no loops, no
+// drivers) written in joint coordinates (book Sec. 4.5: the embedding with relative
+// joint coordinates; joint-constraint notes Sec. 5 and digest joints-forces-rotations
+// Sec. 7.6 on RelativeMotion), with an O(n) articulated-body algorithm.
+//
+// Tree edges: every joint becomes an edge parent -> child (parent nearer the ground,
+// topology.hpp). Its freedoms (RelativeMotion: revolute, prismatic, helical, ball) act
+// in order on the parent's joint frame, T(s) = T_1(s_1) T_2(s_2) ... T_n(s_n), each about
+// or along an axis through the frame origin given in the parent joint frame; an edge
+// listed child-first in the scene uses the inverse motion (the same axes in reverse
+// order, which spans the same set of relative poses). A body connected to nothing fixed
+// is a free root (a 6-DOF edge to the ground: its own q and v).
+//
+// ODE state (decision): y = [s; u]: the joint coordinates (one per revolute, prismatic
+// or helical freedom, four Euler parameters per ball, a free root's own q) and the joint
+// speeds (one per 1-DOF freedom, three body-axis angular velocity components per ball, a
+// free root's v). The absolute q, v are reconstructed by forward kinematics in O(n); the
+// joint constraints then hold exactly (no drift); project() only renormalises the Euler
+// parameters.
+//
+// Velocities: body velocity v_b = (Rdot world, wbar body axes) (the System's layout). For
+// each edge v_c = Phi v_p + H u with Phi the rigid transfer (u = 0) and H the joint's
+// partial velocities; vdot_c = Phi vdot_p + H udot + a with a the velocity-product term
+// (the child's acceleration at vdot_p = 0, udot = 0), computed by an elementwise world
+// recursion through the freedoms.
+//
+// Dynamics: articulated-body algorithm in these coordinates (Featherstone 1983; the
+// virtual-power form of Jain's spatial operators). Body equations M_b vdot_b = Q_b + f_b
+// - sum_children Phi_c^T f_c with f the joint constraint force (H^T f = 0). Leaves to
+// root: P_b = M_b + sum Phi_c^T Pa_c Phi_c, z_b = -Q_b + sum Phi_c^T za_c with
+// D = H^T P H, Pa = P - P H D^-1 H^T P, za = Pa a + z - P H D^-1 H^T z; root to leaves:
+// udot = -D^-1 H^T (P (Phi vdot_p + a) + z), vdot = Phi vdot_p + H udot + a. Planar
+// scenes run the same algorithm embedded in 3-D (z and out-of-plane rotations are never
+// excited; their dummy inertias do not enter). Cost O(n) per evaluation.
+//
+// Reactions: f_c = P_c vdot_c + z_c is the joint's constraint force on the child and
+// -Phi^T f_c on the parent; each joint's multipliers follow from its own rows,
+// J_k^T lambda_k = -(f on its bodies) (book Eq. 6.146, Q_c = -J^T lambda), least squares
+// on the joint's few rows.
+#pragma once
+
+#include "settings.hpp"
+
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/topology.hpp>
+
+#include <Eigen/Dense>
+
+#include <vector>
+
+namespace mbd::embedding {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
+using MatXX6 = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+using VecX6 = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+
+class Recursive final : public Formulation {
+public:
+    explicit Recursive(Settings settings) : settings_(std::move(settings)) {}
+
+    void bind(const System& system, const FormulationOptions& options) override;
+    int ode_size() const override { return ns_ + nu_; }
+    void to_ode(const State& state, Eigen::VectorXd& y) const override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
+    bool project(double t, Eigen::VectorXd& y) override;
+    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
+    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+
+private:
+    struct Freedom {
+        RelativeMotion::Kind kind;
+        Vec3 axis;
+        double pitch = 0.0;  // helical: translation per radian
+        int s = 0, u = 0;    // offsets of its coordinates and speeds in y
+    };
+    struct Edge {
+        int joint = -1;        // -1: a free root
+        int body = -1, parent = -1;  // child body; parent body (-1 ground)
+        int child_slot = 1, parent_slot = 0;  // the bodies' positions in the joint's body list
+        Vec3 u_p = Vec3::Zero(), u_c = Vec3::Zero();   // marker origins (body coordinates)
+        Mat3 A_p = Mat3::Identity(), A_c = Mat3::Identity();  // marker axes (body coordinates)
+        double angle_p = 0.0, angle_c = 0.0;           // planar marker angles
+        Vec4 p_p = Vec4(1, 0, 0, 0), p_c = Vec4(1, 0, 0, 0);  // Euler parameters of A_p, A_c
+        std::vector<Freedom> freedoms;
+        int s0 = 0, ns = 0, u0 = 0, nu = 0;
+        int h0 = 0, d0 = 0;   // offsets of H (6 x nu) and D^-1 (nu x nu) in their pools
+    };
+    // per body, the kinematic and articulated quantities
+    struct Body {
+        Vec3 R = Vec3::Zero();
+        Mat3 A = Mat3::Identity();
+        double theta = 0.0;   // planar angle, accumulated (not wrapped)
+        Vec4 p = Vec4(1, 0, 0, 0);  // spatial: Euler parameters composed along the chain (continuous)
+        Vec6 v = Vec6::Zero();  // (Rdot, wbar)
+        Vec3 w = Vec3::Zero();  // world angular velocity
+        // Phi = [[I, S], [0, E]] (rigid transfer from the parent: S = -[R_c - R_p]x A_p, E = A_c^T A_p)
+        Mat3 S = Mat3::Zero(), E = Mat3::Zero();
+        Vec6 a = Vec6::Zero();
+        double m = 0.0;         // mass and inertia (Jbar; planar: J on the diagonal)
+        Mat3 J = Mat3::Zero();
+        Mat6 P = Mat6::Zero();
+        Vec6 z = Vec6::Zero();
+        Vec6 vdot = Vec6::Zero();
+        Vec6 f = Vec6::Zero();  // constraint force of its parent joint on it
+    };
+
+    // forward kinematics: s, u -> bodies_ (poses, velocities, Phi, H, a)
+    void kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) const;
+    // bodies_ -> state (q, v)
+    void write_state(double t, State& state) const;
+    // articulated-body algorithm at bodies_ with Q (System layout): vdot, f, udot
+    void articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot) const;
+    void vdot_system(Eigen::VectorXd& vdot) const;
+    Vec6 to6(const Eigen::VectorXd& x, int body) const;
+    static Vec6 phi_mul(const Body& c, const Vec6& x);
+    static Vec6 phiT_mul(const Body& c, const Vec6& f);
+    static void add_phiT_X_phi(const Body& c, const Mat6& X, Mat6& P);
+
+    Settings settings_;
+    const System* system_ = nullptr;
+    bool planar_ = true;
+    int nb_ = 0, nq_ = 0, nv_ = 0, ns_ = 0, nu_ = 0;
+    std::vector<Edge> edges_;  // parent before child
+    mutable std::vector<Body> bodies_;
+    mutable std::vector<double> sign_;
+    // H and D^-1 of every edge, packed (a compact working set keeps the O(n) passes in cache)
+    mutable std::vector<double> hpool_, dpool_;
+    Eigen::Map<Eigen::Matrix<double, 6, Eigen::Dynamic>> H(const Edge& e) const { return {hpool_.data() + e.h0, 6, e.nu}; }
+    Eigen::Map<Eigen::MatrixXd> Dinv(const Edge& e) const { return {dpool_.data() + e.d0, e.nu, e.nu}; }  // per body: +-1 so that written Euler parameters continue the state's
+    mutable State state_;
+    mutable Eigen::VectorXd Q_, udot_;
+};
+
+}  // namespace mbd::embedding

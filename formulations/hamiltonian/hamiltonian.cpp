@@ -1,0 +1,331 @@
+// The Hamiltonian formulation (Shabana, Computational Dynamics, Sec. 5.10, Eqs. 5.165-5.182),
+// EMBEDDED on the independent coordinates of a coordinate partition (the embedding
+// technique's velocity transformation, book Sec. 6.5, sdk velocity_transform.hpp), so that
+// closed loops, drivers and redundant rows work as in the embedding formulation's dense path.
+//
+// Partition of J (partition.hpp): v = B v_i + c (B_i = I, B_d = -J_d^-1 J_i, c_d = -J_d^-1 C_t).
+// With T = 1/2 v^T M v, the momenta conjugate to the independent velocities are
+//     p = dT/dv_i = B^T M v = Mbar v_i + B^T M c,      Mbar = B^T M B  (SPD)
+//     H(q, p, t) = p^T v_i - T + V = 1/2 (p - B^T M c)^T Mbar^-1 (p - B^T M c) - 1/2 c^T M c + V
+// (scleronomic, c = 0: H = 1/2 p^T Mbar^-1 p + V = T + V, book Eq. 5.182). Hamilton's
+// equations (Eq. 5.179):
+//     qdot_i = dH/dp = Mbar^-1 (p - B^T M c) = v_i     (the dependent rates follow, v = B v_i + c)
+//     pdot   = -dH/dq_i + Q_nc = B^T Q + Bdot^T M v
+// The second form is the same quantity evaluated without differentiating Mbar: p = B^T M v,
+// pdot = B^T M vdot + Bdot^T M v and B^T (M vdot - Q) = B^T Q_c = 0 (Eq. 4.19); for
+// coordinates whose rates are the velocity components (planar bodies) dT/dq_i|_{qdot_i} =
+// Bdot^T M v by the symmetry of second derivatives, so B^T Q + Bdot^T M v = -dH/dq_i + Q_nc
+// exactly (Q = Q_nc - dV/dq). For spatial bodies the angular components are body-axis
+// angular velocities (quasi-velocities) and p are the conjugate quasi-momenta (Hamel /
+// Poincare form); the same expression holds with Q carrying the gyroscopic term.
+//
+// Bdot without second derivatives of the joints: from J B = 0 on the kept rows,
+// J_d Bdot_d = -(Jdot B), so Bdot^T M v = -(Jdot B)^T mu with mu = J_d^-T (M v)_d. Jdot w
+// (w = a column of B) follows exactly from gamma (quadratic in v; Cddot = J vdot - gamma) by
+// polarization:  Jdot w = -(gamma(q, v + w) - gamma(q, v - w)) / 4 + 1/2 J lambda(v, w),
+// where lambda(v, w) is zero except in the rotational components of spatial bodies,
+// omega_v x omega_w (the Lie bracket of the body-axis angular-velocity fields).
+//
+// ODE state y = [q; p] (all coordinates, the k momenta). After each accepted step the
+// dependent positions are corrected by Newton-Raphson holding the independent directions
+// (as the embedding formulation); the velocity constraints hold by construction. Near a
+// singular J_d the partition is re-selected at the end of an accepted step and p rewritten
+// as B_new^T M v (the same velocities).
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/partition.hpp>
+#include <mbd/sdk/velocity_transform.hpp>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace mbd {
+namespace {
+
+std::string format_time(double t) {
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.10g", t);
+    return buffer;
+}
+
+class Hamiltonian final : public Formulation {
+public:
+    explicit Hamiltonian(const FormulationSpec& spec);
+
+    void bind(const System& system, const FormulationOptions& options) override;
+    int ode_size() const override { return nq_ + static_cast<int>(part_.independent.size()); }
+    void to_ode(const State& state, Eigen::VectorXd& y) const override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
+    bool project(double t, Eigen::VectorXd& y) override;
+    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
+    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+    bool has_hamiltonian() const override { return true; }
+    double hamiltonian(double t, const Eigen::VectorXd& y) const override;
+
+private:
+    void select(const State& state, bool initial) const;
+    // cv_, J_ at (t, q) with v = 0; B_, c_ for the partition
+    void transform(double t, const Eigen::VectorXd& q) const;
+    // transform(), then v_i and v from p: state_ holds (t, q, v)
+    void kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p) const;
+    // vdot at a state for partition p (and Q_ there)
+    void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot) const;
+    // Jdot w on all rows (polarization of gamma, see the header)
+    void jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out) const;
+
+    double pivot_threshold_ = 0.1, reselect_ratio_ = 0.05, rank_tolerance_ = 1e-10;
+    double newton_tolerance_ = 1e-12;
+    int newton_iterations_ = 25;
+    bool log_ = false;
+
+    const System* system_ = nullptr;
+    bool planar_ = true;
+    int nq_ = 0, nv_ = 0, nc_ = 0;
+    Eigen::MatrixXd M_;
+    mutable CoordinatePartition part_;
+    mutable bool selected_ = false;
+    double last_rhs_t_ = -std::numeric_limits<double>::infinity();
+
+    mutable State state_, probe_;
+    mutable ConstraintValues cv_, cv_probe_;
+    mutable Eigen::MatrixXd J_, B_, Mbar_;
+    mutable Eigen::VectorXd c_, vi_, gamma_prime_, Q_;
+    mutable Eigen::LLT<Eigen::MatrixXd> llt_;
+};
+
+Hamiltonian::Hamiltonian(const FormulationSpec& spec) {
+    const Params& params = spec.params;
+    params.mark_read("type");
+    if (params.has("pivot_threshold")) {
+        pivot_threshold_ = params.positive("pivot_threshold");
+        if (pivot_threshold_ > 1.0) params.at("pivot_threshold").fail("'pivot_threshold' must be in (0, 1]");
+    }
+    if (params.has("reselect_ratio")) reselect_ratio_ = params.non_negative("reselect_ratio", 0.05);
+    if (params.has("rank_tolerance")) rank_tolerance_ = params.positive("rank_tolerance");
+    if (params.has("newton_tolerance")) newton_tolerance_ = params.positive("newton_tolerance");
+    if (params.has("newton_iterations")) newton_iterations_ = static_cast<int>(params.positive("newton_iterations"));
+    if (params.has("log")) {
+        const std::string v = params.string("log");
+        if (v != "true" && v != "false") params.at("log").fail("'log' must be true or false");
+        log_ = v == "true";
+    }
+    const std::vector<std::string> unread = params.unread_keys();
+    if (!unread.empty())
+        params.fail("unknown key '" + unread.front() +
+                    "' for the hamiltonian formulation; its keys are type, pivot_threshold, reselect_ratio, "
+                    "rank_tolerance, newton_tolerance, newton_iterations, log");
+}
+
+void Hamiltonian::bind(const System& system, const FormulationOptions& /*options*/) {
+    system_ = &system;
+    planar_ = system.dimension() == Dimension::Planar;
+    nq_ = system.nq();
+    nv_ = system.nv();
+    nc_ = system.constraint_rows(true);
+    M_ = Eigen::MatrixXd(system.mass_matrix());
+    selected_ = false;
+    last_rhs_t_ = -std::numeric_limits<double>::infinity();
+    state_.q.setZero(nq_);
+    state_.v.setZero(nv_);
+    Q_.setZero(nv_);
+    State s = system.initial_state();
+    s.t = 0.0;
+    try {
+        system.assemble(s, true);
+    } catch (const std::exception&) {
+        s = system.initial_state();  // the run itself reports the assembly failure
+    }
+    select(s, true);
+}
+
+void Hamiltonian::select(const State& state, bool initial) const {
+    system_->constraints(state, cv_, true);
+    J_ = Eigen::MatrixXd(cv_.J);
+    part_ = partition_coordinates(J_, initial ? pivot_threshold_ : 1.0, rank_tolerance_);
+    selected_ = true;
+    if (initial && !part_.redundant.empty()) {
+        std::string rows;
+        for (int r : part_.redundant) rows += (rows.empty() ? "" : ", ") + system_->describe_row(r);
+        std::clog << "hamiltonian: " << part_.redundant.size() << " redundant constraint row"
+                  << (part_.redundant.size() == 1 ? "" : "s") << " dropped: " << rows << '\n';
+    }
+}
+
+void Hamiltonian::transform(double t, const Eigen::VectorXd& q) const {
+    state_.t = t;
+    state_.q = q;
+    state_.v.setZero(nv_);
+    system_->constraints(state_, cv_, true);  // J and C_t do not depend on v
+    J_ = Eigen::MatrixXd(cv_.J);
+    if (!velocity_transform(J_, cv_.gamma, part_, B_, gamma_prime_))
+        throw DynamicsError(t, "hamiltonian: the dependent sub-Jacobian J_d is singular");
+    const int k = static_cast<int>(part_.independent.size());
+    dependent_velocities(J_, cv_.C_t, part_, Eigen::VectorXd::Zero(k), c_);  // c = v for v_i = 0
+    Mbar_.noalias() = B_.transpose() * M_ * B_;
+    if (k > 0) {
+        llt_.compute(Mbar_);
+        if (llt_.info() != Eigen::Success) throw DynamicsError(t, "hamiltonian: B^T M B is not positive definite");
+    }
+}
+
+void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p) const {
+    transform(t, q);
+    const int k = static_cast<int>(part_.independent.size());
+    // qdot_i = dH/dp = Mbar^-1 (p - B^T M c)
+    if (k > 0)
+        vi_ = llt_.solve(p - B_.transpose() * (M_ * c_));
+    else
+        vi_.resize(0);
+    state_.v = B_ * vi_ + c_;
+}
+
+void Hamiltonian::jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out) const {
+    probe_.t = state_.t;
+    probe_.q = state_.q;
+    probe_.v = state_.v + w;
+    system_->constraints(probe_, cv_probe_, true);
+    out = cv_probe_.gamma;
+    probe_.v = state_.v - w;
+    system_->constraints(probe_, cv_probe_, true);
+    out -= cv_probe_.gamma;
+    out *= -0.25;
+    if (!planar_) {
+        // the Lie bracket of the body-axis angular-velocity fields: lambda = omega_v x omega_w
+        Eigen::VectorXd lambda = Eigen::VectorXd::Zero(nv_);
+        for (int b = 0; b < nv_ / 6; ++b) {
+            const Vec3 wv = state_.v.segment<3>(6 * b + 3), ww = w.segment<3>(6 * b + 3);
+            lambda.segment<3>(6 * b + 3) = wv.cross(ww);
+        }
+        out.noalias() += 0.5 * (J_ * lambda);
+    }
+}
+
+void Hamiltonian::to_ode(const State& state, Eigen::VectorXd& y) const {
+    if (!selected_) select(state, true);
+    transform(state.t, state.q);
+    const int k = static_cast<int>(part_.independent.size());
+    y.resize(nq_ + k);
+    y.head(nq_) = state.q;
+    y.tail(k) = B_.transpose() * (M_ * state.v);  // p = B^T M v
+}
+
+void Hamiltonian::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+    kinematics(t, y.head(nq_), y.tail(y.size() - nq_));
+    state.t = t;
+    state.q = state_.q;
+    state.v = state_.v;
+}
+
+double Hamiltonian::hamiltonian(double t, const Eigen::VectorXd& y) const {
+    const Eigen::VectorXd p = y.tail(y.size() - nq_);
+    kinematics(t, y.head(nq_), p);
+    // H = p^T qdot_i - L = p^T v_i - T + V (= T + V when scleronomic)
+    return p.dot(vi_) - system_->kinetic_energy(state_) + system_->potential_energy(state_);
+}
+
+void Hamiltonian::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
+    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    last_rhs_t_ = t;
+    const int k = static_cast<int>(part_.independent.size());
+    kinematics(t, y.head(nq_), y.tail(k));
+    system_->generalized_forces(state_, Q_);
+    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
+    ydot.resize(nq_ + k);
+    ydot.head(nq_) = system_->coordinate_rates(state_.q, state_.v);  // from qdot_i = dH/dp
+    if (k == 0) return;
+    // pdot = -dH/dq_i + Q_nc = B^T Q + Bdot^T M v,  Bdot^T M v = -(Jdot B)^T mu
+    Eigen::VectorXd pdot = B_.transpose() * Q_;
+    if (part_.rank > 0) {
+        const Eigen::VectorXd Mv = M_ * state_.v;
+        const Eigen::MatrixXd JdT = J_(part_.rows, part_.dependent).transpose();
+        const Eigen::VectorXd mu = JdT.partialPivLu().solve(Eigen::VectorXd(Mv(part_.dependent)));
+        Eigen::VectorXd jw;
+        for (int c = 0; c < k; ++c) {
+            jdot_times(B_.col(c), jw);
+            pdot[c] -= mu.dot(jw(part_.rows));
+        }
+    }
+    if (!pdot.allFinite()) throw DynamicsError(t, "non-finite momentum rates: the motion diverged");
+    ydot.tail(k) = pdot;
+}
+
+bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
+    const System& sys = *system_;
+    const int k = static_cast<int>(part_.independent.size());
+    State s;
+    s.t = t;
+    s.q = y.head(nq_);
+    s.v.setZero(nv_);
+    sys.normalize(s.q);
+    const double tol = newton_tolerance_ * std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
+    ConstraintValues cv;
+    Eigen::MatrixXd J;
+    if (!correct_dependent_positions(sys, s, part_, tol, newton_iterations_, cv, J)) return false;
+    // re-selection near a singular J_d (book Sec. 6.12), only at the end of an accepted step
+    if (t >= last_rhs_t_ && part_.rank > 0) {
+        const double ratio = dependent_pivot_ratio(J, part_);
+        if (ratio < reselect_ratio_) {
+            kinematics(t, s.q, y.tail(k));
+            const Eigen::VectorXd v = state_.v;
+            CoordinatePartition fresh = partition_coordinates(J, 1.0, rank_tolerance_);
+            if (fresh.rank != part_.rank)
+                throw DynamicsError(t, "hamiltonian: singular configuration, the constraint Jacobian has rank " +
+                                           std::to_string(fresh.rank) + " instead of " + std::to_string(part_.rank));
+            if (dependent_pivot_ratio(J, fresh) > ratio) {
+                part_ = std::move(fresh);
+                transform(t, s.q);
+                y.tail(k) = B_.transpose() * (M_ * v);  // the same velocities in the new momenta
+                if (log_) std::clog << "hamiltonian: t = " << format_time(t) << ": new coordinate partition\n";
+            }
+        }
+    }
+    y.head(nq_) = s.q;
+    return true;
+}
+
+void Hamiltonian::solve_accelerations(double t, const CoordinatePartition& p, const State& state,
+                                      Eigen::VectorXd& vdot) const {
+    system_->constraints(state, cv_, true);
+    J_ = Eigen::MatrixXd(cv_.J);
+    system_->generalized_forces(state, Q_);
+    Eigen::MatrixXd B;
+    Eigen::VectorXd g;
+    if (!velocity_transform(J_, cv_.gamma, p, B, g)) throw DynamicsError(t, "hamiltonian: the dependent sub-Jacobian J_d is singular");
+    const Eigen::MatrixXd Mbar = B.transpose() * M_ * B;
+    Eigen::VectorXd vdot_i(B.cols());
+    if (B.cols() > 0) vdot_i = Mbar.llt().solve(B.transpose() * (Q_ - M_ * g));
+    vdot = B * vdot_i + g;
+}
+
+void Hamiltonian::accelerations(const State& state, Eigen::VectorXd& vdot) {
+    system_->constraints(state, cv_, true);
+    J_ = Eigen::MatrixXd(cv_.J);
+    CoordinatePartition p = part_;
+    if (dependent_pivot_ratio(J_, p) < reselect_ratio_) p = partition_coordinates(J_, 1.0, rank_tolerance_);
+    solve_accelerations(state.t, p, state, vdot);
+}
+
+void Hamiltonian::multipliers(const State& state, Eigen::VectorXd& lambda) {
+    system_->constraints(state, cv_, true);
+    J_ = Eigen::MatrixXd(cv_.J);
+    CoordinatePartition p = part_;
+    if (dependent_pivot_ratio(J_, p) < reselect_ratio_) p = partition_coordinates(J_, 1.0, rank_tolerance_);
+    Eigen::VectorXd vdot;
+    solve_accelerations(state.t, p, state, vdot);
+    multipliers_from_dependent_rows(J_, p, Eigen::VectorXd(Q_ - M_ * vdot), lambda);
+}
+
+}  // namespace
+
+std::unique_ptr<Formulation> make_hamiltonian(const FormulationSpec& spec) { return std::make_unique<Hamiltonian>(spec); }
+
+}  // namespace mbd
+
+MBD_FORMULATION_PLUGIN(hamiltonian, mbd::make_hamiltonian)

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Regenerates the work-precision benchmark (docs/benchmarks.md, section between the
+# work-precision markers) and its plots and tables in docs/benchmarks/:
+#   1. builds mbd, its plugins, the rhs benchmarks and the peers (bench/peers/, when Simbody /
+#      MuJoCo are installed) into $MBD_BENCH_BUILD (default: build);
+#   2. `mbd bench scenes/bench/*.yaml` with the peers -> work-precision.csv / .json;
+#   3. per-step cost against body count for every formulation (scripts/bench_scaling.py) and the
+#      rhs benchmarks bench_augmented / bench_embedding (reduced sizes);
+#   4. scripts/bench_report.py: one work-precision diagram per scene (PNG, SVG), the scaling plot,
+#      and the tables in docs/benchmarks.md.
+# Budget: under 15 minutes on a 2-core machine from a fresh checkout (most of it the build).
+# Options (environment): MBD_BENCH_REPEAT (3), MBD_BENCH_SCENES (all of scenes/bench), MBD_BENCH_SKIP_BUILD=1.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+start=$(date +%s)
+BUILD=${MBD_BENCH_BUILD:-build}
+OUT=docs/benchmarks
+mkdir -p "$OUT"
+if [ "${MBD_BENCH_SKIP_BUILD:-0}" != 1 ]; then
+  bash scripts/install-deps.sh
+  cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  targets=(mbd mbd_plugins bench_augmented bench_embedding)
+  for peer in mbd_peer_simbody mbd_peer_mujoco; do
+    if cmake --build "$BUILD" --target help | grep -q "$peer"; then targets+=("$peer"); fi
+  done
+  cmake --build "$BUILD" -j2 --target "${targets[@]}"
+fi
+MBD="$BUILD/bin/mbd"
+scenes=${MBD_BENCH_SCENES:-$(ls scenes/bench/*.yaml)}
+# shellcheck disable=SC2086
+"$MBD" bench $scenes --repeat "${MBD_BENCH_REPEAT:-3}" --peers "$BUILD/bin/peers" \
+  --csv "$OUT/work-precision.csv" --json "$OUT/work-precision.json"
+python3 scripts/bench_scaling.py "$MBD" "$OUT/scaling.csv"
+{
+  "$BUILD/bin/bench_augmented" 3000 300 || echo "bench_augmented failed"
+  "$BUILD/bin/bench_embedding" 3000 100 || echo "bench_embedding failed"
+} > "$OUT/rhs-scaling.txt" 2>&1
+end=$(date +%s)
+python3 scripts/bench_report.py "$OUT" docs/benchmarks.md --scaling "$OUT/scaling.csv" \
+  --rhs "$OUT/rhs-scaling.txt" --wall $((end - start))
+echo "bench.sh: done in $((end - start)) s (plots and tables in $OUT, docs/benchmarks.md)"

@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Per-step cost against body count for every formulation plugin (scripts/bench.sh).
+
+    bench_scaling.py MBD OUT.csv [--sizes 10,30,...] [--budget SECONDS]
+
+For each formulation that `MBD plugins` lists and each chain size N, writes a planar chain of N
+links (0.1 m, 1 kg, revolute joints, gravity; the model of bench/bench_augmented.cpp) to a
+temporary scene and runs `MBD simulate --integrator rk4 --step 1e-4` over a few steps with
+--json; the CPU time per step is cpu_s / steps (the integration only: assembly excluded). A
+formulation that fails on a size, or whose last point took longer than the budget, stops there.
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+
+def chain(n):
+    lines = ["name: chain", "dimension: planar", "gravity: [0, -9.81]", "bodies:"]
+    lines += [f"  - {{name: l{k}, mass: 1.0, inertia: 0.000833333333333333, position: [{0.1 * k + 0.05:.6f}, 0]}}"
+              for k in range(n)]
+    lines.append("joints:")
+    lines += [f"  - {{name: j{k}, type: revolute, bodies: [{'ground' if k == 0 else f'l{k - 1}'}, l{k}], "
+              f"point: [{0.1 * k:.6f}, 0]}}" for k in range(n)]
+    return "\n".join(lines) + "\n"
+
+
+def formulations(mbd):
+    out = subprocess.run([mbd, "plugins"], capture_output=True, text=True).stdout
+    names = []
+    for line in out.splitlines():
+        words = line.replace(",", " ").split()
+        if "formulation" in words:
+            i = words.index("formulation")
+            if i + 1 < len(words) and words[i + 1] not in names and words[i + 1].isidentifier():
+                names.append(words[i + 1])
+    return names or ["augmented", "embedding"]
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("mbd")
+    p.add_argument("out")
+    p.add_argument("--sizes", default="10,30,100,300,1000,3000,10000")
+    p.add_argument("--budget", type=float, default=20.0)
+    a = p.parse_args()
+    sizes = [int(s) for s in a.sizes.split(",")]
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        scenes = {}
+        for n in sizes:
+            scenes[n] = os.path.join(tmp, f"chain-{n}.yaml")
+            with open(scenes[n], "w") as f:
+                f.write(chain(n))
+        for name in formulations(a.mbd):
+            for n in sizes:
+                steps = max(4, min(400, int(40000 / n)))
+                cmd = [a.mbd, "simulate", scenes[n], "--formulation", name, "--integrator", "rk4", "--step", "1e-4",
+                       "--t-end", f"{steps * 1e-4:.6g}", "--json", "-q", "-o", os.path.join(tmp, "out.csv")]
+                try:
+                    r = subprocess.run(cmd, capture_output=True, text=True, timeout=6 * a.budget)
+                    j = json.loads(r.stdout) if r.returncode == 0 else None
+                except (subprocess.TimeoutExpired, json.JSONDecodeError):
+                    j = None
+                if not j or not j.get("steps"):
+                    msg = (r.stderr.strip().splitlines() or ["timeout"])[-1] if 'r' in dir() and r else "timeout"
+                    print(f"scaling: {name} N = {n}: failed ({msg[:120]})", file=sys.stderr)
+                    rows.append({"formulation": name, "bodies": n, "steps": "", "cpu_s": "", "cpu_per_step_s": ""})
+                    break
+                per = j["cpu_s"] / j["steps"]
+                rows.append({"formulation": name, "bodies": n, "steps": j["steps"], "cpu_s": j["cpu_s"],
+                             "cpu_per_step_s": per})
+                print(f"scaling: {name:12s} N = {n:6d}: {per:.3e} s per step", file=sys.stderr)
+                if j["cpu_s"] > a.budget:
+                    break
+    with open(a.out, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["formulation", "bodies", "steps", "cpu_s", "cpu_per_step_s"])
+        w.writeheader()
+        w.writerows(rows)
+
+
+if __name__ == "__main__":
+    main()

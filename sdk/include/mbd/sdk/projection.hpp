@@ -1,0 +1,123 @@
+// Coordinate projection onto the constraint manifold in the kinetic-energy metric,
+// shared by the formulations that integrate y = [q; v] (augmented, amalgamated).
+// Header-only, over the SDK's System.
+//
+// Positions: Newton-Raphson on C(q, t) = 0 with steps of least kinetic-energy norm,
+//     dq = -M^-1 J^T S^-1 C,    S = J M^-1 J^T
+// (the minimum-norm Newton of book Eqs. 3.111-3.117 in the M metric; positions advanced
+// with System::advance_positions, so Euler parameters stay unit), to `tolerance` on
+// max |C|; then velocities v <- v - M^-1 J^T S^-1 (J v + C_t), so that book Eq. 6.138
+// (J v + C_t = 0) holds.
+//
+// The linear algebra is the caller's: `factor(robust)` factors S at cv.J (robust: a
+// rank-revealing / damped path for (nearly) redundant rows), `solve_S(x)` overwrites x
+// with S^-1 x, `apply_Minv(x, out)` sets out = M^-1 x. The projection is tried with the
+// fast factorization first and, if Newton does not converge, once more with the robust
+// one. DenseMetricSolver below is a ready-made dense implementation.
+#pragma once
+
+#include <mbd/sdk/system.hpp>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+
+namespace mbd {
+
+// Projects (q0, v0) at time t; on success returns true with the result in state.
+// cv is scratch (left at the projected state).
+template <class Factor, class SolveS, class ApplyMinv>
+bool project_onto_constraints(const System& system, double t, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+                              double tolerance, State& state, ConstraintValues& cv, Factor&& factor, SolveS&& solve_S,
+                              ApplyMinv&& apply_Minv) {
+    Eigen::VectorXd x, tmp(system.nv()), dv(system.nv());
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        const bool robust = attempt > 0;
+        state.t = t;
+        state.q = q0;
+        state.v = v0;
+        system.normalize(state.q);
+        bool converged = false;
+        for (int iteration = 0; iteration < 25; ++iteration) {
+            system.constraints(state, cv, true);
+            const double violation = cv.C.size() ? cv.C.template lpNorm<Eigen::Infinity>() : 0.0;
+            if (!std::isfinite(violation)) break;
+            if (violation <= tolerance) {
+                converged = true;
+                break;
+            }
+            factor(robust);
+            x = cv.C;
+            solve_S(x);
+            tmp.noalias() = cv.J.transpose() * x;
+            apply_Minv(tmp, dv);
+            dv = -dv;
+            if (!dv.allFinite()) break;
+            system.advance_positions(state.q, dv);
+            if (dv.template lpNorm<Eigen::Infinity>() <= 1e-3 * tolerance) {
+                system.constraints(state, cv, true);
+                converged = cv.C.template lpNorm<Eigen::Infinity>() <= 1e3 * tolerance;
+                break;
+            }
+        }
+        if (!converged) continue;
+        factor(robust);
+        x.noalias() = cv.J * state.v;
+        x += cv.C_t;
+        solve_S(x);
+        tmp.noalias() = cv.J.transpose() * x;
+        apply_Minv(tmp, dv);
+        state.v -= dv;
+        if (!state.q.allFinite() || !state.v.allFinite()) continue;
+        return true;
+    }
+    return false;
+}
+
+// A dense S = J M^-1 J^T solver for project_onto_constraints: LDL^T with pivoting, and,
+// for a (near) rank-deficient S (redundant constraints) or when asked to be robust, the
+// minimum-norm solution S^+ = (W^T)^+ W^+ with W = J Lm (M^-1 = Lm Lm^T) from complete
+// orthogonal decompositions (singular values below 1e-10 of the largest are zero).
+class DenseMetricSolver {
+public:
+    void bind(const System& system) {
+        const Eigen::MatrixXd M(system.mass_matrix());
+        Minv_ = M.inverse();
+        Minv_ = 0.5 * (Minv_ + Minv_.transpose());
+        Lm_ = Eigen::LLT<Eigen::MatrixXd>(Minv_).matrixL();
+    }
+    void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const { out.noalias() = Minv_ * x; }
+    void factor(const Eigen::SparseMatrix<double>& J, bool robust) {
+        W_ = Eigen::MatrixXd(J) * Lm_;
+        const Eigen::MatrixXd S = W_ * W_.transpose();
+        pseudo_ = false;
+        if (S.rows() == 0) return;
+        ldlt_.compute(S);
+        const auto& D = ldlt_.vectorD();
+        const double dmax = D.cwiseAbs().maxCoeff();
+        if (robust || ldlt_.info() != Eigen::Success || !(dmax > 0) || D.minCoeff() <= 1e-8 * dmax) {
+            cod_w_.setThreshold(1e-10);
+            cod_wt_.setThreshold(1e-10);
+            cod_w_.compute(W_);
+            cod_wt_.compute(W_.transpose());
+            pseudo_ = true;
+        }
+    }
+    void solve(Eigen::VectorXd& x) const {
+        if (x.size() == 0) return;
+        if (pseudo_) {
+            const Eigen::VectorXd w = cod_w_.solve(x);
+            x = cod_wt_.solve(w);
+        } else {
+            x = ldlt_.solve(x);
+        }
+    }
+
+private:
+    Eigen::MatrixXd Minv_, Lm_, W_;
+    Eigen::LDLT<Eigen::MatrixXd> ldlt_;
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
+    bool pseudo_ = false;
+};
+
+}  // namespace mbd

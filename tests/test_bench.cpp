@@ -1,0 +1,177 @@
+// The work-precision benchmark's own error computation (core/src/bench.cpp), `mbd simulate
+// --error-estimate`, and a missing peer engine. No timings are checked.
+#include "support/test_support.hpp"
+
+#include <mbd/bench.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace mbd {
+namespace {
+
+const std::string kPendulum = "bench/a01-pendulum.yaml";
+
+BenchSpec short_pendulum_spec() {
+    BenchSpec spec = load_bench_spec(test::scene_path(kPendulum).string());
+    spec.t_end = 2.0;
+    spec.output_step = 0.25;
+    return spec;
+}
+
+TEST(Bench, SpecOfThePendulumScene) {
+    const BenchSpec spec = load_bench_spec(test::scene_path(kPendulum).string());
+    EXPECT_EQ(spec.reference.kind, "closed_form");
+    EXPECT_EQ(spec.reference.name, "pendulum_a01");
+    ASSERT_EQ(spec.measure.bodies.size(), 1u);
+    EXPECT_EQ(spec.measure.bodies[0], "bob");
+    EXPECT_EQ(spec.measure.norm, "max");
+    EXPECT_FALSE(spec.runs.empty());
+}
+
+TEST(Bench, ClosedFormStartsAtTheReleasePointAndConservesLength) {
+    const Model model = load_scene(test::scene_path(kPendulum), test::shared_registry());
+    const Eigen::MatrixXd r = pendulum_closed_form(model, "bob", {0.0, 0.3, 1.0, 2.0});
+    EXPECT_NEAR(r(0, 0), 1.0, 1e-12);
+    EXPECT_NEAR(r(0, 1), 0.0, 1e-12);
+    for (int k = 0; k < r.rows(); ++k) EXPECT_NEAR(r.row(k).norm(), 1.0, 1e-12);
+    // the bob falls: y < 0 after the release
+    EXPECT_LT(r(1, 1), -0.1);
+}
+
+// RK4 on the pendulum (embedding: a pure ODE in the joint angle) against the closed form at
+// two steps: the measured error falls by ~2^4 = 16 when the step is halved.
+TEST(Bench, Rk4ErrorRatioOnThePendulumIsSixteen) {
+    Registry& registry = test::shared_registry();
+    const BenchSpec spec = short_pendulum_spec();
+    const Model model = load_scene(spec.scene, registry);
+    const BenchReferenceData ref = make_bench_reference(model, registry, spec);
+    ASSERT_EQ(ref.kind, "closed_form");
+    double errors[2];
+    const double steps[2] = {0.02, 0.01};
+    for (int k = 0; k < 2; ++k) {
+        SimulationSettings s;
+        s.formulation = "embedding";
+        s.integrator = "rk4";
+        s.integration.step = steps[k];
+        s.t_end = spec.t_end;
+        s.output_step = spec.output_step;
+        s.progress = false;
+        SimulationResult result;
+        const Trajectory tr = sample_trajectory(model, registry, s, spec.measure, result);
+        errors[k] = bench_error(tr, ref.trajectory, spec.measure);
+    }
+    const double ratio = errors[0] / errors[1];
+    EXPECT_GT(errors[1], 1e-9);  // well above round-off, so the ratio is the truncation error's
+    EXPECT_GT(ratio, 12.0) << errors[0] << " " << errors[1];
+    EXPECT_LT(ratio, 20.0) << errors[0] << " " << errors[1];
+}
+
+TEST(Bench, ErrorNormsMaxAndFinal) {
+    Trajectory ref, run;
+    ref.times = run.times = {1.0, 2.0};
+    ref.points = Eigen::MatrixXd::Zero(2, 3);
+    run.points = Eigen::MatrixXd::Zero(2, 3);
+    run.points(0, 0) = 3.0;  // |e| = 3 at t = 1
+    run.points(1, 1) = 1.0;  // |e| = 1 at t = 2
+    BenchMeasure m{{"b"}, {Eigen::Vector3d::Zero()}, "position", "max"};
+    EXPECT_DOUBLE_EQ(bench_error(run, ref, m), 3.0);
+    m.norm = "final";
+    EXPECT_DOUBLE_EQ(bench_error(run, ref, m), 1.0);
+    run.times = {1.0, 2.5};
+    EXPECT_THROW(bench_error(run, ref, m), std::invalid_argument);
+}
+
+// `mbd simulate --error-estimate` on the pendulum: the estimate (difference to a run at a ten
+// times tighter tolerance) is within a factor of 10 of the true error (closed form).
+TEST(Bench, ErrorEstimateOfSimulateIsWithinTenOfTheTrueError) {
+    const std::string csv = (std::filesystem::temp_directory_path() / "mbd_test_bench_estimate.csv").string();
+    const auto r = test::run_mbd("simulate " + test::scene_path(kPendulum).string() +
+                                 " --t-end 3 --tol 1e-6 --output-step 0.1 --error-estimate --json -q -o " + csv);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto at = r.out.find("\"position_error\": ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const double estimate = std::atof(r.out.c_str() + at + 18);
+    EXPECT_NE(r.out.find("\"cpu_s\""), std::string::npos);
+
+    // true error from the CSV: bob.x, bob.y (columns 1, 2) against the closed form
+    const Model model = load_scene(test::scene_path(kPendulum), test::shared_registry());
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);  // header
+    double truth = 0.0;
+    int rows = 0;
+    while (std::getline(in, line)) {
+        std::istringstream ls(line);
+        std::string field;
+        double v[3];
+        for (int k = 0; k < 3 && std::getline(ls, field, ','); ++k) v[k] = std::stod(field);
+        const Eigen::MatrixXd exact = pendulum_closed_form(model, "bob", {v[0]});
+        truth = std::max(truth, std::hypot(v[1] - exact(0, 0), v[2] - exact(0, 1)));
+        ++rows;
+    }
+    std::filesystem::remove(csv);
+    EXPECT_EQ(rows, 31);
+    ASSERT_GT(truth, 0.0);
+    EXPECT_GT(estimate, truth / 10.0) << "estimate " << estimate << ", true " << truth;
+    EXPECT_LT(estimate, truth * 10.0) << "estimate " << estimate << ", true " << truth;
+
+    // the text form ends with the summary line
+    const auto t = test::run_mbd("simulate " + test::scene_path(kPendulum).string() +
+                                 " --t-end 0.5 --step 0.01 --integrator rk4 --error-estimate -o " + csv);
+    ASSERT_EQ(t.exit_code, 0) << t.err;
+    EXPECT_NE(t.out.find("error estimate: CPU time"), std::string::npos) << t.out;
+    std::filesystem::remove(csv);
+}
+
+// A peer engine that is not installed is reported and skipped; the mbd runs still happen.
+TEST(Bench, MissingPeerIsReportedNotFatal) {
+    const auto dir = std::filesystem::temp_directory_path() / "mbd_test_bench_peer";
+    std::filesystem::create_directories(dir);
+    const std::string scene = (dir / "pendulum.yaml").string();
+    {
+        std::ifstream src(test::scene_path(kPendulum));
+        std::ofstream out(scene);
+        std::string line;
+        while (std::getline(src, line) && line.rfind("bench:", 0) != 0) out << line << '\n';
+        out << "bench:\n  t_end: 1\n  output_step: 0.5\n"
+               "  measure: {body: bob, quantity: position, norm: max}\n"
+               "  reference: {kind: closed_form, name: pendulum_a01}\n"
+               "  runs:\n    - {formulation: augmented, integrator: dopri5, tolerances: [1.0e-6]}\n"
+               "  peers:\n    model: pendulum_a01\n    simbody: {tolerances: [1.0e-6]}\n"
+               "    mujoco: {integrator: rk4, steps: [1.0e-3]}\n";
+    }
+    BenchOptions options;
+    options.repeat = 1;
+    options.progress = false;
+    options.peers_dir = (dir / "no-such-peers").string();
+    const BenchSceneResult result = run_bench_scene(scene, test::shared_registry(), options);
+    ASSERT_EQ(result.rows.size(), 1u);
+    EXPECT_EQ(result.rows[0].status, "ok");
+    EXPECT_LT(result.rows[0].error, 1e-4);
+    ASSERT_EQ(result.notes.size(), 2u);
+    EXPECT_NE(result.notes[0].find("peer simbody: not installed"), std::string::npos) << result.notes[0];
+    EXPECT_NE(result.notes[1].find("peer mujoco: not installed"), std::string::npos) << result.notes[1];
+
+    // and through the command, which writes CSV and JSON
+    const std::string csv = (dir / "b.csv").string(), json = (dir / "b.json").string();
+    const auto r = test::run_mbd("bench " + scene + " --repeat 1 -q --peers " + options.peers_dir + " --csv " + csv +
+                                 " --json " + json);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("not installed"), std::string::npos) << r.err;
+    std::ifstream in(csv);
+    std::string header, row;
+    std::getline(in, header);
+    std::getline(in, row);
+    EXPECT_EQ(header.rfind("engine,scene,formulation,integrator,tolerance,step,cpu_s,steps,error,error_measure,reference_kind", 0), 0u);
+    EXPECT_NE(row.find("closed_form"), std::string::npos) << row;
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace mbd
