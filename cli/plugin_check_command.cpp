@@ -130,6 +130,7 @@ void report(const std::string& what, const DerivativeErrors& e, double tolerance
     };
     const Item items[] = {{"Jacobian dC/dq (joints) or dQ/dq (forces)", e.jacobian},
                           {"gamma (Cddot = J vdot - gamma)", e.gamma},
+                          {"C_t (Cdot = J v + C_t)", e.time_derivative},
                           {"coordinate gradient J_s", e.coordinate_jacobian},
                           {"coordinate gamma_s", e.coordinate_gamma},
                           {"dQ/dv", e.velocity_jacobian},

@@ -35,11 +35,12 @@ TEST(JointDerivatives, EveryRegisteredJointTypeMatchesFiniteDifferences) {
         for (const JointInstance& ji : model.joints) {
             SCOPED_TRACE("joint '" + ji.name + "' of type " + ji.type);
             const DerivativeErrors c = check_joint_derivatives(model, ji, rng);
-            std::printf("%-10s %-12s %-14s J %.1e  gamma %.1e  J_s %.1e  gamma_s %.1e\n", to_string(model.dimension),
-                        ji.type.c_str(), ji.name.c_str(), c.jacobian, c.gamma, c.coordinate_jacobian,
+            std::printf("%-10s %-12s %-14s J %.1e  gamma %.1e  C_t %.1e  J_s %.1e  gamma_s %.1e\n",
+                        to_string(model.dimension), ji.type.c_str(), ji.name.c_str(), c.jacobian, c.gamma, c.time_derivative, c.coordinate_jacobian,
                         c.coordinate_gamma);
             EXPECT_LT(c.jacobian, 1e-6);
             EXPECT_LT(c.gamma, 1e-6);
+            EXPECT_LT(c.time_derivative, 1e-6);
             EXPECT_LT(c.coordinate_jacobian, 1e-6);
             EXPECT_LT(c.coordinate_gamma, 1e-6);
             covered[ji.type].insert(to_string(model.dimension));

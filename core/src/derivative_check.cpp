@@ -11,7 +11,7 @@
 namespace mbd {
 
 double DerivativeErrors::worst() const {
-    return std::max({jacobian, gamma, coordinate_jacobian, coordinate_gamma, velocity_jacobian, potential});
+    return std::max({jacobian, gamma, time_derivative, coordinate_jacobian, coordinate_gamma, velocity_jacobian, potential});
 }
 
 namespace {
@@ -141,7 +141,7 @@ DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance
         const double t = 0.37 + trial;
         const State s = path.state(t);
         eval(s);
-        const Eigen::VectorXd C0 = e.C, gamma = e.gamma;
+        const Eigen::VectorXd C0 = e.C, gamma = e.gamma, C_t = e.C_t;
         const Eigen::MatrixXd J = e.J;
         const double s0 = ce.value, gamma_s = ce.gamma;
         const Eigen::RowVectorXd J_s = ce.J;
@@ -211,6 +211,14 @@ DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance
             if (ji.bodies[b] != kGround) vdot.segment(nvb * b, nvb) = vdot_all.segment(model.v_offset(ji.bodies[b]), nvb);
         const Eigen::VectorXd gamma_fd = J_cmp * vdot - Cddot;
         worst.gamma = std::max(worst.gamma, relative(gamma, gamma_fd));
+        // C_t: Cdot = J v + C_t along the trajectory (book Eq. 3.120)
+        {
+            Eigen::VectorXd v = Eigen::VectorXd::Zero(cols);
+            for (size_t b = 0; b < ji.bodies.size(); ++b)
+                if (ji.bodies[b] != kGround) v.segment(nvb * b, nvb) = s.v.segment(model.v_offset(ji.bodies[b]), nvb);
+            const Eigen::VectorXd Cdot = (m2.first - 8 * m1.first + 8 * p1.first - p2.first) / (12 * ht);
+            worst.time_derivative = std::max(worst.time_derivative, relative(C_t, Cdot - J_cmp * v));
+        }
 
         if (ji.joint->has_coordinate()) {
             worst.coordinate_jacobian = std::max(worst.coordinate_jacobian,

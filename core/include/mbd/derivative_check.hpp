@@ -18,6 +18,7 @@ struct DerivativeErrors {
     // relative errors (|a - b| / max(1, |b|)), worst over the trials
     double jacobian = 0.0;
     double gamma = 0.0;
+    double time_derivative = 0.0;     // joints: C_t against Cdot - J v
     double coordinate_jacobian = 0.0;
     double coordinate_gamma = 0.0;
     double velocity_jacobian = 0.0;   // forces: dQ/dv
