@@ -20,22 +20,26 @@ if [ "${MBD_BENCH_SKIP_BUILD:-0}" != 1 ]; then
   bash scripts/install-deps.sh
   cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
   targets=(mbd mbd_plugins bench_augmented bench_embedding)
+  help=$(cmake --build "$BUILD" --target help)  # the peers are targets only when their library was found
   for peer in mbd_peer_simbody mbd_peer_mujoco; do
-    if cmake --build "$BUILD" --target help | grep -q "$peer"; then targets+=("$peer"); fi
+    if grep -q "$peer" <<<"$help"; then targets+=("$peer"); fi
   done
   cmake --build "$BUILD" -j2 --target "${targets[@]}"
 fi
 MBD="$BUILD/bin/mbd"
+# Debian's python3-matplotlib belongs to /usr/bin/python3; another python3 first on PATH may lack it.
+PY=${PYTHON:-python3}
+if ! "$PY" -c "import matplotlib" 2>/dev/null && [ -x /usr/bin/python3 ]; then PY=/usr/bin/python3; fi
 scenes=${MBD_BENCH_SCENES:-$(ls scenes/bench/*.yaml)}
 # shellcheck disable=SC2086
 "$MBD" bench $scenes --repeat "${MBD_BENCH_REPEAT:-3}" --peers "$BUILD/bin/peers" \
   --csv "$OUT/work-precision.csv" --json "$OUT/work-precision.json"
-python3 scripts/bench_scaling.py "$MBD" "$OUT/scaling.csv"
+"$PY" scripts/bench_scaling.py "$MBD" "$OUT/scaling.csv"
 {
   "$BUILD/bin/bench_augmented" 3000 300 || echo "bench_augmented failed"
   "$BUILD/bin/bench_embedding" 3000 100 || echo "bench_embedding failed"
 } > "$OUT/rhs-scaling.txt" 2>&1
 end=$(date +%s)
-python3 scripts/bench_report.py "$OUT" docs/benchmarks.md --scaling "$OUT/scaling.csv" \
+"$PY" scripts/bench_report.py "$OUT" docs/benchmarks.md --scaling "$OUT/scaling.csv" \
   --rhs "$OUT/rhs-scaling.txt" --wall $((end - start))
 echo "bench.sh: done in $((end - start)) s (plots and tables in $OUT, docs/benchmarks.md)"

@@ -45,7 +45,7 @@ def main():
     p.add_argument("mbd")
     p.add_argument("out")
     p.add_argument("--sizes", default="10,30,100,300,1000,3000,10000")
-    p.add_argument("--budget", type=float, default=20.0)
+    p.add_argument("--budget", type=float, default=10.0)
     a = p.parse_args()
     sizes = [int(s) for s in a.sizes.split(",")]
     rows = []
@@ -56,21 +56,33 @@ def main():
             with open(scenes[n], "w") as f:
                 f.write(chain(n))
         for name in formulations(a.mbd):
+            last = None  # (N, cpu per step) of the previous size
             for n in sizes:
                 steps = max(4, min(400, int(40000 / n)))
+                if last:
+                    # predicted cost per step (cubic growth as the worst case): ~2 s per point at most,
+                    # and stop before a point that would exceed the budget even with 4 steps
+                    predicted = last[1] * (n / last[0]) ** 3
+                    if 4 * predicted > a.budget:
+                        print(f"scaling: {name} N = {n}: skipped (predicted {predicted:.2g} s per step)",
+                              file=sys.stderr)
+                        break
+                    steps = max(4, min(steps, int(2.0 / predicted)))
                 cmd = [a.mbd, "simulate", scenes[n], "--formulation", name, "--integrator", "rk4", "--step", "1e-4",
                        "--t-end", f"{steps * 1e-4:.6g}", "--json", "-q", "-o", os.path.join(tmp, "out.csv")]
+                r = None
                 try:
                     r = subprocess.run(cmd, capture_output=True, text=True, timeout=6 * a.budget)
                     j = json.loads(r.stdout) if r.returncode == 0 else None
                 except (subprocess.TimeoutExpired, json.JSONDecodeError):
                     j = None
                 if not j or not j.get("steps"):
-                    msg = (r.stderr.strip().splitlines() or ["timeout"])[-1] if 'r' in dir() and r else "timeout"
+                    msg = "timeout" if j is None and r is None else ((r.stderr.strip().splitlines() or ["?"])[-1])
                     print(f"scaling: {name} N = {n}: failed ({msg[:120]})", file=sys.stderr)
                     rows.append({"formulation": name, "bodies": n, "steps": "", "cpu_s": "", "cpu_per_step_s": ""})
                     break
                 per = j["cpu_s"] / j["steps"]
+                last = (n, per)
                 rows.append({"formulation": name, "bodies": n, "steps": j["steps"], "cpu_s": j["cpu_s"],
                              "cpu_per_step_s": per})
                 print(f"scaling: {name:12s} N = {n:6d}: {per:.3e} s per step", file=sys.stderr)

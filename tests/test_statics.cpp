@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -234,9 +235,10 @@ TEST(StaticsFourBar, TheSceneIsTheBookAssembly) {
 // motion starts at rest and T + V never grows, so V stays <= 0.53 J, below both
 // barriers and below the shallow minimum; the only equilibrium it can reach is the
 // deep one, which is also the minimum a descent from the same start finds. (Not much
-// farther out: from theta2 = -1.0 Ipopt's first steps leave the constraint manifold
-// and it converges on the other assembly branch (crossed, V = -3.91 J), which the
-// linkage cannot reach without coming apart.)
+// farther out: from theta2 = -1.0 unbounded Ipopt steps left the constraint manifold
+// and converged on the other assembly branch (crossed, V = -3.91 J), which the linkage
+// cannot reach without coming apart; the step box and the branch check prevent that
+// now, see StaticsBranches below.)
 TEST(StaticsFourBar, EquilibriumEqualsWhereADampedSimulationSettles) {
     const mbd::Model model = scene(four_bar(-1.3), "four-bar-ex55.yaml");
     mbd::SimulationSettings settings;
@@ -271,6 +273,155 @@ TEST(StaticsFourBar, EquilibriumEqualsWhereADampedSimulationSettles) {
                                                 << rep.result.state.q.transpose();
     std::cout << "four-bar: |q_settled - q_statics| = " << diff.cwiseAbs().maxCoeff() << "\n";
     EXPECT_LT(last.v.cwiseAbs().maxCoeff(), 1e-8);
+}
+
+// ---------------------------------------------------------------- assembly branches and wrapped angles
+
+// A four-bar O-A-B-C (ground pivots O = (0, 0), C = (Cx, 0); slender links, centroids
+// at the link midpoints; crank x axis O -> A, coupler A -> B, rocker B -> C) with the
+// TSDA k = 250, l0 = 0.35 between crank [0.03, 0] and rocker [-0.05, 0] (body frames),
+// gravity. Independent oracle: the potential V(theta2) along one assembly branch
+// (branch = sign of (C - A) x (B - A)), from the loop closure alone.
+struct FourBarGeometry {
+    double l2, l3, l4, Cx, m2, m3, m4;
+    double k = 250.0, l0 = 0.35, g = 9.81;
+
+    // B on the branch `sign`; false when the loop does not close
+    bool joint_B(double t2, double sign, double& Bx, double& By) const {
+        const double Ax = l2 * std::cos(t2), Ay = l2 * std::sin(t2);
+        const double Dx = Cx - Ax, Dy = -Ay, r = std::hypot(Dx, Dy);
+        const double a = (l3 * l3 - l4 * l4 + r * r) / (2 * r), h2 = l3 * l3 - a * a;
+        if (h2 < 0) return false;
+        const double h = std::sqrt(h2);
+        Bx = Ax + a * Dx / r - sign * h * Dy / r;
+        By = Ay + a * Dy / r + sign * h * Dx / r;
+        return true;
+    }
+    double potential(double t2, double sign) const {
+        double Bx, By;
+        if (!joint_B(t2, sign, Bx, By)) return NAN;
+        const double Ax = l2 * std::cos(t2), Ay = l2 * std::sin(t2), t4 = std::atan2(-By, Cx - Bx);
+        const double P1x = Ax / 2 + 0.03 * std::cos(t2), P1y = Ay / 2 + 0.03 * std::sin(t2);
+        const double P2x = (Bx + Cx) / 2 - 0.05 * std::cos(t4), P2y = By / 2 - 0.05 * std::sin(t4);
+        const double stretch = std::hypot(P1x - P2x, P1y - P2y) - l0;
+        return g * (m2 * Ay / 2 + m3 * (Ay + By) / 2 + m4 * By / 2) + 0.5 * k * stretch * stretch;
+    }
+    // the deepest minimum of V on the branch: a 1-D scan, refined by golden sections
+    double deepest_minimum(double sign) const {
+        const int n = 20000;
+        double best = 0.0, v_best = INFINITY;
+        for (int i = 0; i < n; ++i) {
+            const double t = -M_PI + 2 * M_PI * i / n, v = potential(t, sign);
+            if (v < v_best) v_best = v, best = t;
+        }
+        double a = best - 4 * M_PI / n, b = best + 4 * M_PI / n;
+        const double r = (std::sqrt(5.0) - 1) / 2;
+        for (int it = 0; it < 200 && b - a > 1e-12; ++it) {
+            const double c = b - r * (b - a), d = a + r * (b - a);
+            if (potential(c, sign) < potential(d, sign)) b = d; else a = c;
+        }
+        return 0.5 * (a + b);
+    }
+    // branch of a planar state (bodies crank, coupler, rocker)
+    double branch(const Eigen::VectorXd& q) const {
+        const double t2 = q[2], t3 = q[5];
+        const double Ax = l2 * std::cos(t2), Ay = l2 * std::sin(t2);
+        const double Bx = q[3] + l3 / 2 * std::cos(t3), By = q[4] + l3 / 2 * std::sin(t3);
+        return (Cx - Ax) * (By - Ay) - (-Ay) * (Bx - Ax) > 0 ? 1.0 : -1.0;
+    }
+};
+
+const FourBarGeometry kEx55{0.2, 0.4, 0.3, 0.35, 0.5, 1.0, 0.75};          // four_bar() above
+const FourBarGeometry kTable32{0.2, 0.4, 0.5, 0.4, 1.0, 1.0, 1.0};         // scenes/dynamics/four-bar-spring-damper.yaml
+
+TEST(StaticsBranches, OracleReproducesTheBookGeometryMinima) {
+    // the values quoted above EquilibriumEqualsWhereADampedSimulationSettles
+    EXPECT_NEAR(kEx55.deepest_minimum(+1), -1.852, 1e-3);
+    EXPECT_NEAR(kEx55.potential(kEx55.deepest_minimum(+1), +1), 0.138, 1e-3);
+    // the scene four_bar(t2) is on the branch +1
+    mbd::ModelSystem system(scene(four_bar(-1.0)));
+    EXPECT_EQ(kEx55.branch(system.initial_state().q), 1.0);
+}
+
+// scenes/dynamics/four-bar-spring-damper.yaml starts at crank 90 deg, just past the
+// maximum of V on its branch (theta2 = 1.46): the descent turns the crank up through
+// 180 deg into the only well, theta2 = -1.823 + 2 pi = 4.460. Without a step box
+// Ipopt reported crank 48.86, coupler 11.74, rocker 7.66 rad, on the crossed branch
+// (its minimum, theta2 = -1.403).
+TEST(StaticsBranches, FourBarSpringDamperSceneReportsItsWellNearTheStart) {
+    const mbd::Model model =
+        mbd::load_scene(std::string(MBD_SOURCE_DIR) + "/scenes/dynamics/four-bar-spring-damper.yaml", shared_registry());
+    mbd::ModelSystem system(model);
+    mbd::State start = system.initial_state();
+    start.v.setZero(system.nv());
+    system.assemble(start, true);
+    const mbd::StaticsReport rep = statics(model);
+    ASSERT_TRUE(rep.result.converged) << rep.result.message;
+    EXPECT_EQ(rep.result.stability, "stable");
+    const Eigen::VectorXd& q = rep.result.state.q;
+    for (int b = 0; b < model.body_count(); ++b) {
+        EXPECT_GT(q[3 * b + 2] - start.q[3 * b + 2], -M_PI) << model.bodies[b].name << " angle " << q[3 * b + 2];
+        EXPECT_LE(q[3 * b + 2] - start.q[3 * b + 2], M_PI) << model.bodies[b].name << " angle " << q[3 * b + 2];
+    }
+    const double t_min = kTable32.deepest_minimum(kTable32.branch(start.q));
+    EXPECT_NEAR(t_min, -1.823, 1e-3);
+    EXPECT_EQ(kTable32.branch(q), kTable32.branch(start.q));
+    // the well, written nearest to the start (1.5708 + 2.889)
+    EXPECT_NEAR(q[2], start.q[2] + std::remainder(t_min - start.q[2], 2 * M_PI), 1e-6);
+    EXPECT_NEAR(q[2], t_min + 2 * M_PI, 1e-6);
+    EXPECT_NEAR(system.potential_energy(rep.result.state), kTable32.potential(t_min, kTable32.branch(start.q)), 1e-9);
+    // joint coordinates: also within half a turn of their start values
+    // (O: ground -> crank, A: crank -> coupler, B: coupler -> rocker, C: rocker -> ground)
+    const double s0[4] = {start.q[2], start.q[5] - start.q[2], start.q[8] - start.q[5], -start.q[8]};
+    ASSERT_EQ(rep.coordinates.size(), 4u);
+    for (int j = 0; j < 4; ++j) {
+        EXPECT_GT(rep.coordinates[j] - s0[j], -M_PI) << model.joints[j].name << " s = " << rep.coordinates[j];
+        EXPECT_LE(rep.coordinates[j] - s0[j], M_PI) << model.joints[j].name << " s = " << rep.coordinates[j];
+    }
+    EXPECT_NEAR(rep.coordinates[0], q[2], 1e-9);
+}
+
+// From theta2 = -1.0 (inside the deep well, V = 1.01 J) unbounded Ipopt steps left
+// the constraint manifold and converged on the crossed branch (V = -3.91 J). The
+// start lies in the deep well's basin on its branch (between the maxima at -0.096 and
+// 1.641 - 2 pi), so the right answer is the deep minimum on the open branch.
+TEST(StaticsBranches, FourBarFromMinusOneFindsTheDeepWellOnItsBranch) {
+    const mbd::Model model = scene(four_bar(-1.0));
+    const mbd::StaticsReport rep = statics(model);
+    ASSERT_TRUE(rep.result.converged) << rep.result.message;
+    EXPECT_EQ(rep.result.stability, "stable");
+    EXPECT_EQ(kEx55.branch(rep.result.state.q), 1.0);
+    const double t_min = kEx55.deepest_minimum(+1);
+    EXPECT_NEAR(rep.result.state.q[2], t_min, 1e-6);
+    EXPECT_NEAR(rep.result.state.q[2], -1.852, 1e-3);
+    mbd::ModelSystem system(model);
+    EXPECT_NEAR(system.potential_energy(rep.result.state), kEx55.potential(t_min, +1), 1e-9);
+}
+
+// The branch check itself: without the step box (debugging switch) Ipopt jumps to the
+// crossed branch from theta2 = -1.0; that must be a failure naming the jump, not a
+// "converged, stable" report.
+TEST(StaticsBranches, AJumpToAnotherBranchIsReportedAsAFailure) {
+    ASSERT_EQ(setenv("MBD_STATICS_TRUST_REGION", "off", 1), 0);
+    const mbd::StaticsReport rep = statics(scene(four_bar(-1.0)));
+    unsetenv("MBD_STATICS_TRUST_REGION");
+    EXPECT_FALSE(rep.result.converged);
+    EXPECT_NE(rep.result.message.find("another assembly branch"), std::string::npos) << rep.result.message;
+    EXPECT_EQ(rep.result.stability, "not assessed");
+    EXPECT_EQ(kEx55.branch(rep.result.state.q), 1.0);  // reports the start's branch, not the jump
+}
+
+// The trust region recovers from such a jump: a box 64 times too large (+-32 pi, 64 L)
+// lets Ipopt jump again; the check rejects the step (twice: 64 -> 16 -> 4), the box
+// shrinks and the solve from the same start finds the deep well on the start's branch.
+TEST(StaticsBranches, ARejectedJumpShrinksTheBoxAndRecovers) {
+    ASSERT_EQ(setenv("MBD_STATICS_TRUST_REGION", "64", 1), 0);
+    const mbd::StaticsReport rep = statics(scene(four_bar(-1.0)));
+    unsetenv("MBD_STATICS_TRUST_REGION");
+    ASSERT_TRUE(rep.result.converged) << rep.result.message;
+    EXPECT_EQ(rep.result.stability, "stable");
+    EXPECT_EQ(kEx55.branch(rep.result.state.q), 1.0);
+    EXPECT_NEAR(rep.result.state.q[2], kEx55.deepest_minimum(+1), 1e-6);
 }
 
 // ---------------------------------------------------------------- spatial arm with a payload

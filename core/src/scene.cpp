@@ -362,7 +362,8 @@ void Loader::build() {
 
     check_keys(root_, "scene",
                {"name", "dimension", "gravity", "bodies", "joints", "forces", "drivers", "formulation", "actuators",
-                "bench"});  // bench: read by `mbd bench` (core/src/bench.cpp), ignored here
+                "bench", "expect"});  // bench: read by `mbd bench` (core/src/bench.cpp), ignored here;
+                                      // expect: stored raw for `mbd stability` (core/src/stability.cpp)
 
     model_.source = file_;
     if (const Param* name = find(root_, "name")) {
@@ -383,6 +384,7 @@ void Loader::build() {
 
     if (const Param* g = find(root_, "gravity")) model_.gravity = space_vector(*g, "gravity", "scene");
     if (const Param* f = find(root_, "formulation")) load_formulation(*f);
+    if (const Param* e = find(root_, "expect")) model_.expect_node = std::make_shared<Param>(*e);
 
     if (!find(root_, "bodies"))
         throw InputError(where(root_), "the scene needs 'bodies' (a list of at least one body)");

@@ -90,19 +90,15 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
     PlanarBody pg;
     SpatialBody sg;
     pg.ground = sg.ground = true;
-    for (int b = 0; b < model.body_count(); ++b) {
-        if (planar)
-            pb[b].set(r.state.q.segment<2>(3 * b), r.state.q[3 * b + 2], Vec2::Zero(), 0.0);
-        else
-            sb[b].set(r.state.q.segment<3>(7 * b), r.state.q.segment<4>(7 * b + 3), Vec3::Zero(), Vec3::Zero());
-    }
-    for (int j = 0; j < sys.joint_count(); ++j) {
-        const JointInfo& info = sys.joint(j);
-        if (!info.joint->has_coordinate()) {
-            report.coordinates.push_back(std::numeric_limits<double>::quiet_NaN());
-            continue;
+    auto coordinate_at = [&](const State& state, int j) {
+        for (int b = 0; b < model.body_count(); ++b) {
+            if (planar)
+                pb[b].set(state.q.segment<2>(3 * b), state.q[3 * b + 2], Vec2::Zero(), 0.0);
+            else
+                sb[b].set(state.q.segment<3>(7 * b), state.q.segment<4>(7 * b + 3), Vec3::Zero(), Vec3::Zero());
         }
-        view.t = r.state.t;
+        const JointInfo& info = sys.joint(j);
+        view.t = state.t;
         view.planar_bodies.clear();
         view.spatial_bodies.clear();
         for (int b : info.bodies) {
@@ -112,7 +108,27 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
         CoordinateEval ce;
         ce.J.setZero(velocities_per_body(model.dimension) * static_cast<int>(info.bodies.size()));
         info.joint->coordinate(view, ce);
-        report.coordinates.push_back(ce.value);
+        return ce;
+    };
+    std::vector<bool> limited(sys.joint_count(), false);
+    for (const JointLimit& l : options.limits)
+        if (l.joint >= 0 && l.joint < sys.joint_count()) limited[l.joint] = true;
+    for (int j = 0; j < sys.joint_count(); ++j) {
+        const JointInfo& info = sys.joint(j);
+        if (!info.joint->has_coordinate()) {
+            report.coordinates.push_back(std::numeric_limits<double>::quiet_NaN());
+            continue;
+        }
+        const CoordinateEval ce = coordinate_at(r.state, j);
+        double s = ce.value;
+        // an angle (revolute; periodic coordinates) is reported nearest to its value at
+        // the start, s_start + wrap(s - s_start), as the body angles; a limited one as the
+        // limit row saw it
+        if ((ce.periodic || info.type == "revolute") && !limited[j]) {
+            const double s0 = coordinate_at(start, j).value;
+            s = s0 + std::remainder(s - s0, 2 * M_PI);
+        }
+        report.coordinates.push_back(s);
     }
     return report;
 }

@@ -86,6 +86,8 @@ public:
     std::string formulation;
     std::shared_ptr<const Param> formulation_node;  // the `formulation:` node (name or map)
     std::string formulation_where;
+    // The scene's `expect:` node (extreme cases: declared outcome), raw; read by core/src/stability.cpp.
+    std::shared_ptr<const Param> expect_node;
 
     int body_count() const { return static_cast<int>(bodies.size()); }
     int nq() const { return body_count() * coordinates_per_body(dimension); }

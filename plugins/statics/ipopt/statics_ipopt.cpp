@@ -19,8 +19,11 @@
 #include <IpTNLP.hpp>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <random>
 #include <sstream>
@@ -35,10 +38,13 @@ constexpr double kInf = 1e19;
 
 class StaticsNLP : public Ipopt::TNLP {
 public:
+    // x_bound: the trust region |x_i| <= x_bound[i] around q0 (empty: unbounded).
+    // tail0: starting values of the unknowns after x (virtual-work: lambda, mu_lo, mu_hi).
     StaticsNLP(Evaluator& ev, const Eigen::VectorXd& q0, const std::vector<JointLimit>& limits, bool potential,
-               bool exact_hessian, const Eigen::VectorXd& lambda0)
+               bool exact_hessian, const Eigen::VectorXd& tail0, const Eigen::VectorXd& x_bound)
         : ev_(ev), q0_(q0), limits_(limits), potential_(potential), exact_(exact_hessian && potential),
-          nv_(ev.nv), mc_(ev.mc), nl_(static_cast<int>(limits.size())), vpb_(ev.vpb), lambda0_(lambda0) {
+          nv_(ev.nv), mc_(ev.mc), nl_(static_cast<int>(limits.size())), vpb_(ev.vpb), lambda0_(tail0),
+          x_bound_(x_bound) {
         n_ = potential_ ? nv_ : nv_ + mc_ + 2 * nl_;
         m_ = potential_ ? mc_ + nl_ : mc_ + nv_ + nl_;
         off_s_ = potential_ ? mc_ : mc_ + nv_;
@@ -73,6 +79,11 @@ public:
             x_l[i] = -kInf;
             x_u[i] = kInf;
         }
+        if (x_bound_.size() == nv_)
+            for (int i = 0; i < nv_; ++i) {
+                x_l[i] = -x_bound_[i];
+                x_u[i] = x_bound_[i];
+            }
         if (!potential_)
             for (int k = 0; k < 2 * nl_; ++k) x_l[nv_ + mc_ + k] = 0.0;
         for (Index i = 0; i < m; ++i) g_l[i] = g_u[i] = 0.0;
@@ -89,7 +100,7 @@ public:
         if (init_x) {
             for (Index i = 0; i < n; ++i) x[i] = 0.0;
             if (!potential_)
-                for (int r = 0; r < mc_ && r < lambda0_.size(); ++r) x[nv_ + r] = lambda0_[r];
+                for (int r = 0; r < n - nv_ && r < lambda0_.size(); ++r) x[nv_ + r] = lambda0_[r];
         }
         return true;
     }
@@ -362,7 +373,7 @@ private:
     std::vector<JointLimit> limits_;
     bool potential_, exact_;
     int nv_, mc_, nl_, vpb_;
-    Eigen::VectorXd lambda0_;
+    Eigen::VectorXd lambda0_, x_bound_;
     int n_ = 0, m_ = 0, off_s_ = 0, ncj_ = 0, nsj_ = 0, nblock_ = 0, nh_ = 0;
     // cache at the current x
     bool have_ = false;
@@ -422,6 +433,206 @@ Eigen::VectorXd initial_multipliers(const System& sys, const State& s) {
     return ldlt.solve(cv.J * Q);
 }
 
+// ---------------------------------------------------------------- trust region and branch check
+//
+// Ipopt's iterates may leave the constraint manifold C(q) = 0 (its filter accepts
+// infeasible steps) and take large steps in the angles. Unbounded, that lets it
+// wander several turns (a correct equilibrium modulo 2 pi, reported at 48 rad) or
+// converge on another assembly branch of a closed loop, which the mechanism cannot
+// reach without coming apart. So each Ipopt solve is confined to a box around its
+// centre (rotation increments within +-f pi/2, translations within +-f L, L the size
+// of the model), the centre moves to the solution while that lies on the box, and
+// every accepted step is verified to stay on the start's component of C = 0.
+
+// Geometry of the increments: which velocity components are rotations, and the
+// length scale of the model (bounding box of the bodies and the joint points).
+struct IncrementGeometry {
+    Dimension dim = Dimension::Planar;
+    int nb = 0, vpb = 3;
+    double length = 1.0;
+
+    bool rotation(int i) const { return dim == Dimension::Planar ? i % 3 == 2 : i % 6 >= 3; }
+    // max over components of |x_i| / (pi/2 for rotations, L for translations)
+    double scaled_size(const Eigen::VectorXd& x) const {
+        double m = 0.0;
+        for (int i = 0; i < x.size(); ++i) m = std::max(m, std::abs(x[i]) / (rotation(i) ? M_PI / 2 : length));
+        return m;
+    }
+    // Distance between two configurations in the metric of the increments (m, rad).
+    double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+        double d2 = 0.0;
+        for (int k = 0; k < nb; ++k) {
+            if (dim == Dimension::Planar) {
+                d2 += (a.segment<3>(3 * k) - b.segment<3>(3 * k)).squaredNorm();  // unwrapped angles
+            } else {
+                d2 += (a.segment<3>(7 * k) - b.segment<3>(7 * k)).squaredNorm();
+                const Eigen::Quaterniond pa(a[7 * k + 3], a[7 * k + 4], a[7 * k + 5], a[7 * k + 6]);
+                const Eigen::Quaterniond pb(b[7 * k + 3], b[7 * k + 4], b[7 * k + 5], b[7 * k + 6]);
+                const double angle = pa.normalized().angularDistance(pb.normalized());
+                d2 += angle * angle;
+            }
+        }
+        return std::sqrt(d2);
+    }
+};
+
+IncrementGeometry increment_geometry(const System& sys, const Eigen::VectorXd& q) {
+    IncrementGeometry g;
+    g.dim = sys.dimension();
+    g.nb = sys.body_count();
+    g.vpb = velocities_per_body(g.dim);
+    const int cpb = coordinates_per_body(g.dim), nd = g.dim == Dimension::Planar ? 2 : 3;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
+    auto extend = [&](const Eigen::Vector3d& p) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    };
+    double reach = 0.0;
+    for (int b = 0; b < g.nb; ++b) {
+        Eigen::Vector3d p = Eigen::Vector3d::Zero();
+        p.head(nd) = q.segment(cpb * b, nd);
+        extend(p);
+    }
+    for (int j = 0; j < sys.joint_count(); ++j) {
+        const JointInfo& info = sys.joint(j);
+        for (size_t k = 0; k < info.bodies.size() && k < info.markers.size(); ++k) {
+            if (info.bodies[k] < 0) extend(info.markers[k].u_bar);  // ground markers are world points
+            else reach = std::max(reach, info.markers[k].u_bar.norm());
+        }
+    }
+    double L = lo(0) <= hi(0) ? (hi - lo).norm() : 0.0;
+    L = std::max(L, 2.0 * reach);
+    g.length = L > 0.0 ? L : 1.0;
+    return g;
+}
+
+// Minimum-norm Newton projection onto C(q) = 0 (joints and drivers at time t):
+// q <- q - J^T (J J^T)^-1 C until max |C| <= tol. A chord method: J J^T is factorised
+// once and kept, across calls too (the march projects neighbouring points), until
+// the contraction is slower than 1/4; the symbolic analysis is kept as well. False
+// when it does not converge.
+class Projector {
+public:
+    explicit Projector(const System& sys) : sys_(sys), nv_(sys.nv()), mc_(sys.constraint_rows(true)) {}
+
+    bool project(double t, Eigen::VectorXd& q, double tol, int max_iterations = 25) {
+        if (mc_ == 0) return true;
+        State s;
+        s.t = t;
+        s.v = Eigen::VectorXd::Zero(nv_);
+        double first = -1.0, previous = -1.0;
+        bool fresh = false;  // factorised in this call
+        for (int it = 0;; ++it) {
+            s.q = q;
+            sys_.constraints(s, cv_, true);
+            if (!cv_.C.allFinite()) return false;
+            const double c = cv_.C.cwiseAbs().maxCoeff();
+            if (c <= tol) return true;
+            if (first < 0) first = c;
+            if (it >= max_iterations || c > 1e3 * std::max(first, tol)) return false;
+            if (!factored_ || (previous >= 0 && c > 0.25 * previous)) {
+                if (fresh && c > 0.9 * previous) return false;  // a fresh J does not contract either
+                J_ = cv_.J;
+                if (!factor(J_)) return false;
+                factored_ = fresh = true;
+            }
+            previous = c;
+            const Eigen::VectorXd dx = -(J_.transpose() * ldlt_.solve(cv_.C));
+            if (!dx.allFinite()) return false;
+            sys_.advance_positions(q, dx);
+        }
+    }
+
+private:
+    bool factor(const Eigen::SparseMatrix<double>& J) {
+        Eigen::SparseMatrix<double> A = J * J.transpose();
+        double dmax = 0.0;
+        for (int i = 0; i < mc_; ++i) dmax = std::max(dmax, A.coeff(i, i));
+        for (int i = 0; i < mc_; ++i) A.coeffRef(i, i) += 1e-12 * (dmax + 1e-300);  // redundant rows
+        A.makeCompressed();
+        if (!analysed_ || A.nonZeros() != pattern_nnz_) {
+            ldlt_.analyzePattern(A);
+            analysed_ = true;
+            pattern_nnz_ = A.nonZeros();
+        }
+        ldlt_.factorize(A);
+        return ldlt_.info() == Eigen::Success;
+    }
+
+    const System& sys_;
+    int nv_, mc_;
+    ConstraintValues cv_;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
+    Eigen::SparseMatrix<double> J_;  // the factorised Jacobian
+    bool factored_ = false, analysed_ = false;
+    Eigen::Index pattern_nnz_ = -1;
+};
+
+// Is q_end = project(centre (+) x) on the same component of C = 0 as the centre (on
+// C = 0)? March t = 0 .. 1 along p(t) = centre (+) t x, project every p(t) onto
+// C = 0 (from p(t); from the previous projection advanced by the step when that does
+// not converge) and require the projections to move continuously:
+// |y(t1) - y(t0)| <= 3 |p(t1) - p(t0)| + slack, halving the step where they do not.
+// A jump that survives halving down to 1e-7 of the box is a change of branch.
+// Steps: at most 0.05 of the box (pi/40 rad, L/20), at least 2.
+struct MarchResult {
+    bool connected = true;
+    int projections = 0;
+    double jump_at = -1.0;  // t where the projections jump
+};
+
+MarchResult march(const System& sys, Projector& projector, const IncrementGeometry& geo, double t,
+                  const Eigen::VectorXd& centre, const Eigen::VectorXd& x, double tol) {
+    MarchResult out;
+    if (sys.constraint_rows(true) == 0) return out;
+    auto point = [&](double s) {
+        Eigen::VectorXd p = centre;
+        sys.advance_positions(p, s * x);
+        return p;
+    };
+    const double size = geo.scaled_size(x);
+    const double dt0 = 1.0 / std::max(2.0, std::ceil(size / 0.05));
+    const double slack = 1e3 * tol + 1e-9 * geo.length;
+    double s0 = 0.0, dt = dt0;
+    Eigen::VectorXd p0 = centre, y0 = centre;
+    while (s0 < 1.0) {
+        const double s1 = std::min(1.0, s0 + dt);
+        const Eigen::VectorXd p1 = point(s1);
+        const double dp = geo.distance(p0, p1);
+        Eigen::VectorXd y1 = p1;
+        ++out.projections;
+        bool ok = projector.project(t, y1, tol) && geo.distance(y0, y1) <= 3.0 * dp + slack;
+        if (!ok && s1 < 1.0) {  // from the previous projection, advanced by the step
+            y1 = y0;
+            sys.advance_positions(y1, (s1 - s0) * x);
+            ++out.projections;
+            ok = projector.project(t, y1, tol) && geo.distance(y0, y1) <= 3.0 * dp + slack;
+        }
+        if (ok) {
+            s0 = s1;
+            p0 = p1;
+            y0 = y1;
+            dt = std::min(dt0, 2.0 * dt);
+            continue;
+        }
+        dt *= 0.5;
+        if (dt * std::max(size, 1e-300) < 1e-7) {
+            out.connected = false;
+            out.jump_at = s0;
+            return out;
+        }
+    }
+    return out;
+}
+
+// Ipopt stopped at a solution: succeeded, or its step became too small to change x
+// (at the precision floor of the gradient, e.g. stiff springs: dual infeasibility
+// 8e-10 against |Q| ~ 1e4 in the 1000-body chain). The equilibrium residual is still
+// checked independently (max |C|, |Q - J^T lambda|, limits <= 1e-6 (1 + max |Q|)).
+bool finished(Ipopt::ApplicationReturnStatus s) {
+    return succeeded(s) || s == Ipopt::Search_Direction_Becomes_Too_Small;
+}
+
 class IpoptStatics final : public StaticsSolver {
 public:
     StaticsResult solve(const System& sys, const State& start, const StaticsOptions& opt) override {
@@ -445,8 +656,6 @@ public:
         Evaluator ev(sys, opt.time, limit_joints);
 
         Eigen::VectorXd lambda0 = potential ? Eigen::VectorXd() : initial_multipliers(sys, res.state);
-        Ipopt::SmartPtr<StaticsNLP> nlp =
-            new StaticsNLP(ev, res.state.q, opt.limits, potential, opt.hessian != "limited-memory", lambda0);
         Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
         app->Options()->SetIntegerValue("print_level", opt.print_level);
         app->Options()->SetStringValue("sb", "yes");
@@ -466,18 +675,113 @@ public:
             res.message = "Ipopt could not be initialised";
             return res;
         }
-        status = app->OptimizeTNLP(nlp);
+
+        // Trust-region continuation (see above): solve in the box around the centre;
+        // verify that the step stays on the start's assembly branch (else shrink the
+        // box and solve again from the same centre); re-centre on the solution while it
+        // lies on the box. Debugging aid (tests): MBD_STATICS_TRUST_REGION=off: no box;
+        // =F (a number > 0): the box starts F times its size.
+        const char* tr_env = std::getenv("MBD_STATICS_TRUST_REGION");
+        const bool trust = !(tr_env && std::string(tr_env) == "off");
+        double factor_max = 1.0;
+        if (trust && tr_env && std::atof(tr_env) > 0) factor_max = std::atof(tr_env);
+        const IncrementGeometry geo = increment_geometry(sys, start.q);
+        Projector projector(sys);
+        const double ctol = std::max(1e-9, 10.0 * opt.tolerance) * std::max(1.0, geo.length);
+        constexpr int kMaxSegments = 100;
+        constexpr double kMinFactor = 1.0 / 256;
+        Eigen::VectorXd centre = res.state.q, tail = lambda0;
+        if (!potential) {
+            tail = Eigen::VectorXd::Zero(mc + 2 * nl);
+            tail.head(lambda0.size()) = lambda0;
+        }
+        double factor = factor_max;
+        int segments = 0, rejected = 0, total_iterations = 0;
+        std::string loop_failure;
+        Ipopt::SmartPtr<StaticsNLP> nlp;
+        for (;;) {
+            Eigen::VectorXd bound;
+            if (trust) {
+                bound.resize(nv);
+                for (int i = 0; i < nv; ++i) bound[i] = factor * (geo.rotation(i) ? M_PI / 2 : geo.length);
+            }
+            nlp = new StaticsNLP(ev, centre, opt.limits, potential, opt.hessian != "limited-memory", tail, bound);
+            status = app->OptimizeTNLP(nlp);
+            total_iterations += nlp->iterations;
+            if (!nlp->finalized) break;
+            const Eigen::VectorXd x = nlp->x_final.head(nv);
+            bool at_bound = false;
+            for (int i = 0; i < bound.size(); ++i)
+                if (std::abs(x[i]) >= (1.0 - 1e-4) * bound[i]) at_bound = true;
+            // an unsuccessful solve only moves the centre when the box stopped it
+            // (e.g. virtual work: no equilibrium inside the box is "infeasible")
+            const bool stopped_by_box =
+                at_bound && (status == Ipopt::Infeasible_Problem_Detected || status == Ipopt::Restoration_Failed);
+            if (!finished(status) && !stopped_by_box) break;
+            Eigen::VectorXd q_end = centre;
+            sys.advance_positions(q_end, x);
+            if (!projector.project(opt.time, q_end, ctol)) {
+                if (!finished(status)) break;
+                loop_failure = "the configuration Ipopt returned cannot be assembled (Newton on C(q) = 0 does not converge)";
+                break;
+            }
+            if (mc > 0) {
+                const MarchResult m = march(sys, projector, geo, opt.time, centre, x, ctol);
+                if (!m.connected) {
+                    if (trust && factor > kMinFactor) {
+                        factor *= 0.25;  // smaller steps stay on the branch
+                        ++rejected;
+                        continue;
+                    }
+                    std::ostringstream msg;
+                    msg << "the solver jumped to another assembly branch: the equilibrium it found is not connected to "
+                           "the assembled start along the constraint manifold C(q) = 0 (marching from the start "
+                           "to it, the projections onto C = 0 break off"
+                        << (trust ? ", even with the step box shrunk to 1/256" : ", no step box")
+                        << "), so the linkage cannot reach it without coming apart; start the scene closer to the "
+                           "expected equilibrium, on the assembly you mean, or add joint limits";
+                    loop_failure = msg.str();
+                    break;
+                }
+            }
+            if (finished(status)) sys.advance_positions(centre, x);  // Ipopt's point, not re-projected
+            else centre = q_end;
+            if (!potential) tail = nlp->x_final.tail(nlp->x_final.size() - nv);
+            ++segments;
+            if (!at_bound) break;
+            if (segments >= kMaxSegments) {
+                loop_failure = "no equilibrium within reach: after " + std::to_string(segments) +
+                               " re-centred solves the solution still lies on the step box (the " +
+                               (potential ? "potential keeps decreasing" : "equilibrium keeps receding") +
+                               ", e.g. an unsupported body under gravity)";
+                break;
+            }
+            factor = std::min(factor_max, 2.0 * factor);
+        }
         res.status = status_name(status);
-        res.iterations = nlp->iterations;
+        res.iterations = total_iterations;
+        if (opt.print_level > 0)
+            std::printf("mbd statics: %d accepted step(s), %d rejected (left the start's assembly branch), "
+                        "final box factor %g\n", segments, rejected, factor);
         if (!nlp->finalized) {
             res.message = "Ipopt stopped without a result (" + res.status + ")" +
                           (nlp->callback_error.empty() ? std::string() : ": " + nlp->callback_error);
             return res;
         }
+        if (!loop_failure.empty()) {
+            res.state.q = centre;  // the last configuration reached on the start's branch
+            wrap_angles(sys, ev, start, opt, res.state);
+            res.message = loop_failure;
+            res.stability = "not assessed";
+            return res;
+        }
 
         // the equilibrium and its multipliers
-        const Eigen::VectorXd x = nlp->x_final.head(nv);
-        ev.configure(start.q, x, res.state.q);
+        res.state.q = centre;
+        if (!finished(status)) {  // report the failing solve's own point
+            res.state.q = centre;
+            sys.advance_positions(res.state.q, nlp->x_final.head(nv));
+        }
         Eigen::VectorXd nu = Eigen::VectorXd::Zero(nl);
         if (potential) {
             res.lambda = nlp->g_multipliers.head(mc);
@@ -487,6 +791,7 @@ public:
             for (int k = 0; k < nl; ++k) nu[k] = nlp->x_final[nv + mc + nl + k] - nlp->x_final[nv + mc + k];
         }
         if (nl > 0 && nv <= 600) polish(sys, ev, res.state, res.lambda, nu, opt.limits);
+        wrap_angles(sys, ev, start, opt, res.state);
         res.limit_multipliers = nu;
 
         // residual of the equilibrium equations
@@ -516,12 +821,12 @@ public:
         const double r_max = R.size() ? R.cwiseAbs().maxCoeff() : 0.0;
         res.residual = std::max({c_max, r_max, bound_violation});
         const double q_scale = 1.0 + (Q.size() ? Q.cwiseAbs().maxCoeff() : 0.0);
-        res.converged = succeeded(status) && res.residual <= 1e-6 * q_scale;
+        res.converged = finished(status) && res.residual <= 1e-6 * q_scale;
         if (!res.converged) {
             std::ostringstream m;
             if (status == Ipopt::Infeasible_Problem_Detected)
                 m << "no configuration satisfies the joints, drivers and limits together (Ipopt: infeasible problem)";
-            else if (!succeeded(status))
+            else if (!finished(status))
                 m << "Ipopt failed (" << res.status << ") after " << res.iterations << " iterations";
             else
                 m << "no equilibrium: Ipopt stopped with residual " << res.residual;
@@ -541,6 +846,37 @@ public:
     }
 
 private:
+    // The configuration reported nearest to the start: planar angles theta_start +
+    // wrap(theta - theta_start) (wrap to (-pi, pi]), Euler parameters with the sign
+    // of the start's. Kept unwrapped when that would change a constraint (a driver on
+    // an unwrapped angle) or a limited joint coordinate: then the path-continuous
+    // angles are the ones the equations hold for.
+    static void wrap_angles(const System& sys, Evaluator& ev, const State& start, const StaticsOptions& opt,
+                            State& state) {
+        const int nb = sys.body_count(), mc = sys.constraint_rows(true);
+        Eigen::VectorXd q = state.q;
+        for (int b = 0; b < nb; ++b) {
+            if (sys.dimension() == Dimension::Planar) {
+                const double a0 = start.q[3 * b + 2];
+                q[3 * b + 2] = a0 + std::remainder(q[3 * b + 2] - a0, 2 * M_PI);
+            } else if (q.segment<4>(7 * b + 3).dot(start.q.segment<4>(7 * b + 3)) < 0) {
+                q.segment<4>(7 * b + 3) *= -1.0;
+            }
+        }
+        if (q == state.q) return;
+        if (mc > 0) {
+            ConstraintValues a, b;
+            State s = state;
+            sys.constraints(s, a, true);
+            s.q = q;
+            sys.constraints(s, b, true);
+            if ((a.C - b.C).cwiseAbs().maxCoeff() > 1e-9) return;
+        }
+        for (const JointLimit& l : opt.limits)
+            if (std::abs(ev.coordinate(l.joint, q).value - ev.coordinate(l.joint, state.q).value) > 1e-9) return;
+        state.q = q;
+    }
+
     // Interior-point iterates stop a barrier distance (~tol / nu) inside an active
     // limit. Newton steps on the square system [C; s_a - bound; Q - J^T lambda -
     // J_a^T nu_a] = 0 (active limits as equalities) put them on it exactly.

@@ -1,0 +1,92 @@
+// mbd stability [SCENE...] [--markdown docs/stability.md]: the stability matrix of the extreme
+// cases (issue 8). Runs every scene (default: scenes/extreme/*.yaml) with every formulation the
+// registry finds and the integrators dopri5, generalized_alpha and cvode, each run in a forked
+// child with the case's wall-time budget, and writes the case x formulation x integrator matrix
+// (core/src/stability.cpp). Exit status 1 when a declared pair misses its declared outcome or a
+// child crashed.
+#include "commands.hpp"
+
+#include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
+#include <mbd/stability.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+namespace mbd::cli {
+
+namespace {
+struct StabilityArguments {
+    std::vector<std::string> scenes;
+    std::string markdown;
+    std::vector<std::string> formulations;
+    std::vector<std::string> integrators;
+    bool quick = false;
+};
+}  // namespace
+
+void add_stability_command(CLI::App& app, Commands& commands) {
+    CLI::App* sub = app.add_subcommand("stability", "Run the extreme cases (scenes with an 'expect:' key) with every "
+                                                    "formulation and integrator and write the outcome matrix");
+    auto args = std::make_shared<StabilityArguments>();
+    sub->add_option("SCENE", args->scenes, "Scenes (default: every scenes/extreme/*.yaml under the current directory)");
+    sub->add_option("--markdown", args->markdown, "Write the matrix as Markdown to this file (e.g. docs/stability.md)");
+    sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable; default: all found)");
+    sub->add_option("--integrator", args->integrators, "Only these integrators (default: dopri5, generalized_alpha, cvode)");
+    sub->add_flag("--quick", args->quick, "Use each case's quick_t_end (shorter runs)");
+
+    commands[sub] = [args] {
+        std::vector<std::string> scenes = args->scenes;
+        if (scenes.empty()) {
+            for (const auto& entry : std::filesystem::directory_iterator("scenes/extreme"))
+                if (entry.path().extension() == ".yaml") scenes.push_back(entry.path().string());
+            std::sort(scenes.begin(), scenes.end());
+        }
+        Registry registry;
+        std::vector<std::string> formulations = args->formulations;
+        if (formulations.empty()) formulations = registry.type_names("formulation");
+        std::vector<std::string> integrators = args->integrators;
+        if (integrators.empty()) integrators = stability_integrators();
+
+        std::vector<StabilityCase> cases;
+        int wrong = 0, crashes = 0;
+        for (const std::string& scene : scenes) {
+            StabilityCase c;
+            c.scene = scene;
+            {
+                Registry r;
+                const Model model = load_scene(scene, r);
+                c.name = std::filesystem::path(scene).stem().string();
+                c.expect = read_expectation(model);
+            }
+            for (const std::string& f : formulations)
+                for (const std::string& i : integrators) {
+                    CellOutcome o = run_case_isolated(scene, f, i, args->quick ? c.expect.quick_t_end : 0.0);
+                    std::printf("%-28s %-12s %-18s %s (%.1f s)\n", c.name.c_str(), f.c_str(), i.c_str(),
+                                o.cell().c_str(), o.seconds);
+                    if (!o.message.empty() && o.kind != "pass") std::printf("    %s\n", o.message.substr(0, 300).c_str());
+                    std::fflush(stdout);
+                    if (o.kind == "crashed" || o.kind == "error") ++crashes;
+                    if (f == c.expect.formulation && i == c.expect.integrator && !outcome_matches(c.expect, o)) ++wrong;
+                    c.cells.push_back(o);
+                }
+            if (args->quick) c.expect.t_end = c.expect.quick_t_end;
+            cases.push_back(std::move(c));
+        }
+        if (!args->markdown.empty()) {
+            std::ofstream out(args->markdown);
+            out << stability_markdown(cases, formulations, integrators,
+                                      std::string("mbd stability") + (args->quick ? " --quick" : "") +
+                                          " --markdown " + args->markdown);
+            std::printf("wrote %s\n", args->markdown.c_str());
+        }
+        std::printf("%zu cases: %d declared pairs missed their declared outcome, %d crashes or errors\n", cases.size(),
+                    wrong, crashes);
+        return wrong > 0 || crashes > 0 ? 1 : 0;
+    };
+}
+
+}  // namespace mbd::cli

@@ -1,0 +1,458 @@
+// Stability matrix of the extreme cases (issue 8); see mbd/stability.hpp.
+#include <mbd/stability.hpp>
+
+#include <mbd/kinematics.hpp>
+#include <mbd/model_system.hpp>
+#include <mbd/scene.hpp>
+#include <mbd/simulation.hpp>
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/params.hpp>
+
+#include <boost/math/special_functions/ellint_1.hpp>
+#include <boost/math/special_functions/jacobi_elliptic.hpp>
+
+#include <Eigen/Geometry>
+
+#include <sys/wait.h>
+#include <unistd.h>
+#include <poll.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+
+namespace mbd {
+
+namespace {
+
+const std::vector<std::string> kKinds = {"step_size_collapse", "newton_divergence", "singular_constraints",
+                                         "redundant_constraints", "assembly_failure", "projection_failure",
+                                         "blow_up", "max_steps", "solver_failure", "budget_exceeded"};
+
+const Param* field(const Param& node, const std::string& key) {
+    auto it = node.fields.find(key);
+    return it == node.fields.end() ? nullptr : &it->second;
+}
+
+double number_or(const Param& node, const std::string& key, double fallback) {
+    const Param* p = field(node, key);
+    return p ? p->as_number("expect." + key) : fallback;
+}
+
+std::string text_or(const Param& node, const std::string& key, const std::string& fallback) {
+    const Param* p = field(node, key);
+    if (!p) return fallback;
+    if (!p->is_scalar()) p->fail("expect." + key + " must be a name");
+    return p->text;
+}
+
+std::vector<std::string> kind_list(const Param& p, const std::string& what) {
+    std::vector<std::string> out;
+    if (p.is_scalar()) out.push_back(p.text);
+    else if (p.is_list())
+        for (const Param& item : p.items) {
+            if (!item.is_scalar()) item.fail(what + " must be failure kinds");
+            out.push_back(item.text);
+        }
+    else p.fail(what + " must be a failure kind or a list of them");
+    for (const std::string& k : out)
+        if (std::find(kKinds.begin(), kKinds.end(), k) == kKinds.end()) {
+            std::string known;
+            for (const auto& n : kKinds) known += (known.empty() ? "" : ", ") + n;
+            p.fail(what + ": unknown failure kind '" + k + "'; known: " + known);
+        }
+    return out;
+}
+
+Mat3 rotation_matrix(const Eigen::VectorXd& q, int offset) {
+    Eigen::Quaterniond e(q[offset + 3], q[offset + 4], q[offset + 5], q[offset + 6]);
+    return e.normalized().toRotationMatrix();
+}
+
+std::string format_g(double x, int digits = 2) {
+    char b[48];
+    std::snprintf(b, sizeof b, "%.*g", digits, x);
+    return b;
+}
+
+// The failure kind of an engine message.
+std::string classify(const std::string& m, bool assembly) {
+    auto has = [&m](const char* s) { return m.find(s) != std::string::npos; };
+    if (assembly) return "assembly_failure";
+    if (has("step size collapse")) return "step_size_collapse";
+    if (has("Newton iteration did not converge") || has("CV_CONV_FAILURE") || has("did not converge"))
+        return "newton_divergence";
+    if (has("redundant")) return "redundant_constraints";
+    if (has("singular")) return "singular_constraints";
+    if (has("initial state could not be projected") || has("could not be assembled")) return "assembly_failure";
+    if (has("projection onto the constraint manifold failed")) return "projection_failure";
+    if (has("grew without bound") || has("non-finite") || has("diverged")) return "blow_up";
+    if (has("maximum number of steps") || has("CV_TOO_MUCH_WORK")) return "max_steps";
+    if (has("CV_ERR_FAILURE")) return "step_size_collapse";
+    return "solver_failure";
+}
+
+}  // namespace
+
+Expectation read_expectation(const Model& model) {
+    if (!model.expect_node) throw InputError(model.source, "the scene has no 'expect:' key (declared outcome)");
+    const Param& node = *model.expect_node;
+    if (!node.is_map()) node.fail("'expect' must be a map: {outcome: pass | failure, ...}");
+    Expectation e;
+    const Param* outcome = field(node, "outcome");
+    if (!outcome || !outcome->is_scalar() || (outcome->text != "pass" && outcome->text != "failure"))
+        node.fail("expect.outcome must be 'pass' or 'failure'");
+    e.pass = outcome->text == "pass";
+    if (e.pass) {
+        if (const Param* a = field(node, "also_accept")) e.kinds = kind_list(*a, "expect.also_accept");
+    } else {
+        const Param* k = field(node, "kind");
+        if (!k) node.fail("expect: a failure needs 'kind' (one failure kind or a list)");
+        e.kinds = kind_list(*k, "expect.kind");
+    }
+    e.measure = text_or(node, "measure", e.measure);
+    const std::vector<std::string> measures = {"oscillator", "energy", "momentum", "rotation", "a01", "constraints"};
+    if (std::find(measures.begin(), measures.end(), e.measure) == measures.end())
+        node.fail("expect.measure '" + e.measure +
+                  "' is unknown; known: oscillator, energy, momentum, rotation, a01, constraints");
+    e.bound = number_or(node, "bound", e.bound);
+    e.formulation = text_or(node, "formulation", e.formulation);
+    e.integrator = text_or(node, "integrator", e.integrator);
+    e.t_end = number_or(node, "t_end", e.t_end);
+    e.quick_t_end = number_or(node, "quick_t_end", e.t_end);
+    e.output_step = number_or(node, "output_step", 0.0);
+    e.tolerance = number_or(node, "tolerance", e.tolerance);
+    e.step = number_or(node, "step", 0.0);
+    e.rho_infinity = number_or(node, "rho_infinity", e.rho_infinity);
+    e.budget = number_or(node, "budget", e.budget);
+    if (const Param* m = field(node, e.measure)) {
+        if (!m->is_map()) m->fail("expect." + e.measure + " must be a map");
+        e.body = text_or(*m, "body", "");
+        e.amplitude = number_or(*m, "amplitude", 0.0);
+        e.omega = number_or(*m, "omega", 0.0);
+        e.length = number_or(*m, "length", 1.0);
+        if (const Param* a = field(*m, "axis")) e.axis = a->as_vector("expect." + e.measure + ".axis", 3).normalized();
+    }
+    if ((e.measure == "oscillator" || e.measure == "rotation" || e.measure == "a01") && e.body.empty())
+        node.fail("expect." + e.measure + " needs {body: NAME, ...}");
+    if (!e.body.empty() && model.body_index(e.body) < 0)
+        node.fail("expect: unknown body '" + e.body + "'");
+    return e;
+}
+
+std::string CellOutcome::cell() const {
+    std::string at = time >= 0.0 ? " at t = " + format_g(time, 3) : std::string();
+    if (kind == "pass") return "pass (error " + format_g(error) + ")";
+    if (kind == "inaccurate") return "inaccurate (error " + format_g(error) + " > " + format_g(bound) + ")";
+    if (kind == "crashed") return "crashed (signal " + std::to_string(signal) + ")";
+    if (kind == "budget_exceeded") return "budget exceeded (" + format_g(seconds, 3) + " s" + at + ")";
+    if (kind == "not_applicable") return "n/a (" + message + ")";
+    std::string name = kind;
+    std::replace(name.begin(), name.end(), '_', ' ');
+    if (kind == "step_size_collapse") name = "step-size collapse";
+    std::string detail;
+    if (kind == "singular_constraints" || kind == "redundant_constraints") {
+        // the engine names the dependent rows' joints; keep that part
+        const size_t j = message.find("joint");
+        if (j != std::string::npos) {
+            detail = message.substr(j, 80);
+            const size_t end = detail.find_first_of(";)\n");
+            if (end != std::string::npos) detail = detail.substr(0, end);
+            detail = ", " + detail;
+        }
+    }
+    return name + at + detail;
+}
+
+std::vector<std::string> stability_integrators() { return {"dopri5", "generalized_alpha", "cvode"}; }
+
+CellOutcome run_case(const Model& model, Registry& registry, const Expectation& e, const std::string& formulation,
+                     const std::string& integrator, double t_end) {
+    CellOutcome out;
+    out.bound = e.bound;
+    if (!(t_end > 0.0)) t_end = e.t_end;
+    SimulationSettings s;
+    s.formulation = formulation;
+    s.integrator = integrator;
+    s.t_end = t_end;
+    s.output_step = e.output_step > 0.0 ? std::min(e.output_step, t_end) : t_end / 200.0;
+    s.progress = false;
+    s.integration.tolerance = e.tolerance;
+    s.integration.rho_infinity = e.rho_infinity;
+    if (integrator == "generalized_alpha" || integrator == "rk4" || integrator == "euler")
+        s.integration.step = e.step > 0.0 ? e.step : s.output_step / 10.0;
+
+    ModelSystem system(model);
+    const int body = e.body.empty() ? -1 : model.body_index(e.body);
+    const bool planar = model.dimension == Dimension::Planar;
+    double worst = 0.0, E0 = 0.0, scale = 0.0, T0 = 0.0;
+    Vec3 L0 = Vec3::Zero();
+    bool first = true, over_budget = false;
+    double last_t = 0.0;
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&start] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    const double k_mod = std::sin(M_PI / 4.0);
+    const double K = boost::math::ellint_1(k_mod);
+
+    auto callback = [&](const SimulationSample& sample) -> bool {
+        const State& st = sample.state;
+        last_t = st.t;
+        if (e.measure == "oscillator") {
+            const double x = st.q[model.q_offset(body)];
+            worst = std::max(worst, std::abs(x - e.amplitude * std::cos(e.omega * st.t)) / std::abs(e.amplitude));
+        } else if (e.measure == "energy") {
+            const double T = system.kinetic_energy(st), V = system.potential_energy(st);
+            if (first) E0 = T + V;
+            scale = std::max(scale, T + std::abs(V));
+            if (scale > 0.0) worst = std::max(worst, std::abs(T + V - E0) / scale);
+        } else if (e.measure == "momentum") {
+            const double T = system.kinetic_energy(st);
+            Vec3 L = Vec3::Zero();
+            for (int b = 0; b < model.body_count(); ++b) {
+                const int qo = model.q_offset(b), vo = model.v_offset(b);
+                const Vec3 R = st.q.segment<3>(qo), Rdot = st.v.segment<3>(vo), w = st.v.segment<3>(vo + 3);
+                L += model.bodies[b].mass * R.cross(Rdot) + rotation_matrix(st.q, qo) * (model.bodies[b].inertia * w);
+            }
+            if (first) T0 = T, L0 = L;
+            worst = std::max({worst, std::abs(T - T0) / std::max(T0, 1e-300), (L - L0).norm() / std::max(L0.norm(), 1e-300)});
+        } else if (e.measure == "rotation") {
+            const Mat3 A = rotation_matrix(st.q, model.q_offset(body));
+            const Vec4& p0 = model.bodies[body].euler_parameters;
+            const Mat3 A0 = Eigen::Quaterniond(p0[0], p0[1], p0[2], p0[3]).normalized().toRotationMatrix();
+            const Mat3 exact = Eigen::AngleAxisd(e.omega * st.t, e.axis).toRotationMatrix() * A0;
+            worst = std::max(worst, (A - exact).cwiseAbs().maxCoeff());
+        } else if (e.measure == "a01") {
+            // compound pendulum pinned at the origin: J_O = J + m l^2, w^2 = m g l / J_O
+            const Body& b = model.bodies[body];
+            const double l = e.length, g = std::abs(model.gravity.y());
+            const double w = std::sqrt(b.mass * g * l / (b.inertia(2, 2) + b.mass * l * l));
+            const double theta = 2.0 * std::asin(k_mod * boost::math::jacobi_sn(k_mod, K - w * st.t));
+            const int qo = model.q_offset(body);
+            const double dx = st.q[qo] - l * std::sin(theta), dy = st.q[qo + 1] + l * std::cos(theta);
+            worst = std::max(worst, std::hypot(dx, dy));
+        }
+        (void)planar;
+        first = false;
+        if (elapsed() > e.budget) {
+            over_budget = true;
+            return false;
+        }
+        return true;
+    };
+
+    try {
+        const SimulationResult r = simulate(model, registry, s, callback);
+        out.seconds = elapsed();
+        if (over_budget) {
+            out.kind = "budget_exceeded";
+            out.time = last_t;
+            return out;
+        }
+        if (e.measure == "constraints") worst = r.final_position_violation;
+        out.error = worst;
+        out.kind = std::isfinite(worst) && worst <= e.bound ? "pass" : "inaccurate";
+        if (!std::isfinite(worst)) out.kind = "blow_up";
+    } catch (const KinematicsError& x) {
+        out.kind = "assembly_failure";
+        out.message = x.what();
+        out.time = 0.0;
+    } catch (const DynamicsError& x) {
+        out.message = x.what();
+        out.time = x.time();
+        out.kind = classify(out.message, false);
+    } catch (const InputError& x) {
+        out.message = x.what();
+        if (out.message.find("index-3") != std::string::npos) {
+            out.kind = "not_applicable";
+            out.message = "no index-3 form";
+        } else {
+            out.kind = "error";
+        }
+    } catch (const std::exception& x) {
+        out.message = x.what();
+        out.kind = "error";
+    }
+    out.seconds = elapsed();
+    return out;
+}
+
+CellOutcome run_case_isolated(const std::string& scene, const std::string& formulation, const std::string& integrator,
+                              double t_end) {
+    double budget = 30.0;
+    {
+        Registry registry;
+        budget = read_expectation(load_scene(scene, registry)).budget;
+    }
+    int fds[2];
+    CellOutcome out;
+    if (pipe(fds) != 0) {
+        out.kind = "error";
+        out.message = "pipe() failed";
+        return out;
+    }
+    std::fflush(nullptr);
+    const auto start = std::chrono::steady_clock::now();
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        CellOutcome c;
+        try {
+            Registry registry;
+            const Model model = load_scene(scene, registry);
+            c = run_case(model, registry, read_expectation(model), formulation, integrator, t_end);
+        } catch (const std::exception& x) {
+            c.kind = "error";
+            c.message = x.what();
+        }
+        std::string msg = c.message.substr(0, 2000);
+        std::replace(msg.begin(), msg.end(), '\n', ' ');
+        char head[256];
+        std::snprintf(head, sizeof head, "%s\t%.17g\t%.17g\t%.17g\t%.17g\t", c.kind.c_str(), c.error, c.bound, c.time,
+                      c.seconds);
+        const std::string line = head + msg + "\n";
+        size_t done = 0;
+        while (done < line.size()) {
+            const ssize_t w = write(fds[1], line.data() + done, line.size() - done);
+            if (w <= 0) break;
+            done += static_cast<size_t>(w);
+        }
+        close(fds[1]);
+        _exit(0);
+    }
+    close(fds[1]);
+    if (pid < 0) {
+        close(fds[0]);
+        out.kind = "error";
+        out.message = "fork() failed";
+        return out;
+    }
+    std::string text;
+    int status = 0;
+    bool killed = false;
+    const double hard_limit = budget + 10.0;
+    for (;;) {
+        pollfd p{fds[0], POLLIN, 0};
+        const int ready = poll(&p, 1, 100);
+        if (ready > 0) {
+            char buf[4096];
+            const ssize_t n = read(fds[0], buf, sizeof buf);
+            if (n > 0) text.append(buf, static_cast<size_t>(n));
+            if (n == 0) break;  // EOF: the child closed its end (exited)
+        }
+        const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (t > hard_limit && !killed) {
+            kill(pid, SIGKILL);
+            killed = true;
+        }
+        if (killed && ready <= 0) {
+            int st = 0;
+            if (waitpid(pid, &st, WNOHANG) == pid) {
+                status = st;
+                close(fds[0]);
+                out.kind = "budget_exceeded";
+                out.seconds = t;
+                return out;
+            }
+        }
+    }
+    close(fds[0]);
+    waitpid(pid, &status, 0);
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (killed) {
+        out.kind = "budget_exceeded";
+        return out;
+    }
+    if (WIFSIGNALED(status)) {
+        out.kind = "crashed";
+        out.signal = WTERMSIG(status);
+        return out;
+    }
+    std::istringstream in(text);
+    std::string kind, error, bound, time, seconds, message;
+    if (!std::getline(in, kind, '\t') || !std::getline(in, error, '\t') || !std::getline(in, bound, '\t') ||
+        !std::getline(in, time, '\t') || !std::getline(in, seconds, '\t')) {
+        out.kind = "crashed";
+        out.message = "the child exited without a result (status " + std::to_string(WEXITSTATUS(status)) + ")";
+        return out;
+    }
+    std::getline(in, message);
+    out.kind = kind;
+    out.error = std::stod(error);
+    out.bound = std::stod(bound);
+    out.time = std::stod(time);
+    out.message = message;
+    return out;
+}
+
+bool outcome_matches(const Expectation& e, const CellOutcome& o) {
+    if (e.pass && o.kind == "pass") return true;
+    return std::find(e.kinds.begin(), e.kinds.end(), o.kind) != e.kinds.end();
+}
+
+std::string stability_markdown(const std::vector<StabilityCase>& cases, const std::vector<std::string>& formulations,
+                               const std::vector<std::string>& integrators, const std::string& command) {
+    std::ostringstream md;
+    md << "# Stability matrix of the extreme cases (issue 8)\n\n"
+       << "Generated by `" << command << "` (core/src/stability.cpp, cli/stability_command.cpp); do not edit by "
+       << "hand. Every scene of `scenes/extreme/` declares its expected outcome in its header comment and in its "
+       << "`expect:` key; each cell is one run (a forked child with the case's wall-time budget) of that case with "
+       << "one formulation and one integrator, at the case's tolerance (dopri5, cvode) or step "
+       << "(generalized_alpha).\n\n"
+       << "Cells: `pass (error E)` (the case's error measure within its bound), `inaccurate (error E > B)`, or a "
+       << "named failure: step-size collapse, Newton divergence, singular constraints / redundant constraints "
+       << "(naming the joints), assembly failure, projection failure, blow up (the state grew without bound), "
+       << "max steps, solver failure, budget exceeded, `n/a` (the integrator needs a form the formulation does "
+       << "not have), `crashed (signal N)` (an engine defect). A `*` marks the declared pair; `ok`/`WRONG` says "
+       << "whether the declared pair ended in a declared outcome.\n\n";
+    int wrong = 0, crashes = 0;
+    md << "| case | expected | declared |";
+    for (const auto& f : formulations)
+        for (const auto& i : integrators) md << " " << f << " + " << i << " |";
+    md << "\n|---|---|---|";
+    for (size_t k = 0; k < formulations.size() * integrators.size(); ++k) md << "---|";
+    md << "\n";
+    std::ostringstream notes;
+    for (const StabilityCase& c : cases) {
+        std::string expected;
+        if (c.expect.pass) {
+            expected = "pass: " + c.expect.measure + " <= " + format_g(c.expect.bound);
+            for (const auto& k : c.expect.kinds) expected += " or " + k;
+        } else {
+            for (const auto& k : c.expect.kinds) expected += (expected.empty() ? "" : " or ") + k;
+        }
+        std::string verdict = "not run";
+        for (size_t fi = 0; fi < formulations.size(); ++fi)
+            for (size_t ii = 0; ii < integrators.size(); ++ii) {
+                const CellOutcome& o = c.cells[fi * integrators.size() + ii];
+                if (o.kind == "crashed" || o.kind == "error") {
+                    ++crashes;
+                    notes << "- " << c.name << ", " << formulations[fi] << " + " << integrators[ii] << ": "
+                          << o.cell() << (o.message.empty() ? "" : ": " + o.message) << "\n";
+                }
+                if (formulations[fi] == c.expect.formulation && integrators[ii] == c.expect.integrator)
+                    verdict = outcome_matches(c.expect, o) ? "ok" : "WRONG";
+            }
+        if (verdict == "WRONG") ++wrong;
+        md << "| " << c.name << " (t_end " << format_g(c.expect.t_end, 4) << " s) | " << expected << " | "
+           << c.expect.formulation << " + " << c.expect.integrator << ": " << verdict << " |";
+        for (size_t fi = 0; fi < formulations.size(); ++fi)
+            for (size_t ii = 0; ii < integrators.size(); ++ii) {
+                const CellOutcome& o = c.cells[fi * integrators.size() + ii];
+                const bool declared = formulations[fi] == c.expect.formulation && integrators[ii] == c.expect.integrator;
+                md << " " << o.cell() << (declared ? " *" : "") << " |";
+            }
+        md << "\n";
+    }
+    md << "\nSummary: " << cases.size() << " cases, " << wrong << " declared pairs not in a declared outcome, "
+       << crashes << " crashes or unexpected errors.\n";
+    if (crashes > 0) md << "\n## Crashes and unexpected errors (engine defects)\n\n" << notes.str();
+    return md.str();
+}
+
+}  // namespace mbd
