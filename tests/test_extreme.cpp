@@ -58,6 +58,27 @@ TEST(Extreme, EveryCaseEndsInADeclaredOutcome) {
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 60.0);
 }
 
+TEST(Extreme, DeadCentreIsASingularConfigurationForExplicitIntegrators) {
+    // slider crank driven at the slider through its dead centre (book Sec. 3.9): the rank of
+    // J (joints + drivers) drops at t = 0.5 s; the shared rank test (sdk singularity.hpp)
+    // reports it instead of a silent pass through an arbitrary branch
+    const Model model = load_scene(scene_path("extreme/slider-crank-dead-centre.yaml").string(), shared_registry());
+    const Expectation e = read_expectation(model);
+    for (const char* formulation : {"augmented", "embedding"}) {
+        SCOPED_TRACE(formulation);
+        const CellOutcome o = run_case(model, shared_registry(), e, formulation, "dopri5", e.quick_t_end);
+        EXPECT_EQ(o.kind, "singular_constraints") << o.cell() << " " << o.message;
+        EXPECT_NE(o.message.find("lost rank"), std::string::npos) << o.message;
+        EXPECT_NE(o.message.find("dead centre"), std::string::npos) << o.message;
+        EXPECT_NEAR(o.time, 0.5, 0.05) << o.message;
+    }
+    // redundancy present from the start (Bricard) is not a singularity
+    const Model bricard = load_scene(scene_path("extreme/bricard-dynamics.yaml").string(), shared_registry());
+    const Expectation eb = read_expectation(bricard);
+    const CellOutcome ob = run_case(bricard, shared_registry(), eb, "augmented", "dopri5", eb.quick_t_end);
+    EXPECT_EQ(ob.kind, "pass") << ob.cell() << " " << ob.message;
+}
+
 TEST(Extreme, ExpectKeyIsValidated) {
     const std::string base = "dimension: planar\nbodies:\n  - {name: b, mass: 1, inertia: 1, position: [0, 0]}\n";
     const Model none = load_scene_text(base, "none", shared_registry());

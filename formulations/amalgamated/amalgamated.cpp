@@ -24,8 +24,12 @@
 // none. Reactions: lambda from Q_c = -J^T lambda (book Eq. 6.128) on the kept rows,
 // J_d^T lambda = -Q_c,d (redundant rows get zero).
 #include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/ode_state.hpp>
 #include <mbd/sdk/partition.hpp>
+#include <mbd/sdk/partition_settings.hpp>
 #include <mbd/sdk/projection.hpp>
+#include <mbd/sdk/singularity.hpp>
+#include <mbd/sdk/text.hpp>
 #include <mbd/sdk/velocity_transform.hpp>
 
 #include <Eigen/Dense>
@@ -33,7 +37,6 @@
 #include <Eigen/UmfPackSupport>
 
 #include <cmath>
-#include <cstdio>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -41,12 +44,6 @@
 
 namespace mbd {
 namespace {
-
-std::string format_time(double t) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.10g", t);
-    return buffer;
-}
 
 Stabilization parse_stabilization(const Param& p) {
     if (p.text == "projection") return Stabilization::Projection;
@@ -80,8 +77,7 @@ private:
 
     std::optional<Stabilization> stabilization_;
     std::optional<double> alpha_, beta_, projection_tolerance_;
-    double pivot_threshold_ = 0.1, reselect_ratio_ = 0.05, rank_tolerance_ = 1e-10;
-    bool log_ = false;
+    PartitionSettings partition_settings_;  // log defaults to false
 
     const System* system_ = nullptr;
     FormulationOptions options_;
@@ -98,6 +94,7 @@ private:
     Eigen::SparseMatrix<double> K_;
     Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu_;
     DenseMetricSolver metric_;
+    SingularityMonitor singularity_;  // rank drop of J after an accepted step (singularity.hpp)
 };
 
 Amalgamated::Amalgamated(const FormulationSpec& spec) {
@@ -107,22 +104,15 @@ Amalgamated::Amalgamated(const FormulationSpec& spec) {
     if (params.has("alpha")) alpha_ = params.non_negative("alpha", 0.0);
     if (params.has("beta")) beta_ = params.number("beta");
     if (params.has("projection_tolerance")) projection_tolerance_ = params.positive("projection_tolerance");
-    if (params.has("pivot_threshold")) {
-        pivot_threshold_ = params.positive("pivot_threshold");
-        if (pivot_threshold_ > 1.0) params.at("pivot_threshold").fail("'pivot_threshold' must be in (0, 1]");
-    }
-    if (params.has("reselect_ratio")) reselect_ratio_ = params.non_negative("reselect_ratio", 0.05);
-    if (params.has("rank_tolerance")) rank_tolerance_ = params.positive("rank_tolerance");
-    if (params.has("log")) {
-        const std::string v = params.string("log");
-        if (v != "true" && v != "false") params.at("log").fail("'log' must be true or false");
-        log_ = v == "true";
-    }
+    partition_settings_.read(params);
+    partition_settings_.read_log(params);
+    singularity_.read(params);
     const std::vector<std::string> unread = params.unread_keys();
     if (!unread.empty())
         params.fail("unknown key '" + unread.front() +
                     "' for the amalgamated formulation; its keys are type, stabilization (projection, baumgarte, none), "
-                    "alpha, beta, projection_tolerance, pivot_threshold, reselect_ratio, rank_tolerance, log");
+                    "alpha, beta, projection_tolerance, pivot_threshold, reselect_ratio, rank_tolerance, log, "
+                    "singularity_tolerance");
 }
 
 void Amalgamated::bind(const System& system, const FormulationOptions& options) {
@@ -138,6 +128,7 @@ void Amalgamated::bind(const System& system, const FormulationOptions& options) 
     nvb_ = velocities_per_body(system.dimension());
     Mdense_ = Eigen::MatrixXd(system.mass_matrix());
     metric_.bind(system);
+    singularity_.reset();
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
     Q_.setZero(nv_);
@@ -158,7 +149,7 @@ void Amalgamated::bind(const System& system, const FormulationOptions& options) 
 void Amalgamated::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
     J_ = Eigen::MatrixXd(cv_.J);
-    part_ = partition_coordinates(J_, initial ? pivot_threshold_ : 1.0, rank_tolerance_);
+    part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     analysed_ = false;
     if (initial && !part_.redundant.empty()) {
         std::string rows;
@@ -232,23 +223,15 @@ void Amalgamated::solve_dynamics(double t) {
     Qc_ = -x_.segment(n, n);
 }
 
-void Amalgamated::to_ode(const State& state, Eigen::VectorXd& y) const {
-    y.resize(nq_ + nv_);
-    y.head(nq_) = state.q;
-    y.tail(nv_) = state.v;
-}
+void Amalgamated::to_ode(const State& state, Eigen::VectorXd& y) const { qv_to_ode(state, nq_, nv_, y); }
 
 void Amalgamated::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
-    state.t = t;
-    state.q = y.head(nq_);
-    state.v = y.tail(nv_);
+    qv_from_ode(t, y, nq_, nv_, state);
 }
 
 void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
-    state_.t = t;
-    state_.q = y.head(nq_);
-    state_.v = y.tail(nv_);
+    qv_from_ode(t, y, nq_, nv_, state_);
     solve_dynamics(t);
     ydot.resize(nq_ + nv_);
     ydot.head(nq_) = system_->coordinate_rates(state_.q, state_.v);
@@ -257,11 +240,10 @@ void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
 
 bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     const System& sys = *system_;
-    state_.t = t;
-    state_.q = y.head(nq_);
-    state_.v = y.tail(nv_);
+    qv_from_ode(t, y, nq_, nv_, state_);
     sys.normalize(state_.q);
-    if (options_.stabilization == Stabilization::Projection && nc_ > 0) {
+    const bool projected = options_.stabilization == Stabilization::Projection && nc_ > 0;
+    if (projected) {
         // the augmented formulation's projection (projection.hpp), dense S = J M^-1 J^T
         const Eigen::VectorXd q0 = state_.q, v0 = state_.v;
         const bool ok = project_onto_constraints(
@@ -269,6 +251,10 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
             [&](bool robust) { metric_.factor(cv_.J, robust); }, [&](Eigen::VectorXd& x) { metric_.solve(x); },
             [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { metric_.apply_Minv(x, out); });
         if (!ok) return false;
+    }
+    if (singularity_.active(sys)) {
+        if (!projected) sys.constraints(state_, cv_, true);
+        singularity_.check(sys, t, cv_.J);  // cv_ at the (projected) positions
     }
     y.head(nq_) = state_.q;
     y.tail(nv_) = state_.v;
@@ -278,12 +264,12 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
         system_->constraints(state_, cv_, true);
         J_ = Eigen::MatrixXd(cv_.J);
         const double ratio = dependent_pivot_ratio(J_, part_);
-        if (ratio < reselect_ratio_) {
-            CoordinatePartition fresh = partition_coordinates(J_, 1.0, rank_tolerance_);
+        if (ratio < partition_settings_.reselect_ratio) {
+            CoordinatePartition fresh = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
             if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh) > ratio) {
                 part_ = std::move(fresh);
                 analysed_ = false;
-                if (log_) std::clog << "amalgamated: t = " << format_time(t) << ": new coordinate partition\n";
+                if (partition_settings_.log) std::clog << "amalgamated: t = " << format_time(t) << ": new coordinate partition\n";
             }
         }
     }

@@ -30,7 +30,9 @@
 // dq = -M^-1 J^T S^-1 C, then v <- v - M^-1 J^T S^-1 (J v + C_t)); Baumgarte
 // (book Sec. 6.12, L9420-9442: gamma - 2 alpha (J v + C_t) - beta^2 C); or none.
 #include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/ode_state.hpp>
 #include <mbd/sdk/projection.hpp>
+#include <mbd/sdk/singularity.hpp>
 
 #include <Eigen/Dense>
 
@@ -48,12 +50,6 @@ extern "C" {
 
 namespace mbd {
 namespace {
-
-std::string format_time(double t) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.10g", t);
-    return buffer;
-}
 
 class Augmented final : public Formulation {
 public:
@@ -119,6 +115,8 @@ private:
     cholmod_dense* Y_ = nullptr;
     cholmod_dense* E_ = nullptr;
     double regularization_ = 0.0;
+    // rank drop of J after an accepted step: a singular configuration (sdk singularity.hpp)
+    SingularityMonitor singularity_;
 };
 
 Stabilization parse_stabilization(const Param& p) {
@@ -142,11 +140,13 @@ Augmented::Augmented(const FormulationSpec& spec) {
         algebra_ = a;
     }
     if (params.has("sparse_threshold")) sparse_threshold_ = static_cast<int>(params.positive("sparse_threshold"));
+    singularity_.read(params);
     const std::vector<std::string> unread = params.unread_keys();
     if (!unread.empty())
         params.fail("unknown key '" + unread.front() +
                     "' for the augmented formulation; its keys are type, stabilization (projection, baumgarte, none), "
-                    "alpha, beta, projection_tolerance, linear_algebra (auto, dense, sparse), sparse_threshold");
+                    "alpha, beta, projection_tolerance, linear_algebra (auto, dense, sparse), sparse_threshold, "
+                    "singularity_tolerance");
 }
 
 void Augmented::release_cholmod() {
@@ -217,6 +217,7 @@ void Augmented::bind(const System& system, const FormulationOptions& options) {
     cv_.C_t.setZero(nc_);
     cv_.gamma.setZero(nc_);
     rank_deficient_ = false;
+    singularity_.reset();
 
     if (!sparse_) {
         Jd_.setZero(nc_, nv_);
@@ -272,16 +273,10 @@ void Augmented::bind(const System& system, const FormulationOptions& options) {
     if (!L_) throw std::runtime_error("augmented formulation: CHOLMOD analysis failed");
 }
 
-void Augmented::to_ode(const State& state, Eigen::VectorXd& y) const {
-    y.resize(nq_ + nv_);
-    y.head(nq_) = state.q;
-    y.tail(nv_) = state.v;
-}
+void Augmented::to_ode(const State& state, Eigen::VectorXd& y) const { qv_to_ode(state, nq_, nv_, y); }
 
 void Augmented::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
-    state.t = t;
-    state.q = y.head(nq_);
-    state.v = y.tail(nv_);
+    qv_from_ode(t, y, nq_, nv_, state);
 }
 
 void Augmented::apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const {
@@ -510,9 +505,7 @@ void Augmented::solve_dynamics(double t) {
 }
 
 void Augmented::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
-    state_.t = t;
-    state_.q = y.head(nq_);
-    state_.v = y.tail(nv_);
+    qv_from_ode(t, y, nq_, nv_, state_);
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     solve_dynamics(t);
     ydot.resize(nq_ + nv_);
@@ -532,12 +525,14 @@ void Augmented::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
 
 bool Augmented::project(double t, Eigen::VectorXd& y) {
     const System& sys = *system_;
-    state_.t = t;
-    state_.q = y.head(nq_);
-    state_.v = y.tail(nv_);
+    qv_from_ode(t, y, nq_, nv_, state_);
     sys.normalize(state_.q);  // unit Euler parameters
     if (options_.stabilization != Stabilization::Projection || nc_ == 0) {
         y.head(nq_) = state_.q;
+        if (singularity_.active(sys)) {
+            sys.constraints(state_, cv_, true);
+            singularity_.check(sys, t, cv_.J);
+        }
         return true;
     }
     // Newton on C(q, t) = 0 with steps of least kinetic-energy norm, then the velocity
@@ -549,6 +544,7 @@ bool Augmented::project(double t, Eigen::VectorXd& y) {
         [&](bool robust) { factor(t, "projection", robust); }, [&](Eigen::VectorXd& x) { solve_S(x); },
         [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { apply_Minv(x, out); });
     if (!ok) return false;
+    singularity_.check(sys, t, cv_.J);  // cv_ is at the projected positions
     y.head(nq_) = state_.q;
     y.tail(nv_) = state_.v;
     return true;

@@ -18,6 +18,7 @@
 #include "recursive.hpp"
 
 #include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/singularity.hpp>
 #include <mbd/sdk/topology.hpp>
 
 #include <iostream>
@@ -42,18 +43,35 @@ public:
             std::clog << "embedding: " << (recursive ? "recursive" : "dense") << " path (" << reason
                       << (settings_.path != "auto" ? "; forced by path: " + settings_.path : std::string()) << ")\n";
         impl_->bind(system, options);
+        system_ = &system;
+        singularity_.reset();
     }
     int ode_size() const override { return impl_->ode_size(); }
     void to_ode(const State& state, Eigen::VectorXd& y) const override { impl_->to_ode(state, y); }
     void from_ode(double t, const Eigen::VectorXd& y, State& state) const override { impl_->from_ode(t, y, state); }
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { impl_->rhs(t, y, ydot); }
-    bool project(double t, Eigen::VectorXd& y) override { return impl_->project(t, y); }
+    bool project(double t, Eigen::VectorXd& y) override {
+        if (!impl_->project(t, y)) return false;
+        // a rank drop of J (joints + drivers) at the accepted state is a singular configuration
+        // (singularity.hpp): checked here for both paths, once per accepted step
+        if (singularity_.active(*system_)) {
+            impl_->from_ode(t, y, check_state_);
+            system_->constraints(check_state_, check_cv_, true);
+            singularity_.check(*system_, t, check_cv_.J);
+        }
+        return true;
+    }
+    bool state_redefined() override { return impl_->state_redefined(); }
     void multipliers(const State& state, Eigen::VectorXd& lambda) override { impl_->multipliers(state, lambda); }
     void accelerations(const State& state, Eigen::VectorXd& vdot) override { impl_->accelerations(state, vdot); }
 
 private:
     embedding::Settings settings_;
     std::unique_ptr<Formulation> impl_;
+    const System* system_ = nullptr;
+    SingularityMonitor singularity_;
+    State check_state_;
+    ConstraintValues check_cv_;
 };
 
 Embedding::Embedding(const FormulationSpec& spec) {
@@ -64,12 +82,7 @@ Embedding::Embedding(const FormulationSpec& spec) {
         if (settings_.path != "auto" && settings_.path != "dense" && settings_.path != "recursive")
             params.at("path").fail("'path' must be auto, dense or recursive, got '" + settings_.path + "'");
     }
-    if (params.has("pivot_threshold")) {
-        settings_.pivot_threshold = params.positive("pivot_threshold");
-        if (settings_.pivot_threshold > 1.0) params.at("pivot_threshold").fail("'pivot_threshold' must be in (0, 1]");
-    }
-    if (params.has("reselect_ratio")) settings_.reselect_ratio = params.non_negative("reselect_ratio", 0.05);
-    if (params.has("rank_tolerance")) settings_.rank_tolerance = params.positive("rank_tolerance");
+    settings_.read(params);  // pivot_threshold, reselect_ratio, rank_tolerance
     if (params.has("newton_tolerance")) settings_.newton_tolerance = params.positive("newton_tolerance");
     if (params.has("newton_iterations")) settings_.newton_iterations = static_cast<int>(params.positive("newton_iterations"));
     if (params.has("independent")) {
@@ -81,17 +94,14 @@ Embedding::Embedding(const FormulationSpec& spec) {
         else
             p.fail("'independent' must be a velocity component name or a list of them (e.g. [crank.angle])");
     }
-    if (params.has("log")) {
-        const std::string v = params.string("log");
-        if (v != "true" && v != "false") params.at("log").fail("'log' must be true or false");
-        settings_.log = v == "true";
-    }
+    settings_.read_log(params);
+    singularity_.read(params);
     const std::vector<std::string> unread = params.unread_keys();
     if (!unread.empty())
         params.fail("unknown key '" + unread.front() +
                     "' for the embedding formulation; its keys are type, path (auto, dense, recursive), "
                     "pivot_threshold, reselect_ratio, rank_tolerance, newton_tolerance, newton_iterations, "
-                    "independent, log");
+                    "independent, log, singularity_tolerance");
 }
 
 }  // namespace

@@ -26,6 +26,7 @@ void Partitioned::bind(const System& system, const FormulationOptions& options) 
     M_ = Eigen::MatrixXd(system.mass_matrix());
     selected_ = false;
     reselections_ = 0;
+    redefined_ = false;
     last_rhs_t_ = -std::numeric_limits<double>::infinity();
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
@@ -186,6 +187,7 @@ bool Partitioned::project(double t, Eigen::VectorXd& y) {
             if (!same_set(fresh.dependent, p.dependent) && jd_pivot_ratio(fresh) > ratio) {
                 part_ = std::move(fresh);
                 ++reselections_;
+                redefined_ = true;
                 if (settings_.log) {
                     char detail[80];
                     std::snprintf(detail, sizeof detail, " (pivot ratio of J_d was %.3g)", ratio);

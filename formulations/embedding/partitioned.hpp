@@ -60,6 +60,11 @@ public:
     // For tests and diagnostics.
     const CoordinatePartition& partition() const { return part_; }
     int reselections() const { return reselections_; }
+    bool state_redefined() override {
+        const bool r = redefined_;
+        redefined_ = false;
+        return r;
+    }
     std::string independent_names() const;
 
 private:
@@ -85,6 +90,7 @@ private:
     mutable CoordinatePartition part_;
     mutable bool selected_ = false;
     mutable int reselections_ = 0;
+    bool redefined_ = false;  // set by a re-selection in project(), cleared by state_redefined()
     double last_rhs_t_ = -std::numeric_limits<double>::infinity();
 
     // scratch

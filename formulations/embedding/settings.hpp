@@ -1,30 +1,25 @@
 // Settings and small helpers shared by the two paths of the embedding formulation.
 #pragma once
 
+#include <mbd/sdk/partition_settings.hpp>
 #include <mbd/sdk/system.hpp>
+#include <mbd/sdk/text.hpp>  // format_time
 
-#include <cstdio>
 #include <string>
 #include <vector>
 
 namespace mbd::embedding {
 
-struct Settings {
+// pivot_threshold, reselect_ratio, rank_tolerance and log come from PartitionSettings;
+// log (path choice, redundant rows and re-selections on std::clog) defaults to true here.
+struct Settings : PartitionSettings {
+    Settings() { log = true; }
+
     std::string path = "auto";            // auto | dense | recursive
-    double pivot_threshold = 0.1;         // initial selection: threshold pivoting (partition.hpp)
-    double reselect_ratio = 0.05;         // re-select when J_d's pivot ratio falls below this (book Sec. 6.12)
-    double rank_tolerance = 1e-10;        // relative: rows below this after elimination are redundant
     double newton_tolerance = 1e-12;      // |C| of the dependent-position Newton-Raphson (scaled by the coordinates)
     int newton_iterations = 25;
     std::vector<std::string> independent; // optional initial independent velocity components ("crank.angle")
-    bool log = true;                      // path choice, redundant rows and re-selections on std::clog
 };
-
-inline std::string format_time(double t) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.10g", t);
-    return buffer;
-}
 
 // Names of the velocity components: planar body.x, body.y, body.angle; spatial body.x,
 // body.y, body.z (mass-centre velocity, world) and body.wx, body.wy, body.wz (angular

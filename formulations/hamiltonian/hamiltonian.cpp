@@ -33,13 +33,15 @@
 // as B_new^T M v (the same velocities).
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/partition.hpp>
+#include <mbd/sdk/partition_settings.hpp>
+#include <mbd/sdk/singularity.hpp>
+#include <mbd/sdk/text.hpp>
 #include <mbd/sdk/velocity_transform.hpp>
 
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <iostream>
 #include <limits>
 #include <string>
@@ -47,12 +49,6 @@
 
 namespace mbd {
 namespace {
-
-std::string format_time(double t) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.10g", t);
-    return buffer;
-}
 
 class Hamiltonian final : public Formulation {
 public:
@@ -66,6 +62,11 @@ public:
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
     void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+    bool state_redefined() override {
+        const bool r = redefined_;
+        redefined_ = false;
+        return r;
+    }
     bool has_hamiltonian() const override { return true; }
     double hamiltonian(double t, const Eigen::VectorXd& y) const override;
 
@@ -80,10 +81,10 @@ private:
     // Jdot w on all rows (polarization of gamma, see the header)
     void jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out) const;
 
-    double pivot_threshold_ = 0.1, reselect_ratio_ = 0.05, rank_tolerance_ = 1e-10;
+    PartitionSettings partition_settings_;  // log defaults to false
+    SingularityMonitor singularity_;        // rank drop of J after an accepted step (singularity.hpp)
     double newton_tolerance_ = 1e-12;
     int newton_iterations_ = 25;
-    bool log_ = false;
 
     const System* system_ = nullptr;
     bool planar_ = true;
@@ -91,6 +92,7 @@ private:
     Eigen::MatrixXd M_;
     mutable CoordinatePartition part_;
     mutable bool selected_ = false;
+    bool redefined_ = false;  // set by a re-selection in project(), cleared by state_redefined()
     double last_rhs_t_ = -std::numeric_limits<double>::infinity();
 
     mutable State state_, probe_;
@@ -103,24 +105,16 @@ private:
 Hamiltonian::Hamiltonian(const FormulationSpec& spec) {
     const Params& params = spec.params;
     params.mark_read("type");
-    if (params.has("pivot_threshold")) {
-        pivot_threshold_ = params.positive("pivot_threshold");
-        if (pivot_threshold_ > 1.0) params.at("pivot_threshold").fail("'pivot_threshold' must be in (0, 1]");
-    }
-    if (params.has("reselect_ratio")) reselect_ratio_ = params.non_negative("reselect_ratio", 0.05);
-    if (params.has("rank_tolerance")) rank_tolerance_ = params.positive("rank_tolerance");
+    partition_settings_.read(params);
     if (params.has("newton_tolerance")) newton_tolerance_ = params.positive("newton_tolerance");
     if (params.has("newton_iterations")) newton_iterations_ = static_cast<int>(params.positive("newton_iterations"));
-    if (params.has("log")) {
-        const std::string v = params.string("log");
-        if (v != "true" && v != "false") params.at("log").fail("'log' must be true or false");
-        log_ = v == "true";
-    }
+    partition_settings_.read_log(params);
+    singularity_.read(params);
     const std::vector<std::string> unread = params.unread_keys();
     if (!unread.empty())
         params.fail("unknown key '" + unread.front() +
                     "' for the hamiltonian formulation; its keys are type, pivot_threshold, reselect_ratio, "
-                    "rank_tolerance, newton_tolerance, newton_iterations, log");
+                    "rank_tolerance, newton_tolerance, newton_iterations, log, singularity_tolerance");
 }
 
 void Hamiltonian::bind(const System& system, const FormulationOptions& /*options*/) {
@@ -131,6 +125,8 @@ void Hamiltonian::bind(const System& system, const FormulationOptions& /*options
     nc_ = system.constraint_rows(true);
     M_ = Eigen::MatrixXd(system.mass_matrix());
     selected_ = false;
+    redefined_ = false;
+    singularity_.reset();
     last_rhs_t_ = -std::numeric_limits<double>::infinity();
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
@@ -148,7 +144,7 @@ void Hamiltonian::bind(const System& system, const FormulationOptions& /*options
 void Hamiltonian::select(const State& state, bool initial) const {
     system_->constraints(state, cv_, true);
     J_ = Eigen::MatrixXd(cv_.J);
-    part_ = partition_coordinates(J_, initial ? pivot_threshold_ : 1.0, rank_tolerance_);
+    part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     selected_ = true;
     if (initial && !part_.redundant.empty()) {
         std::string rows;
@@ -268,13 +264,14 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     ConstraintValues cv;
     Eigen::MatrixXd J;
     if (!correct_dependent_positions(sys, s, part_, tol, newton_iterations_, cv, J)) return false;
+    singularity_.check(sys, t, cv.J);  // cv at the corrected positions
     // re-selection near a singular J_d (book Sec. 6.12), only at the end of an accepted step
     if (t >= last_rhs_t_ && part_.rank > 0) {
         const double ratio = dependent_pivot_ratio(J, part_);
-        if (ratio < reselect_ratio_) {
+        if (ratio < partition_settings_.reselect_ratio) {
             kinematics(t, s.q, y.tail(k));
             const Eigen::VectorXd v = state_.v;
-            CoordinatePartition fresh = partition_coordinates(J, 1.0, rank_tolerance_);
+            CoordinatePartition fresh = partition_coordinates(J, 1.0, partition_settings_.rank_tolerance);
             if (fresh.rank != part_.rank)
                 throw DynamicsError(t, "hamiltonian: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(part_.rank));
@@ -282,7 +279,8 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
                 part_ = std::move(fresh);
                 transform(t, s.q);
                 y.tail(k) = B_.transpose() * (M_ * v);  // the same velocities in the new momenta
-                if (log_) std::clog << "hamiltonian: t = " << format_time(t) << ": new coordinate partition\n";
+                redefined_ = true;
+                if (partition_settings_.log) std::clog << "hamiltonian: t = " << format_time(t) << ": new coordinate partition\n";
             }
         }
     }
@@ -308,7 +306,7 @@ void Hamiltonian::accelerations(const State& state, Eigen::VectorXd& vdot) {
     system_->constraints(state, cv_, true);
     J_ = Eigen::MatrixXd(cv_.J);
     CoordinatePartition p = part_;
-    if (dependent_pivot_ratio(J_, p) < reselect_ratio_) p = partition_coordinates(J_, 1.0, rank_tolerance_);
+    if (dependent_pivot_ratio(J_, p) < partition_settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
     solve_accelerations(state.t, p, state, vdot);
 }
 
@@ -316,7 +314,7 @@ void Hamiltonian::multipliers(const State& state, Eigen::VectorXd& lambda) {
     system_->constraints(state, cv_, true);
     J_ = Eigen::MatrixXd(cv_.J);
     CoordinatePartition p = part_;
-    if (dependent_pivot_ratio(J_, p) < reselect_ratio_) p = partition_coordinates(J_, 1.0, rank_tolerance_);
+    if (dependent_pivot_ratio(J_, p) < partition_settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
     Eigen::VectorXd vdot;
     solve_accelerations(state.t, p, state, vdot);
     multipliers_from_dependent_rows(J_, p, Eigen::VectorXd(Q_ - M_ * vdot), lambda);

@@ -14,6 +14,7 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <cmath>
 #include <exception>
 
 namespace mbd::integrators {
@@ -48,7 +49,10 @@ int projection_callback(realtype t, N_Vector ycur, N_Vector corr, realtype /*eps
     try {
         Eigen::Map<Eigen::VectorXd> y(N_VGetArrayPointer(ycur), n);
         cb->projected = y;
-        if (!cb->problem->project(t, cb->projected)) return 1;  // recoverable: retry with a smaller step
+        // CVODE projects before its error test, so this step may still be rejected: a time
+        // just below t keeps the formulation from re-selecting here (it re-selects only at
+        // the end of the step, t >= its last rhs time); integrate() re-selects after the step
+        if (!cb->problem->project(std::nextafter(t, -HUGE_VAL), cb->projected)) return 1;  // recoverable
         Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(corr), n) = cb->projected - y;
         y = cb->projected;
         return 0;
@@ -164,29 +168,66 @@ void Cvode::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const 
         stats.newton_iterations += nni;
     };
 
+    // A formulation that re-selects its independent coordinates in project() changes
+    // the meaning of part of y (Formulation::state_redefined): the BDF history then
+    // describes another state, so CVODE restarts from the current (t, y) with
+    // CVodeReInit (history discarded, order 1). Steps are taken one at a time
+    // (CV_ONE_STEP) to check this after every step, and each output time is a stop
+    // time, so no output is interpolated across a restart.
+    Formulation* formulation = problem.formulation();
+    auto redefined = [&]() { return formulation && formulation->state_redefined(); };
+    redefined();  // a flag left by an earlier run does not concern this one
+    long steps_before = 0;  // CVodeReInit zeroes CVODE's counters: the steps of earlier segments
+    double t_cur = t0;
+    auto restart = [&](double t, const Eigen::VectorXd& ynew) {
+        long nst = 0;
+        CVodeGetNumSteps(s.cvode, &nst);
+        steps_before += nst;
+        collect();
+        ymap = ynew;
+        check(CVodeReInit(s.cvode, t, s.y), "CVodeReInit");
+        t_cur = t;
+    };
+    auto fail = [&](int flag, double t_reached) {
+        collect();
+        if (cb.error) std::rethrow_exception(cb.error);
+        double t_fail = t_reached;
+        CVodeGetCurrentTime(s.cvode, &t_fail);
+        std::string hint;
+        if (flag == CV_TOO_MUCH_WORK) hint = " (the maximum number of steps was exceeded)";
+        throw DynamicsError(t_fail, "cvode failed at t = " + format_time(t_fail) + ": " + CVodeGetReturnFlagName(flag) +
+                                        hint + (cb.message.empty() ? "" : ": " + cb.message));
+    };
+
     Eigen::VectorXd yout(n);
     while (next < output_times.size()) {
         const double t_out = output_times[next];
-        double t_reached = t0;
-        // CVODE's step limit counts per CVode call: give it what is left of ours
-        long taken = 0;
-        CVodeGetNumSteps(s.cvode, &taken);
-        check(CVodeSetMaxNumSteps(s.cvode, std::max(1L, settings_.max_steps - taken)), "CVodeSetMaxNumSteps");
-        const int flag = CVode(s.cvode, t_out, s.y, &t_reached, CV_NORMAL);
-        if (flag < 0) {
-            collect();
-            if (cb.error) std::rethrow_exception(cb.error);
-            double t_fail = t_reached;
-            CVodeGetCurrentTime(s.cvode, &t_fail);
-            std::string hint;
-            if (flag == CV_TOO_MUCH_WORK) hint = " (the maximum number of steps was exceeded)";
-            throw DynamicsError(t_fail, "cvode failed at t = " + format_time(t_fail) + ": " +
-                                            CVodeGetReturnFlagName(flag) + hint +
-                                            (cb.message.empty() ? "" : ": " + cb.message));
+        if (t_out > t_cur + eps) {
+            check(CVodeSetStopTime(s.cvode, t_out), "CVodeSetStopTime");
+            for (;;) {
+                long taken = 0;
+                CVodeGetNumSteps(s.cvode, &taken);
+                if (steps_before + taken >= settings_.max_steps) fail(CV_TOO_MUCH_WORK, t_cur);
+                double t_reached = t_cur;
+                const int flag = CVode(s.cvode, t_out, s.y, &t_reached, CV_ONE_STEP);
+                if (flag < 0) fail(flag, t_reached);
+                t_cur = t_reached;
+                const bool at_output = flag == CV_TSTOP_RETURN || t_reached >= t_out - eps;
+                // the accepted step: the formulation may re-select its coordinates here
+                yout = ymap;
+                project_or_throw(problem, t_reached, yout);
+                if (redefined()) {
+                    restart(t_reached, yout);
+                    if (!at_output) check(CVodeSetStopTime(s.cvode, t_out), "CVodeSetStopTime");
+                }
+                if (at_output) break;
+            }
+            t_cur = t_out;
         }
         yout = ymap;
-        // the interpolated output is pulled onto the manifold as well
+        // the output is pulled onto the manifold as well
         project_or_throw(problem, t_out, yout);
+        if (redefined()) restart(t_out, yout);  // that projection re-selected: go on from it
         ++next;
         if (output && !output(t_out, yout)) {
             y = yout;

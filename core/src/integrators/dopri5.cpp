@@ -198,7 +198,10 @@ void Dopri5::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const
             guard.check(t, y);
             unprojected_ = y;
             project_or_throw(problem, t, y);
-            if (y != unprojected_) {
+            // a re-selection (Formulation::state_redefined) always restarts it too
+            Formulation* formulation = problem.formulation();
+            const bool redefined = formulation && formulation->state_redefined();
+            if (redefined || y != unprojected_) {
                 problem.rhs(t, y, k1_);  // restart the FSAL derivative at the projected state
                 ++stats.rhs_evaluations;
             }

@@ -63,6 +63,10 @@ public:
     // After an accepted step: pull y back onto the manifold (positions and
     // velocities, unit Euler parameters). Returns false if that failed.
     virtual bool project(double /*t*/, Eigen::VectorXd& /*y*/) { return true; }
+    // True once after project() changed the meaning of part of y (a re-selection of
+    // the independent coordinates); the call clears it. A multistep integrator must
+    // then discard its history and restart from the current (t, y).
+    virtual bool state_redefined() { return false; }
 
     // --- results
     // Lagrange multipliers of every constraint row (joints, then drivers) at a
