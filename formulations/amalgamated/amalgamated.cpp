@@ -151,12 +151,8 @@ void Amalgamated::select(const State& state, bool initial) {
     J_ = Eigen::MatrixXd(cv_.J);
     part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     analysed_ = false;
-    if (initial && !part_.redundant.empty()) {
-        std::string rows;
-        for (int r : part_.redundant) rows += (rows.empty() ? "" : ", ") + system_->describe_row(r);
-        std::clog << "amalgamated: " << part_.redundant.size() << " redundant constraint row"
-                  << (part_.redundant.size() == 1 ? "" : "s") << " dropped: " << rows << '\n';
-    }
+    if (initial && !part_.redundant.empty())
+        std::clog << "amalgamated: " << redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }) << '\n';
 }
 
 // The block matrix of Eq. 4.20 with unknowns x = [vdot; -Q_c; vdot_i].

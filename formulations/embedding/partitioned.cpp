@@ -84,12 +84,9 @@ void Partitioned::select(const State& state, bool initial) const {
     selected_ = true;
     if (initial && settings_.log) {
         log_partition(state.t, "");
-        if (!part_.redundant.empty()) {
-            std::string rows;
-            for (int r : part_.redundant) rows += (rows.empty() ? "" : ", ") + system_->describe_row(r);
-            std::clog << "embedding: " << part_.redundant.size() << " redundant constraint row"
-                      << (part_.redundant.size() == 1 ? "" : "s") << " dropped: " << rows << '\n';
-        }
+        if (!part_.redundant.empty())
+            std::clog << "embedding: " << redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); })
+                      << '\n';
     }
 }
 

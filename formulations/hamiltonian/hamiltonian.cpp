@@ -146,12 +146,8 @@ void Hamiltonian::select(const State& state, bool initial) const {
     J_ = Eigen::MatrixXd(cv_.J);
     part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     selected_ = true;
-    if (initial && !part_.redundant.empty()) {
-        std::string rows;
-        for (int r : part_.redundant) rows += (rows.empty() ? "" : ", ") + system_->describe_row(r);
-        std::clog << "hamiltonian: " << part_.redundant.size() << " redundant constraint row"
-                  << (part_.redundant.size() == 1 ? "" : "s") << " dropped: " << rows << '\n';
-    }
+    if (initial && !part_.redundant.empty())
+        std::clog << "hamiltonian: " << redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }) << '\n';
 }
 
 void Hamiltonian::transform(double t, const Eigen::VectorXd& q) const {

@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace mbd {
@@ -95,6 +96,16 @@ inline CoordinatePartition partition_coordinates(const Eigen::MatrixXd& J, doubl
         if (!row_used[r]) out.redundant.push_back(r);
     out.pivot_ratio = out.rank ? pmin / pmax : 1.0;
     return out;
+}
+
+// "N redundant constraint row(s) dropped: <names>", for the log line a formulation
+// writes when its partition drops rows; describe_row(r) names row r.
+template <class DescribeRow>
+std::string redundant_rows_message(const CoordinatePartition& partition, DescribeRow describe_row) {
+    std::string rows;
+    for (int r : partition.redundant) rows += (rows.empty() ? "" : ", ") + describe_row(r);
+    return std::to_string(partition.redundant.size()) + " redundant constraint row" +
+           (partition.redundant.size() == 1 ? "" : "s") + " dropped: " + rows;
 }
 
 }  // namespace mbd
