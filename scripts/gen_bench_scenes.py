@@ -115,7 +115,9 @@ scenes = [
         "{formulation: augmented, integrator: dopri5, tolerances: [1.0e-4, 1.0e-6, 1.0e-8]}",
         "{formulation: embedding, integrator: dopri5, tolerances: [1.0e-4, 1.0e-6, 1.0e-8]}",
         "{formulation: augmented, integrator: generalized_alpha, steps: [1.0e-2, 3.0e-3]}",
-    ]),
+    ], peers=["model: four_bar_40",
+              "simbody: {integrator: rkmerson, tolerances: [1.0e-3]}",
+              "mujoco: {integrator: rk4, steps: [1.0e-3, 3.0e-4]}"]),
     chain(5, 2.0, [
         f"{{formulation: augmented, integrator: dopri5, tolerances: {TOLS}}}",
         f"{{formulation: embedding, integrator: dopri5, tolerances: {TOLS}}}",
@@ -133,7 +135,9 @@ scenes = [
     chain(500, 0.2, [
         "{formulation: augmented, integrator: dopri5, tolerances: [1.0e-4, 1.0e-6]}",
         "{formulation: embedding, integrator: dopri5, tolerances: [1.0e-4, 1.0e-6, 1.0e-8]}",
-    ], output_step=0.01),
+    ], peers=["model: chain_500",
+              "simbody: {integrator: rkmerson, tolerances: [1.0e-3, 1.0e-4, 1.0e-6, 1.0e-8]}",
+              "mujoco: {integrator: rk4, steps: [1.0e-2, 5.0e-3, 2.5e-3]}"], output_step=0.01),
 ]
 for name, text in scenes:
     with open(os.path.join(HERE, name + ".yaml"), "w") as f:

@@ -95,6 +95,46 @@ expect:
         f.write(text)
 
 
+def spatial_chain(name, n, t_end, bound, budget, quick):
+    """n rods of 1/n m on spherical joints, hanging from the ground, released horizontal."""
+    L = 1.0 / n
+    m = 1.0
+    axial, transverse = 1e-6 * m * L * L, m * L * L / 12
+    bodies = [f"  - {{name: l{i}, mass: {m!r}, inertia: [{axial!r}, {transverse!r}, {transverse!r}], "
+              f"position: [{(i + 0.5) * L!r}, 0.0, 0.0]}}" for i in range(n)]
+    bodies[-1] = bodies[-1].replace("position:", f"velocity: [0.0, 1.0, 0.0], angular_velocity: [0.0, 0.0, {2.0 / L!r}], position:")
+    joints = ["  - {name: j0, type: spherical, bodies: [ground, l0], point: [0.0, 0.0, 0.0]}"]
+    joints += [f"  - {{name: j{i}, type: spherical, bodies: [l{i - 1}, l{i}], point: [{i * L!r}, 0.0, 0.0]}}"
+               for i in range(1, n)]
+    text = f"""# A spatial chain of {n} links on spherical joints (issue 8, extreme cases).
+# {n} uniform rods of {L:g} m and 1 kg (transverse inertia m L^2 / 12, axial inertia 1e-6 of
+# that: nearly singular about each rod's axis) hang from the ground by spherical joints,
+# g = 9.81 along -z; released from the straight horizontal position along x with the last rod
+# swinging sideways (1 m/s along y at its centre, turning about its joint), so that the motion
+# is fully spatial.
+# Error measure: the energy drift max |E(t) - E(0)| / max(T + |V|) over the output times.
+# Expected outcome: pass with augmented + dopri5, energy drift <= {bound:g}.
+name: {name}
+dimension: spatial
+gravity: [0, 0, -9.81]
+bodies:
+""" + "\n".join(bodies) + "\njoints:\n" + "\n".join(joints) + f"""
+expect:
+  outcome: pass
+  measure: energy
+  bound: {bound!r}
+  formulation: augmented
+  integrator: dopri5
+  t_end: {t_end!r}
+  quick_t_end: {quick!r}
+  tolerance: 1.0e-10
+  step: 1.0e-4
+  budget: {budget}
+"""
+    with open(os.path.join(OUT, name + ".yaml"), "w") as f:
+        f.write(text)
+
+
 if __name__ == "__main__":
     os.makedirs(OUT, exist_ok=True)
     spring("spring-k1e2", 1e2, 1.0, 1e-3, 10.0, 1e-10, 1e-3, 1e-4, quick=2.0)
@@ -113,3 +153,4 @@ if __name__ == "__main__":
           "A long chain of 200 links")
     chain("chain-1000", 1000, [1.0], 0.2, 1e-4, 20, 0.005,
           "A long chain of 1,000 links")
+    spatial_chain("spatial-chain-50", 50, 1.0, 1e-6, 15, 0.1)

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -29,9 +30,9 @@ std::vector<std::string> extreme_scenes() {
     return out;
 }
 
-TEST(Extreme, AtLeastFifteenCasesEachWithADeclaredOutcome) {
+TEST(Extreme, AtLeastThirtyCasesEachWithADeclaredOutcome) {
     const auto scenes = extreme_scenes();
-    EXPECT_GE(scenes.size(), 15u);
+    EXPECT_GE(scenes.size(), 30u);
     for (const auto& s : scenes) {
         SCOPED_TRACE(s);
         const Model model = load_scene(s, shared_registry());
@@ -96,6 +97,37 @@ TEST(Extreme, ExpectKeyIsValidated) {
     EXPECT_FALSE(e.pass);
     EXPECT_EQ(e.kinds.size(), 2u);
     EXPECT_EQ(e.integrator, "cvode");
+    // the final measure compares at t_end, so a shorter quick run cannot use it
+    const std::string final_key = "measure: final, final: {bodies: [b], positions: [[0, 0]]}";
+    EXPECT_THROW(read_expectation(load_scene_text(base + "expect: {outcome: pass, " + final_key +
+                                                      ", t_end: 2, quick_t_end: 1}\n",
+                                                  "bad", shared_registry())),
+                 InputError);
+    EXPECT_THROW(read_expectation(load_scene_text(
+                     base + "expect: {outcome: pass, measure: final, final: {bodies: [b], positions: []}}\n", "bad",
+                     shared_registry())),
+                 InputError);
+}
+
+TEST(Extreme, FinalMeasureSeesAWrongReference) {
+    // the car axis against its published positions passes; the same run against positions
+    // moved by 1e-4 m must report an error of 1e-4 (the measure is not vacuous)
+    const std::string label = scene_path("extreme/derived-in-test.yaml").string();  // base resolves from here
+    auto run = [&](double shift) {
+        char x_left[32];
+        std::snprintf(x_left, sizeof x_left, "%.17g", 4.934557842755629e-2 + shift);
+        const std::string yaml =
+            "base: ../bench/car-axis.yaml\nexpect: {outcome: pass, measure: final, bound: 1.0e-6, final: {bodies: "
+            "[left, right], positions: [[" + std::string(x_left) + ", 4.969894602303324e-1], [1.041742524885400, 3.739110272652214e-1]]}, integrator: cvode, t_end: 3, "
+            "tolerance: 1.0e-10, output_step: 0.01}\n";
+        const Model model = load_scene_text(yaml, label, shared_registry());
+        const Expectation e = read_expectation(model);
+        return run_case(model, shared_registry(), e, "augmented", "cvode");
+    };
+    const CellOutcome exact = run(0.0), moved = run(1e-4);
+    EXPECT_EQ(exact.kind, "pass") << exact.cell();
+    EXPECT_EQ(moved.kind, "inaccurate") << moved.cell();
+    EXPECT_NEAR(moved.error, 1e-4, 2e-6);
 }
 
 TEST(Extreme, IsolatedRunnerReportsOutcomes) {

@@ -30,17 +30,38 @@
 #include <string>
 #include <vector>
 
-// Count heap allocations (glibc: malloc may be interposed by the executable;
-// operator new and Eigen's aligned_malloc both go through it).
-extern "C" void* __libc_malloc(std::size_t size);
+// Count heap allocations. operator new and Eigen's aligned_malloc both go through malloc:
+// in a normal build the executable interposes glibc's malloc; under AddressSanitizer, which
+// owns malloc itself, its allocation hook counts instead (scripts/test-sanitizers.sh).
+#if defined(__SANITIZE_ADDRESS__)
+#define MBD_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define MBD_TEST_ASAN 1
+#endif
+#endif
 namespace {
 std::atomic<bool> g_count_mallocs{false};
 std::atomic<long> g_mallocs{0};
-}  // namespace
-extern "C" void* malloc(std::size_t size) {
+void count_malloc() {
     if (g_count_mallocs.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+#ifdef MBD_TEST_ASAN
+// the sanitizer runtime's allocator interface (sanitizer/allocator_interface.h, which g++ does not ship)
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*)(const volatile void*, std::size_t),
+                                                         void (*)(const volatile void*));
+namespace {
+void asan_malloc_hook(const volatile void*, std::size_t) { count_malloc(); }
+[[maybe_unused]] const int g_hook_installed = __sanitizer_install_malloc_and_free_hooks(asan_malloc_hook, nullptr);
+}  // namespace
+#else
+extern "C" void* __libc_malloc(std::size_t size);
+extern "C" void* malloc(std::size_t size) {
+    count_malloc();
     return __libc_malloc(size);
 }
+#endif
 
 namespace {
 

@@ -339,7 +339,8 @@ TEST(StaticsBranches, OracleReproducesTheBookGeometryMinima) {
     EXPECT_NEAR(kEx55.deepest_minimum(+1), -1.852, 1e-3);
     EXPECT_NEAR(kEx55.potential(kEx55.deepest_minimum(+1), +1), 0.138, 1e-3);
     // the scene four_bar(t2) is on the branch +1
-    mbd::ModelSystem system(scene(four_bar(-1.0)));
+    const mbd::Model model = scene(four_bar(-1.0));
+    mbd::ModelSystem system(model);
     EXPECT_EQ(kEx55.branch(system.initial_state().q), 1.0);
 }
 

@@ -2,7 +2,9 @@
 //   mbd_peer_<engine> MODEL[:INTEGRATOR] T_END OUTPUT_STEP tol|step VALUE
 // prints "cpu_s steps" and then one line "t x1 y1 z1 [x2 y2 z2 ...]" per output time
 // (output_step, 2 output_step, ..., t_end) with the measured points of the model (the
-// same points as the scene's bench measure). Models: pendulum_a01, four_bar_2, chain_5, chain_50.
+// same points as the scene's bench measure). Models: pendulum_a01, four_bar_N (IFToMM A02 with N
+// four-bar loops), chain_N, gyroscope, bricard, flyball, car_axis. A peer that cannot express a
+// model exits with status 2 and says why on stderr.
 #pragma once
 
 #include <algorithm>
@@ -55,3 +57,60 @@ inline std::vector<int> chain_measured(int n) {
 inline int chain_links(const std::string& model) {
     return model.rfind("chain_", 0) == 0 ? std::atoi(model.c_str() + 6) : 0;
 }
+
+// N of four_bar_N (IFToMM A02: N+1 cranks, N couplers), 0 for other models.
+inline int four_bar_loops(const std::string& model) {
+    return model.rfind("four_bar_", 0) == 0 ? std::atoi(model.c_str() + 9) : 0;
+}
+
+// The bump angle of the Test Set car axis (scenes/bench/car-axis.yaml, joints/caraxis_bump): the
+// bump point b(t), y_b = r sin(w t), lies on the circle of radius L about the origin at the angle
+// phi(t) = asin(r sin(w t) / L). Returns phi and its first two time derivatives.
+struct BumpAngle {
+    double phi, phid, phidd;
+};
+
+inline BumpAngle car_axis_bump_angle(double t, double r = 0.1, double w = 10.0, double L = 1.0) {
+    const double u = r / L * std::sin(w * t), ud = r / L * w * std::cos(w * t), udd = -w * w * u;
+    const double root = std::sqrt(1.0 - u * u);
+    return {std::asin(u), ud / root, udd / root + u * ud * ud / (root * root * root)};
+}
+
+// Data of scenes/bench/a05-flyball.yaml shared by the peers (world frame at t = 0, z up; every
+// body frame at its mass centre and parallel to the world frame; the left arm at x > 0).
+namespace flyball {
+constexpr double spin_rate = 6.28318530717959;  // shaft driven at 2 pi rad/s about z
+constexpr double shaft_mass = 0.3, shaft_com_z = 0.5;
+constexpr double shaft_inertia[3] = {0.025, 0.025, 5e-06};
+constexpr double pivot_z = 1.0;  // both arms pinned to the shaft top, axis y
+constexpr double arm_mass = 5.3;
+constexpr double arm_com[3] = {0.485849056603774, 0.0, 0.158484749152857};  // left arm; right: x -> -x
+// left arm centroidal inertia (xx, yy, zz, xy, xz, yz), matrix elements; right arm: xz -> -xz
+constexpr double arm_inertia[6] = {0.071817287735849, 0.0957547169811321, 0.023942429245283, 0.0, 0.0414608436554153, 0.0};
+constexpr double arm_spring_point[3] = {-0.235849056603774, 0.0, 0.408502548954924};  // rod midpoint, left arm frame
+constexpr double slider_mass = 3.0, slider_inertia = 0.005, slider_z = 0.133974596215561;
+constexpr double stiffness = 8.0e5, damping = 4.0e4, rest_length = 0.5;
+constexpr double g = 9.81;
+}  // namespace flyball
+
+// Data of scenes/bench/gyroscope.yaml: a symmetric top (body frame at the mass centre, symmetry
+// axis = body z) on a spherical joint at the world origin, mass centre l = 0.1 m up the axis,
+// tilted by theta = pi/6 about world x, spinning in steady precession; g = 9.81 along -z.
+namespace gyroscope {
+constexpr double mass = 1.0, ixx = 0.002, izz = 0.004, l = 0.1, g = 9.81;
+constexpr double tilt = 0.5235987755982988;                                    // about world x
+constexpr double omega[3] = {0.0, -49.99999999999999, 89.16913788781845};      // world frame
+}  // namespace gyroscope
+
+// Data of scenes/bench/a04-bricard.yaml: 5 bars (1 m, 1 kg, square 0.1 m section) at rest, every
+// body frame at the bar centre and parallel to the world frame; 6 revolute joints
+// ground-bar1-...-bar5-ground; g = 9.81 along -y.
+namespace bricard {
+constexpr double axial = 0.00166666666667, transverse = 0.0841666666667;
+constexpr double centre[5][3] = {{0.5, 0, 0}, {1, 0.5, 0}, {1, 1, 0.5}, {0.5, 1, 1}, {0, 0.5, 1}};
+constexpr int bar_axis[5] = {0, 1, 2, 0, 1};  // the bar's long axis (x, y or z)
+// joint k joins bar k (ground for k = 0) and bar k+1 (ground for k = 5)
+constexpr double joint_point[6][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}, {0, 0, 1}};
+constexpr int joint_axis[6] = {1, 2, 0, 1, 2, 0};
+constexpr double g = 9.81;
+}  // namespace bricard

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -108,6 +109,41 @@ Param convert(const YAML::Node& node, const std::string& file, int fallback_line
     return p;
 }
 
+YAML::Node parse_yaml(const std::string& text, const std::string& file) {
+    try {
+        return YAML::Load(text);
+    } catch (const YAML::Exception& e) {
+        const int line = e.mark.is_null() ? 1 : e.mark.line + 1;
+        throw InputError(file + ":" + std::to_string(line),
+                         "YAML syntax error: " + e.msg + "; fix the scene file's syntax");
+    }
+}
+
+// `base: FILE` at the top level: the scene starts from another scene file (the path is
+// relative to this file) and replaces or adds the top-level keys it gives. `name` is never
+// inherited, so a derived scene is named after its own file. Keys of the base keep their
+// own file:line, so an error in inherited input points into the base file.
+Param with_base(Param root, const std::string& file, int depth) {
+    if (!root.is_map()) return root;
+    const auto it = root.fields.find("base");
+    if (it == root.fields.end()) return root;
+    const Param key = it->second;
+    if (!key.is_scalar() || key.text.empty()) key.fail("'base' must be the path of another scene file");
+    if (depth >= 8) key.fail("'base' chain is longer than 8 files; is there a cycle?");
+    const std::filesystem::path path = std::filesystem::path(file).parent_path() / key.text;
+    std::ifstream in(path, std::ios::binary);
+    if (!std::filesystem::is_regular_file(path) || !in)
+        key.fail("cannot open the base scene " + quote(path.string()) + " (a file; the path is relative to this file)");
+    std::ostringstream text;
+    text << in.rdbuf();
+    Param base = with_base(convert(parse_yaml(text.str(), path.string()), path.string(), 1), path.string(), depth + 1);
+    if (!base.is_map()) key.fail("the base scene " + quote(path.string()) + " is not a map of keys");
+    root.fields.erase("base");
+    for (auto& [name, value] : base.fields)
+        if (name != "name") root.fields.emplace(name, std::move(value));  // emplace keeps this file's keys
+    return root;
+}
+
 // Line of every map key, recorded once the Param tree is final (addresses are stable).
 using KeyLines = std::map<const Param*, std::map<std::string, int>>;
 
@@ -138,15 +174,8 @@ public:
     Loader(std::string file, Registry& registry) : file_(std::move(file)), registry_(registry) {}
 
     Model load(const std::string& text) {
-        YAML::Node root;
-        try {
-            root = YAML::Load(text);
-        } catch (const YAML::Exception& e) {
-            const int line = e.mark.is_null() ? 1 : e.mark.line + 1;
-            throw InputError(file_ + ":" + std::to_string(line),
-                             "YAML syntax error: " + e.msg + "; fix the scene file's syntax");
-        }
-        root_ = convert(root, file_, 1);
+        const YAML::Node root = parse_yaml(text, file_);
+        root_ = with_base(convert(root, file_, 1), file_, 0);
         index_key_lines(root, root_, key_lines_);
         build();
         return std::move(model_);
@@ -457,16 +486,18 @@ void Loader::load_body(const Param& node, int index) {
             find(node, "name")->fail("duplicate body name " + quote(body.name) + " (first defined at " + other.where +
                                      "); body names must be unique");
 
+    // zero mass and inertia are accepted: kinematics and statics do not need them; dynamics
+    // refuses a singular mass matrix by name (core/src/simulation.cpp)
     const Param& mass = require(node, "mass", what, "a positive number, kg");
     body.mass = number(mass, "mass", what);
-    if (!(body.mass > 0)) mass.fail(what + ": 'mass' must be positive, got " + mass.text);
+    if (!(body.mass >= 0)) mass.fail(what + ": 'mass' must be positive (or 0 for a massless body), got " + mass.text);
 
     const Param& inertia = require(node, "inertia", what,
                                    planar ? "a positive number, kg m^2 about the mass centre"
                                           : "[Ixx, Iyy, Izz] or a 3x3 matrix about the mass centre, body axes");
     if (planar) {
         const double J = number(inertia, "inertia", what);
-        if (!(J > 0)) inertia.fail(what + ": 'inertia' must be positive, got " + inertia.text);
+        if (!(J >= 0)) inertia.fail(what + ": 'inertia' must be positive (or 0), got " + inertia.text);
         body.inertia(2, 2) = J;
     } else {
         if (inertia.is_list() && !inertia.items.empty() && inertia.items[0].is_list()) {
@@ -475,15 +506,16 @@ void Loader::load_body(const Param& node, int index) {
                 inertia.fail(what + ": 'inertia' matrix must be symmetric");
             const Mat3 Js = 0.5 * (J + J.transpose());
             Eigen::SelfAdjointEigenSolver<Mat3> eig(Js);
-            if (!(eig.eigenvalues().minCoeff() > 0))
-                inertia.fail(what + ": 'inertia' matrix must be positive definite (all principal moments > 0)");
+            if (!(eig.eigenvalues().minCoeff() >= 0))
+                inertia.fail(what + ": 'inertia' matrix must be positive semi-definite (principal moments >= 0)");
             body.inertia = Js;
         } else {
             const Eigen::VectorXd d =
                 vector(inertia, "inertia", what, 3, "[Ixx, Iyy, Izz] (or a 3x3 matrix)");
             for (int k = 0; k < 3; ++k)
-                if (!(d[k] > 0))
-                    inertia.items[k].fail(what + ": 'inertia' moments must be positive, got " + inertia.items[k].text);
+                if (!(d[k] >= 0))
+                    inertia.items[k].fail(what + ": 'inertia' moments must be positive (or 0), got " +
+                                          inertia.items[k].text);
             body.inertia = d.asDiagonal();
         }
     }

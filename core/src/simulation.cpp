@@ -5,6 +5,8 @@
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/reactions.hpp>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -134,6 +136,26 @@ std::vector<std::string> diagnostic_columns() {
     return {"kinetic_energy", "potential_energy", "constraint_position_violation", "constraint_velocity_violation"};
 }
 
+namespace {
+
+// Scenes may hold massless bodies (kinematics and statics need no masses), but forward
+// dynamics solves M vdot = ..., so a zero mass or principal moment is refused by name.
+void require_positive_masses(const Model& model) {
+    for (const Body& b : model.bodies) {
+        const bool planar = model.dimension == Dimension::Planar;
+        const double smallest = planar ? b.inertia(2, 2) : Eigen::SelfAdjointEigenSolver<Mat3>(b.inertia).eigenvalues()[0];
+        if (b.mass > 0.0 && smallest > 0.0) continue;
+        throw DynamicsError(0.0, "body '" + b.name + "' has " +
+                                     (b.mass > 0.0 ? std::string("a zero principal moment of inertia")
+                                                   : std::string("zero mass")) +
+                                     ": the mass matrix is singular, so its accelerations are undetermined; give it "
+                                     "a mass and inertia (a small value is enough for a link meant to be massless), "
+                                     "or use `mbd kinematics` / `mbd statics`, which need no masses");
+    }
+}
+
+}  // namespace
+
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
                           const SimulationCallback& callback) {
     SimulationResult result;
@@ -163,6 +185,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     result.integrator = integrator->name();
 
     // --- bind and assemble a consistent initial state
+    require_positive_masses(model);
     ModelSystem system(model);
     FormulationOptions options;
     if (settings.stabilization) options.stabilization = *settings.stabilization;

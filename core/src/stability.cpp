@@ -23,6 +23,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <sstream>
 
 namespace mbd {
@@ -31,7 +32,8 @@ namespace {
 
 const std::vector<std::string> kKinds = {"step_size_collapse", "newton_divergence", "singular_constraints",
                                          "redundant_constraints", "assembly_failure", "projection_failure",
-                                         "blow_up", "max_steps", "solver_failure", "budget_exceeded"};
+                                         "blow_up", "max_steps", "solver_failure", "budget_exceeded",
+                                         "singular_mass_matrix"};
 
 const Param* field(const Param& node, const std::string& key) {
     auto it = node.fields.find(key);
@@ -86,6 +88,7 @@ std::string classify(const std::string& m, bool assembly) {
     if (has("step size collapse")) return "step_size_collapse";
     if (has("Newton iteration did not converge") || has("CV_CONV_FAILURE") || has("did not converge"))
         return "newton_divergence";
+    if (has("mass matrix is singular")) return "singular_mass_matrix";
     if (has("redundant")) return "redundant_constraints";
     if (has("singular")) return "singular_constraints";
     if (has("initial state could not be projected") || has("could not be assembled")) return "assembly_failure";
@@ -94,6 +97,23 @@ std::string classify(const std::string& m, bool assembly) {
     if (has("maximum number of steps") || has("CV_TOO_MUCH_WORK")) return "max_steps";
     if (has("CV_ERR_FAILURE")) return "step_size_collapse";
     return "solver_failure";
+}
+
+// expect.final: {bodies: [...], positions: [...]}, one position (world, metres) per body.
+void read_final_positions(const Param& m, const Model& model, Expectation& e) {
+    const Param* bodies = field(m, "bodies");
+    const Param* positions = field(m, "positions");
+    if (!bodies || !bodies->is_list() || !positions || !positions->is_list() ||
+        bodies->items.size() != positions->items.size())
+        m.fail("expect.final needs bodies: [NAME, ...] and as many positions: [[x, y(, z)], ...]");
+    const int n = model.dimension == Dimension::Planar ? 2 : 3;
+    for (size_t k = 0; k < bodies->items.size(); ++k) {
+        const Param& b = bodies->items[k];
+        if (!b.is_scalar() || model.body_index(b.text) < 0) b.fail("expect.final: unknown body '" + b.text + "'");
+        const Eigen::VectorXd p = positions->items[k].as_vector("expect.final.positions", n);
+        e.final_bodies.push_back(b.text);
+        e.final_positions.push_back(n == 2 ? Vec3(p[0], p[1], 0.0) : Vec3(p[0], p[1], p[2]));
+    }
 }
 
 }  // namespace
@@ -115,10 +135,11 @@ Expectation read_expectation(const Model& model) {
         e.kinds = kind_list(*k, "expect.kind");
     }
     e.measure = text_or(node, "measure", e.measure);
-    const std::vector<std::string> measures = {"oscillator", "energy", "momentum", "rotation", "a01", "constraints"};
+    const std::vector<std::string> measures = {"oscillator", "energy", "momentum", "rotation",
+                                               "a01", "final", "constraints"};
     if (std::find(measures.begin(), measures.end(), e.measure) == measures.end())
         node.fail("expect.measure '" + e.measure +
-                  "' is unknown; known: oscillator, energy, momentum, rotation, a01, constraints");
+                  "' is unknown; known: oscillator, energy, momentum, rotation, a01, final, constraints");
     e.bound = number_or(node, "bound", e.bound);
     e.formulation = text_or(node, "formulation", e.formulation);
     e.integrator = text_or(node, "integrator", e.integrator);
@@ -136,7 +157,12 @@ Expectation read_expectation(const Model& model) {
         e.omega = number_or(*m, "omega", 0.0);
         e.length = number_or(*m, "length", 1.0);
         if (const Param* a = field(*m, "axis")) e.axis = a->as_vector("expect." + e.measure + ".axis", 3).normalized();
+        if (e.measure == "final") read_final_positions(*m, model, e);
     }
+    if (e.measure == "final" && e.quick_t_end != e.t_end)
+        node.fail("expect.final compares the positions at t_end, so quick_t_end must equal t_end");
+    if (e.measure == "final" && e.final_bodies.empty())
+        node.fail("expect.final needs {bodies: [NAME, ...], positions: [[x, y(, z)], ...]}");
     if ((e.measure == "oscillator" || e.measure == "rotation" || e.measure == "a01") && e.body.empty())
         node.fail("expect." + e.measure + " needs {body: NAME, ...}");
     if (!e.body.empty() && model.body_index(e.body) < 0)
@@ -191,7 +217,7 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
     const bool planar = model.dimension == Dimension::Planar;
     double worst = 0.0, E0 = 0.0, scale = 0.0, T0 = 0.0;
     Vec3 L0 = Vec3::Zero();
-    bool first = true, over_budget = false;
+    bool first = true, over_budget = false, reached_end = false;
     double last_t = 0.0;
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&start] {
@@ -236,8 +262,14 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
             const int qo = model.q_offset(body);
             const double dx = st.q[qo] - l * std::sin(theta), dy = st.q[qo + 1] + l * std::cos(theta);
             worst = std::max(worst, std::hypot(dx, dy));
+        } else if (e.measure == "final" && st.t >= t_end * (1.0 - 1e-12)) {
+            for (size_t k = 0; k < e.final_bodies.size(); ++k) {
+                const int qo = model.q_offset(model.body_index(e.final_bodies[k]));
+                const Vec3 r = planar ? Vec3(st.q[qo], st.q[qo + 1], 0.0) : Vec3(st.q.segment<3>(qo));
+                worst = std::max(worst, (r - e.final_positions[k]).norm());
+            }
+            reached_end = true;
         }
-        (void)planar;
         first = false;
         if (elapsed() > e.budget) {
             over_budget = true;
@@ -255,6 +287,7 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
             return out;
         }
         if (e.measure == "constraints") worst = r.final_position_violation;
+        if (e.measure == "final" && !reached_end) worst = std::numeric_limits<double>::infinity();
         out.error = worst;
         out.kind = std::isfinite(worst) && worst <= e.bound ? "pass" : "inaccurate";
         if (!std::isfinite(worst)) out.kind = "blow_up";

@@ -223,10 +223,14 @@ void Augmented::bind(const System& system, const FormulationOptions& options) {
         Jd_.setZero(nc_, nv_);
         Wd_.setZero(nc_, nv_);
         S_.setZero(nc_, nc_);
-        ldlt_ = Eigen::LDLT<Eigen::MatrixXd>(nc_);
-        cod_w_ = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(nc_, nv_);
-        cod_wt_ = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(nv_, nc_);
-        Jd_.setZero(), Wd_.setZero(), S_.setZero();
+        // size the factorizations' storage once (later computes reuse it); computing on the
+        // zero matrices rather than assigning size-constructed objects, whose status field
+        // Eigen leaves uninitialized (undefined behaviour when copied)
+        if (nc_ > 0) {
+            ldlt_.compute(S_);
+            cod_w_.compute(Wd_);
+            cod_wt_.compute(Wd_.transpose());
+        }
         return;
     }
 

@@ -14,6 +14,7 @@ namespace mbd {
 class ModelSystem final : public System {
 public:
     explicit ModelSystem(const Model& model, KinematicsOptions kinematics = {});
+    ModelSystem(Model&&, KinematicsOptions = {}) = delete;  // it keeps a reference: no temporaries
 
     const Model& model() const { return *model_; }
 

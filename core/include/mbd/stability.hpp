@@ -15,14 +15,14 @@
 namespace mbd {
 
 // The scene's `expect:` key.
-//   expect: {outcome: pass, measure: oscillator | energy | momentum | rotation | a01 | constraints,
+//   expect: {outcome: pass, measure: oscillator | energy | momentum | rotation | a01 | final | constraints,
 //            bound: B, also_accept: [kind, ...], <measure>: {...}, formulation: F, integrator: I,
 //            t_end: T, quick_t_end: Tq, output_step: H, tolerance: TOL, step: STEP, budget: S,
 //            rho_infinity: R}
 //   expect: {outcome: failure, kind: K | [K, ...], ...same run keys}
 // Failure kinds: step_size_collapse, newton_divergence, singular_constraints,
 // redundant_constraints, assembly_failure, projection_failure, blow_up, max_steps,
-// solver_failure, budget_exceeded.
+// solver_failure, budget_exceeded, singular_mass_matrix.
 struct Expectation {
     bool pass = true;
     std::vector<std::string> kinds;   // accepted failure kinds (failure), or also-accepted ones (pass)
@@ -39,6 +39,8 @@ struct Expectation {
     std::string body;
     double amplitude = 0.0, omega = 0.0, length = 1.0;
     Vec3 axis = Vec3::UnitZ();
+    std::vector<std::string> final_bodies;  // final: positions at t_end, e.g. a published solution
+    std::vector<Vec3> final_positions;
 };
 
 // Throws InputError when the model has no (or a malformed) `expect:` key.

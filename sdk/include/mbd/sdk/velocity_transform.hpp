@@ -43,10 +43,13 @@ inline bool velocity_transform(const Eigen::MatrixXd& J, const Eigen::VectorXd& 
     for (int c = 0; c < k; ++c) B(p.independent[c], c) = 1.0;
     if (p.rank == 0) return true;
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(J(p.rows, p.dependent));
-    const Eigen::MatrixXd Bd = -lu.solve(Eigen::MatrixXd(J(p.rows, p.independent)));
     const Eigen::VectorXd gd = lu.solve(Eigen::VectorXd(gamma(p.rows)));
-    if (!Bd.allFinite() || !gd.allFinite()) return false;
-    B(p.dependent, Eigen::all) = Bd;
+    if (!gd.allFinite()) return false;
+    if (k > 0) {  // a fully driven (0-DOF) system has no B columns (Eigen may not solve for none)
+        const Eigen::MatrixXd Bd = -lu.solve(Eigen::MatrixXd(J(p.rows, p.independent)));
+        if (!Bd.allFinite()) return false;
+        B(p.dependent, Eigen::all) = Bd;
+    }
     gamma_prime(p.dependent) = gd;
     return true;
 }
