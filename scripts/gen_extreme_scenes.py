@@ -55,8 +55,28 @@ expect:
   step: {step!r}
   budget: {budget}
 """
+    write_scene(name, text)
+
+
+def write_scene(name, text):
     with open(os.path.join(OUT, name + ".yaml"), "w") as f:
         f.write(text)
+
+
+def energy_expectation(bound, t_end, quick, tolerance, step, budget):
+    """The `expect:` key of a conservative case: pass with augmented + dopri5 within an energy drift."""
+    return f"""expect:
+  outcome: pass
+  measure: energy
+  bound: {bound!r}
+  formulation: augmented
+  integrator: dopri5
+  t_end: {t_end!r}
+  quick_t_end: {quick!r}
+  tolerance: {tolerance!r}
+  step: {step!r}
+  budget: {budget}
+"""
 
 
 def chain(name, n, masses, t_end, bound, budget, quick, title, extra=""):
@@ -78,21 +98,9 @@ name: {name}
 dimension: planar
 gravity: [0, -9.81]
 bodies:
-""" + "\n".join(lines) + "\njoints:\n" + "\n".join(joints) + f"""
-expect:
-  outcome: pass
-  measure: energy
-  bound: {bound!r}
-  formulation: augmented
-  integrator: dopri5
-  t_end: {t_end!r}
-  quick_t_end: {quick!r}
-  tolerance: 1.0e-8
-  step: 1.0e-3
-  budget: {budget}
-"""
-    with open(os.path.join(OUT, name + ".yaml"), "w") as f:
-        f.write(text)
+""" + "\n".join(lines) + "\njoints:\n" + "\n".join(joints) + "\n" + energy_expectation(
+        bound, t_end, quick, 1e-8, 1e-3, budget)
+    write_scene(name, text)
 
 
 def spatial_chain(name, n, t_end, bound, budget, quick):
@@ -118,21 +126,9 @@ name: {name}
 dimension: spatial
 gravity: [0, 0, -9.81]
 bodies:
-""" + "\n".join(bodies) + "\njoints:\n" + "\n".join(joints) + f"""
-expect:
-  outcome: pass
-  measure: energy
-  bound: {bound!r}
-  formulation: augmented
-  integrator: dopri5
-  t_end: {t_end!r}
-  quick_t_end: {quick!r}
-  tolerance: 1.0e-10
-  step: 1.0e-4
-  budget: {budget}
-"""
-    with open(os.path.join(OUT, name + ".yaml"), "w") as f:
-        f.write(text)
+""" + "\n".join(bodies) + "\njoints:\n" + "\n".join(joints) + "\n" + energy_expectation(
+        bound, t_end, quick, 1e-10, 1e-4, budget)
+    write_scene(name, text)
 
 
 if __name__ == "__main__":

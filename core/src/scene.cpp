@@ -20,6 +20,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <system_error>
 
 namespace mbd {
 namespace {
@@ -131,9 +132,11 @@ Param with_base(Param root, const std::string& file, int depth) {
     if (!key.is_scalar() || key.text.empty()) key.fail("'base' must be the path of another scene file");
     if (depth >= 8) key.fail("'base' chain is longer than 8 files; is there a cycle?");
     const std::filesystem::path path = std::filesystem::path(file).parent_path() / key.text;
-    std::ifstream in(path, std::ios::binary);
-    if (!std::filesystem::is_regular_file(path) || !in)
+    std::error_code error;  // the non-throwing overload: any text may arrive here (a name too long, ...)
+    if (!std::filesystem::is_regular_file(path, error))
         key.fail("cannot open the base scene " + quote(path.string()) + " (a file; the path is relative to this file)");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) key.fail("cannot read the base scene " + quote(path.string()));
     std::ostringstream text;
     text << in.rdbuf();
     Param base = with_base(convert(parse_yaml(text.str(), path.string()), path.string(), 1), path.string(), depth + 1);
