@@ -440,7 +440,7 @@ std::string stability_markdown(const std::vector<StabilityCase>& cases, const st
        << "Cells: `pass (error E)` (the case's error measure within its bound), `inaccurate (error E > B)`, or a "
        << "named failure: step-size collapse, Newton divergence, singular constraints / redundant constraints "
        << "(naming the joints), assembly failure, projection failure, blow up (the state grew without bound), "
-       << "max steps, solver failure, budget exceeded, `n/a` (the integrator needs a form the formulation does "
+       << "max steps, solver failure, budget exceeded, singular mass matrix (a massless body), `n/a` (the integrator needs a form the formulation does "
        << "not have), `crashed (signal N)` (an engine defect). A `*` marks the declared pair; `ok`/`WRONG` says "
        << "whether the declared pair ended in a declared outcome.\n\n";
     int wrong = 0, crashes = 0;
