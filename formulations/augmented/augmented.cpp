@@ -32,7 +32,9 @@
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/ode_state.hpp>
 #include <mbd/sdk/projection.hpp>
+#include <mbd/sdk/partition.hpp>
 #include <mbd/sdk/singularity.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <Eigen/Dense>
 
@@ -43,6 +45,7 @@ extern "C" {
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <limits>
 #include <optional>
 #include <string>
@@ -78,6 +81,10 @@ private:
     // out = M^-1 x
     void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const;
     void redundant_rows_error(double t, const char* what) const;
+    // rows dependent at the first evaluated (assembled) state: see dropped_
+    void find_structural_redundancy(double t);
+    bool reselect_dropped_rows(double t, const Eigen::MatrixXd& J);
+    void keep_all_rows();
     void check_finite(double t, const Eigen::VectorXd& x, const char* what) const;
     void release_cholmod();
 
@@ -117,6 +124,16 @@ private:
     double regularization_ = 0.0;
     // rank drop of J after an accepted step: a singular configuration (sdk singularity.hpp)
     SingularityMonitor singularity_;
+    // Structurally redundant rows (dependent at the assembled initial state, e.g. the Bricard's
+    // sixth joint) are left out of S with zero multipliers on the dense path, as the embedding
+    // formulation drops them: off the manifold such a row is only NEARLY dependent, and its tiny
+    // singular value in J would otherwise produce huge multipliers and accelerations. Which row
+    // is the dependent one can change along the motion: when the kept rows become ill-conditioned
+    // they are re-selected (as the embedding re-selects its coordinates). If a left-out row stops
+    // being dependent (its acceleration constraint fails), every row is used again.
+    std::vector<int> dropped_;
+    std::vector<char> is_dropped_;
+    bool redundancy_checked_ = false;
 };
 
 Stabilization parse_stabilization(const Param& p) {
@@ -218,6 +235,8 @@ void Augmented::bind(const System& system, const FormulationOptions& options) {
     cv_.gamma.setZero(nc_);
     rank_deficient_ = false;
     singularity_.reset();
+    keep_all_rows();
+    redundancy_checked_ = false;
 
     if (!sparse_) {
         Jd_.setZero(nc_, nv_);
@@ -345,12 +364,22 @@ void Augmented::factor(double t, const char* what, bool robust) {
             else
                 Wd_.middleCols<6>(o).noalias() = Jd_.middleCols<6>(o) * lm_[b];
         }
+        for (int r : dropped_) Wd_.row(r).setZero();
         S_.setZero();
         S_.selfadjointView<Eigen::Lower>().rankUpdate(Wd_);
+        if (!dropped_.empty()) {
+            const double unit = std::max(S_.diagonal().maxCoeff(), 1e-300);
+            for (int r : dropped_) S_(r, r) = unit;  // a decoupled row: its multiplier is its (zero) right-hand side
+        }
         ldlt_.compute(S_);
         const auto& D = ldlt_.vectorD();
         const double dmax = D.cwiseAbs().maxCoeff();
         const double dmin = D.minCoeff();
+        if (!dropped_.empty() && !robust && (ldlt_.info() != Eigen::Success || dmin <= 1e-6 * dmax) &&
+            reselect_dropped_rows(t, Jd_)) {
+            factor(t, what, robust);  // with the new selection (it differs, so this recursion ends)
+            return;
+        }
         if (robust || ldlt_.info() != Eigen::Success || !(dmax > 0) || dmin <= 1e-8 * dmax) {
             // (near) rank deficient (redundant constraints, or close to it): S's condition
             // number is W's squared, so use S^+ = (W^T)^+ W^+ from complete orthogonal
@@ -372,6 +401,7 @@ void Augmented::factor(double t, const char* what, bool robust) {
     for (int c = 0; c < J.outerSize(); ++c) {
         const int b = c / nvb_, i = c % nvb_;
         for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
+            if (is_dropped_[it.row()]) continue;
             for (int j = 0; j <= i; ++j) {
                 const double l = lm_[b](i, j);
                 if (l == 0.0) continue;
@@ -406,6 +436,7 @@ void Augmented::factor(double t, const char* what, bool robust) {
 
 void Augmented::solve_S(Eigen::VectorXd& x) {
     if (nc_ == 0) return;
+    for (int r : dropped_) x[r] = 0.0;
     if (!sparse_) {
         if (rank_deficient_) {
             tmp_nv2_.noalias() = cod_w_.solve(x);  // W^+ x
@@ -444,11 +475,42 @@ void Augmented::solve_S(Eigen::VectorXd& x) {
         }
     }
     x = tmp_nc_;
+    for (int r : dropped_) x[r] = 0.0;
+}
+
+void Augmented::keep_all_rows() {
+    dropped_.clear();
+    is_dropped_.assign(nc_, 0);
+}
+
+void Augmented::find_structural_redundancy(double t) {
+    redundancy_checked_ = true;
+    if (nc_ == 0 || sparse_) return;  // the sparse path solves redundant rows by damped least squares
+    factor(t, "J M^-1 J^T");
+    if (rank_deficient_) reselect_dropped_rows(t, Jd_);  // a full-rank S needs nothing
+}
+
+// The rows that reduce to zero in the pivoted elimination of J (sdk partition.hpp) become the
+// left-out rows; returns whether the selection changed.
+bool Augmented::reselect_dropped_rows(double t, const Eigen::MatrixXd& J) {
+    const CoordinatePartition p = partition_coordinates(J, 0.1, 1e-8);
+    if (p.redundant.empty() || p.redundant == dropped_) return false;
+    const bool first = dropped_.empty();
+    keep_all_rows();
+    dropped_ = p.redundant;
+    for (int r : dropped_) is_dropped_[r] = 1;
+    std::string names;
+    for (int r : dropped_) names += (names.empty() ? "" : ", ") + system_->describe_row(r);
+    std::clog << "augmented: t = " << format_time(t) << ": " << dropped_.size() << " redundant constraint row(s) "
+              << (first ? "left out of" : "re-selected for") << " the acceleration solve (multiplier 0): " << names
+              << '\n';
+    return true;
 }
 
 void Augmented::solve_dynamics(double t) {
     const System& sys = *system_;
     sys.constraints(state_, cv_, true);
+    if (!redundancy_checked_) find_structural_redundancy(t);
     sys.generalized_forces(state_, Q_);
     check_finite(t, Q_, "generalized forces");
 
@@ -493,6 +555,14 @@ void Augmented::solve_dynamics(double t) {
             for (int c = 0; c < cv_.J.outerSize(); ++c)
                 for (Eigen::SparseMatrix<double>::InnerIterator it(cv_.J, c); it; ++it)
                     scale = std::max(scale, std::abs(it.value() * vdot_[c]));
+            double dropped_residual = 0.0;
+            for (int r : dropped_) dropped_residual = std::max(dropped_residual, std::abs(tmp_nc_[r])), tmp_nc_[r] = 0.0;
+            if (dropped_residual > 1e-2 * scale) {
+                // a left-out row is no longer dependent on the others: use every row again
+                keep_all_rows();
+                solve_dynamics(t);
+                return;
+            }
             residual = tmp_nc_.lpNorm<Eigen::Infinity>() / scale;
             // the fast path must solve Eq. 6.139 to round-off; the rank-revealing path gives
             // the least-squares accelerations, which leave a residual only in the dependent
