@@ -365,9 +365,10 @@ TEST(Augmented, RedundantButConsistentConstraintsStillRun) {
 }
 
 TEST(Augmented, BricardAtModerateTolerancesAgreesWithEmbedding) {
-    // IFToMM A04 (5 s): the structurally redundant row (joint J5, dependent at the assembled
-    // state) is left out of J M^-1 J^T, so the nearly dependent row off the manifold cannot give
-    // huge multipliers; before, tol 1e-6 stopped with "singular saddle point" at t = 0.99.
+    // IFToMM A04 (5 s): a structurally redundant row (dependent at the assembled state) is left
+    // out of J M^-1 J^T, so the nearly dependent row off the manifold cannot give huge
+    // multipliers; before, tol 1e-6 stopped with "singular saddle point" at t = 0.99 and tol 1e-4
+    // gained 80 J of energy in one step.
     // Oracles: the embedding formulation (which drops the same row) at tol 1e-11, and energy.
     const mbd::Model model = load("bench/a04-bricard.yaml");
     const Samples reference = [&] {
@@ -376,7 +377,7 @@ TEST(Augmented, BricardAtModerateTolerancesAgreesWithEmbedding) {
         return run(model, s);
     }();
     mbd::ModelSystem system(model);
-    for (const double tol : {1e-6, 1e-8}) {
+    for (const double tol : {1e-4, 1e-6, 1e-8}) {
         mbd::SimulationSettings settings = adaptive(tol, 5.0, 0.05);
         settings.formulation = "augmented";
         const Samples s = run(model, settings);
@@ -389,8 +390,12 @@ TEST(Augmented, BricardAtModerateTolerancesAgreesWithEmbedding) {
         }
         std::printf("A04 Bricard, augmented tol %.0e: max |q - q_embedding| %.3e, energy drift %.3e J (E0 %.3f)\n", tol,
                     dq, dE, E0);
-        EXPECT_LT(dq, 1e3 * tol);
-        EXPECT_LT(dE, 1e3 * tol * E0);
+        if (tol < 1e-5) {
+            EXPECT_LT(dq, 1e3 * tol);
+            EXPECT_LT(dE, 1e3 * tol * E0);
+        } else {  // loose: inaccurate but sane (it used to gain 80 J at a near-singular stage state)
+            EXPECT_LT(dE, 1e-2 * E0);
+        }
     }
 }
 

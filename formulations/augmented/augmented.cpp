@@ -32,7 +32,6 @@
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/ode_state.hpp>
 #include <mbd/sdk/projection.hpp>
-#include <mbd/sdk/partition.hpp>
 #include <mbd/sdk/singularity.hpp>
 #include <mbd/sdk/text.hpp>
 
@@ -83,8 +82,9 @@ private:
     void redundant_rows_error(double t, const char* what) const;
     // rows dependent at the first evaluated (assembled) state: see dropped_
     void find_structural_redundancy(double t);
-    bool reselect_dropped_rows(double t, const Eigen::MatrixXd& J);
+    bool reselect_dropped_rows(double t);
     void keep_all_rows();
+    bool left_out_rows_hold() const;
     void check_finite(double t, const Eigen::VectorXd& x, const char* what) const;
     void release_cholmod();
 
@@ -376,7 +376,7 @@ void Augmented::factor(double t, const char* what, bool robust) {
         const double dmax = D.cwiseAbs().maxCoeff();
         const double dmin = D.minCoeff();
         if (!dropped_.empty() && !robust && (ldlt_.info() != Eigen::Success || dmin <= 1e-6 * dmax) &&
-            reselect_dropped_rows(t, Jd_)) {
+            reselect_dropped_rows(t)) {
             factor(t, what, robust);  // with the new selection (it differs, so this recursion ends)
             return;
         }
@@ -478,6 +478,21 @@ void Augmented::solve_S(Eigen::VectorXd& x) {
     for (int r : dropped_) x[r] = 0.0;
 }
 
+// At a projected state (cv_ there, state_.v projected on the kept rows): do the left-out rows
+// hold too, in position and velocity, as rows that depend on the kept ones must?
+bool Augmented::left_out_rows_hold() const {
+    const double position_tolerance = 1e3 * std::max(options_.projection_tolerance, 1e-12);
+    for (int r : dropped_) {
+        if (std::abs(cv_.C[r]) > position_tolerance) return false;
+        double jv = cv_.C_t[r], scale = 1.0 + std::abs(cv_.C_t[r]);
+        for (int c = 0; c < cv_.J.outerSize(); ++c)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(cv_.J, c); it; ++it)
+                if (it.row() == r) jv += it.value() * state_.v[c], scale += std::abs(it.value() * state_.v[c]);
+        if (std::abs(jv) > 1e-6 * scale) return false;
+    }
+    return true;
+}
+
 void Augmented::keep_all_rows() {
     dropped_.clear();
     is_dropped_.assign(nc_, 0);
@@ -487,17 +502,30 @@ void Augmented::find_structural_redundancy(double t) {
     redundancy_checked_ = true;
     if (nc_ == 0 || sparse_) return;  // the sparse path solves redundant rows by damped least squares
     factor(t, "J M^-1 J^T");
-    if (rank_deficient_) reselect_dropped_rows(t, Jd_);  // a full-rank S needs nothing
+    if (rank_deficient_) reselect_dropped_rows(t);  // a full-rank S needs nothing
 }
 
-// The rows that reduce to zero in the pivoted elimination of J (sdk partition.hpp) become the
-// left-out rows; returns whether the selection changed.
-bool Augmented::reselect_dropped_rows(double t, const Eigen::MatrixXd& J) {
-    const CoordinatePartition p = partition_coordinates(J, 0.1, 1e-8);
-    if (p.redundant.empty() || p.redundant == dropped_) return false;
+// The left-out rows: the least independent rows of W = J Lm (S = W W^T), i.e. the last columns of
+// a column-pivoted QR of W^T, so that the kept rows are as well conditioned as the greedy choice
+// allows. Their number is fixed at the first selection (the rank deficiency of the assembled
+// state). Returns whether the selection changed.
+bool Augmented::reselect_dropped_rows(double t) {
+    Eigen::MatrixXd W(nc_, nv_);
+    for (int b = 0; b < nb_; ++b) {
+        const int o = b * nvb_;
+        W.middleCols(o, nvb_).noalias() = Jd_.middleCols(o, nvb_) * lm_[b].topLeftCorner(nvb_, nvb_);
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.transpose());
+    qr.setThreshold(1e-8);
+    const int count = dropped_.empty() ? nc_ - static_cast<int>(qr.rank()) : static_cast<int>(dropped_.size());
+    if (count <= 0) return false;
+    std::vector<int> rows(qr.colsPermutation().indices().data() + (nc_ - count),
+                          qr.colsPermutation().indices().data() + nc_);
+    std::sort(rows.begin(), rows.end());
+    if (rows == dropped_) return false;
     const bool first = dropped_.empty();
     keep_all_rows();
-    dropped_ = p.redundant;
+    dropped_ = rows;
     for (int r : dropped_) is_dropped_[r] = 1;
     std::string names;
     for (int r : dropped_) names += (names.empty() ? "" : ", ") + system_->describe_row(r);
@@ -555,14 +583,9 @@ void Augmented::solve_dynamics(double t) {
             for (int c = 0; c < cv_.J.outerSize(); ++c)
                 for (Eigen::SparseMatrix<double>::InnerIterator it(cv_.J, c); it; ++it)
                     scale = std::max(scale, std::abs(it.value() * vdot_[c]));
-            double dropped_residual = 0.0;
-            for (int r : dropped_) dropped_residual = std::max(dropped_residual, std::abs(tmp_nc_[r])), tmp_nc_[r] = 0.0;
-            if (dropped_residual > 1e-2 * scale) {
-                // a left-out row is no longer dependent on the others: use every row again
-                keep_all_rows();
-                solve_dynamics(t);
-                return;
-            }
+            // left-out rows hold on the motion (they depend on the others there); off it, at the
+            // integrator's stage states, they need not: project() checks them on the motion
+            for (int r : dropped_) tmp_nc_[r] = 0.0;
             residual = tmp_nc_.lpNorm<Eigen::Infinity>() / scale;
             // the fast path must solve Eq. 6.139 to round-off; the rank-revealing path gives
             // the least-squares accelerations, which leave a residual only in the dependent
@@ -618,6 +641,13 @@ bool Augmented::project(double t, Eigen::VectorXd& y) {
         [&](bool robust) { factor(t, "projection", robust); }, [&](Eigen::VectorXd& x) { solve_S(x); },
         [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { apply_Minv(x, out); });
     if (!ok) return false;
+    if (!dropped_.empty() && !left_out_rows_hold()) {
+        // on the motion a left-out row must hold by itself; it does not: it is no longer redundant
+        std::clog << "augmented: t = " << format_time(t)
+                  << ": a left-out constraint row is no longer redundant; every row is used again\n";
+        keep_all_rows();
+        return project(t, y);
+    }
     singularity_.check(sys, t, cv_.J);  // cv_ is at the projected positions
     y.head(nq_) = state_.q;
     y.tail(nv_) = state_.v;
