@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.hpp"
+
 namespace {
 
 // A chain of n links of 0.1 m, 1 kg, laid out along +x from the ground pivot.
@@ -33,22 +35,6 @@ std::string chain_scene(int n) {
              (k == 0 ? std::string("ground") : "b" + std::to_string(k - 1)) + ", b" + std::to_string(k) +
              "], point: [" + std::to_string(l * k) + ", 0]}\n";
     return s;
-}
-
-double median(std::vector<double> x) {
-    std::sort(x.begin(), x.end());
-    return x[x.size() / 2];
-}
-
-// least-squares slope of log(t) against log(n)
-double slope(const std::vector<double>& n, const std::vector<double>& t) {
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    const double m = static_cast<double>(n.size());
-    for (size_t k = 0; k < n.size(); ++k) {
-        const double x = std::log(n[k]), y = std::log(t[k]);
-        sx += x, sy += y, sxx += x * x, sxy += x * y;
-    }
-    return (m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
 }  // namespace

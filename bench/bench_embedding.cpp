@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.hpp"
+
 namespace {
 
 std::string chain_scene(int n, bool spatial) {
@@ -42,21 +44,6 @@ std::string chain_scene(int n, bool spatial) {
         s << "}\n";
     }
     return s.str();
-}
-
-double median(std::vector<double> x) {
-    std::sort(x.begin(), x.end());
-    return x[x.size() / 2];
-}
-
-double slope(const std::vector<double>& n, const std::vector<double>& t) {
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    const double m = static_cast<double>(n.size());
-    for (size_t k = 0; k < n.size(); ++k) {
-        const double x = std::log(n[k]), y = std::log(t[k]);
-        sx += x, sy += y, sxx += x * x, sxy += x * y;
-    }
-    return (m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
 // median seconds per rhs evaluation

@@ -20,36 +20,14 @@
 
 namespace {
 
+using mbd::test::load;
+using mbd::test::make_formulation;
+using mbd::test::random_consistent_state;
+using mbd::test::scratch;
+
 namespace fs = std::filesystem;
 using mbd::test::run_mbd;
 using mbd::test::shared_registry;
-
-std::shared_ptr<mbd::Formulation> make(const std::string& type, mbd::Param& node) {
-    node = mbd::Param();
-    node.kind = mbd::Param::Kind::Map;
-    mbd::FormulationSpec spec{type, type, mbd::Params("formulation '" + type + "'", &node)};
-    return shared_registry().create_formulation(spec, "test");
-}
-
-mbd::Model load(const std::string& relative) {
-    return mbd::load_scene(mbd::test::scene_path(relative).string(), shared_registry());
-}
-
-// A random consistent state near the scene's initial configuration: random coordinate
-// increments, assembled; random velocities, made consistent.
-mbd::State random_consistent_state(const mbd::System& system, std::mt19937& rng, double spread) {
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    mbd::State s = system.initial_state();
-    s.t = 0.0;
-    system.assemble(s, true);
-    Eigen::VectorXd dv(system.nv());
-    for (int k = 0; k < dv.size(); ++k) dv[k] = spread * u(rng);
-    system.advance_positions(s.q, dv);
-    system.assemble(s, true);
-    for (int k = 0; k < s.v.size(); ++k) s.v[k] = 3.0 * u(rng);
-    system.consistent_velocities(s, true);
-    return s;
-}
 
 class AmalgamatedVsAugmented : public ::testing::TestWithParam<std::string> {};
 
@@ -57,8 +35,8 @@ TEST_P(AmalgamatedVsAugmented, AccelerationsAndMultipliersAtRandomConsistentStat
     const mbd::Model model = load(GetParam());
     mbd::ModelSystem system(model);
     mbd::Param n1, n2;
-    auto amalgamated = make("amalgamated", n1);
-    auto augmented = make("augmented", n2);
+    auto amalgamated = make_formulation("amalgamated", n1);
+    auto augmented = make_formulation("augmented", n2);
     amalgamated->bind(system, {});
     augmented->bind(system, {});
     std::mt19937 rng(12345);
@@ -128,13 +106,6 @@ TEST(Amalgamated, UnknownKeyIsAnInputError) {
 }
 
 // ---- the command line: the same scene with each of the four formulations
-
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("mbd_amalgamated_test_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
 
 std::vector<double> last_row(const fs::path& csv, std::vector<std::string>& header) {
     std::ifstream in(csv);

@@ -21,10 +21,11 @@
 
 namespace {
 
+using mbd::test::load;
+
 using mbd::test::scene_path;
 using mbd::test::shared_registry;
 
-mbd::Model load(const std::string& relative) { return mbd::load_scene(scene_path(relative).string(), shared_registry()); }
 
 struct Samples {
     std::vector<mbd::State> states;

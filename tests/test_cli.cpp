@@ -18,19 +18,13 @@
 
 namespace {
 
+using mbd::test::scratch;
+
 namespace fs = std::filesystem;
 using mbd::test::run_mbd;
 
 std::string book_scene(const std::string& name) {
     return (fs::path(MBD_SOURCE_DIR) / "scenes/book" / name).string();
-}
-
-// A fresh scratch folder per test.
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("mbd_cli_test_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
 }
 
 std::string read_text(const fs::path& p) {

@@ -20,6 +20,8 @@
 
 namespace {
 
+using mbd::test::position_difference;
+
 using mbd::test::shared_registry;
 
 constexpr double kTolerance = 1e-10;
@@ -65,19 +67,6 @@ End run(const mbd::Model& model, const std::string& formulation) {
     mbd::ModelSystem system(model);
     end.reactions = mbd::joint_reactions(system, end.state, lambda);
     return end;
-}
-
-// Euler parameters p and -p are the same orientation: compare the nearer sign.
-double position_difference(const mbd::Model& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-    if (model.dimension == mbd::Dimension::Planar) return (a - b).lpNorm<Eigen::Infinity>();
-    double worst = 0.0;
-    for (int body = 0; body < model.body_count(); ++body) {
-        const int o = 7 * body;
-        worst = std::max(worst, (a.segment<3>(o) - b.segment<3>(o)).lpNorm<Eigen::Infinity>());
-        const Eigen::Vector4d pa = a.segment<4>(o + 3), pb = b.segment<4>(o + 3);
-        worst = std::max(worst, std::min((pa - pb).lpNorm<Eigen::Infinity>(), (pa + pb).lpNorm<Eigen::Infinity>()));
-    }
-    return worst;
 }
 
 class CrossFormulation : public ::testing::TestWithParam<std::string> {};

@@ -335,17 +335,7 @@ TEST(Embedding, RecursivePathSimulationMatchesAugmented) {
 
 namespace {
 
-double q_difference(const mbd::Model& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-    if (model.dimension == mbd::Dimension::Planar) return (a - b).lpNorm<Eigen::Infinity>();
-    double worst = 0.0;
-    for (int body = 0; body < model.body_count(); ++body) {
-        const int o = 7 * body;
-        worst = std::max(worst, (a.segment<3>(o) - b.segment<3>(o)).lpNorm<Eigen::Infinity>());
-        const Eigen::Vector4d pa = a.segment<4>(o + 3), pb = b.segment<4>(o + 3);
-        worst = std::max(worst, std::min((pa - pb).lpNorm<Eigen::Infinity>(), (pa + pb).lpNorm<Eigen::Infinity>()));
-    }
-    return worst;
-}
+using mbd::test::position_difference;
 
 // Redundant constraints: the orthogonal Bricard linkage (30 joint rows, rank 29) under
 // gravity. The dense path drops the dependent row, names it, and moves as the augmented
@@ -362,8 +352,8 @@ TEST(Embedding, BricardRedundantRowIsDroppedAndNamed) {
     const Trace aug = simulate(model, "augmented", 1e-10, 0.5, 0.05);
     std::printf("%s", log.c_str());
     EXPECT_NE(log.find("1 redundant constraint row dropped: joint '"), std::string::npos) << log;
-    const double dq = q_difference(model, emb.states.back().q, aug.states.back().q);
-    const double moved = q_difference(model, emb.states.back().q, emb.states.front().q);
+    const double dq = position_difference(model, emb.states.back().q, aug.states.back().q);
+    const double moved = position_difference(model, emb.states.back().q, emb.states.front().q);
     std::printf("Bricard, 0.5 s: embedding vs augmented |dq| %.3e (moved %.3g)\n", dq, moved);
     EXPECT_GT(moved, 1e-2);
     EXPECT_LT(dq, 1e-7);
@@ -383,7 +373,7 @@ TEST(Embedding, ExampleScenesMatchAugmented) {
             path = capture.text.str().substr(0, capture.text.str().find('('));
         }
         const Trace aug = simulate(model, "augmented", 1e-10, 0.3, 0.3);
-        const double dq = q_difference(model, emb.states.back().q, aug.states.back().q);
+        const double dq = position_difference(model, emb.states.back().q, aug.states.back().q);
         std::printf("%-48s %-28s |dq| %.3e\n", entry.path().filename().c_str(), path.c_str(), dq);
         EXPECT_LT(dq, 1e-7) << entry.path();
     }

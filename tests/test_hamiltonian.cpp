@@ -21,54 +21,15 @@
 
 namespace {
 
+using mbd::test::Csv;
+using mbd::test::load;
+using mbd::test::make_formulation;
+using mbd::test::read_csv;
+using mbd::test::scratch;
+
 namespace fs = std::filesystem;
 using mbd::test::run_mbd;
 using mbd::test::shared_registry;
-
-std::shared_ptr<mbd::Formulation> make(const std::string& type, mbd::Param& node) {
-    node = mbd::Param();
-    node.kind = mbd::Param::Kind::Map;
-    mbd::FormulationSpec spec{type, type, mbd::Params("formulation '" + type + "'", &node)};
-    return shared_registry().create_formulation(spec, "test");
-}
-
-mbd::Model load(const std::string& relative) {
-    return mbd::load_scene(mbd::test::scene_path(relative).string(), shared_registry());
-}
-
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("mbd_hamiltonian_test_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
-
-struct Csv {
-    std::vector<std::string> header;
-    std::vector<std::vector<double>> rows;
-    int column(const std::string& name) const {
-        for (size_t k = 0; k < header.size(); ++k)
-            if (header[k] == name) return static_cast<int>(k);
-        return -1;
-    }
-};
-
-Csv read_csv(const fs::path& path) {
-    Csv csv;
-    std::ifstream in(path);
-    std::string line;
-    std::getline(in, line);
-    std::stringstream h(line);
-    std::string cell;
-    while (std::getline(h, cell, ',')) csv.header.push_back(cell);
-    while (std::getline(in, line)) {
-        std::vector<double> row;
-        std::stringstream s(line);
-        while (std::getline(s, cell, ',')) row.push_back(std::stod(cell));
-        csv.rows.push_back(row);
-    }
-    return csv;
-}
 
 mbd::State assembled(const mbd::System& system) {
     mbd::State s = system.initial_state();
@@ -83,7 +44,7 @@ TEST(Hamiltonian, StateHoldsTheMomentaOfThePendulum) {
     const mbd::Model model = load("dynamics/pendulum-a01.yaml");
     mbd::ModelSystem system(model);
     mbd::Param node;
-    auto h = make("hamiltonian", node);
+    auto h = make_formulation("hamiltonian", node);
     h->bind(system, {});
     EXPECT_TRUE(h->has_hamiltonian());
     mbd::State s = assembled(system);
@@ -143,8 +104,8 @@ TEST_P(MomentumRate, EqualsTheTimeDerivativeOfTheMomenta) {
     const mbd::Model model = load(GetParam());
     mbd::ModelSystem system(model);
     mbd::Param n1, n2;
-    auto h = make("hamiltonian", n1);
-    auto aug = make("augmented", n2);
+    auto h = make_formulation("hamiltonian", n1);
+    auto aug = make_formulation("augmented", n2);
     h->bind(system, {});
     aug->bind(system, {});
     std::mt19937 rng(7);

@@ -18,18 +18,10 @@
 
 namespace {
 
+using mbd::test::g17;
+using mbd::test::scene;
+
 using mbd::test::shared_registry;
-
-std::string g17(double x) {
-    std::ostringstream o;
-    o.precision(17);
-    o << x;
-    return o.str();
-}
-
-mbd::Model scene(const std::string& yaml, const std::string& label = "test.yaml") {
-    return mbd::load_scene_text(yaml, label, shared_registry());
-}
 
 std::vector<mbd::InverseSample> inverse(const mbd::Model& model, double t_end, double step) {
     std::vector<mbd::InverseSample> out;

@@ -15,15 +15,12 @@
 
 namespace {
 
+using mbd::test::Csv;
+using mbd::test::read_csv;
+using mbd::test::scratch;
+
 namespace fs = std::filesystem;
 using mbd::test::run_mbd;
-
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("mbd_simulate_test_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
 
 std::string scene(const std::string& relative) { return mbd::test::scene_path(relative).string(); }
 
@@ -35,39 +32,7 @@ std::vector<std::string> split(const std::string& line, char sep) {
     return out;
 }
 
-struct Csv {
-    std::vector<std::string> header;
-    std::vector<std::vector<double>> rows;
-    int column(const std::string& name) const {
-        for (size_t k = 0; k < header.size(); ++k)
-            if (header[k] == name) return static_cast<int>(k);
-        return -1;
-    }
-};
-
 // Parse a CSV; every row must have the header's number of finite numbers.
-Csv read_csv(const fs::path& path) {
-    Csv csv;
-    std::ifstream in(path);
-    std::string line;
-    EXPECT_TRUE(std::getline(in, line)) << path;
-    csv.header = split(line, ',');
-    while (std::getline(in, line)) {
-        const auto cells = split(line, ',');
-        EXPECT_EQ(cells.size(), csv.header.size()) << "incomplete row: " << line;
-        std::vector<double> row;
-        for (const auto& c : cells) {
-            size_t used = 0;
-            const double x = std::stod(c, &used);
-            EXPECT_EQ(used, c.size()) << c;
-            EXPECT_TRUE(std::isfinite(x)) << c;
-            row.push_back(x);
-        }
-        csv.rows.push_back(row);
-    }
-    return csv;
-}
-
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 TEST(SimulateCli, WritesTheCsvContractWithReactionsAndDiagnostics) {

@@ -18,18 +18,10 @@
 
 namespace {
 
+using mbd::test::g17;
+using mbd::test::scene;
+
 using mbd::test::shared_registry;
-
-std::string g17(double x) {
-    std::ostringstream o;
-    o.precision(17);
-    o << x;
-    return o.str();
-}
-
-mbd::Model scene(const std::string& yaml, const std::string& label = "test.yaml") {
-    return mbd::load_scene_text(yaml, label, shared_registry());
-}
 
 mbd::StaticsReport statics(const mbd::Model& model, mbd::StaticsOptions options = {}) {
     return mbd::run_statics(model, shared_registry(), options);

@@ -136,14 +136,7 @@ void Amalgamated::bind(const System& system, const FormulationOptions& options) 
     Qc_.setZero(nv_);
     analysed_ = false;
     // the partition at the assembled initial state (the run assembles the same way)
-    State s = system.initial_state();
-    s.t = 0.0;
-    try {
-        system.assemble(s, true);
-    } catch (const std::exception&) {
-        s = system.initial_state();  // the run itself reports the assembly failure
-    }
-    select(s, true);
+    select(assembled_initial_state(system), true);
 }
 
 void Amalgamated::select(const State& state, bool initial) {

@@ -32,14 +32,7 @@ void Partitioned::bind(const System& system, const FormulationOptions& options) 
     state_.v.setZero(nv_);
     Q_.setZero(nv_);
     // The ODE size needs the rank: select at the assembled initial state.
-    State s = system.initial_state();
-    s.t = 0.0;
-    try {
-        system.assemble(s, true);
-    } catch (const std::exception&) {
-        s = system.initial_state();  // the run itself will report the assembly failure
-    }
-    select(s, true);
+    select(assembled_initial_state(system), true);
 }
 
 int Partitioned::ode_size() const { return nq_ + nv_ - part_.rank; }

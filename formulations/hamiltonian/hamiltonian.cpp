@@ -131,14 +131,7 @@ void Hamiltonian::bind(const System& system, const FormulationOptions& /*options
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
     Q_.setZero(nv_);
-    State s = system.initial_state();
-    s.t = 0.0;
-    try {
-        system.assemble(s, true);
-    } catch (const std::exception&) {
-        s = system.initial_state();  // the run itself reports the assembly failure
-    }
-    select(s, true);
+    select(assembled_initial_state(system), true);
 }
 
 void Hamiltonian::select(const State& state, bool initial) const {

@@ -1,5 +1,9 @@
 #include "support/test_support.hpp"
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -45,6 +49,93 @@ CommandResult run_command(const std::string& command) {
 
 CommandResult run_mbd(const std::string& arguments) {
     return run_command(std::string("env -u MBD_PLUGIN_PATH ") + MBD_EXECUTABLE + " " + arguments);
+}
+
+Model load(const std::string& relative) { return load_scene(scene_path(relative).string(), shared_registry()); }
+
+Model scene(const std::string& yaml, const std::string& label) { return load_scene_text(yaml, label, shared_registry()); }
+
+std::shared_ptr<Formulation> make_formulation(const std::string& type, Param& node) {
+    node = Param();
+    node.kind = Param::Kind::Map;
+    FormulationSpec spec{type, type, Params("formulation '" + type + "'", &node)};
+    return shared_registry().create_formulation(spec, "test");
+}
+
+State random_consistent_state(const System& system, std::mt19937& rng, double spread) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    State s = system.initial_state();
+    s.t = 0.0;
+    system.assemble(s, true);
+    Eigen::VectorXd dv(system.nv());
+    for (int k = 0; k < dv.size(); ++k) dv[k] = spread * u(rng);
+    system.advance_positions(s.q, dv);
+    system.assemble(s, true);
+    for (int k = 0; k < s.v.size(); ++k) s.v[k] = 3.0 * u(rng);
+    system.consistent_velocities(s, true);
+    return s;
+}
+
+std::filesystem::path scratch(const std::string& name) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("mbd_test_" + std::to_string(::getpid()) + "_" + name);
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+int Csv::column(const std::string& name) const {
+    for (size_t k = 0; k < header.size(); ++k)
+        if (header[k] == name) return static_cast<int>(k);
+    return -1;
+}
+
+Csv read_csv(const std::filesystem::path& path) {
+    auto split = [](const std::string& line) {
+        std::vector<std::string> out;
+        std::stringstream s(line);
+        std::string item;
+        while (std::getline(s, item, ',')) out.push_back(item);
+        return out;
+    };
+    Csv csv;
+    std::ifstream in(path);
+    std::string line;
+    EXPECT_TRUE(std::getline(in, line)) << path;
+    csv.header = split(line);
+    while (std::getline(in, line)) {
+        const auto cells = split(line);
+        EXPECT_EQ(cells.size(), csv.header.size()) << "incomplete row: " << line;
+        std::vector<double> row;
+        for (const auto& c : cells) {
+            size_t used = 0;
+            const double x = std::stod(c, &used);
+            EXPECT_EQ(used, c.size()) << c;
+            EXPECT_TRUE(std::isfinite(x)) << c;
+            row.push_back(x);
+        }
+        csv.rows.push_back(row);
+    }
+    return csv;
+}
+
+double position_difference(const Model& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    if (model.dimension == Dimension::Planar) return (a - b).lpNorm<Eigen::Infinity>();
+    double worst = 0.0;
+    for (int body = 0; body < model.body_count(); ++body) {
+        const int o = 7 * body;
+        worst = std::max(worst, (a.segment<3>(o) - b.segment<3>(o)).lpNorm<Eigen::Infinity>());
+        const Eigen::Vector4d pa = a.segment<4>(o + 3), pb = b.segment<4>(o + 3);
+        worst = std::max(worst, std::min((pa - pb).lpNorm<Eigen::Infinity>(), (pa + pb).lpNorm<Eigen::Infinity>()));
+    }
+    return worst;
+}
+
+std::string g17(double x) {
+    std::ostringstream o;
+    o.precision(17);
+    o << x;
+    return o.str();
 }
 
 }  // namespace mbd::test

@@ -1,12 +1,17 @@
-// Shared helpers for the test programs: the build tree's plugin registry,
-// scene paths, and running the mbd command.
+// Shared helpers for the test programs: the build tree's plugin registry, scene paths,
+// formulations and states, scratch folders and CSV output, and running the mbd command.
 #pragma once
 
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/system.hpp>
 
 #include <filesystem>
+#include <memory>
+#include <random>
 #include <string>
+#include <vector>
 
 namespace mbd::test {
 
@@ -16,6 +21,31 @@ std::filesystem::path scene_path(const std::string& relative);  // under scenes/
 
 // A registry over the build tree's plugins only (MBD_PLUGIN_PATH ignored).
 Registry& shared_registry();
+
+// A scene under scenes/, and a scene from YAML text (label: its file name in messages).
+Model load(const std::string& relative);
+Model scene(const std::string& yaml, const std::string& label = "test.yaml");
+// A formulation plugin with the options in `node` (reset to an empty map; it must outlive the result).
+std::shared_ptr<Formulation> make_formulation(const std::string& type, Param& node);
+// A random consistent state near the scene's initial configuration: random coordinate
+// increments of size `spread`, assembled; random velocities, made consistent.
+State random_consistent_state(const System& system, std::mt19937& rng, double spread);
+
+// A fresh, empty scratch folder for this test process.
+std::filesystem::path scratch(const std::string& name);
+// A CSV written by mbd: header and numeric rows (a cell that is not a finite number, or a row
+// of the wrong length, is a test failure).
+struct Csv {
+    std::vector<std::string> header;
+    std::vector<std::vector<double>> rows;
+    int column(const std::string& name) const;  // -1 when absent
+};
+Csv read_csv(const std::filesystem::path& path);
+// Largest coordinate difference of two q vectors; for spatial bodies the Euler parameters p and
+// -p are the same orientation, so the nearer sign is compared.
+double position_difference(const Model& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b);
+// All 17 significant digits, for numbers written into scene text.
+std::string g17(double x);
 
 struct CommandResult {
     int exit_code = -1;

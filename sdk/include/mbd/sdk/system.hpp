@@ -8,6 +8,8 @@
 // advance_positions().
 #pragma once
 
+#include <exception>
+
 #include <mbd/sdk/body_state.hpp>
 #include <mbd/sdk/force.hpp>
 #include <mbd/sdk/joint.hpp>
@@ -96,5 +98,20 @@ public:
     virtual void assemble(State& state, bool include_drivers = true) const = 0;  // positions
     virtual void consistent_velocities(State& state, bool include_drivers = true) const = 0;
 };
+
+// The state at which a formulation picks its coordinate partition in bind(): the scene's
+// initial state assembled as the run will assemble it, or as given when the assembly fails
+// (the run itself then reports that failure).
+inline State assembled_initial_state(const System& system) {
+    State s = system.initial_state();
+    s.t = 0.0;
+    try {
+        system.assemble(s, true);
+    } catch (const std::exception&) {
+        s = system.initial_state();
+        s.t = 0.0;
+    }
+    return s;
+}
 
 }  // namespace mbd
