@@ -2,9 +2,13 @@
 // Every scene's `bench:` key gives its measure, reference and grid; each grid point is run
 // --repeat times (median CPU time). Writes one CSV and one JSON row per run.
 #include "commands.hpp"
+#include "options.hpp"
 
 #include <mbd/bench.hpp>
+#include <mbd/interrupt.hpp>
+#include <mbd/output_file.hpp>
 #include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -46,16 +50,28 @@ void add_bench_command(CLI::App& app, Commands& commands) {
         ->capture_default_str();
     sub->add_option("--repeat", args->repeat, "Runs per grid point; the CPU time is their median")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     sub->add_option("--peers", args->peers,
                     "Folder of the peer programs (mbd_peer_simbody, mbd_peer_mujoco); a missing one is reported and "
                     "skipped");
     sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable)");
-    sub->add_option("--min-tol", args->tolerance_floor, "Skip grid tolerances below this (a quick run)");
+    sub->add_option("--min-tol", args->tolerance_floor, "Skip grid tolerances below this (a quick run)")
+        ->check(non_negative_number());
     sub->add_flag("-q,--quiet", args->quiet, "No progress bar and no summary");
 
     commands[sub] = [args] {
         Registry registry;
+        // the outputs must not be a scene or one of its base files, nor each other
+        std::vector<std::filesystem::path> inputs;
+        for (const std::string& scene : args->scenes) {
+            Registry scene_registry;
+            for (const auto& file : scene_files(scene, load_scene(scene, scene_registry))) inputs.push_back(file);
+        }
+        check_output_path(args->csv, inputs, "--csv");
+        inputs.emplace_back(args->csv);
+        check_output_path(args->json, inputs, "--json");
+        InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the benchmark between runs
+        OutputFile csv(args->csv), json(args->json);
         BenchOptions options;
         options.repeat = args->repeat;
         options.peers_dir = args->peers;
@@ -68,8 +84,11 @@ void add_bench_command(CLI::App& app, Commands& commands) {
             results.push_back(run_bench_scene(scene, registry, options, [&](const std::string& text) {
                 std::fprintf(stderr, "mbd bench: %s: %s\n", scene.c_str(), text.c_str());
             }));
-            write_bench_csv(args->csv, results);  // partial results survive an interrupted run
-            write_bench_json(args->json, results);
+            // the scenes done so far, in NAME.partial until the end
+            const std::string done = "the runs of the first " + std::to_string(results.size()) + " of " +
+                                     std::to_string(args->scenes.size()) + " scenes";
+            csv.replace(bench_csv(results), done);
+            json.replace(bench_json(results), done);
             if (!args->quiet) {
                 const BenchSceneResult& r = results.back();
                 int ok = 0, failed = 0;
@@ -90,6 +109,8 @@ void add_bench_command(CLI::App& app, Commands& commands) {
                 std::fflush(stdout);
             }
         }
+        csv.commit();
+        json.commit();
         if (!args->quiet) {
             const double wall =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,5 +1,6 @@
 // mbd check SCENE: load and assemble a scene, and report its mobility.
 #include "commands.hpp"
+#include "options.hpp"
 
 #include <mbd/kinematics.hpp>
 #include <mbd/mobility.hpp>
@@ -49,7 +50,7 @@ void add_check_command(CLI::App& app, Commands& commands) {
     sub->add_option("SCENE", *scene, "Scene file (YAML)")->required();
     sub->add_option("--rank-tolerance", *tolerance, "Relative tolerance of the rank of C_q")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(number_between(1e-16, 1.0));
 
     commands[sub] = [scene, tolerance] {
         Registry registry;

@@ -2,8 +2,12 @@
 // actuator efforts that produce the motion the drivers prescribe (book Secs.
 // 1.7, 4.7, 6.13). See docs/statics.md.
 #include "commands.hpp"
+#include "options.hpp"
 
 #include <mbd/csv.hpp>
+#include <mbd/interrupt.hpp>
+#include <mbd/output_file.hpp>
+#include <mbd/output_times.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/statics_analysis.hpp>
@@ -32,15 +36,18 @@ void add_inverse_command(CLI::App& app, Commands& commands) {
         "inverse", "Inverse dynamics: actuator efforts for the motion the drivers prescribe, at t = 0, h, ..., t_end");
     auto args = std::make_shared<InverseArguments>();
     sub->add_option("SCENE", args->scene, "Scene file (YAML) with drivers and 'actuators:'")->required();
-    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(CLI::NonNegativeNumber);
-    sub->add_option("--step", args->step, "Output step h [s]")->required()->check(CLI::PositiveNumber);
+    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(non_negative_number());
+    sub->add_option("--step", args->step, "Output step h [s] (at most 1e7 rows)")->required()->check(positive_number());
     sub->add_option("-o,--output", args->output, "CSV file: t, one column per actuator (and reactions)");
     sub->add_flag("--reactions", args->reactions, "Add JOINT.fx JOINT.fy JOINT.tz (planar; 6 columns spatial)");
     sub->add_option("--solver", args->solver, "Inverse-dynamics plugin type")->capture_default_str();
 
     commands[sub] = [args] {
+        output_intervals(args->t_end, args->step, "--step", "--t-end");  // the row count, before any work
         Registry registry;
         const Model model = load_scene(args->scene, registry);
+        check_output_path(args->output, scene_files(args->scene, model), "--output");
+        InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run after a complete row
         std::vector<std::string> columns{"t"};
         for (const Actuator& a : model.actuators) columns.push_back(a.name);
         const bool planar = model.dimension == Dimension::Planar;

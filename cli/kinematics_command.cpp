@@ -2,8 +2,12 @@
 // motion (book Secs. 3.7-3.8), written in the CSV contract of mbd/csv.hpp or
 // printed as a short table.
 #include "commands.hpp"
+#include "options.hpp"
 
 #include <mbd/csv.hpp>
+#include <mbd/interrupt.hpp>
+#include <mbd/output_file.hpp>
+#include <mbd/output_times.hpp>
 #include <mbd/kinematics.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
@@ -51,19 +55,20 @@ void print_table(const std::vector<std::string>& columns, const std::vector<std:
 
 void add_kinematics_command(CLI::App& app, Commands& commands) {
     CLI::App* sub = app.add_subcommand(
-        "kinematics", "Kinematically driven motion: assembly, velocities and accelerations at t = 0, h, 2h, ..., t_end");
+        "kinematics", "Kinematically driven motion: positions and velocities of every body at t = 0, h, 2h, ..., t_end "
+                      "(Newton-Raphson assembly at each time)");
     auto args = std::make_shared<KinematicsArguments>();
     sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
-    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(CLI::NonNegativeNumber);
-    sub->add_option("--step", args->step, "Output step h [s]")->required()->check(CLI::PositiveNumber);
+    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(non_negative_number());
+    sub->add_option("--step", args->step, "Output step h [s] (at most 1e7 rows)")->required()->check(positive_number());
     sub->add_option("-o,--output", args->output,
                     "CSV file (columns: t, positions, velocities per body); without it a short table is printed");
     sub->add_option("--tolerance", args->tolerance, "Newton-Raphson tolerance on max |C|")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(number_between(1e-15, 1.0, "smaller is beneath double-precision round-off"));
     sub->add_option("--max-iterations", args->max_iterations, "Newton-Raphson iterations per output time")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     sub->add_option("--linear-algebra", args->algebra, "Minimum-norm solver: auto, dense or sparse")
         ->capture_default_str()
         ->check(CLI::IsMember({"auto", "dense", "sparse"}));
@@ -72,6 +77,7 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
         ->check(CLI::Range(2, 100000));
 
     commands[sub] = [args] {
+        output_intervals(args->t_end, args->step, "--step", "--t-end");  // the row count, before any work
         KinematicsOptions options;
         options.newton.tolerance = args->tolerance;
         options.newton.max_iterations = args->max_iterations;
@@ -79,10 +85,12 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
 
         Registry registry;
         const Model model = load_scene(args->scene, registry);
+        check_output_path(args->output, scene_files(args->scene, model), "--output");
         const std::vector<std::string> columns = motion_columns(model);
+        InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run after a complete row
 
         if (!args->output.empty()) {
-            CsvWriter writer(args->output, columns);  // removes its partial file if the run fails
+            CsvWriter writer(args->output, columns);  // the output contract of output_file.hpp
             long samples = 0;
             run_kinematics(
                 model, args->t_end, args->step,
@@ -98,8 +106,7 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
         }
 
         // a few evenly spaced samples, always the first and the last
-        const double ratio = args->t_end / args->step;
-        const long intervals = std::max(0L, static_cast<long>(std::ceil(ratio - 1e-9 * std::max(1.0, ratio))));
+        const long intervals = output_intervals(args->t_end, args->step, "--step", "--t-end");
         const long stride = std::max(1L, (intervals + args->rows - 2) / (args->rows - 1));
         std::vector<std::vector<double>> rows;
         std::vector<double> last;

@@ -1,15 +1,22 @@
 // mbd: the command-line front end of the multibody dynamics engine.
 //
-// Exit codes: 0 success, 1 a failed analysis (assembly, singular configuration,
-// I/O), 2 bad input (command line or scene). Every error is printed on stderr as
-// "mbd: error: <message>".
+// Exit codes (docs/user-guide.md): 0 success; 1 a failed analysis (assembly, a
+// singular configuration, a diverging or unstable run, no equilibrium); 2 bad
+// input (command line, scene, an output path that is an input or cannot be
+// written, a full disk); 128 + N when stopped by signal N (130 SIGINT, 143
+// SIGTERM, 129 SIGHUP). Every error is printed on stderr as "mbd: error: ...",
+// followed by where the rows of an unfinished output file are (output_file.hpp).
 #include "commands.hpp"
 
+#include <mbd/interrupt.hpp>
 #include <mbd/kinematics.hpp>
+#include <mbd/output_file.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/plugin.hpp>
 
+#include <cmath>
+#include <cstdio>
 #include <exception>
 #include <iostream>
 #include <map>
@@ -19,8 +26,32 @@
 #define MBD_VERSION "unknown"
 #endif
 
+namespace {
+
+// The error, then a line per output file left unfinished; returns `status`.
+int report(const std::string& message, int status) {
+    std::cerr << "mbd: error: " << message << '\n';
+    for (const std::string& note : mbd::take_kept_output_notes()) std::cerr << "mbd: " << note << '\n';
+    return status;
+}
+
+std::string time_text(double t) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.9g", t);
+    return text;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-    CLI::App app{"mbd: multibody dynamics (kinematics, mobility, plugins)", "mbd"};
+    CLI::App app{"mbd: multibody dynamics. Check a scene (bodies, joints, degrees of freedom), run its kinematics, "
+                 "forward dynamics (simulate), statics and inverse dynamics, benchmark it, run the stability "
+                 "matrix, and list or check plugins.",
+                 "mbd"};
+    app.footer(
+        "Exit status: 0 success, 1 failed analysis, 2 bad input (command line, scene, output path), 130/143/129 "
+        "stopped by SIGINT/SIGTERM/SIGHUP.\nA result file appears under its name only when complete; the rows of "
+        "a failed or stopped run stay in NAME.partial. See docs/user-guide.md.");
     app.set_version_flag("--version", std::string("mbd ") + MBD_VERSION + " (plugin ABI " +
                                           std::to_string(MBD_ABI_VERSION) + ")");
     app.require_subcommand(1);
@@ -64,20 +95,21 @@ int main(int argc, char** argv) {
         }
         std::cerr << "mbd: error: no command given\n";
         return 2;
+    } catch (const mbd::Interrupted& e) {
+        return report("stopped by " + e.signal_name() +
+                          (std::isfinite(e.time()) ? " at t = " + time_text(e.time()) : std::string()) +
+                          " before the end of the run",
+                      e.exit_status());
     } catch (const mbd::InputError& e) {
-        std::cerr << "mbd: error: " << e.what() << '\n';
-        return 2;
+        return report(e.what(), 2);
     } catch (const mbd::DynamicsError& e) {
-        std::cerr << "mbd: error: at t = " << e.time() << ": " << e.what() << '\n';
-        return 1;
+        // a failure without a time (NaN) is not given one
+        return report((std::isfinite(e.time()) ? "at t = " + time_text(e.time()) + ": " : std::string()) + e.what(), 1);
     } catch (const mbd::KinematicsError& e) {
-        std::cerr << "mbd: error: " << e.what() << '\n';
-        return 1;
+        return report(e.what(), 1);
     } catch (const std::exception& e) {
-        std::cerr << "mbd: error: " << e.what() << '\n';
-        return 1;
+        return report(e.what(), 1);
     } catch (...) {
-        std::cerr << "mbd: error: unknown failure\n";
-        return 1;
+        return report("unknown failure", 1);
     }
 }

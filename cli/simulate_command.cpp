@@ -3,7 +3,12 @@
 // (rk4, dopri5, generalized_alpha, cvode), written in the CSV contract of mbd/csv.hpp,
 // optionally with joint reactions and energy / constraint diagnostics.
 #include "commands.hpp"
+#include "options.hpp"
 
+#include <mbd/integrator.hpp>
+#include <mbd/interrupt.hpp>
+#include <mbd/output_file.hpp>
+#include <mbd/output_times.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
@@ -34,7 +39,35 @@ struct SimulateArguments {
     bool quiet = false;
     bool error_estimate = false;  // --error-estimate: a second run, 10x tighter (or half the step)
     bool json = false;
+    bool tolerance_given = false, step_given = false;
 };
+
+// --tol belongs to the adaptive integrators, --step to the fixed-step ones (docs/integrators.md);
+// an option that does not apply is an error rather than quietly taking another meaning.
+void check_integrator_options(const SimulateArguments& a) {
+    const bool adaptive = make_integrator(a.integrator, IntegratorSettings{})->adaptive();
+    if (adaptive && a.step_given)
+        throw InputError("--step", "applies to the fixed-step integrators (rk4, euler, generalized_alpha); " +
+                                       a.integrator +
+                                       " chooses its own steps: set its accuracy with --tol and the time between "
+                                       "rows with --output-step");
+    if (!adaptive && a.tolerance_given)
+        throw InputError("--tol", "applies to the adaptive integrators (dopri5, cvode); " + a.integrator +
+                                      " takes fixed steps: set them with --step");
+    if (!adaptive && !a.step_given)
+        throw InputError("--step", a.integrator + " takes fixed steps: give their size with --step (e.g. --step " +
+                                       "1e-3), or choose an adaptive integrator (--integrator dopri5 or cvode)");
+    if (a.step_given) {
+        const double steps = a.t_end / a.step;
+        const long limit = IntegratorSettings{}.max_steps;
+        if (!(steps <= static_cast<double>(limit))) {
+            char text[200];
+            std::snprintf(text, sizeof text, "%g needs %.3g steps to reach --t-end %g; at most %ld are taken: use a "
+                          "larger step", a.step, steps, a.t_end, limit);
+            throw InputError("--step", text);
+        }
+    }
+}
 
 }  // namespace
 
@@ -43,22 +76,23 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
                                                    "initial state to t_end");
     auto args = std::make_shared<SimulateArguments>();
     sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
-    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(CLI::PositiveNumber);
+    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(positive_number());
     sub->add_option("-o,--output", args->output, "CSV file: t, positions, velocities (+ reactions, diagnostics)")
         ->required();
     sub->add_option("--formulation", args->formulation,
                     "Formulation plugin (default: the scene's 'formulation', else augmented)");
     sub->add_option("--integrator", args->integrator, "Integrator: rk4, dopri5, generalized_alpha, cvode")
         ->capture_default_str();
-    CLI::Option* tol = sub->add_option("--tol", args->tolerance, "Tolerance of an adaptive integrator (default 1e-6)")
-                           ->check(CLI::PositiveNumber);
-    CLI::Option* step = sub->add_option("--step", args->step, "Fixed step (rk4, generalized_alpha) [s]")
-                            ->check(CLI::PositiveNumber);
+    CLI::Option* tol =
+        sub->add_option("--tol", args->tolerance, "Tolerance of an adaptive integrator, dopri5 or cvode (default 1e-6)")
+            ->check(number_between(kSmallestTolerance, 1.0, "below 1e-14 is beneath double-precision round-off"));
+    CLI::Option* step =
+        sub->add_option("--step", args->step, "Fixed step of rk4, euler or generalized_alpha [s]")->check(positive_number());
     tol->excludes(step);
     step->excludes(tol);
     sub->add_option("--output-step", args->output_step,
-                    "Time between CSV rows [s] (default: the fixed step, else t_end / 1000)")
-        ->check(CLI::PositiveNumber);
+                    "Time between CSV rows [s] (default: the fixed step, else t_end / 1000; at most 1e7 rows)")
+        ->check(positive_number());
     sub->add_flag("--reactions", args->reactions,
                   "Add the reaction on every joint's second body at the joint point, world axes: JOINT.fx JOINT.fy "
                   "JOINT.tz (planar) or JOINT.fx JOINT.fy JOINT.fz JOINT.tx JOINT.ty JOINT.tz (spatial)");
@@ -68,15 +102,22 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         ->check(CLI::IsMember({"projection", "baumgarte", "none"}));
     sub->add_option("--linear-algebra", args->algebra, "Linear algebra of the formulation: auto, dense or sparse")
         ->check(CLI::IsMember({"auto", "dense", "sparse"}));
-    sub->add_flag("-q,--quiet", args->quiet, "No summary and no progress bar");
+    sub->add_flag("-q,--quiet", args->quiet,
+                  "Quiet: no summary, no progress bar and no messages of the formulation (errors are still printed)");
     sub->add_flag("--error-estimate", args->error_estimate,
                   "Also run at a ten times tighter tolerance (fixed step: half the step) and end with the CPU time "
                   "and the estimated global error of the positions at the output times");
     sub->add_flag("--json", args->json, "Print the summary as one JSON object on stdout");
 
-    commands[sub] = [args] {
+    commands[sub] = [args, tol, step] {
+        args->tolerance_given = tol->count() > 0;
+        args->step_given = step->count() > 0;
+        check_integrator_options(*args);
+        if (args->output_step > 0.0) output_intervals(args->t_end, args->output_step, "--output-step", "--t-end");
         Registry registry;
         const Model model = load_scene(args->scene, registry);
+        check_output_path(args->output, scene_files(args->scene, model), "--output");
+        InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run at a step boundary
 
         SimulationSettings settings;
         settings.formulation = args->formulation;
@@ -93,6 +134,7 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         if (args->stabilization == "none") settings.stabilization = Stabilization::None;
         settings.algebra = args->algebra;
         settings.progress = !args->quiet;
+        if (args->quiet) settings.messages = MessageLog::silent();
 
         // --error-estimate: the mass-centre positions at the output times of this run and of
         // a tighter one; their largest distance, times the Richardson factor 2^p / (2^p - 1)
@@ -116,6 +158,7 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
             SimulationSettings tight = settings;
             tight.output.clear();
             tight.progress = false;
+            tight.messages = MessageLog::silent();
             tight.reactions = tight.diagnostics = false;
             if (!(tight.output_step > 0.0))
                 tight.output_step = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;

@@ -5,7 +5,10 @@
 // (core/src/stability.cpp). Exit status 1 when a declared pair misses its declared outcome or a
 // child crashed.
 #include "commands.hpp"
+#include "options.hpp"
 
+#include <mbd/interrupt.hpp>
+#include <mbd/output_file.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/stability.hpp>
@@ -13,8 +16,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
+#include <optional>
 
 namespace mbd::cli {
 
@@ -51,19 +54,36 @@ void add_stability_command(CLI::App& app, Commands& commands) {
         std::vector<std::string> integrators = args->integrators;
         if (integrators.empty()) integrators = stability_integrators();
 
+        // every scene read first: bad input stops before any run, and --markdown must not be one of them
+        std::vector<Model> models;
+        std::vector<std::filesystem::path> inputs;
+        for (const std::string& scene : scenes) {
+            Registry r;
+            models.push_back(load_scene(scene, r));
+            for (const auto& file : scene_files(scene, models.back())) inputs.push_back(file);
+        }
+        check_output_path(args->markdown, inputs, "--markdown");
+        std::vector<StabilityCase> pending;
+        for (size_t k = 0; k < scenes.size(); ++k) {
+            StabilityCase c;
+            c.scene = scenes[k];
+            c.name = std::filesystem::path(scenes[k]).stem().string();
+            c.expect = read_expectation(models[k]);
+            pending.push_back(std::move(c));
+        }
+        const std::string command =
+            std::string("mbd stability") + (args->quick ? " --quick" : "") + " --markdown " + args->markdown;
+        InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the matrix between runs
+        std::optional<OutputFile> markdown;
+        if (!args->markdown.empty()) markdown.emplace(args->markdown);
+
         std::vector<StabilityCase> cases;
         int wrong = 0, crashes = 0;
-        for (const std::string& scene : scenes) {
-            StabilityCase c;
-            c.scene = scene;
-            {
-                Registry r;
-                const Model model = load_scene(scene, r);
-                c.name = std::filesystem::path(scene).stem().string();
-                c.expect = read_expectation(model);
-            }
+        for (StabilityCase& c : pending) {
+            const std::string& scene = c.scene;
             for (const std::string& f : formulations)
                 for (const std::string& i : integrators) {
+                    stop_if_interrupted();
                     CellOutcome o = run_case_isolated(scene, f, i, args->quick ? c.expect.quick_t_end : 0.0);
                     std::printf("%-28s %-12s %-18s %s (%.1f s)\n", c.name.c_str(), f.c_str(), i.c_str(),
                                 o.cell().c_str(), o.seconds);
@@ -75,12 +95,14 @@ void add_stability_command(CLI::App& app, Commands& commands) {
                 }
             if (args->quick) c.expect.t_end = c.expect.quick_t_end;
             cases.push_back(std::move(c));
+            // the cases done so far, in NAME.partial until the matrix is complete
+            if (markdown)
+                markdown->replace(stability_markdown(cases, formulations, integrators, command),
+                                  "the matrix of the first " + std::to_string(cases.size()) + " of " +
+                                      std::to_string(pending.size()) + " cases");
         }
-        if (!args->markdown.empty()) {
-            std::ofstream out(args->markdown);
-            out << stability_markdown(cases, formulations, integrators,
-                                      std::string("mbd stability") + (args->quick ? " --quick" : "") +
-                                          " --markdown " + args->markdown);
+        if (markdown) {
+            markdown->commit();
             std::printf("wrote %s\n", args->markdown.c_str());
         }
         std::printf("%zu cases: %d declared pairs missed their declared outcome, %d crashes or errors\n", cases.size(),

@@ -2,7 +2,9 @@
 // (book Sec. 5.6, Eq. 6.171) with the statics plugin, its joint reactions and
 // its stability. See docs/statics.md.
 #include "commands.hpp"
+#include "options.hpp"
 
+#include <mbd/output_file.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/statics_analysis.hpp>
@@ -166,7 +168,9 @@ void add_statics_command(CLI::App& app, Commands& commands) {
     sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
     sub->add_flag("--json", args->json, "Print one JSON object instead of the report");
     sub->add_option("-o,--output", args->output, "Write the equilibrium as a scene file (positions replaced)");
-    sub->add_option("--time", args->time, "Time at which the drivers hold their joints")->capture_default_str();
+    sub->add_option("--time", args->time, "Time at which the drivers hold their joints")
+        ->capture_default_str()
+        ->check(finite_number());
     sub->add_option("--objective", args->objective,
                     "auto (potential when every force is conservative at rest), potential, virtual-work")
         ->capture_default_str()
@@ -176,16 +180,17 @@ void add_statics_command(CLI::App& app, Commands& commands) {
         ->check(CLI::IsMember({"exact", "limited-memory"}));
     sub->add_option("--tolerance", args->tolerance, "Equilibrium tolerance (Ipopt tol, constr_viol_tol, dual_inf_tol)")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(number_between(kSmallestTolerance, 1.0, "below 1e-14 is beneath double-precision round-off"));
     sub->add_option("--max-iterations", args->max_iterations, "Ipopt iterations")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     sub->add_option("--solver", args->solver, "Statics plugin type")->capture_default_str();
     sub->add_flag("--verbose", args->verbose, "Show Ipopt's iteration log");
 
     commands[sub] = [args] {
         Registry registry;
         const Model model = load_scene(args->scene, registry);
+        check_output_path(args->output, scene_files(args->scene, model), "--output");
         StaticsOptions options;
         options.time = args->time;
         options.objective = args->objective;
@@ -204,7 +209,9 @@ void add_statics_command(CLI::App& app, Commands& commands) {
             return 1;
         }
         if (!args->output.empty()) {
-            write_equilibrium_scene(model, rep.result.state, args->output);
+            OutputFile file(args->output);
+            file.replace(equilibrium_scene(model, rep.result.state));
+            file.commit();
             if (!args->json) std::cout << "\nwrote the equilibrium scene to " << args->output << '\n';
         }
         return 0;

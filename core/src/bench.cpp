@@ -1,5 +1,8 @@
 // Work-precision benchmarks (see bench.hpp).
 #include <mbd/bench.hpp>
+#include <mbd/interrupt.hpp>
+#include <mbd/output_file.hpp>
+#include <mbd/progress_bar.hpp>
 
 #include <mbd/scene.hpp>
 #include <mbd/sdk/rotation.hpp>
@@ -92,32 +95,22 @@ std::vector<int> measured_bodies(const Model& model, const BenchMeasure& m) {
     return out;
 }
 
-// ---- progress bar over a scene's grid (stderr, only on a terminal)
+// ---- progress over a scene's grid (progress_bar.hpp); a stop signal ends the grid here
 class GridProgress {
 public:
     GridProgress(bool enabled, std::string label, int total)
-        : enabled_(enabled && ::isatty(::fileno(stderr)) && total > 0), label_(std::move(label)), total_(total) {}
-    ~GridProgress() { finish(); }
+        : bar_(enabled && total > 0), label_(std::move(label)), total_(total) {}
     void update(int done, const std::string& what) {
-        if (!enabled_) return;
-        const int width = 30, filled = static_cast<int>(width * static_cast<double>(done) / total_);
-        std::string bar(filled, '=');
-        if (filled < width) bar += '>' + std::string(width - filled - 1, ' ');
-        std::string text = what.size() > 40 ? what.substr(0, 40) : what;
-        std::fprintf(stderr, "\r\033[K%s [%s] %d/%d %s", label_.c_str(), bar.c_str(), done, total_, text.c_str());
-        std::fflush(stderr);
-        shown_ = true;
+        stop_if_interrupted();
+        bar_.update(static_cast<double>(done) / total_,
+                    label_ + " " + std::to_string(done) + "/" + std::to_string(total_) + " " + what);
     }
-    void finish() {
-        if (shown_) std::fprintf(stderr, "\r\033[K");
-        shown_ = false;
-    }
+    void finish() { bar_.finish(); }
 
 private:
-    bool enabled_;
+    ProgressBar bar_;
     std::string label_;
     int total_;
-    bool shown_ = false;
 };
 
 // ---- closed forms
@@ -643,9 +636,8 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
     return out;
 }
 
-void write_bench_csv(const std::string& path, const std::vector<BenchSceneResult>& results) {
-    std::ofstream f(path);
-    if (!f) throw InputError(path, "cannot write the CSV file");
+std::string bench_csv(const std::vector<BenchSceneResult>& results) {
+    std::ostringstream f;
     f << "engine,scene,formulation,integrator,tolerance,step,cpu_s,steps,error,error_measure,reference_kind,status\n";
     for (const auto& r : results)
         for (const auto& row : r.rows)
@@ -654,11 +646,11 @@ void write_bench_csv(const std::string& path, const std::vector<BenchSceneResult
               << (row.step > 0 ? json_number(row.step) : "") << ',' << json_number(row.cpu_s) << ',' << row.steps
               << ',' << (std::isfinite(row.error) ? json_number(row.error) : "") << ','
               << csv_field(row.error_measure) << ',' << row.reference_kind << ',' << csv_field(row.status) << '\n';
+    return f.str();
 }
 
-void write_bench_json(const std::string& path, const std::vector<BenchSceneResult>& results) {
-    std::ofstream f(path);
-    if (!f) throw InputError(path, "cannot write the JSON file");
+std::string bench_json(const std::vector<BenchSceneResult>& results) {
+    std::ostringstream f;
     f << "{\n  \"scenes\": [\n";
     for (size_t i = 0; i < results.size(); ++i) {
         const auto& r = results[i];
@@ -685,6 +677,7 @@ void write_bench_json(const std::string& path, const std::vector<BenchSceneResul
             first = false;
         }
     f << "\n  ]\n}\n";
+    return f.str();
 }
 
 }  // namespace mbd

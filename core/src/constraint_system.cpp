@@ -1,8 +1,36 @@
 #include <mbd/constraint_system.hpp>
 
+#include <mbd/sdk/formulation.hpp>
+
 #include <cmath>
+#include <cstdio>
 
 namespace mbd {
+
+namespace {
+
+std::string number(double x) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.6g", x);
+    return text;
+}
+
+// The first non-finite entry of a joint's output, described ("C of row 'x' = nan").
+std::string first_non_finite(const Joint& joint, const ConstraintEval& e) {
+    auto describe = [&](const char* what, int row, double value) {
+        return std::string(what) + " of row '" + joint.row_name(row) + "' = " + number(value);
+    };
+    for (int r = 0; r < e.C.size(); ++r) {
+        if (!std::isfinite(e.C[r])) return describe("C", r, e.C[r]);
+        if (!std::isfinite(e.C_t[r])) return describe("C_t", r, e.C_t[r]);
+        if (!std::isfinite(e.gamma[r])) return describe("gamma", r, e.gamma[r]);
+        for (int c = 0; c < e.J.cols(); ++c)
+            if (!std::isfinite(e.J(r, c))) return describe("the Jacobian", r, e.J(r, c));
+    }
+    return "no entry";
+}
+
+}  // namespace
 
 std::string RowOwner::describe() const {
     if (kind == Kind::Driver) return "driver '" + element_name + "'";
@@ -66,6 +94,16 @@ void ConstraintSystem::evaluate(const State& state, ConstraintValues& out) const
         e.gamma.setZero();
         poses_.fill(ji.bodies, state.t, view_);
         ji.joint->evaluate(view_, e);
+        // a NaN from a joint would surface later as a failed projection or a singular
+        // matrix; name the joint here instead (unless the state itself is not finite)
+        if (!(e.C.allFinite() && e.C_t.allFinite() && e.gamma.allFinite() && e.J.allFinite()) && state.q.allFinite() &&
+            state.v.allFinite())
+            throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type + (ji.where.empty() ? "" : ", " + ji.where) +
+                                             ") gave a non-finite value at t = " + number(state.t) + " (" +
+                                             first_non_finite(*ji.joint, e) +
+                                             ") although the body positions and velocities are finite: its equations "
+                                             "are undefined in this configuration; check the joint's parameters, or "
+                                             "its plugin");
         const int r0 = joint_offset_[j];
         out.C.segment(r0, e.C.size()) = e.C;
         out.C_t.segment(r0, e.C.size()) = e.C_t;
@@ -83,6 +121,13 @@ void ConstraintSystem::evaluate(const State& state, ConstraintValues& out) const
             poses_.fill(ji.bodies, state.t, view_);
             ji.joint->coordinate(view_, e);
             const TimeValue f = dr.motion->evaluate(state.t);
+            if (!(std::isfinite(f.f) && std::isfinite(f.df) && std::isfinite(f.ddf)))
+                throw DynamicsError(state.t, "driver '" + dr.name + "'" + (dr.where.empty() ? "" : " (" + dr.where + ")") +
+                                                 ": its motion is not finite at t = " + number(state.t) + " (f = " +
+                                                 number(f.f) + ", df/dt = " + number(f.df) + ", d2f/dt2 = " +
+                                                 number(f.ddf) +
+                                                 "): the time function overflows; check its parameters or shorten "
+                                                 "the run");
             // book Sec. 3.6 driving constraints: C = s(q) - f(t), C_t = -fdot, gamma = gamma_s + fddot
             const int row = joint_rows_ + static_cast<int>(d);
             const double residual = e.value - f.f;

@@ -3,9 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <stdexcept>
-#include <system_error>
 
 namespace mbd {
 
@@ -59,62 +57,42 @@ std::vector<double> motion_values(const Model& model, const State& state) {
     return values;
 }
 
-CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns)
-    : path_(path), partial_(path + ".partial"), columns_(columns.size()) {
-    out_.open(partial_, std::ios::out | std::ios::trunc);
-    if (!out_) throw std::runtime_error("cannot write '" + partial_ + "' (does its folder exist?)");
-    for (size_t k = 0; k < columns.size(); ++k) {
-        if (k) out_ << ',';
-        out_ << columns[k];
-    }
-    out_ << '\n';
+std::string CsvWriter::header(const std::vector<std::string>& columns) {
+    std::string line;
+    for (size_t k = 0; k < columns.size(); ++k) line += (k ? "," : "") + columns[k];
+    return line + '\n';
 }
 
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns)
+    : file_(path, header(columns)), columns_(columns.size()), timed_(!columns.empty() && columns[0] == "t") {}
+
 CsvWriter::~CsvWriter() {
-    if (!closed_) {
-        // not closed: an error interrupted the run, so no result file appears
-        out_.close();
-        std::error_code ignored;
-        std::filesystem::remove(partial_, ignored);
-    }
+    // not closed: the run failed or was interrupted; its complete rows stay in PATH.partial
+    char last[40];
+    std::snprintf(last, sizeof last, "%.9g", last_time_);
+    file_.abandon("the " + std::to_string(rows()) + (rows() == 1 ? " row" : " rows") +
+                  (timed_ ? std::string(" up to t = ") + last : std::string()) + " written before the stop");
 }
 
 void CsvWriter::row(const std::vector<double>& values) {
-    if (closed_) throw std::logic_error("CsvWriter::row after close()");
     if (values.size() != columns_)
         throw std::invalid_argument("CSV row has " + std::to_string(values.size()) + " values for " +
                                     std::to_string(columns_) + " columns");
     for (size_t k = 0; k < values.size(); ++k)
         if (!std::isfinite(values[k]))
             throw std::runtime_error("refusing to write a non-finite value (" + std::to_string(values[k]) +
-                                     ") in column " + std::to_string(k + 1) + " of '" + path_ + "'");
+                                     ") in column " + std::to_string(k + 1) + " of '" + file_.path().string() + "'");
+    line_.clear();
     char buffer[40];
     for (size_t k = 0; k < values.size(); ++k) {
-        if (k) out_ << ',';
-        std::snprintf(buffer, sizeof buffer, "%.17g", values[k]);
-        out_ << buffer;
+        std::snprintf(buffer, sizeof buffer, k ? ",%.17g" : "%.17g", values[k]);
+        line_ += buffer;
     }
-    out_ << '\n';
-    if (!out_) throw std::runtime_error("writing '" + partial_ + "' failed (disk full?)");
+    line_ += '\n';
+    file_.write_record(line_);
+    if (timed_) last_time_ = values[0];
 }
 
-void CsvWriter::close() {
-    if (closed_) return;
-    out_.flush();
-    const bool good = static_cast<bool>(out_);
-    out_.close();
-    closed_ = true;
-    std::error_code error;
-    if (!good) {
-        std::filesystem::remove(partial_, error);
-        throw std::runtime_error("writing '" + partial_ + "' failed (disk full?)");
-    }
-    std::filesystem::rename(partial_, path_, error);
-    if (error) {
-        std::error_code ignored;
-        std::filesystem::remove(partial_, ignored);
-        throw std::runtime_error("cannot rename '" + partial_ + "' to '" + path_ + "': " + error.message());
-    }
-}
+void CsvWriter::close() { file_.commit(); }
 
 }  // namespace mbd

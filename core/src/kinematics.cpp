@@ -16,6 +16,9 @@
 // model is kinematically driven.
 #include <mbd/kinematics.hpp>
 
+#include <mbd/interrupt.hpp>
+#include <mbd/output_times.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -154,18 +157,8 @@ Eigen::VectorXd solve_accelerations(const ConstraintSystem& system, const State&
 
 void run_kinematics(const Model& model, double t_end, double step, const KinematicsSample& sample,
                     const KinematicsOptions& options) {
-    if (!(std::isfinite(t_end) && t_end >= 0.0))
-        throw InputError("kinematics", "the end time must be a finite number >= 0, got " + format_number(t_end));
-    if (!(std::isfinite(step) && step > 0.0))
-        throw InputError("kinematics", "the output step must be a positive number, got " + format_number(step));
-
-    // Output times t_k = k h, k = 0..n, the last one exactly t_end. When t_end is a
-    // multiple of h up to round-off, there are t_end / h intervals; otherwise the
-    // last interval is shorter.
-    const double ratio = t_end / step;
-    long long n = std::llround(ratio);
-    if (std::abs(ratio - static_cast<double>(n)) > 1e-9 * std::max(1.0, ratio)) n = static_cast<long long>(std::ceil(ratio));
-    if (n > 100000000LL) throw InputError("kinematics", "too many output steps (t_end / step > 1e8)");
+    // Output times t_k = k h, k = 0..n, the last one exactly t_end (output_times.hpp).
+    const long long n = output_intervals(t_end, step, "kinematics: the output step", "kinematics: the end time");
 
     const ConstraintSystem system(model, true);
     const LinearAlgebra algebra = options.newton.algebra;
@@ -190,6 +183,7 @@ void run_kinematics(const Model& model, double t_end, double step, const Kinemat
         a = solve_accelerations(system, state, algebra);
         if (!sample(state, a)) return;
         t_previous = t;
+        stop_if_interrupted(t);  // after a complete sample: SIGINT/SIGTERM/SIGHUP stop here
     }
 }
 

@@ -165,7 +165,22 @@ std::shared_ptr<Product> Registry::create(const std::string& kind, const Spec& s
     }
     const std::string symbol = "mbd_abi" + std::to_string(MBD_ABI_VERSION) + "__" + kind + "__" + spec.type;
     auto& factory = lib->handle.get_alias<Factory>(symbol);
-    std::unique_ptr<Product> made = factory(spec);
+    // A plugin's exception names neither the scene nor the element: add both (an
+    // InputError that already has a location, from the scene's keys, is complete).
+    const std::string plugin = " (plugin " + t.library.string() + ")";
+    std::unique_ptr<Product> made;
+    try {
+        made = factory(spec);
+    } catch (const InputError& e) {
+        if (!e.where().empty()) throw;
+        throw InputError(where, owner + ": " + e.message() + plugin);
+    } catch (const std::exception& e) {
+        throw InputError(where, owner + ": the " + kind + " type '" + spec.type + "' could not be created: " + e.what() +
+                                    plugin);
+    } catch (...) {
+        throw InputError(where, owner + ": the " + kind + " type '" + spec.type +
+                                    "' could not be created (the plugin threw an unknown exception)" + plugin);
+    }
     if (!made) throw InputError(where, owner + ": plugin " + t.library.string() + " returned nothing");
     // the deleter runs the plugin's destructor, then lets go of the library
     std::shared_ptr<void> keep_alive = lib;

@@ -123,8 +123,9 @@ YAML::Node parse_yaml(const std::string& text, const std::string& file) {
 // `base: FILE` at the top level: the scene starts from another scene file (the path is
 // relative to this file) and replaces or adds the top-level keys it gives. `name` is never
 // inherited, so a derived scene is named after its own file. Keys of the base keep their
-// own file:line, so an error in inherited input points into the base file.
-Param with_base(Param root, const std::string& file, int depth) {
+// own file:line, so an error in inherited input points into the base file. Every base
+// file read is added to `files` (an output must never overwrite one: output_file.hpp).
+Param with_base(Param root, const std::string& file, int depth, std::vector<std::string>& files) {
     if (!root.is_map()) return root;
     const auto it = root.fields.find("base");
     if (it == root.fields.end()) return root;
@@ -137,9 +138,11 @@ Param with_base(Param root, const std::string& file, int depth) {
         key.fail("cannot open the base scene " + quote(path.string()) + " (a file; the path is relative to this file)");
     std::ifstream in(path, std::ios::binary);
     if (!in) key.fail("cannot read the base scene " + quote(path.string()));
+    files.push_back(path.string());
     std::ostringstream text;
     text << in.rdbuf();
-    Param base = with_base(convert(parse_yaml(text.str(), path.string()), path.string(), 1), path.string(), depth + 1);
+    Param base =
+        with_base(convert(parse_yaml(text.str(), path.string()), path.string(), 1), path.string(), depth + 1, files);
     if (!base.is_map()) key.fail("the base scene " + quote(path.string()) + " is not a map of keys");
     root.fields.erase("base");
     for (auto& [name, value] : base.fields)
@@ -178,7 +181,7 @@ public:
 
     Model load(const std::string& text) {
         const YAML::Node root = parse_yaml(text, file_);
-        root_ = with_base(convert(root, file_, 1), file_, 0);
+        root_ = with_base(convert(root, file_, 1), file_, 0, base_files_);
         index_key_lines(root, root_, key_lines_);
         build();
         return std::move(model_);
@@ -378,6 +381,7 @@ private:
     auto create_checked(const Params& params, const Param& node, const std::string& what, Create&& create) const;
 
     std::string file_;
+    std::vector<std::string> base_files_;  // the `base:` files read
     Registry& registry_;
     Param root_;
     KeyLines key_lines_;
@@ -398,6 +402,7 @@ void Loader::build() {
                                       // expect: stored raw for `mbd stability` (core/src/stability.cpp)
 
     model_.source = file_;
+    model_.base_files = base_files_;
     if (const Param* name = find(root_, "name")) {
         if (!name->is_scalar()) name->fail("scene: 'name' must be a single line of text");
         model_.name = name->text;

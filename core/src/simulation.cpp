@@ -2,8 +2,13 @@
 #include <mbd/simulation.hpp>
 
 #include <mbd/csv.hpp>
+#include <mbd/interrupt.hpp>
 #include <mbd/model_system.hpp>
+#include <mbd/output_times.hpp>
+#include <mbd/progress_bar.hpp>
 #include <mbd/sdk/reactions.hpp>
+
+#include "energy_growth.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -14,7 +19,6 @@
 #include <ctime>
 #include <memory>
 #include <sstream>
-#include <unistd.h>
 
 namespace mbd {
 
@@ -48,44 +52,6 @@ public:
 private:
     Formulation& formulation_;
     const System& system_;
-};
-
-// A one-line progress bar on stderr, shown only when stderr is a terminal and the
-// run has already taken more than a second.
-class ProgressBar {
-public:
-    ProgressBar(bool enabled, double t0, double t_end)
-        : enabled_(enabled && ::isatty(::fileno(stderr)) && t_end > t0), t0_(t0), t_end_(t_end),
-          start_(std::chrono::steady_clock::now()) {}
-    ~ProgressBar() { finish(); }
-    void update(double t) {
-        if (!enabled_) return;
-        const auto now = std::chrono::steady_clock::now();
-        if (now - start_ < std::chrono::seconds(1)) return;
-        if (shown_ && now - last_ < std::chrono::milliseconds(100)) return;
-        last_ = now;
-        shown_ = true;
-        const double fraction = std::clamp((t - t0_) / (t_end_ - t0_), 0.0, 1.0);
-        const int width = 40, filled = static_cast<int>(fraction * width);
-        std::string bar(filled, '=');
-        if (filled < width) bar += '>' + std::string(width - filled - 1, ' ');
-        std::fprintf(stderr, "\r[%s] %3d%%  t = %.6g / %.6g s", bar.c_str(), static_cast<int>(100 * fraction), t,
-                     t_end_);
-        std::fflush(stderr);
-    }
-    void finish() {
-        if (shown_) {
-            std::fprintf(stderr, "\r%78s\r", "");
-            std::fflush(stderr);
-            shown_ = false;
-        }
-    }
-
-private:
-    bool enabled_;
-    double t0_, t_end_;
-    std::chrono::steady_clock::time_point start_, last_;
-    bool shown_ = false;
 };
 
 // The formulation's scene keys, with the command line's overrides written over
@@ -181,6 +147,11 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     // --- integrator (checked before any work)
     if (!(settings.t_end > 0.0) || !std::isfinite(settings.t_end))
         throw InputError("", "the end time must be positive, got " + format_number(settings.t_end));
+    const double tolerance = settings.integration.tolerance, step = settings.integration.step;
+    if (!(std::isfinite(tolerance) && tolerance > 0.0))
+        throw InputError("", "the integration tolerance must be a positive finite number, got " + format_number(tolerance));
+    if (!(std::isfinite(step) && step >= 0.0))
+        throw InputError("", "the integration step must be a finite number >= 0 (0: none), got " + format_number(step));
     std::unique_ptr<Integrator> integrator = make_integrator(settings.integrator, settings.integration);
     result.integrator = integrator->name();
 
@@ -190,6 +161,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     FormulationOptions options;
     if (settings.stabilization) options.stabilization = *settings.stabilization;
     if (!settings.algebra.empty()) options.algebra = settings.algebra;
+    options.log = settings.messages;
     // Dense below, sparse above this many velocity coordinates: measured with
     // bench/bench_augmented (docs/benchmarks.md), where the sparse path is as fast as
     // the dense one at 30 coordinates and faster beyond.
@@ -207,10 +179,8 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
 
     // --- output times 0, h, 2h, ..., t_end
     double h = settings.output_step;
-    if (!(h > 0.0)) h = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;
-    if (!std::isfinite(h)) throw InputError("", "the output step must be positive and finite");
-    const double ratio = settings.t_end / h;
-    const long intervals = std::max(1L, static_cast<long>(std::ceil(ratio - 1e-9 * std::max(1.0, ratio))));
+    if (h == 0.0) h = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;
+    const long intervals = std::max(1L, output_intervals(settings.t_end, h));
     std::vector<double> times;
     times.reserve(intervals);
     for (long k = 1; k < intervals; ++k) times.push_back(static_cast<double>(k) * h);
@@ -231,9 +201,14 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     ConstraintValues cv;
     Eigen::VectorXd lambda;
     SimulationSample sample;
-    double last_written = 0.0;
-    bool any_written = false;
-    ProgressBar progress(settings.progress, 0.0, settings.t_end);
+    ProgressBar progress(settings.progress);
+    char end_text[32];
+    std::snprintf(end_text, sizeof end_text, "%.6g", settings.t_end);
+    // a conservative scene: no energy may enter (energy_growth.hpp)
+    EnergyGrowthWatch energy(model.drivers.empty() && system.conservative());
+    const std::string energy_advice =
+        integrator->adaptive() ? "use a tighter tolerance (--tol)"
+                               : "use a smaller step (--step), or an adaptive integrator (--integrator dopri5 or cvode)";
 
     auto emit = [&](double t, const Eigen::VectorXd& yt) -> bool {
         formulation->from_ode(t, yt, sample.state);
@@ -276,9 +251,13 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
                 }
             }
         }
+        const bool watch_energy = energy.active();
+        const double kinetic = settings.diagnostics || watch_energy ? system.kinetic_energy(sample.state) : 0.0;
+        const double potential = settings.diagnostics || watch_energy ? system.potential_energy(sample.state) : 0.0;
+        if (watch_energy) energy.check(t, kinetic, potential, max_abs(cv.C_t) != 0.0, energy_advice);
         if (settings.diagnostics) {
-            row.push_back(system.kinetic_energy(sample.state));
-            row.push_back(system.potential_energy(sample.state));
+            row.push_back(kinetic);
+            row.push_back(potential);
             row.push_back(result.final_position_violation);
             row.push_back(result.final_velocity_violation);
         }
@@ -288,30 +267,20 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
                 throw DynamicsError(t, "non-finite value in output column '" + columns[k] +
                                            "': the motion diverged (try a smaller tolerance or step)");
         if (writer) writer->row(row);
-        last_written = t;
-        any_written = true;
         ++result.rows;
         result.final_state = sample.state;
-        progress.update(t);
+        char detail[64];
+        std::snprintf(detail, sizeof detail, "t = %.6g / %s s", t, end_text);
+        progress.update(t / settings.t_end, detail);
+        stop_if_interrupted(t);  // the row is complete: a stop signal ends the run here
         return callback ? callback(sample) : true;
     };
 
     FormulationProblem problem(*formulation, system);
     const std::clock_t cpu_start = std::clock();
-    try {
-        if (emit(0.0, y)) integrator->integrate(problem, 0.0, y, times, emit, result.stats);
-    } catch (const DynamicsError& e) {
-        progress.finish();
-        std::string message = e.what();
-        if (writer) {
-            // keep the complete rows written so far: the file is a valid prefix of the run
-            writer->close();
-            message += any_written ? "; the " + std::to_string(result.rows) + " rows up to t = " +
-                                         format_number(last_written) + " are kept in '" + settings.output + "'"
-                                   : std::string();
-        }
-        throw DynamicsError(e.time(), message);
-    }
+    // A failure or a stop leaves the writer unclosed: its complete rows stay in
+    // OUTPUT.partial and the note saying so is kept for the command's message.
+    if (emit(0.0, y)) integrator->integrate(problem, 0.0, y, times, emit, result.stats);
     result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     progress.finish();
     if (writer) writer->close();

@@ -1,6 +1,7 @@
 // Stability matrix of the extreme cases (issue 8); see mbd/stability.hpp.
 #include <mbd/stability.hpp>
 
+#include <mbd/interrupt.hpp>
 #include <mbd/kinematics.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/scene.hpp>
@@ -342,6 +343,8 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
         } catch (const std::exception& x) {
             c.kind = "error";
             c.message = x.what();
+        } catch (const Interrupted& x) {
+            _exit(x.exit_status());  // the parent stops too (interrupt.hpp)
         }
         std::string msg = c.message.substr(0, 2000);
         std::replace(msg.begin(), msg.end(), '\n', ' ');
@@ -377,6 +380,12 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
             const ssize_t n = read(fds[0], buf, sizeof buf);
             if (n > 0) text.append(buf, static_cast<size_t>(n));
             if (n == 0) break;  // EOF: the child closed its end (exited)
+        }
+        if (pending_interrupt() != 0) {  // a stop signal: end the child and stop the matrix here
+            kill(pid, SIGKILL);
+            close(fds[0]);
+            waitpid(pid, &status, 0);
+            stop_if_interrupted();
         }
         const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (t > hard_limit && !killed) {

@@ -133,7 +133,7 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
     return report;
 }
 
-void write_equilibrium_scene(const Model& model, const State& state, const std::filesystem::path& output) {
+std::string equilibrium_scene(const Model& model, const State& state) {
     YAML::Node root;
     try {
         root = YAML::LoadFile(model.source);
@@ -231,14 +231,7 @@ void write_equilibrium_scene(const Model& model, const State& state, const std::
     YAML::Emitter out;
     out.SetDoublePrecision(17);
     out << root;
-    const std::filesystem::path partial = output.string() + ".partial";
-    {
-        std::ofstream file(partial);
-        if (!file) throw std::runtime_error("cannot write " + output.string());
-        file << "# static equilibrium of " << model.source << " (mbd statics)\n" << out.c_str() << '\n';
-        if (!file) throw std::runtime_error("cannot write " + output.string());
-    }
-    std::filesystem::rename(partial, output);
+    return "# static equilibrium of " + model.source + " (mbd statics)\n" + out.c_str() + '\n';
 }
 
 void run_inverse(const Model& model, Registry& registry, double t_end, double step, const InverseCallback& callback,

@@ -145,7 +145,7 @@ void Amalgamated::select(const State& state, bool initial) {
     part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     analysed_ = false;
     if (initial && !part_.redundant.empty())
-        std::clog << "amalgamated: " << redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }) << '\n';
+        options_.log("amalgamated: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
 }
 
 // The block matrix of Eq. 4.20 with unknowns x = [vdot; -Q_c; vdot_i].
@@ -258,7 +258,7 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
             if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh) > ratio) {
                 part_ = std::move(fresh);
                 analysed_ = false;
-                if (partition_settings_.log) std::clog << "amalgamated: t = " << format_time(t) << ": new coordinate partition\n";
+                if (partition_settings_.log) options_.log("amalgamated: t = " + format_time(t) + ": new coordinate partition");
             }
         }
     }

@@ -529,9 +529,9 @@ bool Augmented::reselect_dropped_rows(double t) {
     for (int r : dropped_) is_dropped_[r] = 1;
     std::string names;
     for (int r : dropped_) names += (names.empty() ? "" : ", ") + system_->describe_row(r);
-    std::clog << "augmented: t = " << format_time(t) << ": " << dropped_.size() << " redundant constraint row(s) "
-              << (first ? "left out of" : "re-selected for") << " the acceleration solve (multiplier 0): " << names
-              << '\n';
+    options_.log("augmented: t = " + format_time(t) + ": " + std::to_string(dropped_.size()) +
+                 " redundant constraint row(s) " + (first ? "left out of" : "re-selected for") +
+                 " the acceleration solve (multiplier 0): " + names);
     return true;
 }
 
@@ -643,8 +643,8 @@ bool Augmented::project(double t, Eigen::VectorXd& y) {
     if (!ok) return false;
     if (!dropped_.empty() && !left_out_rows_hold()) {
         // on the motion a left-out row must hold by itself; it does not: it is no longer redundant
-        std::clog << "augmented: t = " << format_time(t)
-                  << ": a left-out constraint row is no longer redundant; every row is used again\n";
+        options_.log("augmented: t = " + format_time(t) +
+                     ": a left-out constraint row is no longer redundant; every row is used again");
         keep_all_rows();
         return project(t, y);
     }

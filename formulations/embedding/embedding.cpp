@@ -12,7 +12,7 @@
 //              absolute coordinates, independent velocity components chosen by
 //              rank-revealing LU of J (partition.hpp), dependent positions by Newton-Raphson
 //              after each step, re-selection near singular configurations.
-// The choice is logged on std::clog ("embedding: recursive path (...)") and printed by
+// The choice is logged (FormulationOptions::log) ("embedding: recursive path (...)") and printed by
 // `mbd check` (topology.hpp: recursive_embedding_possible).
 #include "partitioned.hpp"
 #include "recursive.hpp"
@@ -40,8 +40,8 @@ public:
         else
             impl_ = std::make_unique<embedding::Partitioned>(settings_);
         if (settings_.log)
-            std::clog << "embedding: " << (recursive ? "recursive" : "dense") << " path (" << reason
-                      << (settings_.path != "auto" ? "; forced by path: " + settings_.path : std::string()) << ")\n";
+            options.log("embedding: " + std::string(recursive ? "recursive" : "dense") + " path (" + reason +
+                        (settings_.path != "auto" ? "; forced by path: " + settings_.path : std::string()) + ")");
         impl_->bind(system, options);
         system_ = &system;
         singularity_.reset();

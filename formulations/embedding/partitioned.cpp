@@ -44,7 +44,7 @@ std::string Partitioned::independent_names() const {
 }
 
 void Partitioned::log_partition(double t, const char* what) const {
-    if (settings_.log) std::clog << "embedding: t = " << format_time(t) << ": independent coordinates " << what << independent_names() << '\n';
+    if (settings_.log) options_.log("embedding: t = " + format_time(t) + ": independent coordinates " + what + independent_names());
 }
 
 void Partitioned::evaluate(const State& state) const {
@@ -78,8 +78,7 @@ void Partitioned::select(const State& state, bool initial) const {
     if (initial && settings_.log) {
         log_partition(state.t, "");
         if (!part_.redundant.empty())
-            std::clog << "embedding: " << redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); })
-                      << '\n';
+            options_.log("embedding: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
     }
 }
 
@@ -181,8 +180,8 @@ bool Partitioned::project(double t, Eigen::VectorXd& y) {
                 if (settings_.log) {
                     char detail[80];
                     std::snprintf(detail, sizeof detail, " (pivot ratio of J_d was %.3g)", ratio);
-                    std::clog << "embedding: t = " << format_time(t) << ": independent coordinates now "
-                              << independent_names() << detail << '\n';
+                    options_.log("embedding: t = " + format_time(t) + ": independent coordinates now " +
+                                 independent_names() + detail);
                 }
                 for (size_t c = 0; c < part_.independent.size(); ++c) y[nq_ + c] = v[part_.independent[c]];
             }

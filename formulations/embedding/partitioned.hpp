@@ -5,7 +5,7 @@
 // Partition: J (joints + drivers, n_c x n_v, with respect to v) is split by the
 // rank-revealing elimination of partition.hpp into dependent columns d (J_d = J[rows, d]
 // nonsingular, r x r) and independent columns i (k = n_v - r, the degrees of freedom);
-// rows that reduce to zero are redundant and dropped (named once on std::clog).
+// rows that reduce to zero are redundant and dropped (named once in the message log, FormulationOptions::log).
 //   velocities   J_d v_d = -(J_i v_i + C_t)             (book Eq. 6.169 / 6.168)
 //   B            v = B v_i,  B_i = I, B_d = -J_d^-1 J_i  (Eqs. 6.80-6.85)
 //   gamma'       vdot = B vdot_i + gamma', gamma'_d = J_d^-1 gamma, gamma'_i = 0 (Eqs. 6.90-6.94)

@@ -11,7 +11,7 @@
 namespace mbd::embedding {
 
 // pivot_threshold, reselect_ratio, rank_tolerance and log come from PartitionSettings;
-// log (path choice, redundant rows and re-selections on std::clog) defaults to true here.
+// log (path choice, redundant rows and re-selections, in FormulationOptions::log) defaults to true here.
 struct Settings : PartitionSettings {
     Settings() { log = true; }
 

@@ -90,6 +90,7 @@ private:
     bool planar_ = true;
     int nq_ = 0, nv_ = 0, nc_ = 0;
     Eigen::MatrixXd M_;
+    MessageLog log_;  // FormulationOptions::log
     mutable CoordinatePartition part_;
     mutable bool selected_ = false;
     bool redefined_ = false;  // set by a re-selection in project(), cleared by state_redefined()
@@ -117,8 +118,9 @@ Hamiltonian::Hamiltonian(const FormulationSpec& spec) {
                     "rank_tolerance, newton_tolerance, newton_iterations, log, singularity_tolerance");
 }
 
-void Hamiltonian::bind(const System& system, const FormulationOptions& /*options*/) {
+void Hamiltonian::bind(const System& system, const FormulationOptions& options) {
     system_ = &system;
+    log_ = options.log;
     planar_ = system.dimension() == Dimension::Planar;
     nq_ = system.nq();
     nv_ = system.nv();
@@ -140,7 +142,7 @@ void Hamiltonian::select(const State& state, bool initial) const {
     part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     selected_ = true;
     if (initial && !part_.redundant.empty())
-        std::clog << "hamiltonian: " << redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }) << '\n';
+        log_("hamiltonian: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
 }
 
 void Hamiltonian::transform(double t, const Eigen::VectorXd& q) const {
@@ -269,7 +271,7 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
                 transform(t, s.q);
                 y.tail(k) = B_.transpose() * (M_ * v);  // the same velocities in the new momenta
                 redefined_ = true;
-                if (partition_settings_.log) std::clog << "hamiltonian: t = " << format_time(t) << ": new coordinate partition\n";
+                if (partition_settings_.log) log_("hamiltonian: t = " + format_time(t) + ": new coordinate partition");
             }
         }
     }

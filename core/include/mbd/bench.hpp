@@ -131,7 +131,9 @@ struct BenchSceneResult {
 BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& registry, const BenchOptions& options,
                                  const std::function<void(const std::string&)>& log = {});
 
-void write_bench_csv(const std::string& path, const std::vector<BenchSceneResult>& results);
-void write_bench_json(const std::string& path, const std::vector<BenchSceneResult>& results);
+// The CSV (one row per run) and JSON (scenes with their references, and the rows) texts;
+// `mbd bench` writes them through OutputFile (output_file.hpp).
+std::string bench_csv(const std::vector<BenchSceneResult>& results);
+std::string bench_json(const std::vector<BenchSceneResult>& results);
 
 }  // namespace mbd

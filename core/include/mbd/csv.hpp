@@ -7,7 +7,8 @@
 
 #include <mbd/model.hpp>
 
-#include <fstream>
+#include <mbd/output_file.hpp>
+
 #include <string>
 #include <vector>
 
@@ -16,21 +17,26 @@ namespace mbd {
 std::vector<std::string> motion_columns(const Model& model);
 std::vector<double> motion_values(const Model& model, const State& state);
 
+// A CSV result file in the output contract of output_file.hpp: PATH.partial while
+// the rows come in, PATH after close(); destroyed without close() (a failed or
+// interrupted run), the complete rows stay in PATH.partial.
 class CsvWriter {
 public:
-    // Writes to PATH.partial and renames to PATH on close(), so a reader never
-    // sees a half-written file under the final name.
     CsvWriter(const std::string& path, const std::vector<std::string>& columns);
     ~CsvWriter();
     void row(const std::vector<double>& values);
     void close();
+    long rows() const { return file_.records(); }
+    const std::filesystem::path& path() const { return file_.path(); }
 
 private:
-    std::string path_;
-    std::string partial_;
-    std::ofstream out_;
+    static std::string header(const std::vector<std::string>& columns);
+
+    OutputFile file_;
     size_t columns_;
-    bool closed_ = false;
+    bool timed_;            // the first column is t
+    double last_time_ = 0.0;
+    std::string line_;      // scratch for one row
 };
 
 }  // namespace mbd

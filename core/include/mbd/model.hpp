@@ -75,6 +75,7 @@ class Model {
 public:
     std::string name;
     std::string source;            // scene file path (or label)
+    std::vector<std::string> base_files;  // the `base:` files the scene inherits from, in the order read
     Dimension dimension = Dimension::Planar;
     Vec3 gravity = Vec3::Zero();
     std::vector<Body> bodies;      // the ground is implicit (index kGround)

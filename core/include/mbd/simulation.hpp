@@ -2,8 +2,10 @@
 // formulation. It creates the formulation through the registry, binds it to a
 // ModelSystem, assembles a consistent initial state, integrates the formulation's
 // ODE with one of the integrators of integrator.hpp, and streams the samples
-// (optionally to CSV in the contract of csv.hpp, with joint reactions and
-// energy / constraint diagnostics).
+// (optionally to CSV in the contract of csv.hpp and output_file.hpp, with joint
+// reactions and energy / constraint diagnostics). A conservative scene whose total
+// energy grows far beyond the scale of its motion is stopped as unstable
+// (energy_growth.hpp); a stop signal ends the run at a step boundary (interrupt.hpp).
 #pragma once
 
 #include <mbd/integrator.hpp>
@@ -34,6 +36,7 @@ struct SimulationSettings {
     std::string algebra;              // "", "auto", "dense", "sparse"
     std::optional<int> sparse_threshold;
     bool progress = true;             // a progress bar on stderr when it is a terminal and the run is long
+    MessageLog messages;              // the formulation's messages (default std::clog; MessageLog::silent() for none)
 };
 
 // One output sample, as given to the sample callback.
@@ -61,9 +64,10 @@ std::vector<std::string> diagnostic_columns();  // kinetic_energy potential_ener
 using SimulationCallback = std::function<bool(const SimulationSample& sample)>;
 
 // Run forward dynamics. Throws InputError (unknown formulation or integrator,
-// bad formulation keys), KinematicsError (the initial state cannot be assembled)
-// or DynamicsError (the run failed at some time; when writing a CSV, the rows
-// written before the failure are kept in the file and the message says so).
+// bad formulation keys, an unusable output file), KinematicsError (the initial
+// state cannot be assembled), DynamicsError (the run failed at some time) or
+// Interrupted (a stop signal); after a failure or a stop, the CSV rows written so
+// far stay in OUTPUT.partial (output_file.hpp) and the final name is not written.
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
                           const SimulationCallback& callback = {});
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <mbd/integrator.hpp>
+#include <mbd/interrupt.hpp>
 #include <mbd/sdk/params.hpp>
 
 #include <Eigen/Core>
@@ -90,6 +91,7 @@ void fixed_step_run(const std::string& name, const IntegratorSettings& settings,
                 t = t_next;
                 guard.check(t, y);
                 project_or_throw(problem, t, y);
+                stop_if_interrupted(t);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
             }
         }
         t = std::max(t, t_out);

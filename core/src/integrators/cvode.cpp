@@ -221,6 +221,7 @@ void Cvode::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const 
                     if (!at_output) check(CVodeSetStopTime(s.cvode, t_out), "CVodeSetStopTime");
                 }
                 if (at_output) break;
+                stop_if_interrupted(t_reached);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
             }
             t_cur = t_out;
         }

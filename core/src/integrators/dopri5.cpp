@@ -198,6 +198,7 @@ void Dopri5::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const
             guard.check(t, y);
             unprojected_ = y;
             project_or_throw(problem, t, y);
+            stop_if_interrupted(t);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
             // a re-selection (Formulation::state_redefined) always restarts it too
             Formulation* formulation = problem.formulation();
             const bool redefined = formulation && formulation->state_redefined();

@@ -327,6 +327,7 @@ void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd
                 step(t, t_next - t);
                 ++stats.steps;
                 t = t_next;
+                stop_if_interrupted(t);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
             }
         }
         t = std::max(t, t_out);

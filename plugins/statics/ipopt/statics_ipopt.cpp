@@ -824,7 +824,15 @@ public:
         res.converged = finished(status) && res.residual <= 1e-6 * q_scale;
         if (!res.converged) {
             std::ostringstream m;
-            if (status == Ipopt::Infeasible_Problem_Detected)
+            // Ipopt's "infeasible" covers the force balance too (virtual work: Q - J^T lambda = 0
+            // is a constraint): with the joints, drivers and limits satisfied, it is the loads
+            const bool geometry_holds = c_max <= ctol && bound_violation <= 0.0;
+            if (status == Ipopt::Infeasible_Problem_Detected && geometry_holds)
+                m << "no equilibrium exists under the applied loads: the joints, drivers and limits hold, but no "
+                     "configuration balances the forces (e.g. a constant torque or force that no joint, spring or "
+                     "limit can resist); check the loads, or add a spring, a driver or a limit that holds them "
+                     "(Ipopt: infeasible problem)";
+            else if (status == Ipopt::Infeasible_Problem_Detected)
                 m << "no configuration satisfies the joints, drivers and limits together (Ipopt: infeasible problem)";
             else if (!finished(status))
                 m << "Ipopt failed (" << res.status << ") after " << res.iterations << " iterations";

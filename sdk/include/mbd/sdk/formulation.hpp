@@ -10,6 +10,7 @@
 // works on the System's M, Q, C and J directly.
 #pragma once
 
+#include <mbd/sdk/message_log.hpp>
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/system.hpp>
@@ -43,6 +44,7 @@ struct FormulationOptions {
     double baumgarte_alpha = 10.0;  // Cddot + 2 alpha Cdot + beta^2 C = 0 (book Sec. 6.12)
     double baumgarte_beta = 10.0;
     double projection_tolerance = 1e-12;
+    MessageLog log;                 // where the formulation's messages to the user go (default std::clog)
 };
 
 class MBD_SDK_API Formulation {

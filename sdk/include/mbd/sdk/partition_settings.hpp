@@ -13,7 +13,7 @@ struct PartitionSettings {
     double pivot_threshold = 0.1;  // initial selection: threshold pivoting (partition.hpp)
     double reselect_ratio = 0.05;  // re-select when J_d's pivot ratio falls below this (book Sec. 6.12)
     double rank_tolerance = 1e-10; // relative: rows below this after elimination are redundant
-    bool log = false;              // re-selections (and the like) on std::clog
+    bool log = false;              // re-selections (and the like) in FormulationOptions::log
 
     // pivot_threshold, reselect_ratio, rank_tolerance (each only when present)
     void read(const Params& params) {

@@ -1,0 +1,63 @@
+// Checked numbers and input files of the subcommands (see options.hpp).
+#include "options.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace mbd::cli {
+
+namespace {
+
+std::string number(double x) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.6g", x);
+    return text;
+}
+
+// A validator over the parsed number: `accept` says whether it is in range and
+// `expected` describes the range ("a positive number").
+CLI::Validator number_check(std::function<bool(double)> accept, std::string expected, std::string description) {
+    return CLI::Validator(
+        [accept, expected](std::string& text) -> std::string {
+            const char* begin = text.c_str();
+            char* end = nullptr;
+            errno = 0;
+            const double x = std::strtod(begin, &end);
+            if (end == begin || *end != '\0') return "expected " + expected + ", got '" + text + "'";
+            if (!std::isfinite(x) || errno == ERANGE)
+                return "expected " + expected + ", got '" + text + "' (not a finite number)";
+            if (!accept(x)) return "expected " + expected + ", got " + text;
+            return {};
+        },
+        std::move(description));
+}
+
+}  // namespace
+
+CLI::Validator positive_number() {
+    return number_check([](double x) { return x > 0.0; }, "a positive number", "POSITIVE");
+}
+
+CLI::Validator non_negative_number() {
+    return number_check([](double x) { return x >= 0.0; }, "a number >= 0", "NON-NEGATIVE");
+}
+
+CLI::Validator finite_number() {
+    return number_check([](double) { return true; }, "a finite number", "NUMBER");
+}
+
+CLI::Validator number_between(double lo, double hi, const std::string& why) {
+    return number_check([lo, hi](double x) { return x >= lo && x <= hi; },
+                        "a number from " + number(lo) + " to " + number(hi) + (why.empty() ? "" : " (" + why + ")"),
+                        "[" + number(lo) + ", " + number(hi) + "]");
+}
+
+std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model) {
+    std::vector<std::filesystem::path> files{scene};
+    for (const std::string& base : model.base_files) files.emplace_back(base);
+    return files;
+}
+
+}  // namespace mbd::cli

@@ -1,0 +1,31 @@
+// Shared pieces of the subcommands' options: numbers checked when parsed (finite,
+// in range; the error names the option, the value and the range), and the files a
+// run reads, which an output must never overwrite (mbd/output_file.hpp).
+#pragma once
+
+#include <mbd/model.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace mbd::cli {
+
+// A finite number > 0 ("nan", "inf", 0 and negatives are refused).
+CLI::Validator positive_number();
+// A finite number >= 0.
+CLI::Validator non_negative_number();
+// Any finite number.
+CLI::Validator finite_number();
+// A finite number in [lo, hi]; `why` (may be empty) explains the range in the error.
+CLI::Validator number_between(double lo, double hi, const std::string& why = "");
+
+// Tolerances below this are beneath the round-off of double precision.
+constexpr double kSmallestTolerance = 1e-14;
+
+// The scene file and every `base:` file it inherits from.
+std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model);
+
+}  // namespace mbd::cli

@@ -1,0 +1,87 @@
+// The output contract shared by every command that writes a result file
+// (simulate, kinematics, inverse, statics --output, bench --csv/--json,
+// stability --markdown, ...):
+//
+//  - the result is written to NAME.partial and renamed to NAME by commit(), so
+//    the final name appears only for a complete result (an existing NAME is
+//    replaced only then);
+//  - records (CSV rows) reach the file whole: they are buffered and written in
+//    whole records, so NAME.partial always ends at a complete record;
+//  - a run that fails or is interrupted before commit() leaves the records written
+//    so far in NAME.partial (none written: no file), and the note saying so is
+//    kept for the command's final message (take_kept_output_notes());
+//  - an output path that is one of the run's input files (the scene, a `base:`
+//    file, a CSV read), also through a symbolic link, `./` or `..`, is refused by
+//    check_output_path() before anything runs;
+//  - a file that cannot be written (missing or unwritable folder, disk full)
+//    throws OutputError naming the path.
+#pragma once
+
+#include <mbd/sdk/params.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mbd {
+
+// A result file that cannot be written. It is bad input (an unusable output path)
+// or a full disk: `mbd` exits with status 2.
+class OutputError : public InputError {
+public:
+    OutputError(const std::filesystem::path& path, const std::string& message)
+        : InputError("", "cannot write '" + path.string() + "': " + message) {}
+};
+
+// Refuses (InputError naming the option) an output path that is, or whose
+// NAME.partial is, one of the input files, or that is a folder or lies in a
+// folder that does not exist. `option` names it in the message ("--output").
+void check_output_path(const std::filesystem::path& output, const std::vector<std::filesystem::path>& inputs,
+                       const std::string& option);
+
+class OutputFile {
+public:
+    // Creates (or truncates) PATH.partial and writes `header` (not a record: a file
+    // with a header and no record is not kept); throws OutputError.
+    explicit OutputFile(std::filesystem::path path, std::string_view header = {});
+    // Not committed: the records written so far stay in PATH.partial (see above).
+    ~OutputFile();
+    OutputFile(const OutputFile&) = delete;
+    OutputFile& operator=(const OutputFile&) = delete;
+
+    // One complete record, its line end included.
+    void write_record(std::string_view record);
+    // The whole document so far (a report regenerated as results come in): PATH.partial
+    // then holds exactly `document`; `contents` says what that is, for the note left if
+    // the run stops here (e.g. "the matrix of the first 3 cases").
+    void replace(std::string_view document, const std::string& contents = "");
+    // Everything written; PATH.partial becomes PATH. Throws OutputError.
+    void commit();
+    // Stop here: keep the records in PATH.partial and note what it holds (`what`, e.g.
+    // "the 120 rows up to t = 1.2") for the final message; with no record, remove it.
+    void abandon(const std::string& what = "");
+
+    const std::filesystem::path& path() const { return path_; }
+    std::filesystem::path partial_path() const { return partial_; }
+    long records() const { return records_; }
+
+private:
+    void flush_buffer();
+    void close_descriptor();
+
+    std::filesystem::path path_, partial_;
+    int fd_ = -1;
+    std::string buffer_;  // whole records not yet written
+    long records_ = 0;
+    std::string contents_;  // what PATH.partial holds, from replace()
+    bool finished_ = false;
+    std::chrono::steady_clock::time_point last_flush_;
+};
+
+// Notes of the files abandoned since the last call ("'out.csv.partial' holds the 120
+// rows up to t = 1.2; 'out.csv' was not written"), for the command's final message.
+std::vector<std::string> take_kept_output_notes();
+
+}  // namespace mbd

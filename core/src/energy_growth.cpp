@@ -1,0 +1,39 @@
+// Energy growth of a conservative run (see energy_growth.hpp).
+#include "energy_growth.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace mbd {
+
+void EnergyGrowthWatch::check(double t, double kinetic, double potential, bool time_dependent,
+                              const std::string& advice) {
+    if (!active_) return;
+    if (time_dependent) {
+        active_ = false;
+        return;
+    }
+    if (!started_) {
+        started_ = true;
+        kinetic0_ = kinetic;
+        potential0_ = potential;
+        // a floor, so that round-off in a scene at rest is no "growth": 1e-6 of the initial
+        // energies, and 1 nJ (scenes are in SI units; no multibody motion lives below that)
+        scale_ = std::max({std::abs(kinetic), 1e-6 * std::abs(potential), 1e-9});
+        return;
+    }
+    const double gain = (kinetic + potential) - (kinetic0_ + potential0_);
+    const double candidate = std::max({scale_, std::abs(kinetic), std::abs(potential - potential0_)});
+    if (gain <= 0.1 * candidate) scale_ = candidate;  // the energy still holds: a trusted scale
+    if (!(gain > kLimit * scale_)) return;            // (a NaN gain is left to the finiteness checks)
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "the total energy T + V grew from %.6g to %.6g by t = %.6g, %.3g times the energy scale of the "
+                  "motion (%.3g), although the scene is conservative (no drivers, no dampers or actuators): the "
+                  "integration is unstable",
+                  kinetic0_ + potential0_, kinetic + potential, t, gain / scale_, scale_);
+    throw DynamicsError(t, text + (advice.empty() ? std::string() : "; " + advice));
+}
+
+}  // namespace mbd
