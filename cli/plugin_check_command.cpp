@@ -1,7 +1,10 @@
 // `mbd plugin check LIB.so`: load a joint or force plugin library and validate
 // every type it provides: its ABI, its Jacobians and gamma (and a joint's
 // driver coordinate) against finite differences on random states, force
-// Jacobians and Q = -dV/dq, and finite output on degenerate input. Each
+// Jacobians and Q = -dV/dq, and finite output on degenerate input. The joint
+// geometry is random too (seeded by --seed): a random joint point, so the marker
+// offsets from the mass centres are non-zero, random axes, and random `points`
+// (one per body) when the joint accepts that key. Each
 // failure is printed with the state that shows it; the exit status says pass
 // (0) or fail (1).
 #include "commands.hpp"
@@ -35,18 +38,23 @@ std::string extra_keys(const std::vector<std::string>& params) {
     return out.str();
 }
 
-// Two-body test scenes in which the element connects ground-body and body-body.
-std::string joint_scene(Dimension d, const std::string& type, const std::vector<std::string>& params) {
+// Two-body test scenes in which the element connects ground-body and body-body; with_points:
+// a `points` key (one point per body, body axes) for joints that take their points so. The
+// geometry written here is a placeholder: with_random_joint_geometry draws it.
+std::string joint_scene(Dimension d, const std::string& type, const std::vector<std::string>& params, bool with_points) {
     std::ostringstream s;
+    const std::string points = !with_points ? ""
+                               : d == Dimension::Planar ? "    points: [[0.1, 0.2], [0.3, -0.1]]\n"
+                                                        : "    points: [[0.1, 0.2, 0.3], [0.3, -0.1, 0.2]]\n";
     if (d == Dimension::Planar) {
         s << "dimension: planar\nbodies:\n"
           << "  - {name: a, mass: 1.3, inertia: 0.2, position: [0.3, 0.1], angle: 0.2}\n"
           << "  - {name: b, mass: 0.7, inertia: 0.1, position: [0.8, -0.2], angle: -0.4}\n"
           << "joints:\n"
           << "  - name: to_ground\n    type: " << type << "\n    bodies: [ground, a]\n    point: [0.1, 0.05]\n"
-          << "    axis: [0.6, 0.8]\n" << extra_keys(params)
+          << "    axis: [0.6, 0.8]\n" << points << extra_keys(params)
           << "  - name: between\n    type: " << type << "\n    bodies: [a, b]\n    point: [0.5, 0.0]\n"
-          << "    axis: [0.6, 0.8]\n" << extra_keys(params);
+          << "    axis: [0.6, 0.8]\n" << points << extra_keys(params);
     } else {
         s << "dimension: spatial\nbodies:\n"
           << "  - {name: a, mass: 1.3, inertia: [0.2, 0.3, 0.4], position: [0.3, 0.1, 0.2], "
@@ -58,13 +66,25 @@ std::string joint_scene(Dimension d, const std::string& type, const std::vector<
             s << "  - name: " << name << "\n    type: " << type << "\n    bodies: "
               << (std::string(name) == "to_ground" ? "[ground, a]" : "[a, b]")
               << "\n    point: [0.5, 0.1, 0.2]\n    axes: [[0.3, 0.4, 0.866], [0.8, -0.6, 0.0]]\n"
-              << extra_keys(params);
+              << points << extra_keys(params);
         }
     }
     return s.str();
 }
 
-std::string force_scene(Dimension d, const std::string& type, const std::vector<std::string>& params, bool two_bodies) {
+// A random point in body axes, written for a scene (non-zero offsets from the mass centre).
+std::string random_point(Dimension d, std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(-0.5, 0.5);
+    std::ostringstream s;
+    s.precision(17);
+    s << "[" << u(rng) << ", " << u(rng);
+    if (d == Dimension::Spatial) s << ", " << u(rng);
+    s << "]";
+    return s.str();
+}
+
+std::string force_scene(Dimension d, const std::string& type, const std::vector<std::string>& params, bool two_bodies,
+                        std::mt19937& rng) {
     std::ostringstream s;
     const bool planar = d == Dimension::Planar;
     s << "dimension: " << (planar ? "planar" : "spatial") << "\n";
@@ -79,12 +99,11 @@ std::string force_scene(Dimension d, const std::string& type, const std::vector<
           << "  - {name: b, mass: 0.7, inertia: [0.1, 0.2, 0.25], position: [0.8, -0.2, 0.1], "
              "orientation: {axis: [-1, 0.5, 2], angle: 1.1}}\n";
     if (type == "gravity") return s.str();
-    const std::string p = planar ? "[0.05, 0.02]" : "[0.05, 0.02, -0.03]";
     s << "forces:\n  - name: element\n    type: " << type << "\n";
     if (two_bodies)
-        s << "    bodies: [a, b]\n    points: [" << p << ", " << p << "]\n";
+        s << "    bodies: [a, b]\n    points: [" << random_point(d, rng) << ", " << random_point(d, rng) << "]\n";
     else
-        s << "    body: a\n    point: " << p << "\n";
+        s << "    body: a\n    point: " << random_point(d, rng) << "\n";
     s << extra_keys(params);
     return s.str();
 }
@@ -167,8 +186,8 @@ int run_check(const CheckOptions& o) {
                     library.c_str());
         return 1;
     }
-    std::printf("library %s: ABI %d (host %d), version %s\n", library.c_str(), mine.front().abi, MBD_ABI_VERSION,
-                mine.front().version.c_str());
+    std::printf("library %s: ABI %d (host %d), version %s; random geometry and states from seed %u\n",
+                library.c_str(), mine.front().abi, MBD_ABI_VERSION, mine.front().version.c_str(), o.seed);
 
     Verdict verdict;
     std::mt19937 rng(o.seed);
@@ -183,10 +202,11 @@ int run_check(const CheckOptions& o) {
             const std::string tag = t.kind + " '" + t.type + "' (" + to_string(d) + ")";
             std::vector<std::string> scenes;
             if (t.kind == "joint") {
-                scenes.push_back(joint_scene(d, t.type, o.params));
+                for (bool with_points : {true, false})
+                    scenes.push_back(with_random_joint_geometry(joint_scene(d, t.type, o.params, with_points), rng));
             } else {
-                scenes.push_back(force_scene(d, t.type, o.params, true));
-                scenes.push_back(force_scene(d, t.type, o.params, false));
+                scenes.push_back(force_scene(d, t.type, o.params, true, rng));
+                scenes.push_back(force_scene(d, t.type, o.params, false, rng));
             }
             bool loaded = false;
             for (const std::string& text : scenes) {
@@ -237,7 +257,7 @@ void add_plugin_check_command(CLI::App& app, Commands& commands) {
     check->add_option("--params", options->params,
                       "A YAML key the element needs, e.g. --params 'ratio: 2' (repeat for more keys)");
     check->add_option("--tolerance", options->tolerance, "Largest relative error accepted (default 1e-6)");
-    check->add_option("--seed", options->seed, "Seed of the random states");
+    check->add_option("--seed", options->seed, "Seed of the random joint geometry and states (default 20261121)");
     commands[plugin] = [options] { return run_check(*options); };
 }
 

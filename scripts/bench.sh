@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Regenerates the work-precision benchmark (docs/benchmarks.md, section between the
 # work-precision markers) and its plots and tables in docs/benchmarks/:
-#   1. builds mbd, its plugins, the rhs benchmarks and the peers (bench/peers/, when Simbody /
-#      MuJoCo are installed) into $MBD_BENCH_BUILD (default: build);
+#   1. builds mbd, its plugins, the rhs benchmarks and the peers (bench/peers/: Simbody and MuJoCo,
+#      installed by scripts/install-deps.sh) into $MBD_BENCH_BUILD (default: build); a missing
+#      peer stops the script before anything is written, so the committed peer columns of
+#      docs/benchmarks.md are never replaced by empty ones;
 #   2. `mbd bench scenes/bench/*.yaml` with the peers -> work-precision.csv / .json;
 #   3. per-step cost against body count for every formulation (scripts/bench_scaling.py) and the
 #      rhs benchmarks bench_augmented / bench_embedding (reduced sizes);
@@ -27,6 +29,15 @@ if [ "${MBD_BENCH_SKIP_BUILD:-0}" != 1 ]; then
   cmake --build "$BUILD" -j2 --target "${targets[@]}"
 fi
 MBD="$BUILD/bin/mbd"
+for peer in simbody mujoco; do
+  if [ ! -x "$BUILD/bin/peers/mbd_peer_$peer" ]; then
+    echo "bench.sh: error: the $peer peer ($BUILD/bin/peers/mbd_peer_$peer) is not built, so the benchmark" \
+      "would overwrite the committed $peer columns of docs/benchmarks.md with nothing; nothing was written." \
+      "Install it (bash scripts/install-deps.sh: libsimbody-dev, libmujoco-dev), re-run cmake on $BUILD" \
+      "and build again, or run \`mbd bench\` by hand for a private comparison." >&2
+    exit 1
+  fi
+done
 # Debian's python3-matplotlib belongs to /usr/bin/python3; another python3 first on PATH may lack it.
 PY=${PYTHON:-python3}
 if ! "$PY" -c "import matplotlib" 2>/dev/null && [ -x /usr/bin/python3 ]; then PY=/usr/bin/python3; fi

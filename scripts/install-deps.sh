@@ -10,6 +10,7 @@ packages=(
   libgtest-dev
   python3 python3-numpy
   python3-matplotlib
+  libsimbody-dev libmujoco-dev  # the bench peers (bench/peers/, docs/benchmarks.md)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -59,12 +59,23 @@ TEST(Cli, VersionAndHelpOnEverySubcommand) {
         EXPECT_EQ(help.exit_code, 0) << sub << help.err;
         EXPECT_TRUE(contains(help.out, "Usage")) << sub << help.out;
     }
-    // later issues: no stubs, so these are unknown commands
-    for (const char* later : {"simulate", "statics"}) {
-        const auto r = run_mbd(later);
-        EXPECT_EQ(r.exit_code, 2) << later;
+    // simulate and statics are commands: each has its help, and without its scene it is a
+    // command-line error naming the missing argument
+    for (const char* command : {"simulate", "statics"}) {
+        const auto help = run_mbd(std::string(command) + " --help");
+        EXPECT_EQ(help.exit_code, 0) << command << help.err;
+        EXPECT_TRUE(contains(help.out, "Usage")) << command << help.out;
+        EXPECT_TRUE(contains(help.out, "SCENE")) << command << help.out;
+        const auto r = run_mbd(command);
+        EXPECT_EQ(r.exit_code, 2) << command;
         EXPECT_TRUE(contains(r.err, "mbd: error:")) << r.err;
+        EXPECT_TRUE(contains(r.err, "SCENE")) << command << ": " << r.err;
     }
+    // a command that does not exist
+    const auto unknown = run_mbd("simulat");
+    EXPECT_EQ(unknown.exit_code, 2);
+    EXPECT_TRUE(contains(unknown.err, "mbd: error:")) << unknown.err;
+    EXPECT_TRUE(contains(unknown.err, "simulat")) << unknown.err;
 }
 
 TEST(Cli, PluginsListsJointsAndForcesWithTheirLibraries) {

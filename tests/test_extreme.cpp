@@ -1,7 +1,8 @@
 // Issue 8, extreme cases: every scene of scenes/extreme ends in one of its declared outcomes
 // (the scene's `expect:` key) with its declared formulation/integrator pair, at the case's
-// shorter quick_t_end so that the whole test stays well under a minute; plus the `expect:`
-// reader and the forked runner (core/src/stability.cpp).
+// shorter quick_t_end; plus the `expect:` reader and the forked runner (core/src/stability.cpp).
+// No wall-clock assertion: speed belongs to the benchmarks. Each case's own `budget:` only
+// stops a runaway run, which then ends as the named outcome budget_exceeded (a failure here).
 #include <mbd/scene.hpp>
 #include <mbd/sdk/params.hpp>
 #include <mbd/stability.hpp>
@@ -43,7 +44,6 @@ TEST(Extreme, AtLeastThirtyCasesEachWithADeclaredOutcome) {
 }
 
 TEST(Extreme, EveryCaseEndsInADeclaredOutcome) {
-    const auto start = std::chrono::steady_clock::now();
     for (const auto& s : extreme_scenes()) {
         SCOPED_TRACE(s);
         const Model model = load_scene(s, shared_registry());
@@ -53,10 +53,9 @@ TEST(Extreme, EveryCaseEndsInADeclaredOutcome) {
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         EXPECT_TRUE(outcome_matches(e, o)) << e.formulation << " + " << e.integrator << ": " << o.cell() << " "
                                            << o.message;
-        EXPECT_NE(o.kind, "budget_exceeded");
+        EXPECT_NE(o.kind, "budget_exceeded") << "the run was stopped by its budget of " << e.budget << " s: " << o.message;
         std::printf("  %-32s %s (%.2f s)\n", std::filesystem::path(s).stem().c_str(), o.cell().c_str(), seconds);
     }
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 60.0);
 }
 
 TEST(Extreme, DeadCentreIsASingularConfigurationForExplicitIntegrators) {

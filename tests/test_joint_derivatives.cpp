@@ -5,6 +5,9 @@
 // same checks run on the joint coordinate that drivers prescribe. A joint type
 // is exercised through the example scenes in scenes/examples/ that use it, so a
 // new joint type gets this test by shipping an example, without writing a test.
+// Each example runs as written and with random joint geometry (random marker
+// offsets, axes and `points`; with_random_joint_geometry), seeded, so that no term
+// is hidden by a marker at a mass centre or an axis along a coordinate axis.
 #include "support/test_support.hpp"
 
 #include <mbd/derivative_check.hpp>
@@ -27,23 +30,37 @@ TEST(JointDerivatives, EveryRegisteredJointTypeMatchesFiniteDifferences) {
 
     // which (type, dimension) pairs the example scenes cover
     std::map<std::string, std::set<std::string>> covered;
+    constexpr int kRandomGeometries = 3;
     std::mt19937 rng(20261121);
-    for (const auto& entry : std::filesystem::directory_iterator(test::scene_path("examples"))) {
-        if (entry.path().extension() != ".yaml") continue;
-        SCOPED_TRACE(entry.path().string());
-        Model model = load_scene(entry.path(), registry);
+    // the checks of one scene's joints
+    auto check_scene = [&](const std::string& yaml, const std::string& file, const char* variant) {
+        const Model model = load_scene_text(yaml, file, registry);
         for (const JointInstance& ji : model.joints) {
             SCOPED_TRACE("joint '" + ji.name + "' of type " + ji.type);
             const DerivativeErrors c = check_joint_derivatives(model, ji, rng);
-            std::printf("%-10s %-12s %-14s J %.1e  gamma %.1e  C_t %.1e  J_s %.1e  gamma_s %.1e\n",
-                        to_string(model.dimension), ji.type.c_str(), ji.name.c_str(), c.jacobian, c.gamma, c.time_derivative, c.coordinate_jacobian,
-                        c.coordinate_gamma);
+            std::printf("%-10s %-12s %-14s %-9s J %.1e  gamma %.1e  C_t %.1e  J_s %.1e  gamma_s %.1e\n",
+                        to_string(model.dimension), ji.type.c_str(), ji.name.c_str(), variant, c.jacobian, c.gamma,
+                        c.time_derivative, c.coordinate_jacobian, c.coordinate_gamma);
             EXPECT_LT(c.jacobian, 1e-6);
             EXPECT_LT(c.gamma, 1e-6);
             EXPECT_LT(c.time_derivative, 1e-6);
             EXPECT_LT(c.coordinate_jacobian, 1e-6);
             EXPECT_LT(c.coordinate_gamma, 1e-6);
             covered[ji.type].insert(to_string(model.dimension));
+        }
+    };
+    for (const auto& entry : std::filesystem::directory_iterator(test::scene_path("examples"))) {
+        if (entry.path().extension() != ".yaml") continue;
+        const std::string file = entry.path().string();
+        const std::string text = test::read_text(entry.path());
+        {
+            SCOPED_TRACE(file + " as written");
+            check_scene(text, file, "as given");
+        }
+        for (int k = 0; k < kRandomGeometries; ++k) {
+            const std::string yaml = with_random_joint_geometry(text, rng);
+            SCOPED_TRACE(file + " with random joint geometry:\n" + yaml);
+            check_scene(yaml, file, "random");
         }
     }
     // every registered type must be exercised in at least one dimension

@@ -13,6 +13,9 @@ std::string test_plugin(const std::string& file) { return (std::filesystem::path
 TEST(PluginCheck, StandardJointAndForcePluginsPass) {
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"libmbd_joint_revolute.so", ""},
+        {"libmbd_joint_distance.so", ""},       // planar only; its `points` are drawn at random
+        {"libmbd_joint_prismatic.so", ""},
+        {"libmbd_joint_universal.so", ""},      // spatial only; random perpendicular `axes`
         {"libmbd_joint_screw.so", " --params 'pitch: 0.02'"},
         {"libmbd_force_spring_damper.so", " --params 'stiffness: 100' --params 'damping: 2'"},
         {"libmbd_force_point_force.so", " --params 'force: [1, -2]'"},  // planar components: planar only
@@ -44,6 +47,19 @@ TEST(PluginCheck, BrokenGammaFailsForThatReasonOnly) {
     ASSERT_NE(jac, std::string::npos) << r.out;
     const std::string jac_line = r.out.substr(jac, r.out.find('\n', jac) - jac);
     EXPECT_EQ(jac_line.find("exceeds"), std::string::npos) << jac_line;
+}
+
+TEST(PluginCheck, RandomGeometryIsSeededAndReproducible) {
+    // the same seed gives the same report, digit for digit; another seed other states and geometry
+    const std::string lib = plugin("libmbd_joint_distance.so");
+    const auto a = test::run_mbd("plugin check " + lib + " --seed 7");
+    const auto b = test::run_mbd("plugin check " + lib + " --seed 7");
+    const auto c = test::run_mbd("plugin check " + lib + " --seed 8");
+    ASSERT_EQ(a.exit_code, 0) << a.out << a.err;
+    EXPECT_NE(a.out.find("seed 7"), std::string::npos) << a.out;
+    EXPECT_EQ(a.out, b.out);
+    EXPECT_EQ(c.exit_code, 0) << c.out << c.err;
+    EXPECT_NE(c.out.substr(c.out.find('\n')), a.out.substr(a.out.find('\n'))) << "the seed must change the checks";
 }
 
 TEST(PluginCheck, WrongAbiIsRefused) {

@@ -3,6 +3,7 @@
 #include <mbd/body_poses.hpp>
 
 #include <Eigen/Geometry>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -112,7 +113,67 @@ double relative(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     return (a - b).norm() / std::max(1.0, b.norm());
 }
 
+// A YAML flow sequence of numbers written with all their digits.
+YAML::Node yaml_vector(const Eigen::VectorXd& x) {
+    YAML::Node node(YAML::NodeType::Sequence);
+    node.SetStyle(YAML::EmitterStyle::Flow);
+    for (int k = 0; k < x.size(); ++k) {
+        std::ostringstream text;
+        text.precision(17);
+        text << x[k];
+        node.push_back(text.str());
+    }
+    return node;
+}
+
 }  // namespace
+
+std::string with_random_joint_geometry(const std::string& scene_yaml, std::mt19937& rng) {
+    YAML::Node root = YAML::Load(scene_yaml);
+    const bool planar = !(root["dimension"] && root["dimension"].as<std::string>() == "spatial");
+    const int dim = planar ? 2 : 3;
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    auto random_vector = [&](double size) {
+        Eigen::VectorXd x(dim);
+        for (int k = 0; k < dim; ++k) x[k] = size * u(rng);
+        return x;
+    };
+    auto random_direction = [&]() {
+        Eigen::VectorXd x;
+        do x = random_vector(1.0);
+        while (x.norm() < 0.2);
+        return Eigen::VectorXd(x.normalized());
+    };
+    YAML::Node joints = root["joints"];
+    if (!joints || !joints.IsSequence()) return scene_yaml;
+    for (YAML::Node joint : joints) {
+        if (!joint.IsMap()) continue;
+        joint["point"] = yaml_vector(random_vector(1.0));
+        if (joint["points"] && joint["points"].IsSequence()) {
+            YAML::Node points(YAML::NodeType::Sequence);
+            for (size_t k = 0; k < joint["points"].size(); ++k) points.push_back(yaml_vector(random_vector(0.5)));
+            joint["points"] = points;
+        }
+        if (!planar && joint["axes"]) {
+            const Eigen::Vector3d a1 = random_direction();
+            const Eigen::Vector3d a2 = a1.cross(Eigen::Vector3d(random_direction())).normalized();
+            YAML::Node axes(YAML::NodeType::Sequence);
+            axes.push_back(yaml_vector(a1));
+            axes.push_back(yaml_vector(a2));
+            joint["axes"] = axes;
+            continue;
+        }
+        const Eigen::VectorXd axis = random_direction();
+        joint["axis"] = yaml_vector(axis);
+        if (!planar && joint["x_axis"]) {
+            const Eigen::Vector3d z = axis;
+            joint["x_axis"] = yaml_vector(z.cross(Eigen::Vector3d(random_direction())).normalized());
+        }
+    }
+    YAML::Emitter out;
+    out << root;
+    return std::string(out.c_str()) + "\n";
+}
 
 DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance& ji, std::mt19937& rng, int trials) {
     DerivativeErrors worst;

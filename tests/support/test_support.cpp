@@ -31,6 +31,11 @@ std::string slurp(const std::filesystem::path& p) {
 }
 }  // namespace
 
+std::string read_text(const std::filesystem::path& path) {
+    EXPECT_TRUE(std::filesystem::is_regular_file(path)) << path;
+    return slurp(path);
+}
+
 CommandResult run_command(const std::string& command) {
     const auto dir = std::filesystem::temp_directory_path();
     const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(std::rand());

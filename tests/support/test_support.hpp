@@ -31,6 +31,9 @@ std::shared_ptr<Formulation> make_formulation(const std::string& type, Param& no
 // increments of size `spread`, assembled; random velocities, made consistent.
 State random_consistent_state(const System& system, std::mt19937& rng, double spread);
 
+// The whole text of a file.
+std::string read_text(const std::filesystem::path& path);
+
 // A fresh, empty scratch folder for this test process.
 std::filesystem::path scratch(const std::string& name);
 // A CSV written by mbd: header and numeric rows (a cell that is not a finite number, or a row

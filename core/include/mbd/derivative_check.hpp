@@ -3,8 +3,10 @@
 // derivative of C along random smooth trajectories (Cddot = J vdot - gamma),
 // the same for its driver coordinate; a force's Jacobians against central
 // differences of Q, and Q = -dV/dq for conservative forces. The states are
-// random and off the constraint manifold. Used by the generic joint test and
-// by `mbd plugin check`.
+// random and off the constraint manifold, and the joint geometry can be made
+// random too (with_random_joint_geometry), so that no term of J or gamma is
+// multiplied by a zero marker offset or a special axis. Used by the generic
+// joint test and by `mbd plugin check`.
 #pragma once
 
 #include <mbd/model.hpp>
@@ -28,6 +30,15 @@ struct DerivativeErrors {
 
     double worst() const;
 };
+
+// A copy of a scene's YAML text whose joints have random geometry, drawn from `rng`
+// (seeded: reproducible): each joint gets a random `point` (the origin of its markers,
+// so the marker offsets from the bodies' mass centres are random and non-zero), a
+// random `axis` (planar: the marker angle; spatial: the frame's z axis, with a random
+// perpendicular `x_axis` when the joint has one) or a random perpendicular pair `axes`,
+// and random points in `points` (one point per body in body axes, as the distance
+// joint takes them). Other keys are kept.
+std::string with_random_joint_geometry(const std::string& scene_yaml, std::mt19937& rng);
 
 DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance& joint, std::mt19937& rng,
                                          int trials = 5);
