@@ -9,7 +9,6 @@
 #include <mbd/simulation.hpp>
 
 #include <boost/math/special_functions/ellint_1.hpp>
-#include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,13 +55,7 @@ mbd::SimulationSettings adaptive(double tol, double t_end, double output_step) {
 struct Pendulum {
     double m = 1.0, l = 1.0, g = 9.81, J = 1.0e-6;
     double theta0 = M_PI / 2;
-    Eigen::Vector2d position(double t) const {
-        const double k = std::sin(theta0 / 2);
-        const double K = boost::math::ellint_1(k);
-        const double w = std::sqrt(m * g * l / (J + m * l * l));
-        const double theta = 2.0 * std::asin(k * boost::math::jacobi_sn(k, K - w * t));
-        return Eigen::Vector2d(l * std::sin(theta), -l * std::cos(theta));
-    }
+    Eigen::Vector2d position(double t) const { return mbd::test::a01_bob_position(t); }
 };
 
 double pendulum_error(const Samples& s) {

@@ -1,5 +1,7 @@
 #include "support/test_support.hpp"
 
+#include <boost/math/special_functions/ellint_1.hpp>
+#include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -141,6 +143,15 @@ std::string g17(double x) {
     o.precision(17);
     o << x;
     return o.str();
+}
+
+Eigen::Vector2d a01_bob_position(double t) {
+    const double m = 1.0, l = 1.0, g = 9.81, J = 1.0e-6, theta0 = M_PI / 2;
+    const double k = std::sin(theta0 / 2);
+    const double K = boost::math::ellint_1(k);
+    const double w = std::sqrt(m * g * l / (J + m * l * l));
+    const double theta = 2.0 * std::asin(k * boost::math::jacobi_sn(k, K - w * t));
+    return Eigen::Vector2d(l * std::sin(theta), -l * std::cos(theta));
 }
 
 }  // namespace mbd::test

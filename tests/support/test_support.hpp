@@ -47,6 +47,11 @@ Csv read_csv(const std::filesystem::path& path);
 // Largest coordinate difference of two q vectors; for spatial bodies the Euler parameters p and
 // -p are the same orientation, so the nearer sign is compared.
 double position_difference(const Model& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b);
+// IFToMM A01 as the compound pendulum of scenes/dynamics/pendulum-a01.yaml (bob 1 kg with
+// centroidal inertia 1e-6 kg m^2 on a 1 m link, g = 9.81, released at rest from the
+// horizontal): the bob position at t from the closed form theta(t) = 2 asin(k sn(K - w t, k)),
+// k = sin(theta0 / 2), w^2 = m g l / J_O (reference/README.md).
+Eigen::Vector2d a01_bob_position(double t);
 // All 17 significant digits, for numbers written into scene text.
 std::string g17(double x);
 

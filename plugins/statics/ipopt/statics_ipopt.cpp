@@ -11,6 +11,7 @@
 //               Hessian: limited-memory.
 #include "evaluator.hpp"
 #include "ipopt_common.hpp"
+#include "relaxation.hpp"
 
 #include <mbd/sdk/statics.hpp>
 
@@ -635,7 +636,51 @@ bool finished(Ipopt::ApplicationReturnStatus s) {
 
 class IpoptStatics final : public StaticsSolver {
 public:
+    // The default objective means "the equilibrium the mechanism settles in": when the solve
+    // from the start fails or ends at an unstable equilibrium, the over-damped path from the
+    // start is followed to a stable one (relaxation.hpp) and the solve repeated from there.
+    // An explicit objective keeps the nearest equilibrium, stable or not. Dense, without
+    // joint limits (nv <= 600, no limits).
     StaticsResult solve(const System& sys, const State& start, const StaticsOptions& opt) override {
+        StaticsOptions assessed = opt;
+        assessed.analyse_stability = true;  // the search needs the verdict
+        const bool search = opt.objective == "auto" && opt.limits.empty() && sys.nv() <= 600;
+        StaticsResult first = solve_from(sys, start, search ? assessed : opt);
+        if (!search || (first.converged && first.stability != "unstable")) return reported(first, opt);
+
+        Evaluator ev(sys, opt.time, {});
+        const IncrementGeometry geo = increment_geometry(sys, start.q);
+        Eigen::VectorXd unit(sys.nv());
+        for (int i = 0; i < sys.nv(); ++i) unit[i] = geo.rotation(i) ? 1.0 : geo.length;
+        Relaxation relaxation(sys, ev, unit, opt.stability_tolerance);
+        const RelaxationResult relaxed = relaxation.run(start.q);
+        if (opt.print_level > 0)
+            std::printf("mbd statics: the solve from the start %s; relaxation: %s after %d iteration(s), %d move(s) "
+                        "off an unstable equilibrium\n",
+                        first.converged ? "ended at an unstable equilibrium" : "failed",
+                        relaxed.converged ? "converged" : "did not converge", relaxed.iterations,
+                        relaxed.displacements);
+        if (!relaxed.converged) return reported(first, opt);
+        State from = start;
+        from.q = relaxed.q;
+        StaticsResult second = solve_from(sys, from, assessed);
+        if (!second.converged || second.stability == "unstable") return reported(first, opt);
+        second.iterations += first.iterations;
+        wrap_angles(sys, ev, start, opt, second.state);  // reported nearest to the original start
+        return reported(second, opt);
+    }
+
+private:
+    static StaticsResult reported(StaticsResult res, const StaticsOptions& opt) {
+        if (!opt.analyse_stability && res.converged) {
+            res.stability = "not assessed";
+            res.tangent_eigenvalues.resize(0);
+            res.tangent_dimension = 0;
+        }
+        return res;
+    }
+
+    StaticsResult solve_from(const System& sys, const State& start, const StaticsOptions& opt) {
         StaticsResult res;
         res.state = start;
         res.state.t = opt.time;
@@ -853,7 +898,6 @@ public:
         return res;
     }
 
-private:
     // The configuration reported nearest to the start: planar angles theta_start +
     // wrap(theta - theta_start) (wrap to (-pi, pi]), Euler parameters with the sign
     // of the start's. Kept unwrapped when that would change a constraint (a driver on
