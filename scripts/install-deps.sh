@@ -10,6 +10,7 @@ packages=(
   libgtest-dev
   python3 python3-numpy
   python3-matplotlib
+  clang libclang-rt-dev  # libFuzzer (scripts/fuzz.sh, run by CI through scripts/fuzz-ci.sh)
 )
 missing=()
 for p in "${packages[@]}"; do
