@@ -158,6 +158,7 @@ Param SceneTreeReader::with_base(Param root, const std::string& file, int depth)
     const std::filesystem::path path = std::filesystem::path(file).parent_path() / key.text;
     const std::string base_file = path.string();
     const std::string text = read_scene_file(path, key.location());
+    base_files_.push_back(base_file);
     Param base = with_base(convert(parse(text, base_file), base_file), base_file, depth + 1);
     if (!base.is_map()) key.fail("the base scene " + quote(base_file) + " is not a map of keys");
     root.fields.erase("base");

@@ -28,12 +28,15 @@ public:
     Param convert(const YAML::Node& root, const std::string& file);
     // A top-level `base: FILE` replaced by that file's keys (this file's keys win).
     Param with_base(Param root, const std::string& file, int depth = 0);
+    // The `base:` files read so far, in the order they were read.
+    const std::vector<std::string>& base_files() const { return base_files_; }
 
 private:
     Param convert(const YAML::Node& node, const std::string& file, int fallback_line);
 
     std::vector<YAML::Node> open_;  // the collections being converted, outermost first
     std::size_t values_ = 0;        // values converted so far, all files
+    std::vector<std::string> base_files_;
 };
 
 }  // namespace mbd::detail
