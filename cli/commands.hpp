@@ -15,6 +15,9 @@ namespace mbd::cli {
 using Action = std::function<int()>;
 using Commands = std::map<const CLI::App*, Action>;
 
+// All of the subcommands below, and exactly one of them required (cli/command_line.cpp).
+void add_commands(CLI::App& app, Commands& commands);
+
 void add_plugins_command(CLI::App& app, Commands& commands);
 void add_check_command(CLI::App& app, Commands& commands);
 void add_kinematics_command(CLI::App& app, Commands& commands);

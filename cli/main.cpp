@@ -54,18 +54,9 @@ int main(int argc, char** argv) {
         "a failed or stopped run stay in NAME.partial. See docs/user-guide.md.");
     app.set_version_flag("--version", std::string("mbd ") + MBD_VERSION + " (plugin ABI " +
                                           std::to_string(MBD_ABI_VERSION) + ")");
-    app.require_subcommand(1);
 
     mbd::cli::Commands actions;
-    mbd::cli::add_plugins_command(app, actions);
-    mbd::cli::add_check_command(app, actions);
-    mbd::cli::add_kinematics_command(app, actions);
-    mbd::cli::add_statics_command(app, actions);
-    mbd::cli::add_inverse_command(app, actions);
-    mbd::cli::add_simulate_command(app, actions);
-    mbd::cli::add_plugin_check_command(app, actions);
-    mbd::cli::add_bench_command(app, actions);
-    mbd::cli::add_stability_command(app, actions);
+    mbd::cli::add_commands(app, actions);
 
     try {
         app.parse(argc, argv);

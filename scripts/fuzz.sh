@@ -1,17 +1,39 @@
 #!/usr/bin/env bash
-# Fuzz the scene loader with libFuzzer (clang) under AddressSanitizer and
-# UndefinedBehaviorSanitizer for the given number of seconds (default 600),
-# starting from every scene in scenes/. Exits non-zero on a finding; the
-# crashing input is left in build-fuzz/findings/.
+# Fuzz with libFuzzer (clang) under AddressSanitizer and UndefinedBehaviorSanitizer:
+#   bash scripts/fuzz.sh [SECONDS] [TARGET...]
+# SECONDS per target (default 600); TARGETs are scene (the scene loader, from every scene
+# under 16 KiB in scenes/ and sdk/examples plus fuzz/seeds/, with fuzz/yaml.dict) and
+# command_line (the mbd argument parser, from fuzz/seeds-cli/ with fuzz/command_line.dict);
+# default both (scripts/fuzz-ci.sh runs both in CI). The corpus grows in build-fuzz/corpus/TARGET across runs. Exits non-zero on a
+# finding; the input is left in build-fuzz/findings/TARGET/ (reproduce it with
+# build-fuzz/bin/TARGET_fuzzer FILE).
 set -euo pipefail
 seconds=${1:-600}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(scene command_line)
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh >/dev/null
-command -v clang++ >/dev/null || { apt-get install -y -qq clang libclang-rt-dev >/dev/null; }
+bash scripts/install-deps.sh >/dev/null  # clang and libclang-rt-dev among them
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DMBD_SANITIZE=ON -DMBD_FUZZ=ON -DMBD_BUILD_TESTS=OFF >/dev/null
-cmake --build build-fuzz -j2 --target scene_loader_fuzzer mbd_plugins >/dev/null
-mkdir -p build-fuzz/corpus build-fuzz/findings
-find scenes sdk/examples -name '*.yaml' -exec cp {} build-fuzz/corpus/ \;
-ASAN_OPTIONS=detect_leaks=1 ./build-fuzz/bin/scene_loader_fuzzer build-fuzz/corpus \
-  -max_total_time="$seconds" -artifact_prefix=build-fuzz/findings/ -print_final_stats=1
+  -DMBD_SANITIZE=ON -DMBD_FUZZ=ON -DMBD_BUILD_TESTS=OFF -DMBD_BUILD_BENCH=OFF >/dev/null
+cmake --build build-fuzz -j2 --target scene_loader_fuzzer command_line_fuzzer mbd_plugins >/dev/null
+
+status=0
+for target in "${targets[@]}"; do
+  corpus=build-fuzz/corpus/$target findings=build-fuzz/findings/$target
+  mkdir -p "$corpus" "$findings"
+  case $target in
+    scene)
+      binary=build-fuzz/bin/scene_loader_fuzzer dict=fuzz/yaml.dict
+      find scenes sdk/examples fuzz/seeds -name '*.yaml' -size -16k -exec cp {} "$corpus"/ \; ;;
+    command_line)
+      binary=build-fuzz/bin/command_line_fuzzer dict=fuzz/command_line.dict
+      cp fuzz/seeds-cli/* "$corpus"/ ;;
+    *) echo "fuzz.sh: unknown target '$target' (scene, command_line)" >&2; exit 2 ;;
+  esac
+  echo "== fuzzing $target for $seconds s"
+  # -timeout: an input running 30 s is a hang; -max_len: scenes in the corpus are under 16 KiB
+  ASAN_OPTIONS=detect_leaks=1 "$binary" "$corpus" -dict="$dict" -max_total_time="$seconds" -timeout=30 \
+    -max_len=16384 -artifact_prefix="$findings"/ -print_final_stats=1 || status=$?
+done
+exit $status

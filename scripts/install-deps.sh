@@ -11,6 +11,7 @@ packages=(
   python3 python3-numpy
   python3-matplotlib
   libsimbody-dev libmujoco-dev  # the bench peers (bench/peers/, docs/benchmarks.md)
+  clang libclang-rt-dev  # libFuzzer (scripts/fuzz.sh, run by CI through scripts/fuzz-ci.sh)
 )
 missing=()
 for p in "${packages[@]}"; do

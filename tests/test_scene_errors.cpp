@@ -603,8 +603,8 @@ TEST_F(SceneBase, MissingBaseAndErrorsInsideTheBaseNameTheirFile) {
     // found by the fuzzer (scripts/fuzz.sh): a name too long for the file system is bad input too
     const std::string too_long = error_of(write("long.yaml", "base: " + std::string(5000, 'x') + "\n"));
     EXPECT_CONTAINS(too_long, "long.yaml:1");
-    EXPECT_CONTAINS(too_long, "cannot open the base scene");
-    EXPECT_CONTAINS(error_of(write("dir.yaml", "base: sub\n")), "cannot open the base scene");
+    EXPECT_CONTAINS(too_long, "cannot read the base scene");
+    EXPECT_CONTAINS(error_of(write("dir.yaml", "base: sub\n")), "it is a directory");
 }
 
 }  // namespace

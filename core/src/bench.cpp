@@ -5,11 +5,14 @@
 #include <mbd/progress_bar.hpp>
 
 #include <mbd/scene.hpp>
+#include <mbd/sdk/number.hpp>
 #include <mbd/sdk/rotation.hpp>
 
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <yaml-cpp/yaml.h>
+
+#include "scene_source.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -38,11 +41,11 @@ std::string where(const std::string& file, const YAML::Node& n) {
 }
 
 double as_double(const std::string& file, const YAML::Node& n, const std::string& what) {
-    try {
-        return n.as<double>();
-    } catch (const std::exception&) {
-        throw InputError(where(file, n), "bench: '" + what + "' must be a number");
-    }
+    if (!n.IsScalar()) throw InputError(where(file, n), "bench: '" + what + "' must be a number");
+    double value = 0.0;
+    const NumberText read = parse_number(n.Scalar(), value);
+    if (read != NumberText::Valid) throw InputError(where(file, n), "bench: " + number_problem(read, what, n.Scalar()));
+    return value;
 }
 
 std::vector<double> as_list(const std::string& file, const YAML::Node& n, const std::string& what) {
@@ -275,12 +278,8 @@ std::string BenchMeasure::describe() const {
 }
 
 BenchSpec load_bench_spec(const std::string& file) {
-    YAML::Node root;
-    try {
-        root = YAML::LoadFile(file);
-    } catch (const YAML::Exception& e) {
-        throw InputError(file, std::string("cannot read the scene: ") + e.what());
-    }
+    // the file's own 'bench:' key (not inherited through 'base:'), read within the scene limits
+    const YAML::Node root = detail::SceneTreeReader().parse(detail::read_scene_file(file), file);
     BenchSpec spec;
     spec.scene = file;
     spec.name = root["name"] ? root["name"].as<std::string>() : std::filesystem::path(file).stem().string();

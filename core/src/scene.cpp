@@ -8,19 +8,19 @@
 #include <mbd/scene.hpp>
 #include <mbd/sdk/suggest.hpp>
 
+#include "scene_source.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <set>
-#include <sstream>
-#include <system_error>
 
 namespace mbd {
 namespace {
@@ -69,85 +69,32 @@ bool valid_name(const std::string& name) {
     return true;
 }
 
-// ---------------------------------------------------------------- YAML -> Param
-
-Param convert(const YAML::Node& node, const std::string& file, int fallback_line) {
-    Param p;
-    p.file = file;
-    const YAML::Mark mark = node.Mark();
-    p.line = mark.is_null() ? fallback_line : mark.line + 1;
-    switch (node.Type()) {
-        case YAML::NodeType::Sequence:
-            p.kind = Param::Kind::List;
-            for (const auto& item : node) p.items.push_back(convert(item, file, p.line));
-            break;
-        case YAML::NodeType::Map:
-            p.kind = Param::Kind::Map;
-            for (const auto& kv : node) {
-                const YAML::Mark key_mark = kv.first.Mark();
-                const int key_line = key_mark.is_null() ? p.line : key_mark.line + 1;
-                const std::string where = file + ":" + std::to_string(key_line);
-                if (!kv.first.IsScalar())
-                    throw InputError(where, "a map key must be a plain word, not a list or a map");
-                const std::string key = kv.first.Scalar();
-                auto found = p.fields.find(key);
-                if (found != p.fields.end())
-                    throw InputError(where, "duplicate key " + quote(key) +
-                                                "; remove one of the two (the map starts at line " +
-                                                std::to_string(p.line) + ")");
-                p.fields.emplace(key, convert(kv.second, file, key_line));
-            }
-            break;
-        case YAML::NodeType::Scalar:
-            p.kind = Param::Kind::Scalar;
-            p.text = node.Scalar();
-            break;
-        default:  // Null / Undefined: an empty scalar
-            p.kind = Param::Kind::Scalar;
-            p.text.clear();
-            break;
+// Principal moments of inertia of a rigid body about its mass centre (Shabana Eq. 7.95,
+// J_xx = integral of (y^2 + z^2) dm, ...) are >= 0 and each is at most the sum of the
+// other two: J_a + J_b - J_c = 2 integral of c^2 dm >= 0. Equality is a flat body (a disk:
+// J_z = J_x + J_y), a rod has one zero moment; anything beyond is no rigid body. The
+// relative tolerance admits moments computed or rounded at full precision on that boundary.
+void check_principal_moments(const Vec3& moments, const Param& where, const std::string& what,
+                             const std::string& which) {
+    constexpr double tolerance = 1e-9;
+    const double scale = moments.cwiseAbs().sum();
+    auto text = [](double x) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.6g", x);
+        return std::string(b);
+    };
+    const std::string listed = text(moments[0]) + ", " + text(moments[1]) + ", " + text(moments[2]);
+    if (!(moments.minCoeff() >= -tolerance * scale))
+        where.fail(what + ": 'inertia' is not positive semi-definite: " + which + " are " + listed +
+                   "; a mass distribution has no negative moment");
+    for (int c = 0; c < 3; ++c) {
+        const double a = moments[(c + 1) % 3], b = moments[(c + 2) % 3];
+        if (moments[c] > a + b + tolerance * scale)
+            where.fail(what + ": 'inertia' is not a rigid body's: " + which + " are " + listed + ", and " +
+                       text(moments[c]) + " exceeds the sum of the other two (" + text(a) + " + " + text(b) +
+                       "); each principal moment must be at most the sum of the other two (equal for a flat "
+                       "body), so check the values and that they are about the mass centre");
     }
-    return p;
-}
-
-YAML::Node parse_yaml(const std::string& text, const std::string& file) {
-    try {
-        return YAML::Load(text);
-    } catch (const YAML::Exception& e) {
-        const int line = e.mark.is_null() ? 1 : e.mark.line + 1;
-        throw InputError(file + ":" + std::to_string(line),
-                         "YAML syntax error: " + e.msg + "; fix the scene file's syntax");
-    }
-}
-
-// `base: FILE` at the top level: the scene starts from another scene file (the path is
-// relative to this file) and replaces or adds the top-level keys it gives. `name` is never
-// inherited, so a derived scene is named after its own file. Keys of the base keep their
-// own file:line, so an error in inherited input points into the base file. Every base
-// file read is added to `files` (an output must never overwrite one: output_file.hpp).
-Param with_base(Param root, const std::string& file, int depth, std::vector<std::string>& files) {
-    if (!root.is_map()) return root;
-    const auto it = root.fields.find("base");
-    if (it == root.fields.end()) return root;
-    const Param key = it->second;
-    if (!key.is_scalar() || key.text.empty()) key.fail("'base' must be the path of another scene file");
-    if (depth >= 8) key.fail("'base' chain is longer than 8 files; is there a cycle?");
-    const std::filesystem::path path = std::filesystem::path(file).parent_path() / key.text;
-    std::error_code error;  // the non-throwing overload: any text may arrive here (a name too long, ...)
-    if (!std::filesystem::is_regular_file(path, error))
-        key.fail("cannot open the base scene " + quote(path.string()) + " (a file; the path is relative to this file)");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) key.fail("cannot read the base scene " + quote(path.string()));
-    files.push_back(path.string());
-    std::ostringstream text;
-    text << in.rdbuf();
-    Param base =
-        with_base(convert(parse_yaml(text.str(), path.string()), path.string(), 1), path.string(), depth + 1, files);
-    if (!base.is_map()) key.fail("the base scene " + quote(path.string()) + " is not a map of keys");
-    root.fields.erase("base");
-    for (auto& [name, value] : base.fields)
-        if (name != "name") root.fields.emplace(name, std::move(value));  // emplace keeps this file's keys
-    return root;
 }
 
 // Line of every map key, recorded once the Param tree is final (addresses are stable).
@@ -180,8 +127,10 @@ public:
     Loader(std::string file, Registry& registry) : file_(std::move(file)), registry_(registry) {}
 
     Model load(const std::string& text) {
-        const YAML::Node root = parse_yaml(text, file_);
-        root_ = with_base(convert(root, file_, 1), file_, 0, base_files_);
+        detail::SceneTreeReader reader;
+        const YAML::Node root = reader.parse(text, file_);
+        root_ = reader.with_base(reader.convert(root, file_), file_);
+        base_files_ = reader.base_files();
         index_key_lines(root, root_, key_lines_);
         build();
         return std::move(model_);
@@ -237,18 +186,7 @@ private:
 
     // --- values
     double number(const Param& p, const std::string& key, const std::string& what) const {
-        if (!p.is_scalar() || p.text.empty())
-            p.fail(what + ": " + quote(key) + " must be a number");
-        double v = 0.0;
-        try {
-            size_t used = 0;
-            v = std::stod(p.text, &used);
-            if (used != p.text.size()) throw std::invalid_argument(p.text);
-        } catch (const std::exception&) {
-            p.fail(what + ": " + quote(key) + " must be a number, got '" + p.text + "'");
-        }
-        if (!std::isfinite(v)) p.fail(what + ": " + quote(key) + " must be a finite number, got '" + p.text + "'");
-        return v;
+        return p.as_number(key, what);
     }
 
     Eigen::VectorXd vector(const Param& p, const std::string& key, const std::string& what, int size,
@@ -513,9 +451,8 @@ void Loader::load_body(const Param& node, int index) {
             if (!J.isApprox(J.transpose(), 1e-9) && (J - J.transpose()).cwiseAbs().maxCoeff() > 1e-12)
                 inertia.fail(what + ": 'inertia' matrix must be symmetric");
             const Mat3 Js = 0.5 * (J + J.transpose());
-            Eigen::SelfAdjointEigenSolver<Mat3> eig(Js);
-            if (!(eig.eigenvalues().minCoeff() >= 0))
-                inertia.fail(what + ": 'inertia' matrix must be positive semi-definite (principal moments >= 0)");
+            const Eigen::SelfAdjointEigenSolver<Mat3> eig(Js);
+            check_principal_moments(eig.eigenvalues(), inertia, what, "the principal moments (eigenvalues)");
             body.inertia = Js;
         } else {
             const Eigen::VectorXd d =
@@ -524,6 +461,7 @@ void Loader::load_body(const Param& node, int index) {
                 if (!(d[k] >= 0))
                     inertia.items[k].fail(what + ": 'inertia' moments must be positive (or 0), got " +
                                           inertia.items[k].text);
+            check_principal_moments(d, inertia, what, "the principal moments [Ixx, Iyy, Izz]");
             body.inertia = d.asDiagonal();
         }
     }
@@ -980,15 +918,7 @@ Model load_scene_text(const std::string& yaml, const std::string& label, Registr
 }
 
 Model load_scene(const std::filesystem::path& file, Registry& registry) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw InputError(file.string(), "cannot open the scene file; check the path (" +
-                                            (std::filesystem::exists(file) ? std::string("not readable")
-                                                                           : std::string("no such file")) +
-                                            ")");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return load_scene_text(text.str(), file.string(), registry);
+    return load_scene_text(detail::read_scene_file(file), file.string(), registry);
 }
 
 }  // namespace mbd

@@ -7,6 +7,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "scene_source.hpp"
+
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -136,7 +138,7 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
 std::string equilibrium_scene(const Model& model, const State& state) {
     YAML::Node root;
     try {
-        root = YAML::LoadFile(model.source);
+        root = YAML::Load(detail::read_scene_file(model.source));  // within the scene limits
     } catch (const std::exception& e) {
         throw std::runtime_error("cannot re-read the scene " + model.source + " to write the equilibrium: " + e.what());
     }

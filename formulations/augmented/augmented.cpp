@@ -156,7 +156,8 @@ Augmented::Augmented(const FormulationSpec& spec) {
             params.at("linear_algebra").fail("'linear_algebra' must be auto, dense or sparse, got '" + a + "'");
         algebra_ = a;
     }
-    if (params.has("sparse_threshold")) sparse_threshold_ = static_cast<int>(params.positive("sparse_threshold"));
+    if (params.has("sparse_threshold"))
+        sparse_threshold_ = static_cast<int>(params.integer("sparse_threshold", 1, 1000000000));
     singularity_.read(params);
     const std::vector<std::string> unread = params.unread_keys();
     if (!unread.empty())

@@ -84,7 +84,8 @@ Embedding::Embedding(const FormulationSpec& spec) {
     }
     settings_.read(params);  // pivot_threshold, reselect_ratio, rank_tolerance
     if (params.has("newton_tolerance")) settings_.newton_tolerance = params.positive("newton_tolerance");
-    if (params.has("newton_iterations")) settings_.newton_iterations = static_cast<int>(params.positive("newton_iterations"));
+    if (params.has("newton_iterations"))
+        settings_.newton_iterations = static_cast<int>(params.integer("newton_iterations", 1, 1000000));
     if (params.has("independent")) {
         const Param& p = params.at("independent");
         if (p.is_scalar())

@@ -108,7 +108,8 @@ Hamiltonian::Hamiltonian(const FormulationSpec& spec) {
     params.mark_read("type");
     partition_settings_.read(params);
     if (params.has("newton_tolerance")) newton_tolerance_ = params.positive("newton_tolerance");
-    if (params.has("newton_iterations")) newton_iterations_ = static_cast<int>(params.positive("newton_iterations"));
+    if (params.has("newton_iterations"))
+        newton_iterations_ = static_cast<int>(params.integer("newton_iterations", 1, 1000000));
     partition_settings_.read_log(params);
     singularity_.read(params);
     const std::vector<std::string> unread = params.unread_keys();

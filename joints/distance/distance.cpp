@@ -56,8 +56,8 @@ std::unique_ptr<mbd::Joint> make_distance(const mbd::JointSpec& spec) {
     if (spec.params.has("points")) {
         const mbd::Param& p = spec.params.at("points");
         if (!p.is_list() || p.items.size() != 2) p.fail(who + ": 'points' must be [[x_i, y_i], [x_j, y_j]]");
-        u_i = p.items[0].as_vector("points", 2);
-        u_j = p.items[1].as_vector("points", 2);
+        u_i = p.items[0].as_vector("points", 2, who);
+        u_j = p.items[1].as_vector("points", 2, who);
     }
     const auto world = [&](int k, const Vec2& u) {
         const double a = spec.bodies[k].angle;

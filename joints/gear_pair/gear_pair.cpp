@@ -63,7 +63,7 @@ std::unique_ptr<mbd::Joint> make_gear_pair(const mbd::JointSpec& spec) {
     double a_i = 1.0, a_j = 1.0;
     if (has_radii) {
         const mbd::Param& p = spec.params.at("radii");
-        const Eigen::VectorXd r = p.as_vector("radii", 2);
+        const Eigen::VectorXd r = p.as_vector("radii", 2, who);
         if (!(std::isfinite(r[0]) && std::isfinite(r[1]) && r[0] != 0.0 && r[1] != 0.0))
             p.fail(who + ": 'radii' must be non-zero (negative for an internal gear), got [" +
                    p.items[0].text + ", " + p.items[1].text + "]");

@@ -170,16 +170,7 @@ void add_jacobians(const BodyStates& b, const F& f, Eigen::Ref<Eigen::MatrixXd> 
 }
 
 inline double read_number(const ForceSpec& spec, const std::string& key, const Param& p) {
-    if (p.is_scalar()) {
-        try {
-            size_t used = 0;
-            const double v = std::stod(p.text, &used);
-            if (used == p.text.size() && std::isfinite(v)) return v;
-        } catch (const std::exception&) {
-        }
-    }
-    fail(spec, "'" + key + "' must be a number" + (p.is_scalar() ? ", got '" + p.text + "'" : std::string()),
-         &p);
+    return p.as_number(key, "force '" + spec.name + "'");
 }
 // A number under `key`; without a fallback the key is required.
 inline double number(const ForceSpec& spec, const std::string& key, const double* fallback = nullptr) {

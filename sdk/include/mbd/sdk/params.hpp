@@ -4,8 +4,11 @@
 // tree, so plugins never depend on the YAML library.
 #pragma once
 
+#include <mbd/sdk/number.hpp>
+
 #include <Eigen/Core>
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <set>
@@ -54,26 +57,38 @@ public:
     bool is_list() const { return kind == Kind::List; }
     bool is_map() const { return kind == Kind::Map; }
 
-    double as_number(const std::string& what) const {
-        if (kind != Kind::Scalar) fail("'" + what + "' must be a number");
-        try {
-            size_t used = 0;
-            double value = std::stod(text, &used);
-            if (used != text.size()) throw std::invalid_argument(text);
-            return value;
-        } catch (const std::exception&) {
-            fail("'" + what + "' must be a number, got '" + text + "'");
-        }
-        return 0.0;
+    // The number under `key` (docs/scene-format.md, Conventions): finite, in the range of a
+    // double; refused at this node's file:line naming the key, after `owner` (the element).
+    double as_number(const std::string& key, const std::string& owner = std::string()) const {
+        const std::string prefix = owner.empty() ? std::string() : owner + ": ";
+        if (kind != Kind::Scalar) fail(prefix + "'" + key + "' must be a number, not a list or a map");
+        double value = 0.0;
+        const NumberText read = parse_number(text, value);
+        if (read != NumberText::Valid) fail(prefix + number_problem(read, key, text));
+        return value;
     }
 
-    Eigen::VectorXd as_vector(const std::string& what, int expected_size = -1) const {
-        if (kind != Kind::List) fail("'" + what + "' must be a list of numbers");
+    // A whole number in [lo, hi] (counts, iteration limits), refused like as_number.
+    long long as_integer(const std::string& key, long long lo, long long hi,
+                         const std::string& owner = std::string()) const {
+        const double value = as_number(key, owner);
+        const std::string prefix = owner.empty() ? std::string() : owner + ": ";
+        if (value != std::floor(value)) fail(prefix + "'" + key + "' must be a whole number, got '" + text + "'");
+        if (!(value >= static_cast<double>(lo) && value <= static_cast<double>(hi)))
+            fail(prefix + "'" + key + "' must be between " + std::to_string(lo) + " and " + std::to_string(hi) +
+                 ", got '" + text + "'");
+        return static_cast<long long>(value);
+    }
+
+    Eigen::VectorXd as_vector(const std::string& what, int expected_size = -1,
+                              const std::string& owner = std::string()) const {
+        const std::string prefix = owner.empty() ? std::string() : owner + ": ";
+        if (kind != Kind::List) fail(prefix + "'" + what + "' must be a list of numbers");
         if (expected_size >= 0 && static_cast<int>(items.size()) != expected_size)
-            fail("'" + what + "' must have " + std::to_string(expected_size) + " numbers, got " +
+            fail(prefix + "'" + what + "' must have " + std::to_string(expected_size) + " numbers, got " +
                  std::to_string(items.size()));
         Eigen::VectorXd v(items.size());
-        for (size_t k = 0; k < items.size(); ++k) v[k] = items[k].as_number(what);
+        for (size_t k = 0; k < items.size(); ++k) v[k] = items[k].as_number(what, owner);
         return v;
     }
 
@@ -98,7 +113,7 @@ public:
         if (!has(key)) fail("missing key '" + key + "'");
         return node_->fields.at(key);
     }
-    double number(const std::string& key) const { return at(key).as_number(key); }
+    double number(const std::string& key) const { return at(key).as_number(key, owner_); }
     double number(const std::string& key, double fallback) const {
         return has(key) ? number(key) : fallback;
     }
@@ -112,6 +127,10 @@ public:
         if (!(v >= 0)) at(key).fail("'" + key + "' must not be negative");
         return v;
     }
+    // A whole number in [lo, hi] (iteration limits, sizes).
+    long long integer(const std::string& key, long long lo, long long hi) const {
+        return at(key).as_integer(key, lo, hi, owner_);
+    }
     std::string string(const std::string& key) const {
         const Param& p = at(key);
         if (!p.is_scalar()) p.fail("'" + key + "' must be a single word");
@@ -121,7 +140,7 @@ public:
         return has(key) ? string(key) : fallback;
     }
     Eigen::VectorXd vector(const std::string& key, int expected_size = -1) const {
-        return at(key).as_vector(key, expected_size);
+        return at(key).as_vector(key, expected_size, owner_);
     }
     Params child(const std::string& key) const {
         const Param& p = at(key);

@@ -65,17 +65,7 @@ public:
         return has(key) ? number(key) : fallback;
     }
     double to_number(const Param& p, const std::string& key) const {
-        if (!p.is_scalar()) fail(p, "'" + key + "' must be a number");
-        try {
-            size_t used = 0;
-            const double value = std::stod(p.text, &used);
-            if (used != p.text.size()) throw std::invalid_argument(p.text);
-            if (!std::isfinite(value)) throw std::invalid_argument(p.text);
-            return value;
-        } catch (const std::exception&) {
-            fail(p, "'" + key + "' must be a number, got '" + p.text + "'");
-        }
-        return 0.0;
+        return p.as_number(key, what_ + ": time function '" + type_ + "'");
     }
     const Param& list(const std::string& key) const {
         auto it = node_.fields.find(key);
@@ -224,12 +214,12 @@ inline std::shared_ptr<const TimeFunction> make_time_function(const Param& node,
     using namespace detail;
     const std::string known = tf_join(tf_known_types());
     if (node.is_scalar()) {
-        try {
-            size_t used = 0;
-            const double value = std::stod(node.text, &used);
-            if (used == node.text.size() && std::isfinite(value)) return std::make_shared<TfConstant>(value);
-        } catch (const std::exception&) {
-        }
+        double value = 0.0;
+        const NumberText read = parse_number(node.text, value);
+        if (read == NumberText::Valid) return std::make_shared<TfConstant>(value);
+        if (read != NumberText::NotANumber)
+            throw InputError(node.location(), what + ": a constant time function " +
+                                                  number_problem(read, "value", node.text));
         throw InputError(node.location(), what + ": a time function is a number or a map with 'type' (" +
                                               known + "), got '" + node.text + "'");
     }
