@@ -120,6 +120,18 @@ TEST(CliEnergy, AConservativeRunThatGainsEnergyStopsWithADiagnosis) {
     for (const auto& row : csv.rows) EXPECT_LT(row[T] + row[V], E0 + 100.0 * 50.0 * 1.000001);
 }
 
+// The case of issue 20: generalized-alpha at h = 0.01 on the same spring (w h = 100)
+// gains energy by three orders of magnitude in one step and used to end with status 0.
+TEST(CliEnergy, GeneralizedAlphaGainingEnergyOnTheStiffSpringIsStopped) {
+    const fs::path out = scratch("energy-ga") / "spring.csv";
+    const auto r = run_mbd("simulate " + scene("dynamics/stiff-spring.yaml") +
+                           " --integrator generalized_alpha --step 0.01 --t-end 10 -q -o " + out.string());
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_TRUE(contains(r.err, "total energy T + V grew from 50 ")) << r.err;
+    EXPECT_TRUE(contains(r.err, "unstable")) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(CliEnergy, AnAccurateConservativeRunIsNotStopped) {
     // the same spring at a stable step (w h = 1), and the pendulum released from E0 = 0
     const fs::path dir = scratch("energy-ok");
@@ -264,7 +276,7 @@ TEST(CliProgress, TheBarRedrawsItsWholeLineWithElapsedTimeAndTimeLeft) {
     const fs::path log = dir / "terminal.txt";
     const auto r = run_command("script -qec 'env -u MBD_PLUGIN_PATH COLUMNS=100 " + std::string(MBD_EXECUTABLE) +
                                " simulate " + scene("dynamics/pendulum-a01.yaml") +
-                               " --t-end 2000 --tol 1e-10 --output-step 0.1 -o " + (dir / "p.csv").string() + "' " +
+                               " --t-end 5000 --tol 1e-10 --output-step 0.1 -o " + (dir / "p.csv").string() + "' " +
                                log.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::ifstream in(log);
