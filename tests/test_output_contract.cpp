@@ -236,7 +236,7 @@ TEST(OutputContract, SighupStopsTheRunWithCompleteRowsAndStatus129) { expect_sto
 TEST(OutputContract, KinematicsStopsOnSigintToo) {
     const fs::path dir = scratch("signal-kinematics");
     const fs::path out = dir / "k.csv", partial = dir / "k.csv.partial";
-    const Running run = start_mbd({"kinematics", scene("book/slider-crank.yaml"), "--t-end", "20000", "--step", "0.002",
+    const Running run = start_mbd({"kinematics", scene("book/slider-crank.yaml"), "--t-end", "10000", "--step", "0.002",
                                    "-o", out.string()},
                                   dir);
     ASSERT_GT(run.pid, 0);

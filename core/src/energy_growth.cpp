@@ -18,9 +18,10 @@ void EnergyGrowthWatch::check(double t, double kinetic, double potential, bool t
         started_ = true;
         kinetic0_ = kinetic;
         potential0_ = potential;
-        // a floor, so that round-off in a scene at rest is no "growth": 1e-6 of the initial
-        // energies, and 1 nJ (scenes are in SI units; no multibody motion lives below that)
-        scale_ = std::max({std::abs(kinetic), 1e-6 * std::abs(potential), 1e-9});
+        // the initial energies (the potential's zero is arbitrary: a large |V0| only makes
+        // the watch less sensitive), and 1 nJ so that round-off in a scene at rest is no
+        // "growth" (scenes are in SI units; no multibody motion lives below that)
+        scale_ = std::max({std::abs(kinetic), std::abs(potential), std::abs(kinetic + potential), 1e-9});
         return;
     }
     const double gain = (kinetic + potential) - (kinetic0_ + potential0_);
@@ -29,10 +30,10 @@ void EnergyGrowthWatch::check(double t, double kinetic, double potential, bool t
     if (!(gain > kLimit * scale_)) return;            // (a NaN gain is left to the finiteness checks)
     char text[400];
     std::snprintf(text, sizeof text,
-                  "the total energy T + V grew from %.6g to %.6g by t = %.6g, %.3g times the energy scale of the "
-                  "motion (%.3g), although the scene is conservative (no drivers, no dampers or actuators): the "
-                  "integration is unstable",
-                  kinetic0_ + potential0_, kinetic + potential, t, gain / scale_, scale_);
+                  "the total energy T + V grew from %.6g to %.6g by t = %.6g, more than %g times the energy scale "
+                  "of the motion (%.3g), although the scene is conservative (no drivers, no dampers or actuators): "
+                  "the integration is unstable",
+                  kinetic0_ + potential0_, kinetic + potential, t, kLimit, scale_);
     throw DynamicsError(t, text + (advice.empty() ? std::string() : "; " + advice));
 }
 

@@ -28,8 +28,9 @@ private:
     bool active_;
     bool started_ = false;
     double kinetic0_ = 0.0, potential0_ = 0.0;
-    // The energy scale of the motion: the largest T and |V - V0| seen while the energy
-    // still held (gain within 10 % of the scale), so an instability cannot raise it.
+    // The energy scale of the motion: |T0|, |V0|, |E0| and the largest T and |V - V0| seen
+    // while the energy still held (gain within 10 % of the scale), so that an instability
+    // cannot raise it.
     double scale_ = 0.0;
 };
 

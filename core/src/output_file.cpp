@@ -97,6 +97,7 @@ void OutputFile::write_record(std::string_view record) {
     if (finished_) throw std::logic_error("OutputFile: write after commit() or abandon() of " + quoted(path_));
     buffer_.append(record.data(), record.size());
     ++records_;
+    ++buffered_records_;
     const auto now = std::chrono::steady_clock::now();
     if (buffer_.size() >= kFlushBytes || now - last_flush_ >= kFlushInterval) {
         flush_buffer();
@@ -107,8 +108,16 @@ void OutputFile::write_record(std::string_view record) {
 void OutputFile::replace(std::string_view document, const std::string& contents) {
     if (finished_) throw std::logic_error("OutputFile: write after commit() or abandon() of " + quoted(path_));
     buffer_.clear();
-    if (::ftruncate(fd_, 0) != 0 || ::lseek(fd_, 0, SEEK_SET) < 0) throw OutputError(partial_, std::strerror(errno));
-    write_all(fd_, document.data(), document.size(), partial_);
+    try {
+        if (::ftruncate(fd_, 0) != 0 || ::lseek(fd_, 0, SEEK_SET) < 0) throw OutputError(partial_, std::strerror(errno));
+        write_all(fd_, document.data(), document.size(), partial_);
+    } catch (const std::exception& e) {
+        // no half document: nothing is kept
+        if (::ftruncate(fd_, 0) == 0) ::lseek(fd_, 0, SEEK_SET);
+        records_ = 0;
+        write_failure_ = e.what();
+        throw;
+    }
     ++records_;
     contents_ = contents;
 }
@@ -118,13 +127,17 @@ void OutputFile::flush_buffer() {
     const off_t complete = ::lseek(fd_, 0, SEEK_CUR);
     try {
         write_all(fd_, buffer_.data(), buffer_.size(), partial_);
-    } catch (...) {
+    } catch (const std::exception& e) {
         // keep the file at its last whole record (a full disk may have taken part of a block)
         if (complete >= 0 && ::ftruncate(fd_, complete) == 0) ::lseek(fd_, complete, SEEK_SET);
         buffer_.clear();
+        records_ -= buffered_records_;
+        buffered_records_ = 0;
+        write_failure_ = e.what();
         throw;
     }
     buffer_.clear();
+    buffered_records_ = 0;
 }
 
 void OutputFile::close_descriptor() {
@@ -154,7 +167,7 @@ void OutputFile::abandon(const std::string& what) {
     finished_ = true;
     std::string problem;
     try {
-        flush_buffer();
+        if (write_failure_.empty()) flush_buffer();
     } catch (const std::exception& e) {
         problem = e.what();
     }
@@ -168,9 +181,12 @@ void OutputFile::abandon(const std::string& what) {
         fs::remove(partial_, ec);
         return;
     }
-    const std::string kept = !what.empty()       ? what
-                             : !contents_.empty() ? contents_
-                                                  : "the " + std::to_string(records_) + " records written so far";
+    // after a failed write the caller's description may count records that never arrived
+    const std::string kept = !write_failure_.empty() ? "the " + std::to_string(records_) +
+                                                           " records written before the write failed"
+                             : !what.empty()         ? what
+                             : !contents_.empty()    ? contents_
+                                                     : "the " + std::to_string(records_) + " records written so far";
     std::lock_guard<std::mutex> lock(g_notes_mutex);
     g_notes.push_back(quoted(partial_) + " holds " + kept + "; " + quoted(path_) + " was not written" +
                       (problem.empty() ? "" : " (" + problem + ")"));

@@ -74,8 +74,10 @@ private:
     std::filesystem::path path_, partial_;
     int fd_ = -1;
     std::string buffer_;  // whole records not yet written
-    long records_ = 0;
-    std::string contents_;  // what PATH.partial holds, from replace()
+    long records_ = 0;           // records given, on disk or buffered
+    long buffered_records_ = 0;  // of which still in buffer_
+    std::string contents_;       // what PATH.partial holds, from replace()
+    std::string write_failure_;  // a failed write: PATH.partial holds only the records before it
     bool finished_ = false;
     std::chrono::steady_clock::time_point last_flush_;
 };
