@@ -42,7 +42,8 @@ bool project_onto_constraints(const System& system, double t, const Eigen::Vecto
             system.constraints(state, cv, true);
             const double violation = cv.C.size() ? cv.C.template lpNorm<Eigen::Infinity>() : 0.0;
             if (!std::isfinite(violation)) break;
-            if (violation <= tolerance) {
+            // at least one Newton step whenever C != 0 (see the header)
+            if (violation == 0.0 || (iteration > 0 && violation <= tolerance)) {
                 converged = true;
                 break;
             }

@@ -92,7 +92,10 @@ inline bool correct_dependent_positions(const System& system, State& state, cons
         J = Eigen::MatrixXd(cv.J);
         const double violation = cv.C(p.rows).lpNorm<Eigen::Infinity>();
         if (!std::isfinite(violation)) break;
-        if (violation <= tolerance) {
+        // at least one Newton step whenever C != 0, so that the correction is a smooth map of the
+        // state (inside a multistep integrator, corrections that switch on and off at the
+        // tolerance are noise in its history: see projection.hpp)
+        if (violation == 0.0 || (iteration > 0 && violation <= tolerance)) {
             converged = true;
             break;
         }
