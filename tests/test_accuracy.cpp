@@ -1,6 +1,6 @@
 // Accuracy at tight tolerances (issue 20), against independent oracles:
 //   IFToMM A01, the closed-form pendulum (Jacobi elliptic functions, reference/README.md);
-//   Andrews' squeezer (scenes/dynamics/andrews-squeezer.yaml), the published reference
+//   Andrews' squeezer (scenes/reference/andrews-squeezer.yaml), the published reference
 //     solution of the Test Set for IVP Solvers at t = 0.03 (PSIDE at tol 1e-14), as significant
 //     correct digits scd = -log10(max relative error of the seven angles);
 //   conservation of energy on the conservative four-bar, through the hamiltonian formulation's
@@ -98,7 +98,7 @@ double andrews_scd(const mbd::Model& model, const mbd::State& end) {
 
 std::vector<double> andrews_digits(const std::string& formulation, const std::string& integrator,
                                    const std::vector<double>& tolerances) {
-    const mbd::Model model = load("dynamics/andrews-squeezer.yaml");
+    const mbd::Model model = load("reference/andrews-squeezer.yaml");
     std::vector<double> digits;
     for (double tol : tolerances) {
         mbd::SimulationResult r;
