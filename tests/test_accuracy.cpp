@@ -1,10 +1,10 @@
 // Accuracy at tight tolerances (issue 20), against independent oracles:
 //   IFToMM A01, the closed-form pendulum (Jacobi elliptic functions, reference/README.md);
-//   Andrews' squeezer (scenes/dynamics/andrews-squeezer.yaml), the published reference
+//   Andrews' squeezer (scenes/reference/andrews-squeezer.yaml), the published reference
 //     solution of the Test Set for IVP Solvers at t = 0.03 (PSIDE at tol 1e-14), as significant
 //     correct digits scd = -log10(max relative error of the seven angles);
-//   conservation of energy on the conservative four-bar, through the hamiltonian formulation's
-//     re-selections of its independent coordinate;
+//   conservation of energy: the chaotic double pendulum at tight tolerances, and the
+//     conservative four-bar through the hamiltonian formulation's re-selections;
 //   the pendulum under a constant torque, whose stable equilibrium has sin(phi) = T / (m g l)
 //     (phi from the downward vertical).
 // No expected number comes from the engine's own output.
@@ -78,6 +78,24 @@ TEST(CvodeProjection, A01ReachesTightTolerancesAndTheErrorFalls) {
     EXPECT_LT(errors[2], 1e-9);
 }
 
+// The chaotic double pendulum (two 1 m links, released horizontal) stopped the same way at
+// tol 1e-12 (t = 1.88). Its trajectory has no reference; its energy is conserved.
+TEST(CvodeProjection, DoublePendulumAtTightToleranceConservesEnergyBetter) {
+    const mbd::Model model = load("extreme/double-pendulum-chaos-100s.yaml");
+    mbd::ModelSystem system(model);
+    std::vector<double> drift;
+    for (double tol : {1e-10, 1e-12}) {
+        const auto states = simulate(model, "augmented", "cvode", tol, 5.0, 0.05);
+        ASSERT_EQ(states.size(), 101u);
+        auto energy = [&](const mbd::State& s) { return system.kinetic_energy(s) + system.potential_energy(s); };
+        double worst = 0.0;
+        for (const mbd::State& s : states) worst = std::max(worst, std::abs(energy(s) - energy(states.front())));
+        drift.push_back(worst);
+        std::printf("double pendulum augmented + cvode tol %.0e, 5 s: max |E - E0| %.3e J\n", tol, worst);
+    }
+    EXPECT_LT(drift[1], 0.1 * drift[0]);
+}
+
 // ---------------------------------------------------------------- Andrews' squeezer
 
 // Significant correct digits of the seven published angles at t = 0.03.
@@ -98,7 +116,7 @@ double andrews_scd(const mbd::Model& model, const mbd::State& end) {
 
 std::vector<double> andrews_digits(const std::string& formulation, const std::string& integrator,
                                    const std::vector<double>& tolerances) {
-    const mbd::Model model = load("dynamics/andrews-squeezer.yaml");
+    const mbd::Model model = load("reference/andrews-squeezer.yaml");
     std::vector<double> digits;
     for (double tol : tolerances) {
         mbd::SimulationResult r;

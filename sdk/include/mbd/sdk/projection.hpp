@@ -6,8 +6,14 @@
 //     dq = -M^-1 J^T S^-1 C,    S = J M^-1 J^T
 // (the minimum-norm Newton of book Eqs. 3.111-3.117 in the M metric; positions advanced
 // with System::advance_positions, so Euler parameters stay unit), to `tolerance` on
-// max |C|; then velocities v <- v - M^-1 J^T S^-1 (J v + C_t), so that book Eq. 6.138
-// (J v + C_t = 0) holds.
+// max |C|, and always at least one Newton step when C != 0; then velocities
+// v <- v - M^-1 J^T S^-1 (J v + C_t), so that book Eq. 6.138 (J v + C_t = 0) holds.
+// Why at least one step: a projection that leaves violations below the tolerance alone is
+// not a smooth map of the state; inside a multistep integrator (CVODE's CVodeSetProjFn) its
+// corrections, switching on and off at the size of the tolerance, are noise in the BDF
+// history that no smaller step reduces, and at tight tolerances CVODE stopped with "the
+// error test failed repeatedly or with |h| = hmin". One Newton step from a violation at the
+// tolerance leaves round-off (issue 20; docs/integrators.md).
 //
 // The linear algebra is the caller's: `factor(robust)` factors S at cv.J (robust: a
 // rank-revealing / damped path for (nearly) redundant rows), `solve_S(x)` overwrites x
