@@ -94,7 +94,9 @@ std::string classify(const std::string& m, bool assembly) {
     if (has("singular")) return "singular_constraints";
     if (has("initial state could not be projected") || has("could not be assembled")) return "assembly_failure";
     if (has("projection onto the constraint manifold failed")) return "projection_failure";
-    if (has("grew without bound") || has("non-finite") || has("diverged")) return "blow_up";
+    // an energy gain in a conservative scene (energy_growth.hpp) is the start of a blow-up
+    if (has("grew without bound") || has("total energy T + V grew") || has("non-finite") || has("diverged"))
+        return "blow_up";
     if (has("maximum number of steps") || has("CV_TOO_MUCH_WORK")) return "max_steps";
     if (has("CV_ERR_FAILURE")) return "step_size_collapse";
     return "solver_failure";
