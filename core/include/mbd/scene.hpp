@@ -18,7 +18,7 @@ namespace mbd {
 struct SceneLimits {
     static constexpr std::uintmax_t max_file_bytes = 16u << 20;  // each scene or base file, 16 MiB
     static constexpr int max_depth = 64;                      // lists and maps nested in each other
-    static constexpr std::size_t max_values = 1000000;        // values of all files, aliases expanded
+    static constexpr std::size_t max_values = 250000;         // values of all files, aliases expanded
 };
 
 // Load a scene, creating its joints and forces through the registry (only the
