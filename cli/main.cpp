@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
     mbd::cli::add_plugin_check_command(app, actions);
     mbd::cli::add_bench_command(app, actions);
     mbd::cli::add_stability_command(app, actions);
+    mbd::cli::add_animate_command(app, actions);
 
     try {
         app.parse(argc, argv);
