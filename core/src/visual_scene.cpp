@@ -95,15 +95,11 @@ VisualScene build_visual_scene(const Model& model) {
     else
         scene.up = planar ? Vec3::UnitY() : Vec3::UnitZ();
 
-    // attachment points of joints and two-body forces, in each body's frame
+    // joint points, in each body's frame
     std::vector<std::vector<Vec3>> points(nb);
     for (const auto& joint : model.joints)
         for (size_t k = 0; k < joint.bodies.size() && k < joint.markers.size(); ++k)
             if (joint.bodies[k] != kGround) add_unique(points[joint.bodies[k]], joint.markers[k].u_bar);
-    for (const auto& force : model.forces)
-        if (force.bodies.size() == 2)
-            for (size_t k = 0; k < 2 && k < force.markers.size(); ++k)
-                if (force.bodies[k] != kGround) add_unique(points[force.bodies[k]], force.markers[k].u_bar);
 
     // typical link size: the median over bodies of the largest distance from the mass
     // centre to an attachment point
@@ -150,10 +146,14 @@ VisualScene build_visual_scene(const Model& model) {
         }
     }
 
-    // joint axes on the joint's first body (the ground: fixed in world)
+    // joint axes on the ground when the joint holds a body to it (a fixed pivot), else on
+    // the joint's first body
     for (const auto& joint : model.joints) {
-        if (joint.bodies.empty() || joint.markers.empty()) continue;
-        const Marker& m = joint.markers[0];
+        if (joint.bodies.empty() || joint.markers.size() != joint.bodies.size()) continue;
+        size_t on = 0;
+        for (size_t k = 0; k < joint.bodies.size(); ++k)
+            if (joint.bodies[k] == kGround) on = k;
+        const Marker& m = joint.markers[on];
         VisualShape s;
         if (joint.type == "spherical") {
             s = sphere_at(m.u_bar, 0.09 * scale, kJointColor);
@@ -164,10 +164,10 @@ VisualScene build_visual_scene(const Model& model) {
             s = cylinder_between(m.u_bar - half * axis, m.u_bar + half * axis,
                                  (joint.type == "prismatic" ? 0.6 : 1.6) * link_radius, kJointColor);
         }
-        if (joint.bodies[0] == kGround)
+        if (joint.bodies[on] == kGround)
             scene.ground.push_back(s);
         else
-            scene.bodies[joint.bodies[0]].push_back(s);
+            scene.bodies[joint.bodies[on]].push_back(s);
     }
 
     for (const auto& force : model.forces) {
@@ -193,7 +193,7 @@ VisualScene build_visual_scene(const Model& model) {
 // Planar scenes: a backdrop grid in the x-y plane, behind the mechanism. Spatial scenes:
 // a grid across the up direction, under the lowest point of the motion.
 void fit_ground_grid(const Model& model, VisualScene& scene, const Eigen::AlignedBox3d& extent) {
-    const double margin = 2.0 * scene.length_scale;
+    const double margin = 0.5 * scene.length_scale;
     const Vec3 centre = extent.center();
     const double span = (extent.sizes().maxCoeff() + 2.0 * margin);
     // round to a whole number of grid steps of 1, 2 or 5 times a power of ten

@@ -137,7 +137,7 @@ function apply(t) {
 const extent = new THREE.Box3();
 for (let r = 0; r < nRows; r += Math.max(1, Math.floor(nRows / 400)))
   scene.poseColumns.forEach((p) => extent.expandByPoint(new THREE.Vector3(value(r, p.x), value(r, p.y), p.z >= 0 ? value(r, p.z) : 0)));
-extent.expandByScalar(scene.lengthScale);
+extent.expandByScalar(0.3 * scene.lengthScale);
 const centre = extent.getCenter(new THREE.Vector3());
 const radius = extent.getSize(new THREE.Vector3()).length() / 2;
 const viewDir = scene.dimension === 'planar'
@@ -166,7 +166,7 @@ const speedSelect = document.getElementById('speed');
 const slider = document.getElementById('slider');
 const timeLabel = document.getElementById('time');
 let playing = false, speed = 1, last = null;
-function setPlaying(on) { playing = on; last = null; playButton.textContent = on ? 'pause' : 'play'; }
+function setPlaying(on) { playing = on; last = on ? performance.now() : null; playButton.textContent = on ? 'pause' : 'play'; }
 playButton.addEventListener('click', () => { if (!playing && current >= tEnd) apply(tStart); setPlaying(!playing); });
 speedSelect.addEventListener('change', () => { speed = Number(speedSelect.value); });
 slider.addEventListener('input', () => { setPlaying(false); apply(tStart + (Number(slider.value) / 10000) * (tEnd - tStart)); });
@@ -198,6 +198,7 @@ function plotData() {
   if (plotCache) return plotCache;
   let lo = Infinity, hi = -Infinity;
   for (let r = 0; r < nRows; r++) { const v = value(r, plotColumn); lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  const dataMin = lo, dataMax = hi;
   if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { lo -= 0.5; hi += 0.5; }
   // at most two points (min and max) per pixel column
   const w = chart.width - margin.left - margin.right, h = chart.height - margin.top - margin.bottom;
@@ -211,7 +212,7 @@ function plotData() {
     else { vmin = Math.min(vmin, v); vmax = Math.max(vmax, v); }
   }
   path.push([px, yOf(vmin)], [px, yOf(vmax)]);
-  plotCache = { lo, hi, path, xOf };
+  plotCache = { lo, hi, dataMin, dataMax, path, xOf };
   return plotCache;
 }
 let cursorX = 0;
@@ -251,7 +252,8 @@ document.getElementById('title').innerHTML = '';
 {
   const b = document.createElement('b'); b.textContent = scene.name;
   const s = document.createElement('div');
-  s.textContent = `${scene.dimension}, ${scene.bodies.length} bodies, ${nRows} rows, t = ${tStart} .. ${tEnd} s; drag to orbit, wheel to zoom`;
+  const g = (x) => Number(x.toPrecision(6));
+  s.textContent = `${scene.dimension}, ${scene.bodies.length} bodies, ${nRows} rows, t = ${g(tStart)} .. ${g(tEnd)} s; drag to orbit, wheel to zoom`;
   document.getElementById('title').append(b, s);
 }
 resize();
@@ -284,5 +286,5 @@ window.mbdViewer = {
              left: r.left, top: r.top, width: r.width, height: r.height };
   },
   setPlotColumn(name) { const i = scene.columns.indexOf(name); if (i < 1) return false; columnSelect.value = String(i); plotColumn = i; plotCache = null; drawPlot(); return true; },
-  plotInfo() { const { lo, hi, path } = plotData(); return { column: scene.columns[plotColumn], min: lo, max: hi, points: path.length, cursorX, width: chart.width, height: chart.height, margin }; },
+  plotInfo() { const { lo, hi, dataMin, dataMax, path } = plotData(); return { column: scene.columns[plotColumn], min: dataMin, max: dataMax, axis: [lo, hi], points: path.length, cursorX, width: chart.width, height: chart.height, margin }; },
 };
