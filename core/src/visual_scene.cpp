@@ -160,7 +160,8 @@ VisualScene build_visual_scene(const Model& model) {
         } else {
             Vec3 axis = m.axis_z();
             if (planar && (joint.type == "prismatic" || joint.type == "rack_pinion")) axis = m.axis_x();
-            const double half = (joint.type == "prismatic" ? 0.6 : 0.18) * scale;
+            // planar pins stay behind the front of the mass-centre spheres (radius 0.1 scale)
+            const double half = (joint.type == "prismatic" ? 0.6 : planar ? 0.07 : 0.18) * scale;
             s = cylinder_between(m.u_bar - half * axis, m.u_bar + half * axis,
                                  (joint.type == "prismatic" ? 0.6 : 1.6) * link_radius, kJointColor);
         }

@@ -74,6 +74,23 @@ try {
           worst = Math.max(worst, Math.hypot(drawn.x - expected.x, drawn.y - expected.y));
         }
         check(worst <= 2, `${c.name}: ${names.length} bodies at t = ${t.toFixed(4)} (${label}) drawn at their CSV positions, worst ${worst.toFixed(3)} px`);
+        // and the rendered image has a body colour (saturated, unlike the grey background, grid
+        // and joints) at each expected position
+        const pixels = await page.evaluate((points) => {
+          const gl = document.querySelector('#view canvas');
+          const copy = document.createElement('canvas');
+          copy.width = gl.width; copy.height = gl.height;
+          const g = copy.getContext('2d');
+          g.drawImage(gl, 0, 0);
+          const r = gl.getBoundingClientRect(), sx = gl.width / r.width, sy = gl.height / r.height;
+          return points.map((p) => Array.from(g.getImageData(Math.round((p.x - r.left) * sx), Math.round((p.y - r.top) * sy), 1, 1).data));
+        }, names.map((name) => {
+          const col = (s) => csv.columns.indexOf(`${name}.${s}`);
+          const at = (s) => (col(s) < 0 ? 0 : csv.rows[k][col(s)] + f * (csv.rows[k + 1][col(s)] - csv.rows[k][col(s)]));
+          return project(cam, [at('x'), at('y'), dims === 3 ? at('z') : 0]);
+        }));
+        const coloured = pixels.filter(([r, g, b]) => Math.max(r, g, b) - Math.min(r, g, b) > 40).length;
+        check(coloured === names.length, `${c.name}: a body colour at ${coloured} of the ${names.length} projected CSV positions (${label})`);
       }
       // the body of interest is inside the canvas (a real position, not off-screen)
       const p = await page.evaluate((n) => window.mbdViewer.bodyScreenPosition(n), c.body);
