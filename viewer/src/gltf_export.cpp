@@ -222,10 +222,9 @@ void write_glb(const Model& model, const MotionTable& table, std::ostream& out) 
         animation.channels.push_back(c);
     };
 
-    // poses of every body at every row
-    std::vector<std::vector<BodyPose>> poses(model.body_count(), std::vector<BodyPose>(rows));
-    for (int body = 0; body < model.body_count(); ++body)
-        for (size_t r = 0; r < rows; ++r) poses[body][r] = body_pose(table, columns[body], r);
+    // the binary chunk: about 7 floats per body and row
+    b.model().buffers[0].data.reserve(rows * (model.body_count() * 7 + scene.connectors.size() * 10 + 1) * 4 +
+                                      (1 << 20));
 
     for (int body = 0; body < model.body_count(); ++body) {
         tinygltf::Node n;
@@ -233,8 +232,9 @@ void write_glb(const Model& model, const MotionTable& table, std::ostream& out) 
         for (size_t k = 0; k < meshes.bodies[body].size(); ++k)
             n.children.push_back(
                 b.node(shape_node(b, meshes, meshes.bodies[body][k], n.name + "/shape" + std::to_string(k))));
-        n.translation = to_vector(poses[body][0].position);
-        n.rotation = to_vector(poses[body][0].rotation);
+        const BodyPose first = body_pose(table, columns[body], 0);
+        n.translation = to_vector(first.position);
+        n.rotation = to_vector(first.rotation);
         const int index = b.node(n);
         root.children.push_back(index);
         if (!animated) continue;
@@ -242,20 +242,22 @@ void write_glb(const Model& model, const MotionTable& table, std::ostream& out) 
         translation.reserve(3 * rows);
         rotation.reserve(4 * rows);
         for (size_t r = 0; r < rows; ++r) {
-            push(translation, poses[body][r].position);
-            push(rotation, poses[body][r].rotation, r);
+            const BodyPose pose = body_pose(table, columns[body], r);
+            push(translation, pose.position);
+            push(rotation, pose.rotation, r);
         }
         channel(index, "translation", translation, TINYGLTF_TYPE_VEC3, 3);
         channel(index, "rotation", rotation, TINYGLTF_TYPE_VEC4, 4);
     }
 
     for (const VisualConnector& c : scene.connectors) {
-        auto pose_of = [&](int body, size_t r) { return body == kGround ? nullptr : &poses[body][r]; };
         std::vector<float> translation, rotation, scale;
         for (size_t r = 0; r < rows; ++r) {
             Vec3 t, s;
             Eigen::Quaterniond q;
-            connector_pose(c, pose_of(c.body_a, r), pose_of(c.body_b, r), t, q, s);
+            const BodyPose a = c.body_a == kGround ? BodyPose() : body_pose(table, columns[c.body_a], r);
+            const BodyPose b_pose = c.body_b == kGround ? BodyPose() : body_pose(table, columns[c.body_b], r);
+            connector_pose(c, c.body_a == kGround ? nullptr : &a, c.body_b == kGround ? nullptr : &b_pose, t, q, s);
             push(translation, t);
             push(rotation, q, r);
             push(scale, s);

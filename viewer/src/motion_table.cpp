@@ -4,6 +4,10 @@
 #include <mbd/csv.hpp>
 
 #include <charconv>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -26,14 +30,49 @@ std::vector<std::string> split_header(const std::string& line) {
     return out;
 }
 
+// The file's bytes, mapped read-only: a result of several hundred MB is parsed in place,
+// without a copy.
+class MappedFile {
+public:
+    explicit MappedFile(const std::filesystem::path& file) {
+        fd_ = ::open(file.c_str(), O_RDONLY);
+        struct stat st {};
+        if (fd_ < 0 || ::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+            if (fd_ >= 0) ::close(fd_);
+            throw InputError(file.string(), "cannot open the result CSV; check the path");
+        }
+        size_ = static_cast<size_t>(st.st_size);
+        if (size_ > 0) {
+            void* m = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd_, 0);
+            if (m == MAP_FAILED) {
+                ::close(fd_);
+                throw InputError(file.string(), "cannot read the result CSV");
+            }
+            data_ = static_cast<const char*>(m);
+            ::madvise(m, size_, MADV_SEQUENTIAL);
+        }
+    }
+    ~MappedFile() {
+        if (data_) ::munmap(const_cast<char*>(data_), size_);
+        ::close(fd_);
+    }
+    MappedFile(const MappedFile&) = delete;
+    MappedFile& operator=(const MappedFile&) = delete;
+    const char* data() const { return data_ ? data_ : ""; }
+    size_t size() const { return size_; }
+
+private:
+    int fd_ = -1;
+    const char* data_ = nullptr;
+    size_t size_ = 0;
+};
+
 }  // namespace
 
 MotionTable read_motion_csv(const std::filesystem::path& file) {
     MotionTable table;
     table.source = file.string();
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError(table.source, "cannot open the result CSV; check the path");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const MappedFile text(file);
     const char* p = text.data();
     const char* end = p + text.size();
     const char* eol = std::find(p, end, '\n');
@@ -164,7 +203,8 @@ Eigen::AlignedBox3d motion_extent(const Model& model, const MotionTable& table, 
     box.extend(Vec3::Zero());
     for (const Body& b : model.bodies) box.extend(b.position);
     for (size_t r = 0; r < table.rows(); ++r)
-        for (const PoseColumns& c : poses) box.extend(body_pose(table, c, r).position);
+        for (const PoseColumns& c : poses)
+            box.extend(Vec3(table.at(r, c.x), table.at(r, c.y), c.z >= 0 ? table.at(r, c.z) : 0.0));
     return box;
 }
 
