@@ -12,6 +12,7 @@
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
+#include <mbd/viewer/animation_export.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -40,6 +41,7 @@ struct SimulateArguments {
     bool error_estimate = false;  // --error-estimate: a second run, 10x tighter (or half the step)
     bool json = false;
     bool tolerance_given = false, step_given = false;
+    std::string animation;  // --animation out.glb | out.html
 };
 
 // --tol belongs to the adaptive integrators, --step to the fixed-step ones (docs/integrators.md);
@@ -108,6 +110,8 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
                   "Also run at a ten times tighter tolerance (fixed step: half the step) and end with the CPU time "
                   "and the estimated global error of the positions at the output times");
     sub->add_flag("--json", args->json, "Print the summary as one JSON object on stdout");
+    sub->add_option("--animation", args->animation,
+                    "Also write the motion as a glTF 2.0 binary (.glb) or a browser viewer (.html); see mbd animate");
 
     commands[sub] = [args, tol, step] {
         args->tolerance_given = tol->count() > 0;
@@ -118,6 +122,10 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run at a step boundary
+        if (!args->animation.empty()) {
+            viewer::animation_format(args->animation);  // a bad name fails before the run
+            check_output_path(args->animation, scene_files(args->scene, model), "--animation");
+        }
 
         SimulationSettings settings;
         settings.formulation = args->formulation;
@@ -185,6 +193,8 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
             }
             estimate = factor * worst;
         }
+        if (!args->animation.empty())  // from the CSV just written: the viewer shows exactly the result
+            viewer::export_animation(model, viewer::read_motion_csv(args->output), args->animation);
         if (args->json) {
             std::printf("{\"scene\": \"%s\", \"formulation\": \"%s\", \"integrator\": \"%s\", \"t_end\": %.9g, "
                         "\"rows\": %ld, \"steps\": %ld, \"rejected_steps\": %ld, \"rhs_evaluations\": %ld, "

@@ -8,6 +8,7 @@
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/statics_analysis.hpp>
+#include <mbd/viewer/animation_export.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -30,6 +31,7 @@ struct StaticsArguments {
     int max_iterations = 500;
     bool verbose = false;
     std::string solver = "ipopt";
+    std::string animation;  // --animation eq.glb | eq.html
 };
 
 std::string num(double x) {
@@ -186,11 +188,17 @@ void add_statics_command(CLI::App& app, Commands& commands) {
         ->check(positive_number());
     sub->add_option("--solver", args->solver, "Statics plugin type")->capture_default_str();
     sub->add_flag("--verbose", args->verbose, "Show Ipopt's iteration log");
+    sub->add_option("--animation", args->animation, "Show the equilibrium as a glTF 2.0 binary (.glb) or a browser "
+                                                     "viewer (.html)");
 
     commands[sub] = [args] {
         Registry registry;
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
+        if (!args->animation.empty()) {
+            viewer::animation_format(args->animation);  // a bad name fails before the run
+            check_output_path(args->animation, scene_files(args->scene, model), "--animation");
+        }
         StaticsOptions options;
         options.time = args->time;
         options.objective = args->objective;
@@ -213,6 +221,13 @@ void add_statics_command(CLI::App& app, Commands& commands) {
             file.replace(equilibrium_scene(model, rep.result.state));
             file.commit();
             if (!args->json) std::cout << "\nwrote the equilibrium scene to " << args->output << '\n';
+        }
+        if (!args->animation.empty()) {
+            State state = rep.result.state;
+            state.t = args->time;
+            if (state.v.size() != model.nv()) state.v = Eigen::VectorXd::Zero(model.nv());
+            viewer::export_animation(model, viewer::motion_from_state(model, state, args->scene), args->animation);
+            if (!args->json) std::cout << "wrote the equilibrium view to " << args->animation << '\n';
         }
         return 0;
     };

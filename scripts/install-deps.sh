@@ -12,18 +12,30 @@ packages=(
   python3-matplotlib
   libsimbody-dev libmujoco-dev  # the bench peers (bench/peers/, docs/benchmarks.md)
   clang libclang-rt-dev  # libFuzzer (scripts/fuzz.sh, run by CI through scripts/fuzz-ci.sh)
+  libtinygltf-dev libassimp-dev chromium   # animation export and its browser test (issue 15)
 )
+# node and npm (the viewer's three.js bundle and its tests): Debian's unless a node is there
+command -v node > /dev/null || packages+=(nodejs)
+command -v npm > /dev/null || packages+=(npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
-  exit 0
+else
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  echo "install-deps: installed ${missing[*]}"
 fi
-SUDO=""
-[ "$(id -u)" -ne 0 ] && SUDO="sudo"
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
-echo "install-deps: installed ${missing[*]}"
+
+# The viewer's npm packages (three, esbuild, puppeteer-core, gltf-validator), exactly as
+# viewer/package-lock.json pins them, into viewer/node_modules (not committed).
+viewer="$(cd "$(dirname "$0")/../viewer" && pwd)"
+if [ ! -f "$viewer/node_modules/.package-lock.json" ] || [ "$viewer/package-lock.json" -nt "$viewer/node_modules/.package-lock.json" ]; then
+  (cd "$viewer" && npm ci --no-audit --no-fund --prefer-offline > /dev/null)
+  echo "install-deps: npm packages of viewer/ installed"
+fi

@@ -7,6 +7,7 @@
 // accepted keys are the core's keys plus the keys the plugin asked for.
 #include <mbd/scene.hpp>
 #include <mbd/sdk/suggest.hpp>
+#include <mbd/visual.hpp>
 
 #include "scene_source.hpp"
 
@@ -417,11 +418,11 @@ void Loader::load_body(const Param& node, int index) {
     body.where = where(node);
 
     if (planar)
-        check_keys(node, what, {"name", "mass", "inertia", "position", "angle", "velocity", "angular_velocity"},
+        check_keys(node, what, {"name", "mass", "inertia", "position", "angle", "velocity", "angular_velocity", "visual"},
                    {{"orientation", "planar bodies take 'angle' (radians), not 'orientation'"}});
     else
         check_keys(node, what,
-                   {"name", "mass", "inertia", "position", "orientation", "velocity", "angular_velocity"},
+                   {"name", "mass", "inertia", "position", "orientation", "velocity", "angular_velocity", "visual"},
                    {{"angle", "spatial bodies take 'orientation' ({euler_parameters: [..]}, {axis: [..], angle: ..} "
                               "or {matrix: [[..], [..], [..]]}), not 'angle'"}});
 
@@ -467,6 +468,7 @@ void Loader::load_body(const Param& node, int index) {
     }
 
     if (const Param* p = find(node, "position")) body.position = space_vector(*p, "position", what);
+    if (const Param* v = find(node, "visual")) body.visuals = parse_visual(*v, model_.dimension, what);
     if (const Param* v = find(node, "velocity")) body.velocity = space_vector(*v, "velocity", what);
 
     if (planar) {

@@ -7,6 +7,7 @@
 #include <mbd/sdk/joint.hpp>
 #include <mbd/sdk/state.hpp>
 #include <mbd/sdk/time_function.hpp>
+#include <mbd/visual.hpp>
 
 #include <Eigen/Core>
 
@@ -29,6 +30,7 @@ struct Body {
     Vec3 velocity = Vec3::Zero();
     Vec3 angular_velocity = Vec3::Zero();      // world axes (planar: z component = thetadot)
     std::string where;             // file:line of its definition
+    std::vector<VisualShape> visuals;  // `visual:` (empty: shapes derived from the scene)
 };
 
 struct JointInstance {

@@ -1,0 +1,54 @@
+// A result CSV (the column contract of mbd/csv.hpp) read back for animation, and the
+// pose of every body at each row.
+#pragma once
+
+#include <mbd/model.hpp>
+
+#include <Eigen/Geometry>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace mbd::viewer {
+
+struct MotionTable {
+    std::string source;                 // the file it came from (for messages)
+    std::vector<std::string> columns;
+    std::vector<double> values;         // row-major, rows() x columns.size()
+
+    size_t rows() const { return columns.empty() ? 0 : values.size() / columns.size(); }
+    double at(size_t row, size_t column) const { return values[row * columns.size() + column]; }
+};
+
+// Reads a result CSV; a malformed cell, a short row or a time that does not increase
+// throws InputError naming file:line and the column.
+MotionTable read_motion_csv(const std::filesystem::path& file);
+
+// One row from a state (mbd statics): the same columns mbd simulate writes.
+MotionTable motion_from_state(const Model& model, const State& state, const std::string& source);
+
+// Where each body's pose sits in the table: x y z (planar: z absent) and either the angle
+// (planar) or e0..e3 (spatial).
+struct PoseColumns {
+    int x = -1, y = -1, z = -1, angle = -1;
+    int e[4] = {-1, -1, -1, -1};
+};
+
+// Checks that the table's columns are those of the scene's bodies; a missing column or a
+// body column the scene does not have throws InputError naming the CSV file, line 1, the
+// column and the scene.
+std::vector<PoseColumns> match_pose_columns(const Model& model, const MotionTable& table);
+
+struct BodyPose {
+    Vec3 position = Vec3::Zero();               // mass centre, world
+    Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  // body to world
+};
+
+BodyPose body_pose(const MotionTable& table, const PoseColumns& columns, size_t row);
+
+// Every mass centre over every row, and the initial extent of the scene's points.
+Eigen::AlignedBox3d motion_extent(const Model& model, const MotionTable& table,
+                                  const std::vector<PoseColumns>& poses);
+
+}  // namespace mbd::viewer

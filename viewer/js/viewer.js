@@ -1,0 +1,290 @@
+// The mbd browser viewer: reads the scene and the motion embedded in the page by
+// `mbd animate` (viewer/src/html_export.cpp), draws the bodies with three.js and plays
+// the motion. window.mbdViewer is the page's API (used by viewer/test/).
+import * as THREE from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+
+function decodeBase64(text) {
+  const s = text.trim();
+  if (Uint8Array.fromBase64) return Uint8Array.fromBase64(s);
+  const raw = atob(s);
+  const bytes = new Uint8Array(raw.length);
+  for (let i = 0; i < raw.length; i++) bytes[i] = raw.charCodeAt(i);
+  return bytes;
+}
+const floats = (b64) => { const b = decodeBase64(b64); return new Float32Array(b.buffer, b.byteOffset, b.byteLength / 4); };
+const uints = (b64) => { const b = decodeBase64(b64); return new Uint32Array(b.buffer, b.byteOffset, b.byteLength / 4); };
+
+const scene = JSON.parse(document.getElementById('mbd-scene').textContent);
+const motion = floats(document.getElementById('mbd-motion').textContent);
+const nColumns = scene.columns.length;
+const nRows = scene.rows;
+const value = (row, column) => motion[row * nColumns + column];
+const tStart = value(0, 0), tEnd = value(nRows - 1, 0);
+
+// ---- three.js scene
+const host = document.getElementById('view');
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(window.devicePixelRatio || 1);
+host.appendChild(renderer.domElement);
+const world = new THREE.Scene();
+world.background = new THREE.Color(0xf4f5f7);
+const up = new THREE.Vector3(...scene.up);
+const camera = new THREE.PerspectiveCamera(40, 1, 1e-3, 1e4);
+camera.up.copy(up);
+world.add(new THREE.HemisphereLight(0xffffff, 0x8890a0, 2.2));
+const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+world.add(sun);
+
+const geometries = scene.meshes.map((m) => {
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(floats(m.positions), 3));
+  g.setAttribute('normal', new THREE.BufferAttribute(floats(m.normals), 3));
+  g.setIndex(new THREE.BufferAttribute(uints(m.indices), 1));
+  g.computeBoundingSphere();
+  return g;
+});
+const materials = new Map();
+function material(color) {
+  const key = color.join(',');
+  if (!materials.has(key))
+    materials.set(key, new THREE.MeshStandardMaterial({ color: new THREE.Color().setRGB(...color, THREE.LinearSRGBColorSpace), roughness: 0.6, metalness: 0.1 }));
+  return materials.get(key);
+}
+function shapeMesh(s, name) {
+  const mesh = new THREE.Mesh(geometries[s.mesh], material(s.color));
+  mesh.position.set(...s.position);
+  mesh.quaternion.set(...s.rotation);
+  mesh.scale.set(...s.scale);
+  mesh.userData.name = name;
+  return mesh;
+}
+
+const pickable = [];
+const ground = new THREE.Group();
+world.add(ground);
+scene.ground.forEach((s) => { const m = shapeMesh(s, 'ground'); ground.add(m); pickable.push(m); });
+{
+  const g = scene.grid;
+  const grid = new THREE.GridHelper(g.size, g.divisions, 0x9098a8, 0xc8ccd4);
+  grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), new THREE.Vector3(...g.normal));
+  grid.position.set(...g.centre);
+  ground.add(grid);
+}
+const bodies = scene.bodies.map((b) => {
+  const group = new THREE.Group();
+  group.name = b.name;
+  b.shapes.forEach((s) => { const m = shapeMesh(s, b.name); group.add(m); pickable.push(m); });
+  world.add(group);
+  return group;
+});
+const connectors = scene.connectors.map((c) => {
+  const m = new THREE.Mesh(geometries[scene.connectorMesh], material(c.color));
+  m.userData.name = c.name;
+  pickable.push(m);
+  world.add(m);
+  return m;
+});
+
+// ---- poses at time t (linear in position and angle, spherical linear in rotation)
+const qa = new THREE.Quaternion(), qb = new THREE.Quaternion();
+const zAxis = new THREE.Vector3(0, 0, 1);
+function rowAt(t) {
+  let lo = 0, hi = nRows - 1;
+  if (t <= value(0, 0)) return [0, 0];
+  if (t >= value(hi, 0)) return [hi, 0];
+  while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (value(mid, 0) <= t) lo = mid; else hi = mid; }
+  return [lo, (t - value(lo, 0)) / (value(lo + 1, 0) - value(lo, 0))];
+}
+function quaternionAt(p, row, out) {
+  if (p.angle >= 0) return out.setFromAxisAngle(zAxis, value(row, p.angle));
+  return out.set(value(row, p.e[1]), value(row, p.e[2]), value(row, p.e[3]), value(row, p.e[0])).normalize();
+}
+function poseAt(index, row, f, position, quaternion) {
+  const p = scene.poseColumns[index];
+  const r2 = Math.min(row + 1, nRows - 1);
+  const lerp = (c) => (c < 0 ? 0 : value(row, c) + f * (value(r2, c) - value(row, c)));
+  position.set(lerp(p.x), lerp(p.y), lerp(p.z));
+  if (p.angle >= 0) return quaternion.setFromAxisAngle(zAxis, lerp(p.angle));
+  quaternionAt(p, row, qa);
+  quaternionAt(p, r2, qb);
+  return quaternion.slerpQuaternions(qa, qb, f);
+}
+const pa = new THREE.Vector3(), pb = new THREE.Vector3(), d = new THREE.Vector3();
+let current = tStart;
+function apply(t) {
+  current = Math.min(Math.max(t, tStart), tEnd);
+  const [row, f] = rowAt(current);
+  bodies.forEach((g, i) => poseAt(i, row, f, g.position, g.quaternion));
+  world.updateMatrixWorld(true);
+  scene.connectors.forEach((c, i) => {
+    pa.set(...c.pointA); pb.set(...c.pointB);
+    if (c.bodyA >= 0) pa.applyMatrix4(bodies[c.bodyA].matrixWorld);
+    if (c.bodyB >= 0) pb.applyMatrix4(bodies[c.bodyB].matrixWorld);
+    d.subVectors(pb, pa);
+    const m = connectors[i];
+    m.position.copy(pa);
+    m.quaternion.setFromUnitVectors(zAxis, d.lengthSq() > 0 ? d.clone().normalize() : zAxis);
+    m.scale.set(c.radius, c.radius, Math.max(d.length(), 1e-9));
+    m.updateMatrixWorld(true);
+  });
+  slider.value = String(Math.round(((current - tStart) / Math.max(tEnd - tStart, 1e-300)) * 10000));
+  timeLabel.textContent = `t = ${current.toFixed(3)} s`;
+  drawPlot();
+}
+
+// ---- camera: the whole motion in view
+const extent = new THREE.Box3();
+for (let r = 0; r < nRows; r += Math.max(1, Math.floor(nRows / 400)))
+  scene.poseColumns.forEach((p) => extent.expandByPoint(new THREE.Vector3(value(r, p.x), value(r, p.y), p.z >= 0 ? value(r, p.z) : 0)));
+extent.expandByScalar(0.3 * scene.lengthScale);
+const centre = extent.getCenter(new THREE.Vector3());
+const radius = extent.getSize(new THREE.Vector3()).length() / 2;
+const viewDir = scene.dimension === 'planar'
+  ? new THREE.Vector3(0, 0, 1)
+  : (() => { const a = new THREE.Vector3(1, 0, 0); if (Math.abs(a.dot(up)) > 0.9) a.set(0, 1, 0);
+      a.sub(up.clone().multiplyScalar(a.dot(up))).normalize(); const b = up.clone().cross(a);
+      return a.multiplyScalar(1).add(b.multiplyScalar(-1.3)).add(up.clone().multiplyScalar(0.8)).normalize(); })();
+camera.position.copy(centre).add(viewDir.multiplyScalar(radius / Math.sin(THREE.MathUtils.degToRad(20)) * 1.05));
+camera.near = radius / 100; camera.far = radius * 100;
+sun.position.copy(camera.position).add(up.clone().multiplyScalar(radius * 2));
+const controls = new OrbitControls(camera, renderer.domElement);
+controls.target.copy(centre);
+controls.update();
+
+function resize() {
+  const w = host.clientWidth, h = host.clientHeight;
+  renderer.setSize(w, h);
+  camera.aspect = w / Math.max(h, 1);
+  camera.updateProjectionMatrix();
+}
+window.addEventListener('resize', resize);
+
+// ---- controls: play, speed, time slider
+const playButton = document.getElementById('play');
+const speedSelect = document.getElementById('speed');
+const slider = document.getElementById('slider');
+const timeLabel = document.getElementById('time');
+let playing = false, speed = 1, last = null;
+function setPlaying(on) { playing = on; last = on ? performance.now() : null; playButton.textContent = on ? 'pause' : 'play'; }
+playButton.addEventListener('click', () => { if (!playing && current >= tEnd) apply(tStart); setPlaying(!playing); });
+speedSelect.addEventListener('change', () => { speed = Number(speedSelect.value); });
+slider.addEventListener('input', () => { setPlaying(false); apply(tStart + (Number(slider.value) / 10000) * (tEnd - tStart)); });
+window.addEventListener('keydown', (e) => { if (e.code === 'Space' && e.target === document.body) { e.preventDefault(); playButton.click(); } });
+
+// ---- names on hover
+const tip = document.getElementById('tip');
+const raycaster = new THREE.Raycaster();
+renderer.domElement.addEventListener('pointermove', (e) => {
+  const r = renderer.domElement.getBoundingClientRect();
+  const ndc = new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
+  raycaster.setFromCamera(ndc, camera);
+  const hit = raycaster.intersectObjects(pickable, false)[0];
+  tip.style.display = hit ? 'block' : 'none';
+  if (hit) { tip.textContent = hit.object.userData.name; tip.style.left = `${e.clientX + 12}px`; tip.style.top = `${e.clientY + 12}px`; }
+});
+
+// ---- plot panel: any column against t, the cursor at the current time
+const chart = document.getElementById('chart');
+const ctx = chart.getContext('2d');
+const columnSelect = document.getElementById('column');
+scene.columns.forEach((c, i) => { if (i > 0) columnSelect.add(new Option(c, String(i))); });
+let plotColumn = Math.max(1, scene.columns.indexOf(scene.plotColumn));
+columnSelect.value = String(plotColumn);
+columnSelect.addEventListener('change', () => { plotColumn = Number(columnSelect.value); plotCache = null; drawPlot(); });
+let plotCache = null;
+const margin = { left: 58, right: 8, top: 8, bottom: 18 };
+function plotData() {
+  if (plotCache) return plotCache;
+  let lo = Infinity, hi = -Infinity;
+  for (let r = 0; r < nRows; r++) { const v = value(r, plotColumn); lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  const dataMin = lo, dataMax = hi;
+  if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { lo -= 0.5; hi += 0.5; }
+  // at most two points (min and max) per pixel column
+  const w = chart.width - margin.left - margin.right, h = chart.height - margin.top - margin.bottom;
+  const xOf = (t) => margin.left + ((t - tStart) / Math.max(tEnd - tStart, 1e-300)) * w;
+  const yOf = (v) => margin.top + (1 - (v - lo) / (hi - lo)) * h;
+  const path = [];
+  let px = -1, vmin = 0, vmax = 0;
+  for (let r = 0; r < nRows; r++) {
+    const x = Math.round(xOf(value(r, 0))), v = value(r, plotColumn);
+    if (x !== px) { if (px >= 0) path.push([px, yOf(vmin)], [px, yOf(vmax)]); px = x; vmin = vmax = v; }
+    else { vmin = Math.min(vmin, v); vmax = Math.max(vmax, v); }
+  }
+  path.push([px, yOf(vmin)], [px, yOf(vmax)]);
+  plotCache = { lo, hi, dataMin, dataMax, path, xOf };
+  return plotCache;
+}
+let cursorX = 0;
+function drawPlot() {
+  const { lo, hi, path, xOf } = plotData();
+  ctx.clearRect(0, 0, chart.width, chart.height);
+  ctx.fillStyle = '#fff'; ctx.fillRect(0, 0, chart.width, chart.height);
+  ctx.strokeStyle = '#99a'; ctx.lineWidth = 1;
+  ctx.strokeRect(margin.left, margin.top, chart.width - margin.left - margin.right, chart.height - margin.top - margin.bottom);
+  ctx.fillStyle = '#334'; ctx.font = '11px system-ui, sans-serif';
+  ctx.textAlign = 'right'; ctx.fillText(hi.toPrecision(4), margin.left - 4, margin.top + 9);
+  ctx.fillText(lo.toPrecision(4), margin.left - 4, chart.height - margin.bottom);
+  ctx.textAlign = 'left'; ctx.fillText(`${tStart.toPrecision(3)} s`, margin.left, chart.height - 4);
+  ctx.textAlign = 'right'; ctx.fillText(`${tEnd.toPrecision(3)} s`, chart.width - margin.right, chart.height - 4);
+  ctx.strokeStyle = '#1f5fbf'; ctx.lineWidth = 1.5; ctx.beginPath();
+  path.forEach(([x, y], i) => (i ? ctx.lineTo(x, y) : ctx.moveTo(x, y)));
+  ctx.stroke();
+  cursorX = xOf(current);
+  ctx.strokeStyle = '#d03020'; ctx.lineWidth = 1; ctx.beginPath();
+  ctx.moveTo(cursorX, margin.top); ctx.lineTo(cursorX, chart.height - margin.bottom); ctx.stroke();
+}
+
+// ---- the loop
+function frame(now) {
+  if (playing) {
+    if (last !== null) {
+      let t = current + ((now - last) / 1000) * speed;
+      if (t > tEnd) t = tStart + ((t - tStart) % Math.max(tEnd - tStart, 1e-300));
+      apply(t);
+    }
+    last = now;
+  }
+  renderer.render(world, camera);
+  requestAnimationFrame(frame);
+}
+document.getElementById('title').innerHTML = '';
+{
+  const b = document.createElement('b'); b.textContent = scene.name;
+  const s = document.createElement('div');
+  const g = (x) => Number(x.toPrecision(6));
+  s.textContent = `${scene.dimension}, ${scene.bodies.length} bodies, ${nRows} rows, t = ${g(tStart)} .. ${g(tEnd)} s; drag to orbit, wheel to zoom`;
+  document.getElementById('title').append(b, s);
+}
+resize();
+apply(tStart);
+requestAnimationFrame(frame);
+
+// ---- the page API
+const v3 = new THREE.Vector3();
+window.mbdViewer = {
+  seek(t) { setPlaying(false); apply(t); renderer.render(world, camera); return current; },
+  play() { if (current >= tEnd) apply(tStart); setPlaying(true); },
+  pause() { setPlaying(false); },
+  isPlaying: () => playing,
+  time: () => current,
+  range: () => [tStart, tEnd],
+  setSpeed(s) { speed = s; speedSelect.value = String(s); },
+  bodyNames: () => scene.bodies.map((b) => b.name),
+  // where the body's frame origin (its mass centre) is drawn, in CSS pixels of the canvas
+  bodyScreenPosition(name) {
+    const g = bodies.find((b) => b.name === name);
+    if (!g) return null;
+    v3.setFromMatrixPosition(g.matrixWorld).project(camera);
+    const r = renderer.domElement.getBoundingClientRect();
+    return { x: r.left + ((v3.x + 1) / 2) * r.width, y: r.top + ((1 - v3.y) / 2) * r.height };
+  },
+  camera() {
+    camera.updateMatrixWorld(true);
+    const r = renderer.domElement.getBoundingClientRect();
+    return { projection: camera.projectionMatrix.toArray(), view: camera.matrixWorldInverse.toArray(),
+             left: r.left, top: r.top, width: r.width, height: r.height };
+  },
+  setPlotColumn(name) { const i = scene.columns.indexOf(name); if (i < 1) return false; columnSelect.value = String(i); plotColumn = i; plotCache = null; drawPlot(); return true; },
+  plotInfo() { const { lo, hi, dataMin, dataMax, path } = plotData(); return { column: scene.columns[plotColumn], min: dataMin, max: dataMax, axis: [lo, hi], points: path.length, cursorX, width: chart.width, height: chart.height, margin }; },
+};

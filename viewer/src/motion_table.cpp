@@ -1,0 +1,211 @@
+// Reading a result CSV back (the writer is core/src/csv.cpp) and finding each body's pose.
+#include <mbd/viewer/motion_table.hpp>
+
+#include <mbd/csv.hpp>
+
+#include <charconv>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace mbd::viewer {
+namespace {
+
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+std::vector<std::string> split_header(const std::string& line) {
+    std::vector<std::string> out;
+    std::string item;
+    std::stringstream s(line);
+    while (std::getline(s, item, ',')) {
+        while (!item.empty() && (item.back() == '\r' || item.back() == ' ')) item.pop_back();
+        while (!item.empty() && item.front() == ' ') item.erase(item.begin());
+        out.push_back(item);
+    }
+    return out;
+}
+
+// The file's bytes, mapped read-only: a result of several hundred MB is parsed in place,
+// without a copy.
+class MappedFile {
+public:
+    explicit MappedFile(const std::filesystem::path& file) {
+        fd_ = ::open(file.c_str(), O_RDONLY);
+        struct stat st {};
+        if (fd_ < 0 || ::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+            if (fd_ >= 0) ::close(fd_);
+            throw InputError(file.string(), "cannot open the result CSV; check the path");
+        }
+        size_ = static_cast<size_t>(st.st_size);
+        if (size_ > 0) {
+            void* m = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd_, 0);
+            if (m == MAP_FAILED) {
+                ::close(fd_);
+                throw InputError(file.string(), "cannot read the result CSV");
+            }
+            data_ = static_cast<const char*>(m);
+            ::madvise(m, size_, MADV_SEQUENTIAL);
+        }
+    }
+    ~MappedFile() {
+        if (data_) ::munmap(const_cast<char*>(data_), size_);
+        ::close(fd_);
+    }
+    MappedFile(const MappedFile&) = delete;
+    MappedFile& operator=(const MappedFile&) = delete;
+    const char* data() const { return data_ ? data_ : ""; }
+    size_t size() const { return size_; }
+
+private:
+    int fd_ = -1;
+    const char* data_ = nullptr;
+    size_t size_ = 0;
+};
+
+}  // namespace
+
+MotionTable read_motion_csv(const std::filesystem::path& file) {
+    MotionTable table;
+    table.source = file.string();
+    const MappedFile text(file);
+    const char* p = text.data();
+    const char* end = p + text.size();
+    const char* eol = std::find(p, end, '\n');
+    table.columns = split_header(std::string(p, eol));
+    if (table.columns.empty() || table.columns[0] != "t")
+        throw InputError(table.source + ":1", "the first column must be 't' (a result CSV of mbd simulate, "
+                                              "kinematics or statics); got " +
+                                                  quote(table.columns.empty() ? "" : table.columns[0]));
+    const size_t n = table.columns.size();
+    table.values.reserve(text.size() / 12);
+    p = eol < end ? eol + 1 : end;
+    int line = 1;
+    while (p < end) {
+        ++line;
+        eol = std::find(p, end, '\n');
+        const char* row_end = eol;
+        if (row_end > p && row_end[-1] == '\r') --row_end;
+        if (row_end == p) {  // blank line (the last newline)
+            p = eol < end ? eol + 1 : end;
+            continue;
+        }
+        const std::string where = table.source + ":" + std::to_string(line);
+        size_t column = 0;
+        const char* cell = p;
+        while (true) {
+            const char* cell_end = std::find(cell, row_end, ',');
+            if (column >= n)
+                throw InputError(where, "more values than the " + std::to_string(n) + " columns of the header");
+            double v = 0.0;
+            const char* b = cell;
+            while (b < cell_end && *b == ' ') ++b;
+            if (b < cell_end && *b == '+') ++b;
+            const auto r = std::from_chars(b, cell_end, v);
+            const char* rest = r.ptr;
+            while (rest < cell_end && *rest == ' ') ++rest;
+            if (r.ec != std::errc() || rest != cell_end || !std::isfinite(v))
+                throw InputError(where, "column " + std::to_string(column + 1) + " " + quote(table.columns[column]) +
+                                            ": " + quote(std::string(cell, cell_end)) + " is not a finite number");
+            table.values.push_back(v);
+            ++column;
+            if (cell_end == row_end) break;
+            cell = cell_end + 1;
+        }
+        if (column != n)
+            throw InputError(where, "this row has " + std::to_string(column) + " values for the " + std::to_string(n) +
+                                        " columns of the header (a truncated file?)");
+        const size_t row = table.rows() - 1;
+        if (row > 0 && !(table.at(row, 0) > table.at(row - 1, 0)))
+            throw InputError(where, "time " + std::to_string(table.at(row, 0)) +
+                                        " does not increase (the row before has " + std::to_string(table.at(row - 1, 0)) +
+                                        ")");
+        p = eol < end ? eol + 1 : end;
+    }
+    if (table.rows() == 0) throw InputError(table.source + ":2", "the result CSV has a header but no rows");
+    return table;
+}
+
+MotionTable motion_from_state(const Model& model, const State& state, const std::string& source) {
+    MotionTable table;
+    table.source = source;
+    table.columns = motion_columns(model);
+    table.values = motion_values(model, state);
+    return table;
+}
+
+std::vector<PoseColumns> match_pose_columns(const Model& model, const MotionTable& table) {
+    std::map<std::string, int> index;
+    for (size_t k = 0; k < table.columns.size(); ++k) index.emplace(table.columns[k], static_cast<int>(k));
+    const bool planar = model.dimension == Dimension::Planar;
+    const std::string scene = quote(model.source) + " (" + (planar ? "planar" : "spatial") + ")";
+    const std::string where = table.source + ":1";
+
+    // a body column (NAME.x) whose NAME is no body of the scene: the CSV of another scene
+    for (size_t k = 1; k < table.columns.size(); ++k) {
+        const std::string& c = table.columns[k];
+        const size_t dot = c.rfind('.');
+        if (dot == std::string::npos || c.substr(dot) != ".x") continue;
+        if (model.body_index(c.substr(0, dot)) < 0 && c.substr(0, dot) != "ground")
+            throw InputError(where, "column " + std::to_string(k + 1) + " " + quote(c) + " names no body of the scene " +
+                                        scene + "; was the result made from another scene?");
+    }
+    std::vector<PoseColumns> out;
+    for (const Body& body : model.bodies) {
+        auto column = [&](const char* suffix) {
+            const std::string name = body.name + suffix;
+            auto it = index.find(name);
+            if (it == index.end()) {
+                std::string note;
+                if (planar && index.count(body.name + ".e0")) note = " (the CSV has spatial columns: another scene?)";
+                if (!planar && index.count(body.name + ".angle")) note = " (the CSV has planar columns: another scene?)";
+                throw InputError(where, "column " + quote(name) + " is missing; the scene " + scene + " has body " +
+                                            quote(body.name) + note + "; give the result CSV of this scene");
+            }
+            return it->second;
+        };
+        PoseColumns p;
+        p.x = column(".x");
+        p.y = column(".y");
+        if (planar) {
+            p.angle = column(".angle");
+        } else {
+            p.z = column(".z");
+            const char* names[] = {".e0", ".e1", ".e2", ".e3"};
+            for (int k = 0; k < 4; ++k) p.e[k] = column(names[k]);
+        }
+        out.push_back(p);
+    }
+    return out;
+}
+
+BodyPose body_pose(const MotionTable& table, const PoseColumns& c, size_t row) {
+    BodyPose pose;
+    pose.position = Vec3(table.at(row, c.x), table.at(row, c.y), c.z >= 0 ? table.at(row, c.z) : 0.0);
+    if (c.angle >= 0) {
+        pose.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(table.at(row, c.angle), Vec3::UnitZ()));
+    } else {
+        // Euler parameters e0..e3 are the unit quaternion (w, x, y, z) of the body's rotation
+        Eigen::Quaterniond q(table.at(row, c.e[0]), table.at(row, c.e[1]), table.at(row, c.e[2]), table.at(row, c.e[3]));
+        const double norm = q.norm();
+        if (norm > 0) q.coeffs() /= norm;
+        pose.rotation = q;
+    }
+    return pose;
+}
+
+Eigen::AlignedBox3d motion_extent(const Model& model, const MotionTable& table, const std::vector<PoseColumns>& poses) {
+    Eigen::AlignedBox3d box;
+    box.extend(Vec3::Zero());
+    for (const Body& b : model.bodies) box.extend(b.position);
+    for (size_t r = 0; r < table.rows(); ++r)
+        for (const PoseColumns& c : poses)
+            box.extend(Vec3(table.at(r, c.x), table.at(r, c.y), c.z >= 0 ? table.at(r, c.z) : 0.0));
+    return box;
+}
+
+}  // namespace mbd::viewer

@@ -1,0 +1,218 @@
+// Tessellation of the visual shapes and reading of mesh files (Assimp).
+#include <mbd/viewer/shape_mesh.hpp>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+namespace mbd::viewer {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kSegments = 32;  // around a circle
+constexpr int kRings = 16;     // pole to pole
+
+struct Builder {
+    TriangleMesh mesh;
+    uint32_t vertex(const Vec3& p, const Vec3& n) {
+        const Vec3 u = n.normalized();
+        for (int k = 0; k < 3; ++k) {
+            mesh.positions.push_back(static_cast<float>(p[k]));
+            mesh.normals.push_back(static_cast<float>(u[k]));
+        }
+        return static_cast<uint32_t>(mesh.positions.size() / 3 - 1);
+    }
+    void triangle(uint32_t a, uint32_t b, uint32_t c) { mesh.indices.insert(mesh.indices.end(), {a, b, c}); }
+    void quad(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {  // counter-clockwise a b c d
+        triangle(a, b, c);
+        triangle(a, c, d);
+    }
+};
+
+TriangleMesh box(const Vec3& size) {
+    Builder b;
+    const Vec3 h = 0.5 * size;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int sign : {-1, 1}) {
+            Vec3 n = Vec3::Zero();
+            n[axis] = sign;
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            Vec3 du = Vec3::Zero(), dv = Vec3::Zero();
+            du[u] = h[u];
+            dv[v] = h[v];
+            if (sign < 0) std::swap(du, dv);  // keep the winding counter-clockwise from outside
+            const Vec3 c = n.cwiseProduct(h);
+            const uint32_t i0 = b.vertex(c - du - dv, n), i1 = b.vertex(c + du - dv, n), i2 = b.vertex(c + du + dv, n),
+                           i3 = b.vertex(c - du + dv, n);
+            b.quad(i0, i1, i2, i3);
+        }
+    return b.mesh;
+}
+
+// A surface of revolution about z through the profile points (r, z) with outward normals
+// (nr, nz); rings of kSegments vertices joined by quads.
+void revolve(Builder& b, const std::vector<std::array<double, 4>>& profile) {
+    std::vector<uint32_t> previous;
+    for (const auto& [r, z, nr, nz] : profile) {
+        std::vector<uint32_t> ring;
+        for (int s = 0; s <= kSegments; ++s) {
+            const double phi = 2.0 * kPi * s / kSegments;
+            const double c = std::cos(phi), si = std::sin(phi);
+            ring.push_back(b.vertex(Vec3(r * c, r * si, z), Vec3(nr * c, nr * si, nz)));
+        }
+        if (!previous.empty())
+            for (int s = 0; s < kSegments; ++s) b.quad(previous[s], previous[s + 1], ring[s + 1], ring[s]);
+        previous = ring;
+    }
+}
+
+// Half sphere profiles from the equator (z0) to the pole in direction `sign`.
+void hemisphere_profile(std::vector<std::array<double, 4>>& profile, double radius, double z0, int sign) {
+    for (int k = 0; k <= kRings / 2; ++k) {
+        const double theta = 0.5 * kPi * k / (kRings / 2);  // 0 at the equator
+        const double nr = std::cos(theta), nz = sign * std::sin(theta);
+        profile.push_back({radius * nr, z0 + radius * nz, nr, nz});
+    }
+}
+
+void disk(Builder& b, double radius, double z, int sign) {
+    const Vec3 n(0, 0, sign);
+    const uint32_t centre = b.vertex(Vec3(0, 0, z), n);
+    std::vector<uint32_t> ring;
+    for (int s = 0; s <= kSegments; ++s) {
+        const double phi = 2.0 * kPi * s / kSegments;
+        ring.push_back(b.vertex(Vec3(radius * std::cos(phi), radius * std::sin(phi), z), n));
+    }
+    for (int s = 0; s < kSegments; ++s)
+        if (sign > 0)
+            b.triangle(centre, ring[s], ring[s + 1]);
+        else
+            b.triangle(centre, ring[s + 1], ring[s]);
+}
+
+TriangleMesh sphere(double radius) {
+    Builder b;
+    std::vector<std::array<double, 4>> profile;
+    for (int k = 0; k <= kRings; ++k) {
+        const double theta = kPi * k / kRings - 0.5 * kPi;  // south pole to north pole
+        profile.push_back({radius * std::cos(theta), radius * std::sin(theta), std::cos(theta), std::sin(theta)});
+    }
+    revolve(b, profile);
+    return b.mesh;
+}
+
+TriangleMesh cylinder(double radius, double z0, double z1) {
+    Builder b;
+    revolve(b, {{radius, z0, 1, 0}, {radius, z1, 1, 0}});
+    disk(b, radius, z0, -1);
+    disk(b, radius, z1, 1);
+    return b.mesh;
+}
+
+TriangleMesh capsule(double radius, double length) {
+    Builder b;
+    std::vector<std::array<double, 4>> profile;
+    std::vector<std::array<double, 4>> bottom;
+    hemisphere_profile(bottom, radius, -0.5 * length, -1);
+    profile.assign(bottom.rbegin(), bottom.rend());  // south pole up to the lower equator
+    hemisphere_profile(profile, radius, 0.5 * length, 1);
+    revolve(b, profile);
+    return b.mesh;
+}
+
+TriangleMesh mesh_file(const VisualShape& shape) {
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFile(shape.mesh_file, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                                                  aiProcess_GenSmoothNormals |
+                                                                  aiProcess_PreTransformVertices);
+    if (!scene || !scene->mRootNode || scene->mNumMeshes == 0)
+        throw InputError(shape.where, "key 'file': cannot read the mesh " + shape.mesh_file + " (" +
+                                          std::string(scene ? "it has no triangles" : importer.GetErrorString()) +
+                                          "); give an STL or OBJ file with triangles");
+    Builder b;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        const aiMesh* mesh = scene->mMeshes[m];
+        if (!mesh->HasNormals()) continue;
+        const uint32_t base = static_cast<uint32_t>(b.mesh.positions.size() / 3);
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+            const aiVector3D& p = mesh->mVertices[v];
+            aiVector3D n = mesh->mNormals[v];
+            if (!(n.Length() > 0)) n = aiVector3D(0, 0, 1);
+            b.vertex(Vec3(p.x, p.y, p.z), Vec3(n.x, n.y, n.z));
+        }
+        for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+            const aiFace& face = mesh->mFaces[f];
+            if (face.mNumIndices == 3)
+                b.triangle(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
+        }
+    }
+    if (b.mesh.indices.empty())
+        throw InputError(shape.where, "key 'file': the mesh " + shape.mesh_file + " has no triangles");
+    return b.mesh;
+}
+
+}  // namespace
+
+void TriangleMesh::update_bounds() {
+    for (int k = 0; k < 3; ++k) {
+        min[k] = positions.empty() ? 0.0f : positions[k];
+        max[k] = min[k];
+    }
+    for (size_t i = 0; i < positions.size(); ++i) {
+        min[i % 3] = std::min(min[i % 3], positions[i]);
+        max[i % 3] = std::max(max[i % 3], positions[i]);
+    }
+}
+
+TriangleMesh shape_mesh(const VisualShape& shape) {
+    TriangleMesh mesh;
+    switch (shape.kind) {
+        case ShapeKind::Box: mesh = box(shape.size); break;
+        case ShapeKind::Sphere: mesh = sphere(shape.radius); break;
+        case ShapeKind::Cylinder: mesh = cylinder(shape.radius, -0.5 * shape.length, 0.5 * shape.length); break;
+        case ShapeKind::Capsule: mesh = capsule(shape.radius, shape.length); break;
+        case ShapeKind::Mesh: mesh = mesh_file(shape); break;
+    }
+    mesh.update_bounds();
+    return mesh;
+}
+
+SceneMeshes scene_meshes(const VisualScene& scene) {
+    SceneMeshes out;
+    // each distinct shape once: a 500-link chain has one link mesh
+    std::map<std::tuple<int, double, double, double, double, double, std::string>, int> known;
+    auto instance = [&](const VisualShape& s) {
+        const auto key = std::make_tuple(static_cast<int>(s.kind), s.size.x(), s.size.y(), s.size.z(), s.radius,
+                                         s.length, s.mesh_file);
+        auto it = known.find(key);
+        if (it == known.end()) {
+            it = known.emplace(key, static_cast<int>(out.meshes.size())).first;
+            out.meshes.push_back(shape_mesh(s));
+        }
+        ShapeInstance i;
+        i.mesh = it->second;
+        i.position = s.position;
+        i.rotation = Eigen::Quaterniond(s.rotation).normalized();
+        i.scale = s.scale;
+        i.color = s.color;
+        return i;
+    };
+    for (const auto& shapes : scene.bodies) {
+        out.bodies.emplace_back();
+        for (const auto& s : shapes) out.bodies.back().push_back(instance(s));
+    }
+    for (const auto& s : scene.ground) out.ground.push_back(instance(s));
+    if (!scene.connectors.empty()) {
+        out.connector_mesh = static_cast<int>(out.meshes.size());
+        out.meshes.push_back(cylinder(1.0, 0.0, 1.0));
+        out.meshes.back().update_bounds();
+    }
+    return out;
+}
+
+}  // namespace mbd::viewer

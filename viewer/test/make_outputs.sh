@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Simulates the scenes the viewer tests open and writes their CSV, .glb and .html into OUT.
+# Usage: make_outputs.sh MBD SOURCE_DIR OUT
+set -euo pipefail
+mbd=$1 src=$2 out=$3
+mkdir -p "$out"
+run() {  # name scene t_end output_step
+  "$mbd" simulate "$src/$2" --t-end "$3" --output-step "$4" --tol 1e-8 -q --diagnostics \
+    --output "$out/$1.csv" --animation "$out/$1.html"
+  "$mbd" animate "$src/$2" "$out/$1.csv" -o "$out/$1.glb" > /dev/null
+}
+run four-bar scenes/four-bar.yaml 0.3 0.002
+run gyroscope scenes/bench/gyroscope.yaml 1.0 0.01
+run chain-50 scenes/bench/chain-50.yaml 0.2 0.01
+run visual-shapes scenes/examples/visual-shapes.yaml 1.0 0.01
+"$mbd" statics "$src/scenes/statics/pendulum-torque.yaml" --animation "$out/statics.html" > /dev/null
+"$mbd" statics "$src/scenes/statics/pendulum-torque.yaml" --animation "$out/statics.glb" > /dev/null
+ls "$out"
