@@ -88,6 +88,41 @@ TEST(OutputFile, ReplaceKeepsOnlyTheLatestDocumentAndSaysWhatItHolds) {
     EXPECT_TRUE(contains(notes[0], "the first 2 of 3 cases")) << notes[0];
 }
 
+TEST(OutputFile, ADocumentWrittenInPartsIsWholeOrAbsent) {
+    const fs::path dir = scratch("document");
+    mbd::take_kept_output_notes();
+    const std::string big(300000, 'x');  // larger than one write block
+    {
+        mbd::OutputFile file(dir / "done.glb");
+        mbd::DocumentStream out(file);
+        out << "head:" << big << ":tail";
+        out.flush();
+        file.commit();
+    }
+    EXPECT_EQ(read_text(dir / "done.glb"), "head:" + big + ":tail");
+    {  // stopped before commit (an error in the export): no file under either name, no note
+        mbd::OutputFile file(dir / "stopped.glb");
+        mbd::DocumentStream out(file);
+        out << big << big;
+    }
+    EXPECT_FALSE(fs::exists(dir / "stopped.glb"));
+    EXPECT_FALSE(fs::exists(dir / "stopped.glb.partial"));
+    EXPECT_TRUE(mbd::take_kept_output_notes().empty());
+    // a failed write throws the OutputError out of the stream operation, naming the file
+    fs::create_symlink("/dev/full", dir / "full.glb.partial");
+    try {
+        mbd::OutputFile file(dir / "full.glb");
+        mbd::DocumentStream out(file);
+        out << big << big;
+        out.flush();
+        file.commit();
+        FAIL() << "no error on a full device";
+    } catch (const mbd::OutputError& e) {
+        EXPECT_TRUE(contains(e.what(), "full.glb")) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir / "full.glb"));
+}
+
 TEST(OutputFile, AMissingFolderIsNamed) {
     const fs::path out = scratch("missing") / "no" / "such" / "folder" / "out.csv";
     try {

@@ -5,6 +5,7 @@
 // shape, a CSV of another scene) failing with file:line and no output file.
 // The browser viewer and the Khronos validator are tested by viewer/test/ (ctest viewer_*).
 #include <mbd/viewer/animation_export.hpp>
+#include <mbd/viewer/keyframes.hpp>
 #include <mbd/viewer/shape_mesh.hpp>
 #include <mbd/visual.hpp>
 
@@ -13,6 +14,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include <map>
@@ -121,6 +123,60 @@ bodies:
     EXPECT_NEAR(world_edges.z(), 3.0, 1e-9);
 }
 
+// A table of columns t, then f_k(t) for each function, at `rows` equally spaced times.
+mbd::viewer::MotionTable sampled(const std::vector<std::function<double(double)>>& f, int rows, double dt) {
+    mbd::viewer::MotionTable table;
+    table.columns.push_back("t");
+    for (size_t k = 0; k < f.size(); ++k) table.columns.push_back("f" + std::to_string(k));
+    for (int r = 0; r < rows; ++r) {
+        table.values.push_back(r * dt);
+        for (const auto& g : f) table.values.push_back(g(r * dt));
+    }
+    return table;
+}
+
+// The largest distance, over every row, between a column and the straight lines
+// through its kept rows.
+double worst_interpolation_error(const mbd::viewer::MotionTable& table, int column, const std::vector<size_t>& kept) {
+    double worst = 0.0;
+    for (size_t s = 0; s + 1 < kept.size(); ++s) {
+        const size_t a = kept[s], b = kept[s + 1];
+        for (size_t r = a; r <= b; ++r) {
+            const double f = (table.at(r, 0) - table.at(a, 0)) / (table.at(b, 0) - table.at(a, 0));
+            const double line = table.at(a, column) + f * (table.at(b, column) - table.at(a, column));
+            worst = std::max(worst, std::abs(line - table.at(r, column)));
+        }
+    }
+    return worst;
+}
+
+TEST(Keyframes, APiecewiseLinearMotionKeepsItsCornersOnly) {
+    // |t - 0.3| has its corner at row 30, 0.5 - |t - 0.7| at row 70
+    const auto table = sampled({[](double t) { return std::abs(t - 0.3); }, [](double t) { return 0.5 - std::abs(t - 0.7); }},
+                               101, 0.01);
+    EXPECT_EQ(mbd::viewer::keyframe_rows(table, {{1, 1e-9}}), (std::vector<size_t>{0, 30, 100}));
+    EXPECT_EQ(mbd::viewer::keyframe_rows(table, {{2, 1e-9}}), (std::vector<size_t>{0, 70, 100}));
+    EXPECT_EQ(mbd::viewer::keyframe_rows(table, {{1, 1e-9}, {2, 1e-9}}), (std::vector<size_t>{0, 30, 70, 100}));
+}
+
+TEST(Keyframes, ASmoothMotionIsDrawnWithinTheToleranceFromFewRows) {
+    // x = A sin(w t): linear interpolation over h errs by at most h^2 A w^2 / 8, so every
+    // segment up to h* = sqrt(8 e / (A w^2)) is admissible and the greedy choice keeps at
+    // most T / (h* - dt) + 2 rows
+    const double a = 3.0, w = 2.0, dt = 1e-3, e = 1e-4 * a;
+    const int rows = 10001;
+    const auto table = sampled({[&](double t) { return a * std::sin(w * t); }, [&](double t) { return a * std::cos(w * t); }},
+                               rows, dt);
+    const std::vector<size_t> kept = mbd::viewer::keyframe_rows(table, {{1, e}, {2, e}});
+    EXPECT_EQ(kept.front(), 0u);
+    EXPECT_EQ(kept.back(), static_cast<size_t>(rows - 1));
+    EXPECT_LE(worst_interpolation_error(table, 1, kept), e);
+    EXPECT_LE(worst_interpolation_error(table, 2, kept), e);
+    const double h = std::sqrt(8 * e / (a * w * w));
+    EXPECT_LE(kept.size(), static_cast<size_t>((rows - 1) * dt / (h - dt)) + 2) << kept.size() << " rows kept";
+    EXPECT_LT(kept.size(), static_cast<size_t>(rows / 10));
+}
+
 TEST(Visual, TessellatedShapesHaveTheirClosedFormSize) {
     mbd::VisualShape s;
     s.kind = mbd::ShapeKind::Box;
@@ -135,6 +191,15 @@ TEST(Visual, TessellatedShapesHaveTheirClosedFormSize) {
     const int n = 32;
     EXPECT_NEAR(enclosed_volume(cylinder), 0.5 * n * 0.04 * std::sin(2 * kPi / n) * 0.9, 1e-7);
     EXPECT_NEAR(cylinder.max[2] - cylinder.min[2], 0.9, 1e-7);
+    // the coarser levels of scenes with many shapes: the same prism on fewer sides
+    for (const size_t shapes : {100, 600, 5000}) {
+        const mbd::viewer::Tessellation detail = mbd::viewer::tessellation_for(shapes);
+        const int sides = detail.segments;
+        EXPECT_NEAR(enclosed_volume(mbd::viewer::shape_mesh(s, detail)),
+                    0.5 * sides * 0.04 * std::sin(2 * kPi / sides) * 0.9, 1e-7)
+            << shapes << " shapes";
+        EXPECT_GE(sides, 12) << "a cylinder of fewer sides no longer looks round";
+    }
 
     s.kind = mbd::ShapeKind::Sphere;
     s.radius = 0.25;

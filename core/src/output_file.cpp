@@ -122,6 +122,30 @@ void OutputFile::replace(std::string_view document, const std::string& contents)
     contents_ = contents;
 }
 
+void OutputFile::write_document_part(std::string_view bytes) {
+    if (finished_) throw std::logic_error("OutputFile: write after commit() or abandon() of " + quoted(path_));
+    document_ = true;
+    buffer_.append(bytes.data(), bytes.size());
+    if (buffer_.size() >= kFlushBytes) flush_buffer();
+}
+
+DocumentStream::DocumentStream(OutputFile& file) : std::ostream(nullptr), buffer_(file) {
+    rdbuf(&buffer_);
+    exceptions(std::ios::badbit);  // the OutputError of a failed write reaches the caller
+}
+
+std::streamsize DocumentStream::Buffer::xsputn(const char* data, std::streamsize size) {
+    file_.write_document_part(std::string_view(data, static_cast<std::size_t>(size)));
+    return size;
+}
+
+DocumentStream::Buffer::int_type DocumentStream::Buffer::overflow(int_type c) {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    const char byte = traits_type::to_char_type(c);
+    file_.write_document_part(std::string_view(&byte, 1));
+    return c;
+}
+
 void OutputFile::flush_buffer() {
     if (buffer_.empty()) return;
     const off_t complete = ::lseek(fd_, 0, SEEK_CUR);
@@ -167,7 +191,7 @@ void OutputFile::abandon(const std::string& what) {
     finished_ = true;
     std::string problem;
     try {
-        if (write_failure_.empty()) flush_buffer();
+        if (write_failure_.empty() && !document_) flush_buffer();
     } catch (const std::exception& e) {
         problem = e.what();
     }
@@ -177,7 +201,7 @@ void OutputFile::abandon(const std::string& what) {
         if (problem.empty()) problem = e.what();
     }
     std::error_code ec;
-    if (records_ == 0) {
+    if (records_ == 0 || document_) {
         fs::remove(partial_, ec);
         return;
     }

@@ -16,11 +16,18 @@ const floats = (b64) => { const b = decodeBase64(b64); return new Float32Array(b
 const uints = (b64) => { const b = decodeBase64(b64); return new Uint32Array(b.buffer, b.byteOffset, b.byteLength / 4); };
 
 const scene = JSON.parse(document.getElementById('mbd-scene').textContent);
-const motion = floats(document.getElementById('mbd-motion').textContent);
-const nColumns = scene.columns.length;
-const nRows = scene.rows;
-const value = (row, column) => motion[row * nColumns + column];
-const tStart = value(0, 0), tEnd = value(nRows - 1, 0);
+// the motion (viewer/src/html_export.cpp): the keyframe times as float64, then each column
+// as float32, a pose column at the keyframes, any other as its envelope (min, max over each
+// of plotBuckets equal intervals of time)
+let motion = decodeBase64(document.getElementById('mbd-motion').textContent);
+if (motion.byteOffset % 8) motion = motion.slice();
+const nKeyframes = scene.keyframes;
+const columnNames = scene.columns.map((c) => c.name);
+const series = scene.columns.map((c, i) => (i === 0
+  ? new Float64Array(motion.buffer, motion.byteOffset, nKeyframes)
+  : new Float32Array(motion.buffer, motion.byteOffset + c.offset, c.pose ? nKeyframes : 2 * scene.plotBuckets)));
+const value = (row, column) => series[column][row];  // a keyframe of the time or a pose column
+const tStart = value(0, 0), tEnd = value(nKeyframes - 1, 0);
 
 // ---- three.js scene
 const host = document.getElementById('view');
@@ -51,19 +58,20 @@ function material(color) {
     materials.set(key, new THREE.MeshStandardMaterial({ color: new THREE.Color().setRGB(...color, THREE.LinearSRGBColorSpace), roughness: 0.6, metalness: 0.1 }));
   return materials.get(key);
 }
-function shapeMesh(s, name) {
-  const mesh = new THREE.Mesh(geometries[s.mesh], material(s.color));
-  mesh.position.set(...s.position);
-  mesh.quaternion.set(...s.rotation);
-  mesh.scale.set(...s.scale);
-  mesh.userData.name = name;
-  return mesh;
+// Every shape is drawn through one InstancedMesh per (triangle mesh, colour): a scene of
+// hundreds of bodies is a few draw calls, not thousands.
+const batches = new Map();
+function addInstance(meshIndex, color, name, body, local) {
+  const key = `${meshIndex}|${color.join(',')}`;
+  if (!batches.has(key)) batches.set(key, { meshIndex, color, items: [] });
+  batches.get(key).items.push({ name, body, local });
 }
+const shapeMatrix = (s) => new THREE.Matrix4().compose(new THREE.Vector3(...s.position),
+  new THREE.Quaternion(...s.rotation), new THREE.Vector3(...s.scale));
 
-const pickable = [];
 const ground = new THREE.Group();
 world.add(ground);
-scene.ground.forEach((s) => { const m = shapeMesh(s, 'ground'); ground.add(m); pickable.push(m); });
+scene.ground.forEach((s) => addInstance(s.mesh, s.color, 'ground', -1, shapeMatrix(s)));
 {
   const g = scene.grid;
   const grid = new THREE.GridHelper(g.size, g.divisions, 0x9098a8, 0xc8ccd4);
@@ -71,26 +79,46 @@ scene.ground.forEach((s) => { const m = shapeMesh(s, 'ground'); ground.add(m); p
   grid.position.set(...g.centre);
   ground.add(grid);
 }
-const bodies = scene.bodies.map((b) => {
+// a body is an (empty) group whose matrixWorld is its pose; its shapes are instances
+const bodies = scene.bodies.map((b, i) => {
   const group = new THREE.Group();
   group.name = b.name;
-  b.shapes.forEach((s) => { const m = shapeMesh(s, b.name); group.add(m); pickable.push(m); });
+  b.shapes.forEach((s) => addInstance(s.mesh, s.color, b.name, i, shapeMatrix(s)));
   world.add(group);
   return group;
 });
-const connectors = scene.connectors.map((c) => {
-  const m = new THREE.Mesh(geometries[scene.connectorMesh], material(c.color));
-  m.userData.name = c.name;
-  pickable.push(m);
-  world.add(m);
-  return m;
+const connectorPoses = scene.connectors.map((c) => {
+  const pose = new THREE.Matrix4();
+  addInstance(scene.connectorMesh, c.color, c.name, -2, pose);
+  return pose;
 });
+const pickable = [];
+const instanced = [...batches.values()].map((batch) => {
+  const mesh = new THREE.InstancedMesh(geometries[batch.meshIndex], material(batch.color), batch.items.length);
+  mesh.frustumCulled = false;  // the instances move; their bounds are recomputed for picking
+  mesh.userData.names = batch.items.map((item) => item.name);
+  world.add(mesh);
+  pickable.push(mesh);
+  return { mesh, items: batch.items };
+});
+const instanceMatrix = new THREE.Matrix4();
+function placeInstances() {
+  instanced.forEach(({ mesh, items }) => {
+    items.forEach((item, i) => {
+      if (item.body >= 0) instanceMatrix.multiplyMatrices(bodies[item.body].matrixWorld, item.local);
+      else instanceMatrix.copy(item.local);  // ground (fixed) or a connector (posed in world)
+      mesh.setMatrixAt(i, instanceMatrix);
+    });
+    mesh.instanceMatrix.needsUpdate = true;
+    mesh.boundingSphere = null;
+  });
+}
 
 // ---- poses at time t (linear in position and angle, spherical linear in rotation)
 const qa = new THREE.Quaternion(), qb = new THREE.Quaternion();
 const zAxis = new THREE.Vector3(0, 0, 1);
 function rowAt(t) {
-  let lo = 0, hi = nRows - 1;
+  let lo = 0, hi = nKeyframes - 1;
   if (t <= value(0, 0)) return [0, 0];
   if (t >= value(hi, 0)) return [hi, 0];
   while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (value(mid, 0) <= t) lo = mid; else hi = mid; }
@@ -102,7 +130,7 @@ function quaternionAt(p, row, out) {
 }
 function poseAt(index, row, f, position, quaternion) {
   const p = scene.poseColumns[index];
-  const r2 = Math.min(row + 1, nRows - 1);
+  const r2 = Math.min(row + 1, nKeyframes - 1);
   const lerp = (c) => (c < 0 ? 0 : value(row, c) + f * (value(r2, c) - value(row, c)));
   position.set(lerp(p.x), lerp(p.y), lerp(p.z));
   if (p.angle >= 0) return quaternion.setFromAxisAngle(zAxis, lerp(p.angle));
@@ -117,17 +145,17 @@ function apply(t) {
   const [row, f] = rowAt(current);
   bodies.forEach((g, i) => poseAt(i, row, f, g.position, g.quaternion));
   world.updateMatrixWorld(true);
+  const q = new THREE.Quaternion(), scale = new THREE.Vector3();
   scene.connectors.forEach((c, i) => {
     pa.set(...c.pointA); pb.set(...c.pointB);
     if (c.bodyA >= 0) pa.applyMatrix4(bodies[c.bodyA].matrixWorld);
     if (c.bodyB >= 0) pb.applyMatrix4(bodies[c.bodyB].matrixWorld);
     d.subVectors(pb, pa);
-    const m = connectors[i];
-    m.position.copy(pa);
-    m.quaternion.setFromUnitVectors(zAxis, d.lengthSq() > 0 ? d.clone().normalize() : zAxis);
-    m.scale.set(c.radius, c.radius, Math.max(d.length(), 1e-9));
-    m.updateMatrixWorld(true);
+    const length = d.length();
+    q.setFromUnitVectors(zAxis, length > 0 ? d.divideScalar(length) : zAxis);
+    connectorPoses[i].compose(pa, q, scale.set(c.radius, c.radius, Math.max(length, 1e-9)));
   });
+  placeInstances();
   slider.value = String(Math.round(((current - tStart) / Math.max(tEnd - tStart, 1e-300)) * 10000));
   timeLabel.textContent = `t = ${current.toFixed(3)} s`;
   drawPlot();
@@ -135,7 +163,7 @@ function apply(t) {
 
 // ---- camera: the whole motion in view
 const extent = new THREE.Box3();
-for (let r = 0; r < nRows; r += Math.max(1, Math.floor(nRows / 400)))
+for (let r = 0; r < nKeyframes; r += Math.max(1, Math.floor(nKeyframes / 400)))
   scene.poseColumns.forEach((p) => extent.expandByPoint(new THREE.Vector3(value(r, p.x), value(r, p.y), p.z >= 0 ? value(r, p.z) : 0)));
 extent.expandByScalar(0.3 * scene.lengthScale);
 const centre = extent.getCenter(new THREE.Vector3());
@@ -181,24 +209,32 @@ renderer.domElement.addEventListener('pointermove', (e) => {
   raycaster.setFromCamera(ndc, camera);
   const hit = raycaster.intersectObjects(pickable, false)[0];
   tip.style.display = hit ? 'block' : 'none';
-  if (hit) { tip.textContent = hit.object.userData.name; tip.style.left = `${e.clientX + 12}px`; tip.style.top = `${e.clientY + 12}px`; }
+  if (hit) { tip.textContent = hit.object.userData.names[hit.instanceId]; tip.style.left = `${e.clientX + 12}px`; tip.style.top = `${e.clientY + 12}px`; }
 });
 
 // ---- plot panel: any column against t, the cursor at the current time
 const chart = document.getElementById('chart');
 const ctx = chart.getContext('2d');
 const columnSelect = document.getElementById('column');
-scene.columns.forEach((c, i) => { if (i > 0) columnSelect.add(new Option(c, String(i))); });
-let plotColumn = Math.max(1, scene.columns.indexOf(scene.plotColumn));
+columnNames.forEach((c, i) => { if (i > 0) columnSelect.add(new Option(c, String(i))); });
+let plotColumn = Math.max(1, columnNames.indexOf(scene.plotColumn));
 columnSelect.value = String(plotColumn);
 columnSelect.addEventListener('change', () => { plotColumn = Number(columnSelect.value); plotCache = null; drawPlot(); });
 let plotCache = null;
 const margin = { left: 58, right: 8, top: 8, bottom: 18 };
+// the plotted column's samples as (t, low, high): each keyframe of a pose column, or each
+// non-empty interval of an envelope at the interval's middle
+function forEachSample(column, visit) {
+  const s = series[column];
+  if (scene.columns[column].pose) { for (let r = 0; r < nKeyframes; r++) visit(value(r, 0), s[r], s[r]); return; }
+  const n = scene.plotBuckets;
+  for (let b = 0; b < n; b++)
+    if (!Number.isNaN(s[2 * b])) visit(tStart + ((b + 0.5) / n) * (tEnd - tStart), s[2 * b], s[2 * b + 1]);
+}
 function plotData() {
   if (plotCache) return plotCache;
-  let lo = Infinity, hi = -Infinity;
-  for (let r = 0; r < nRows; r++) { const v = value(r, plotColumn); lo = Math.min(lo, v); hi = Math.max(hi, v); }
-  const dataMin = lo, dataMax = hi;
+  const dataMin = scene.columns[plotColumn].min, dataMax = scene.columns[plotColumn].max;
+  let lo = dataMin, hi = dataMax;
   if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { lo -= 0.5; hi += 0.5; }
   // at most two points (min and max) per pixel column
   const w = chart.width - margin.left - margin.right, h = chart.height - margin.top - margin.bottom;
@@ -206,11 +242,11 @@ function plotData() {
   const yOf = (v) => margin.top + (1 - (v - lo) / (hi - lo)) * h;
   const path = [];
   let px = -1, vmin = 0, vmax = 0;
-  for (let r = 0; r < nRows; r++) {
-    const x = Math.round(xOf(value(r, 0))), v = value(r, plotColumn);
-    if (x !== px) { if (px >= 0) path.push([px, yOf(vmin)], [px, yOf(vmax)]); px = x; vmin = vmax = v; }
-    else { vmin = Math.min(vmin, v); vmax = Math.max(vmax, v); }
-  }
+  forEachSample(plotColumn, (t, a, b) => {
+    const x = Math.round(xOf(t));
+    if (x !== px) { if (px >= 0) path.push([px, yOf(vmin)], [px, yOf(vmax)]); px = x; vmin = a; vmax = b; }
+    else { vmin = Math.min(vmin, a); vmax = Math.max(vmax, b); }
+  });
   path.push([px, yOf(vmin)], [px, yOf(vmax)]);
   plotCache = { lo, hi, dataMin, dataMax, path, xOf };
   return plotCache;
@@ -253,7 +289,7 @@ document.getElementById('title').innerHTML = '';
   const b = document.createElement('b'); b.textContent = scene.name;
   const s = document.createElement('div');
   const g = (x) => Number(x.toPrecision(6));
-  s.textContent = `${scene.dimension}, ${scene.bodies.length} bodies, ${nRows} rows, t = ${g(tStart)} .. ${g(tEnd)} s; drag to orbit, wheel to zoom`;
+  s.textContent = `${scene.dimension}, ${scene.bodies.length} bodies, ${scene.rows} rows, t = ${g(tStart)} .. ${g(tEnd)} s; drag to orbit, wheel to zoom`;
   document.getElementById('title').append(b, s);
 }
 resize();
@@ -285,6 +321,6 @@ window.mbdViewer = {
     return { projection: camera.projectionMatrix.toArray(), view: camera.matrixWorldInverse.toArray(),
              left: r.left, top: r.top, width: r.width, height: r.height };
   },
-  setPlotColumn(name) { const i = scene.columns.indexOf(name); if (i < 1) return false; columnSelect.value = String(i); plotColumn = i; plotCache = null; drawPlot(); return true; },
-  plotInfo() { const { lo, hi, dataMin, dataMax, path } = plotData(); return { column: scene.columns[plotColumn], min: dataMin, max: dataMax, axis: [lo, hi], points: path.length, cursorX, width: chart.width, height: chart.height, margin }; },
+  setPlotColumn(name) { const i = columnNames.indexOf(name); if (i < 1) return false; columnSelect.value = String(i); plotColumn = i; plotCache = null; drawPlot(); return true; },
+  plotInfo() { const { lo, hi, dataMin, dataMax, path } = plotData(); return { column: columnNames[plotColumn], min: dataMin, max: dataMax, axis: [lo, hi], points: path.length, cursorX, width: chart.width, height: chart.height, margin }; },
 };

@@ -1,11 +1,10 @@
 // export_animation: the format from the extension; the file is written through OutputFile,
-// so an error never leaves a file under the final name.
+// so an error never leaves a file under the final name, and a failed export leaves none.
 #include <mbd/viewer/animation_export.hpp>
 
 #include <mbd/output_file.hpp>
 
 #include <filesystem>
-#include <sstream>
 
 namespace mbd::viewer {
 
@@ -21,13 +20,13 @@ void export_animation(const Model& model, const MotionTable& table, const std::s
                       const AnimationOptions& options) {
     const AnimationFormat format = animation_format(path);
     match_pose_columns(model, table);  // before any file appears
-    std::ostringstream document;  // complete before any file appears
+    OutputFile file(path);             // the output contract of every command (output_file.hpp)
+    DocumentStream out(file);          // written as it is produced: no copy of a large export in memory
     if (format == AnimationFormat::Glb)
-        write_glb(model, table, document);
+        write_glb(model, table, out);
     else
-        write_html(model, table, options, document);
-    OutputFile file(path);  // the output contract of every command (output_file.hpp)
-    file.replace(document.str());
+        write_html(model, table, options, out);
+    out.flush();
     file.commit();
 }
 

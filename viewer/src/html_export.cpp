@@ -1,10 +1,14 @@
 // The self-contained HTML viewer: the page (viewer/js/page.html with three.js bundled in
-// at build time) filled with the scene as JSON and the motion as base64 float32 values,
-// so that it opens offline from file:// and fetches nothing.
+// at build time) filled with the scene as JSON and the motion as base64 binary series (see
+// column_series), so that it opens offline from file:// and fetches nothing.
 #include <mbd/viewer/animation_export.hpp>
+#include <mbd/viewer/keyframes.hpp>
 #include <mbd/viewer/shape_mesh.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <cstring>
 #include <ostream>
 #include <sstream>
@@ -18,29 +22,52 @@ extern const std::string_view kPageAfterMotion;
 
 namespace {
 
-void base64(const void* data, size_t bytes, std::ostream& out) {
-    static const char table[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    const auto* p = static_cast<const unsigned char*>(data);
-    std::string chunk;
-    chunk.reserve(1 << 16);
-    for (size_t i = 0; i < bytes; i += 3) {
-        const unsigned a = p[i], b = i + 1 < bytes ? p[i + 1] : 0, c = i + 2 < bytes ? p[i + 2] : 0;
-        chunk += table[a >> 2];
-        chunk += table[((a & 3) << 4) | (b >> 4)];
-        chunk += i + 1 < bytes ? table[((b & 15) << 2) | (c >> 6)] : '=';
-        chunk += i + 2 < bytes ? table[c & 63] : '=';
-        if (chunk.size() >= (1 << 16) - 4) {
-            out << chunk;
-            chunk.clear();
+// Base64 (RFC 4648) of a byte stream given in pieces of any size.
+class Base64Writer {
+public:
+    explicit Base64Writer(std::ostream& out) : out_(out) { chunk_.reserve(1 << 16); }
+    void write(const void* data, size_t bytes) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        for (size_t i = 0; i < bytes; ++i) {
+            carry_[carried_++] = p[i];
+            if (carried_ == 3) {
+                emit(3);
+                carried_ = 0;
+            }
         }
     }
-    out << chunk;
-}
+    void finish() {
+        if (carried_) emit(carried_);
+        carried_ = 0;
+        out_ << chunk_;
+        chunk_.clear();
+    }
+
+private:
+    void emit(int count) {
+        static const char table[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        const unsigned a = carry_[0], b = count > 1 ? carry_[1] : 0, c = count > 2 ? carry_[2] : 0;
+        chunk_ += table[a >> 2];
+        chunk_ += table[((a & 3) << 4) | (b >> 4)];
+        chunk_ += count > 1 ? table[((b & 15) << 2) | (c >> 6)] : '=';
+        chunk_ += count > 2 ? table[c & 63] : '=';
+        if (chunk_.size() >= (1 << 16) - 4) {
+            out_ << chunk_;
+            chunk_.clear();
+        }
+    }
+    std::ostream& out_;
+    std::string chunk_;
+    unsigned char carry_[3] = {0, 0, 0};
+    int carried_ = 0;
+};
 
 template <class T>
 std::string base64_string(const std::vector<T>& values) {
     std::ostringstream s;
-    base64(values.data(), values.size() * sizeof(T), s);
+    Base64Writer writer(s);
+    writer.write(values.data(), values.size() * sizeof(T));
+    writer.finish();
     return s.str();
 }
 
@@ -88,12 +115,98 @@ std::string json_shapes(const std::vector<ShapeInstance>& shapes) {
     return out + "]";
 }
 
+// How the page holds the motion (viewer/js/viewer.js reads the same layout), after the
+// keyframe times (float64):
+//  - a pose column (a body's x, y, z, angle or e0..e3) as float32 at the keyframes: the rows
+//    linear interpolation needs to draw every row within 1e-4 of that coordinate's range
+//    (at least 1e-6 of the motion's extent; angles 1e-4 rad, Euler parameters 5e-5), a
+//    fraction of a pixel when the whole motion is in view;
+//  - every other column as its envelope: the minimum and the maximum over each of
+//    kPlotBuckets equal time intervals (NaN where an interval holds no row), all that the
+//    plot panel, a few hundred pixels wide, can draw.
+// Each column also carries its exact minimum and maximum (the plot's axis).
+constexpr size_t kPlotBuckets = 512;
+constexpr double kPoseTolerance = 1e-4, kExtentFloor = 1e-6, kAngleTolerance = 1e-4, kEulerTolerance = 5e-5;
+
+struct ColumnLayout {
+    bool pose = false;
+    size_t offset = 0;  // bytes into the motion data
+    double min = 0.0, max = 0.0;
+};
+
+struct PageMotion {
+    std::vector<size_t> keyframes;
+    std::vector<ColumnLayout> columns;
+};
+
+PageMotion page_motion(const MotionTable& table, const std::vector<PoseColumns>& poses, double extent) {
+    PageMotion motion;
+    motion.columns.resize(table.columns.size());
+    for (size_t k = 0; k < table.columns.size(); ++k) {
+        ColumnLayout& c = motion.columns[k];
+        c.min = c.max = table.at(0, k);
+        for (size_t r = 1; r < table.rows(); ++r) {
+            c.min = std::min(c.min, table.at(r, k));
+            c.max = std::max(c.max, table.at(r, k));
+        }
+    }
+    std::vector<KeyframeColumn> pose;
+    auto add = [&](int column, double tolerance) {
+        if (column < 0) return;
+        motion.columns[column].pose = true;
+        pose.push_back({column, tolerance});
+    };
+    for (const PoseColumns& p : poses) {
+        for (int c : {p.x, p.y, p.z})
+            if (c >= 0)
+                add(c, std::max(kPoseTolerance * (motion.columns[c].max - motion.columns[c].min), kExtentFloor * extent));
+        add(p.angle, kAngleTolerance);
+        for (int c : p.e) add(c, kEulerTolerance);
+    }
+    motion.keyframes = keyframe_rows(table, pose);
+    size_t offset = motion.keyframes.size() * sizeof(double);
+    for (size_t k = 1; k < motion.columns.size(); ++k) {
+        motion.columns[k].offset = offset;
+        offset += (motion.columns[k].pose ? motion.keyframes.size() : 2 * kPlotBuckets) * sizeof(float);
+    }
+    return motion;
+}
+
+void write_motion(const MotionTable& table, const PageMotion& motion, std::ostream& out) {
+    Base64Writer writer(out);
+    std::vector<double> times;
+    for (size_t r : motion.keyframes) times.push_back(table.at(r, 0));
+    writer.write(times.data(), times.size() * sizeof(double));
+    const double t0 = table.at(0, 0), span = std::max(table.at(table.rows() - 1, 0) - t0, 1e-300);
+    std::vector<float> values;
+    for (size_t k = 1; k < motion.columns.size(); ++k) {
+        values.clear();
+        if (motion.columns[k].pose) {
+            for (size_t r : motion.keyframes) values.push_back(static_cast<float>(table.at(r, k)));
+        } else {
+            values.assign(2 * kPlotBuckets, std::numeric_limits<float>::quiet_NaN());
+            for (size_t r = 0; r < table.rows(); ++r) {
+                const double f = (table.at(r, 0) - t0) / span * kPlotBuckets;
+                const size_t b = std::min(kPlotBuckets - 1, static_cast<size_t>(f));
+                const float v = static_cast<float>(table.at(r, k));
+                float& lo = values[2 * b];
+                float& hi = values[2 * b + 1];
+                if (std::isnan(lo) || v < lo) lo = v;
+                if (std::isnan(hi) || v > hi) hi = v;
+            }
+        }
+        writer.write(values.data(), values.size() * sizeof(float));
+    }
+    writer.finish();
+}
+
 }  // namespace
 
 void write_html(const Model& model, const MotionTable& table, const AnimationOptions& options, std::ostream& out) {
     const std::vector<PoseColumns> columns = match_pose_columns(model, table);
     VisualScene scene = build_visual_scene(model);
-    fit_ground_grid(model, scene, motion_extent(model, table, columns));
+    const Eigen::AlignedBox3d extent = motion_extent(model, table, columns);
+    fit_ground_grid(model, scene, extent);
     const SceneMeshes meshes = scene_meshes(scene);
     if (!options.plot_column.empty()) {
         bool found = false;
@@ -137,21 +250,21 @@ void write_html(const Model& model, const MotionTable& table, const AnimationOpt
              std::to_string(p.e[0]) + "," + std::to_string(p.e[1]) + "," + std::to_string(p.e[2]) + "," +
              std::to_string(p.e[3]) + "]}";
     }
+    const PageMotion motion = page_motion(table, columns, extent.diagonal().norm());
     j += "],\"columns\":[";
-    for (size_t k = 0; k < table.columns.size(); ++k) j += (k ? "," : "") + json_string(table.columns[k]);
-    j += "],\"rows\":" + std::to_string(table.rows()) + ",\"plotColumn\":" +
+    for (size_t k = 0; k < table.columns.size(); ++k) {
+        const ColumnLayout& c = motion.columns[k];
+        j += std::string(k ? "," : "") + "{\"name\":" + json_string(table.columns[k]) + ",\"pose\":" +
+             (c.pose ? "true" : "false") + ",\"offset\":" + std::to_string(c.offset) + ",\"min\":" +
+             json_number(c.min) + ",\"max\":" + json_number(c.max) + "}";
+    }
+    j += "],\"plotBuckets\":" + std::to_string(kPlotBuckets) + ",\"rows\":" + std::to_string(table.rows()) +
+         ",\"keyframes\":" + std::to_string(motion.keyframes.size()) + ",\"plotColumn\":" +
          json_string(options.plot_column.empty() && table.columns.size() > 1 ? table.columns[1] : options.plot_column) +
          "}";
 
     out << kPageBeforeScene << j << kPageBetween;
-    // the motion as float32, row-major, in slices to bound the memory of the conversion
-    const size_t slice = 1 << 15;  // a multiple of 3 bytes keeps the slices' base64 seamless
-    std::vector<float> values;
-    for (size_t start = 0; start < table.values.size(); start += 3 * slice) {
-        const size_t end = std::min(table.values.size(), start + 3 * slice);
-        values.assign(table.values.begin() + start, table.values.begin() + end);
-        base64(values.data(), values.size() * sizeof(float), out);
-    }
+    write_motion(table, motion, out);
     out << kPageAfterMotion;
 }
 

@@ -3,7 +3,10 @@
 
 #include <mbd/csv.hpp>
 
+#include <algorithm>
 #include <charconv>
+#include <cstring>
+#include <thread>
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -69,6 +72,95 @@ private:
 
 }  // namespace
 
+namespace {
+
+// One stretch of the file's rows, parsed by one thread into its place in the table.
+struct RowBlock {
+    const char* begin = nullptr;
+    const char* end = nullptr;
+    size_t first_line = 0;  // the file line of `begin`
+    size_t first_row = 0;   // the table row of its first non-blank line
+    size_t rows = 0;        // non-blank lines
+    size_t lines = 0;
+    size_t parsed = 0;      // rows parsed before the first error
+    size_t first_data_line = 0;
+    // the block's first error (none when line == 0): its file line and message
+    size_t error_line = 0;
+    std::string error;
+};
+
+void count_rows(RowBlock& block) {
+    for (const char* p = block.begin; p < block.end;) {
+        const char* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<size_t>(block.end - p)));
+        if (!eol) eol = block.end;
+        const char* row_end = eol > p && eol[-1] == '\r' ? eol - 1 : eol;
+        ++block.lines;
+        if (row_end > p) ++block.rows;
+        p = eol < block.end ? eol + 1 : block.end;
+    }
+}
+
+// Parses the block's rows into table.values; stops at the first malformed row. Times are
+// checked to increase within the block (across blocks by the caller).
+void parse_rows(RowBlock& block, const std::vector<std::string>& columns, double* out) {
+    const size_t n = columns.size();
+    size_t line = block.first_line;
+    double previous_time = 0.0;
+    size_t& parsed = block.parsed;
+    auto fail = [&](std::string message) {
+        block.error_line = line;
+        block.error = std::move(message);
+    };
+    for (const char* p = block.begin; p < block.end; ++line) {
+        const char* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<size_t>(block.end - p)));
+        if (!eol) eol = block.end;
+        const char* row_end = eol > p && eol[-1] == '\r' ? eol - 1 : eol;
+        const char* cell = p;
+        p = eol < block.end ? eol + 1 : block.end;
+        if (row_end == cell) continue;  // a blank line (the last newline)
+        if (block.first_data_line == 0) block.first_data_line = line;
+        double* row = out + parsed * n;
+        size_t column = 0;
+        while (true) {
+            const char* cell_end = static_cast<const char*>(std::memchr(cell, ',', static_cast<size_t>(row_end - cell)));
+            if (!cell_end) cell_end = row_end;
+            if (column >= n) return fail("more values than the " + std::to_string(n) + " columns of the header");
+            double v = 0.0;
+            const char* b = cell;
+            while (b < cell_end && *b == ' ') ++b;
+            if (b < cell_end && *b == '+') ++b;
+            const auto r = std::from_chars(b, cell_end, v);
+            const char* rest = r.ptr;
+            while (rest < cell_end && *rest == ' ') ++rest;
+            if (r.ec != std::errc() || rest != cell_end || !std::isfinite(v))
+                return fail("column " + std::to_string(column + 1) + " " + quote(columns[column]) + ": " +
+                            quote(std::string(cell, cell_end)) + " is not a finite number");
+            row[column++] = v;
+            if (cell_end == row_end) break;
+            cell = cell_end + 1;
+        }
+        if (column != n)
+            return fail("this row has " + std::to_string(column) + " values for the " + std::to_string(n) +
+                        " columns of the header (a truncated file?)");
+        if (parsed > 0 && !(row[0] > previous_time))
+            return fail("time " + std::to_string(row[0]) + " does not increase (the row before has " +
+                        std::to_string(previous_time) + ")");
+        previous_time = row[0];
+        ++parsed;
+    }
+}
+
+// Runs task(k) for k < count, on count threads (the calling thread takes k = 0).
+template <class Task>
+void run_parallel(size_t count, Task task) {
+    std::vector<std::thread> threads;
+    for (size_t k = 1; k < count; ++k) threads.emplace_back(task, k);
+    task(0);
+    for (std::thread& t : threads) t.join();
+}
+
+}  // namespace
+
 MotionTable read_motion_csv(const std::filesystem::path& file) {
     MotionTable table;
     table.source = file.string();
@@ -82,51 +174,43 @@ MotionTable read_motion_csv(const std::filesystem::path& file) {
                                               "kinematics or statics); got " +
                                                   quote(table.columns.empty() ? "" : table.columns[0]));
     const size_t n = table.columns.size();
-    table.values.reserve(text.size() / 12);
     p = eol < end ? eol + 1 : end;
-    int line = 1;
-    while (p < end) {
-        ++line;
-        eol = std::find(p, end, '\n');
-        const char* row_end = eol;
-        if (row_end > p && row_end[-1] == '\r') --row_end;
-        if (row_end == p) {  // blank line (the last newline)
-            p = eol < end ? eol + 1 : end;
-            continue;
-        }
-        const std::string where = table.source + ":" + std::to_string(line);
-        size_t column = 0;
-        const char* cell = p;
-        while (true) {
-            const char* cell_end = std::find(cell, row_end, ',');
-            if (column >= n)
-                throw InputError(where, "more values than the " + std::to_string(n) + " columns of the header");
-            double v = 0.0;
-            const char* b = cell;
-            while (b < cell_end && *b == ' ') ++b;
-            if (b < cell_end && *b == '+') ++b;
-            const auto r = std::from_chars(b, cell_end, v);
-            const char* rest = r.ptr;
-            while (rest < cell_end && *rest == ' ') ++rest;
-            if (r.ec != std::errc() || rest != cell_end || !std::isfinite(v))
-                throw InputError(where, "column " + std::to_string(column + 1) + " " + quote(table.columns[column]) +
-                                            ": " + quote(std::string(cell, cell_end)) + " is not a finite number");
-            table.values.push_back(v);
-            ++column;
-            if (cell_end == row_end) break;
-            cell = cell_end + 1;
-        }
-        if (column != n)
-            throw InputError(where, "this row has " + std::to_string(column) + " values for the " + std::to_string(n) +
-                                        " columns of the header (a truncated file?)");
-        const size_t row = table.rows() - 1;
-        if (row > 0 && !(table.at(row, 0) > table.at(row - 1, 0)))
-            throw InputError(where, "time " + std::to_string(table.at(row, 0)) +
-                                        " does not increase (the row before has " + std::to_string(table.at(row - 1, 0)) +
-                                        ")");
-        p = eol < end ? eol + 1 : end;
+
+    // A result of several hundred MB: blocks of whole lines parsed in parallel, each straight
+    // into its rows of the table (a first pass counts the rows of each block).
+    const size_t bytes = static_cast<size_t>(end - p);
+    const size_t threads = std::clamp<size_t>(bytes >> 24, 1, std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<RowBlock> blocks(threads);
+    for (size_t k = 0; k < threads; ++k) {
+        const char* cut = k + 1 == threads ? end : p + bytes / threads * (k + 1);
+        while (cut < end && cut[-1] != '\n') ++cut;
+        blocks[k].begin = k == 0 ? p : blocks[k - 1].end;
+        blocks[k].end = std::max(cut, blocks[k].begin);
     }
-    if (table.rows() == 0) throw InputError(table.source + ":2", "the result CSV has a header but no rows");
+    run_parallel(threads, [&](size_t k) { count_rows(blocks[k]); });
+    size_t line = 2, row = 0;
+    for (RowBlock& block : blocks) {
+        block.first_line = line;
+        block.first_row = row;
+        line += block.lines;
+        row += block.rows;
+    }
+    if (row == 0) throw InputError(table.source + ":2", "the result CSV has a header but no rows");
+    table.values.resize(row * n);
+    run_parallel(threads, [&](size_t k) { parse_rows(blocks[k], table.columns, table.values.data() + blocks[k].first_row * n); });
+
+    // the first error in file order: within a block, or a time that does not increase across two
+    for (size_t k = 0; k < threads; ++k) {
+        const RowBlock& block = blocks[k];
+        if (block.parsed > 0 && block.first_row > 0) {
+            const double before = table.at(block.first_row - 1, 0), now = table.at(block.first_row, 0);
+            if (!(now > before))
+                throw InputError(table.source + ":" + std::to_string(block.first_data_line),
+                                 "time " + std::to_string(now) + " does not increase (the row before has " +
+                                     std::to_string(before) + ")");
+        }
+        if (!block.error.empty()) throw InputError(table.source + ":" + std::to_string(block.error_line), block.error);
+    }
     return table;
 }
 
@@ -134,7 +218,8 @@ MotionTable motion_from_state(const Model& model, const State& state, const std:
     MotionTable table;
     table.source = source;
     table.columns = motion_columns(model);
-    table.values = motion_values(model, state);
+    const std::vector<double> values = motion_values(model, state);
+    table.values.assign(values.begin(), values.end());
     return table;
 }
 

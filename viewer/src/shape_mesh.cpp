@@ -14,10 +14,9 @@ namespace mbd::viewer {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kSegments = 32;  // around a circle
-constexpr int kRings = 16;     // pole to pole
 
 struct Builder {
+    Tessellation detail;
     TriangleMesh mesh;
     uint32_t vertex(const Vec3& p, const Vec3& n) {
         const Vec3 u = n.normalized();
@@ -55,26 +54,26 @@ TriangleMesh box(const Vec3& size) {
 }
 
 // A surface of revolution about z through the profile points (r, z) with outward normals
-// (nr, nz); rings of kSegments vertices joined by quads.
+// (nr, nz); rings of detail.segments vertices joined by quads.
 void revolve(Builder& b, const std::vector<std::array<double, 4>>& profile) {
     std::vector<uint32_t> previous;
     for (const auto& [r, z, nr, nz] : profile) {
         std::vector<uint32_t> ring;
-        for (int s = 0; s <= kSegments; ++s) {
-            const double phi = 2.0 * kPi * s / kSegments;
+        for (int s = 0; s <= b.detail.segments; ++s) {
+            const double phi = 2.0 * kPi * s / b.detail.segments;
             const double c = std::cos(phi), si = std::sin(phi);
             ring.push_back(b.vertex(Vec3(r * c, r * si, z), Vec3(nr * c, nr * si, nz)));
         }
         if (!previous.empty())
-            for (int s = 0; s < kSegments; ++s) b.quad(previous[s], previous[s + 1], ring[s + 1], ring[s]);
+            for (int s = 0; s < b.detail.segments; ++s) b.quad(previous[s], previous[s + 1], ring[s + 1], ring[s]);
         previous = ring;
     }
 }
 
 // Half sphere profiles from the equator (z0) to the pole in direction `sign`.
-void hemisphere_profile(std::vector<std::array<double, 4>>& profile, double radius, double z0, int sign) {
-    for (int k = 0; k <= kRings / 2; ++k) {
-        const double theta = 0.5 * kPi * k / (kRings / 2);  // 0 at the equator
+void hemisphere_profile(std::vector<std::array<double, 4>>& profile, int rings, double radius, double z0, int sign) {
+    for (int k = 0; k <= rings / 2; ++k) {
+        const double theta = 0.5 * kPi * k / (rings / 2);  // 0 at the equator
         const double nr = std::cos(theta), nz = sign * std::sin(theta);
         profile.push_back({radius * nr, z0 + radius * nz, nr, nz});
     }
@@ -84,43 +83,43 @@ void disk(Builder& b, double radius, double z, int sign) {
     const Vec3 n(0, 0, sign);
     const uint32_t centre = b.vertex(Vec3(0, 0, z), n);
     std::vector<uint32_t> ring;
-    for (int s = 0; s <= kSegments; ++s) {
-        const double phi = 2.0 * kPi * s / kSegments;
+    for (int s = 0; s <= b.detail.segments; ++s) {
+        const double phi = 2.0 * kPi * s / b.detail.segments;
         ring.push_back(b.vertex(Vec3(radius * std::cos(phi), radius * std::sin(phi), z), n));
     }
-    for (int s = 0; s < kSegments; ++s)
+    for (int s = 0; s < b.detail.segments; ++s)
         if (sign > 0)
             b.triangle(centre, ring[s], ring[s + 1]);
         else
             b.triangle(centre, ring[s + 1], ring[s]);
 }
 
-TriangleMesh sphere(double radius) {
-    Builder b;
+TriangleMesh sphere(double radius, Tessellation detail) {
+    Builder b{detail};
     std::vector<std::array<double, 4>> profile;
-    for (int k = 0; k <= kRings; ++k) {
-        const double theta = kPi * k / kRings - 0.5 * kPi;  // south pole to north pole
+    for (int k = 0; k <= detail.rings; ++k) {
+        const double theta = kPi * k / detail.rings - 0.5 * kPi;  // south pole to north pole
         profile.push_back({radius * std::cos(theta), radius * std::sin(theta), std::cos(theta), std::sin(theta)});
     }
     revolve(b, profile);
     return b.mesh;
 }
 
-TriangleMesh cylinder(double radius, double z0, double z1) {
-    Builder b;
+TriangleMesh cylinder(double radius, double z0, double z1, Tessellation detail) {
+    Builder b{detail};
     revolve(b, {{radius, z0, 1, 0}, {radius, z1, 1, 0}});
     disk(b, radius, z0, -1);
     disk(b, radius, z1, 1);
     return b.mesh;
 }
 
-TriangleMesh capsule(double radius, double length) {
-    Builder b;
+TriangleMesh capsule(double radius, double length, Tessellation detail) {
+    Builder b{detail};
     std::vector<std::array<double, 4>> profile;
     std::vector<std::array<double, 4>> bottom;
-    hemisphere_profile(bottom, radius, -0.5 * length, -1);
+    hemisphere_profile(bottom, detail.rings, radius, -0.5 * length, -1);
     profile.assign(bottom.rbegin(), bottom.rend());  // south pole up to the lower equator
-    hemisphere_profile(profile, radius, 0.5 * length, 1);
+    hemisphere_profile(profile, detail.rings, radius, 0.5 * length, 1);
     revolve(b, profile);
     return b.mesh;
 }
@@ -169,13 +168,19 @@ void TriangleMesh::update_bounds() {
     }
 }
 
-TriangleMesh shape_mesh(const VisualShape& shape) {
+Tessellation tessellation_for(size_t shapes) {
+    if (shapes <= 200) return {32, 16};
+    if (shapes <= 1000) return {16, 8};
+    return {12, 6};
+}
+
+TriangleMesh shape_mesh(const VisualShape& shape, Tessellation detail) {
     TriangleMesh mesh;
     switch (shape.kind) {
         case ShapeKind::Box: mesh = box(shape.size); break;
-        case ShapeKind::Sphere: mesh = sphere(shape.radius); break;
-        case ShapeKind::Cylinder: mesh = cylinder(shape.radius, -0.5 * shape.length, 0.5 * shape.length); break;
-        case ShapeKind::Capsule: mesh = capsule(shape.radius, shape.length); break;
+        case ShapeKind::Sphere: mesh = sphere(shape.radius, detail); break;
+        case ShapeKind::Cylinder: mesh = cylinder(shape.radius, -0.5 * shape.length, 0.5 * shape.length, detail); break;
+        case ShapeKind::Capsule: mesh = capsule(shape.radius, shape.length, detail); break;
         case ShapeKind::Mesh: mesh = mesh_file(shape); break;
     }
     mesh.update_bounds();
@@ -184,6 +189,9 @@ TriangleMesh shape_mesh(const VisualShape& shape) {
 
 SceneMeshes scene_meshes(const VisualScene& scene) {
     SceneMeshes out;
+    size_t shapes = scene.ground.size() + scene.connectors.size();
+    for (const auto& body : scene.bodies) shapes += body.size();
+    const Tessellation detail = tessellation_for(shapes);
     // each distinct shape once: a 500-link chain has one link mesh
     std::map<std::tuple<int, double, double, double, double, double, std::string>, int> known;
     auto instance = [&](const VisualShape& s) {
@@ -192,7 +200,7 @@ SceneMeshes scene_meshes(const VisualScene& scene) {
         auto it = known.find(key);
         if (it == known.end()) {
             it = known.emplace(key, static_cast<int>(out.meshes.size())).first;
-            out.meshes.push_back(shape_mesh(s));
+            out.meshes.push_back(shape_mesh(s, detail));
         }
         ShapeInstance i;
         i.mesh = it->second;
@@ -209,7 +217,7 @@ SceneMeshes scene_meshes(const VisualScene& scene) {
     for (const auto& s : scene.ground) out.ground.push_back(instance(s));
     if (!scene.connectors.empty()) {
         out.connector_mesh = static_cast<int>(out.meshes.size());
-        out.meshes.push_back(cylinder(1.0, 0.0, 1.0));
+        out.meshes.push_back(cylinder(1.0, 0.0, 1.0, detail));
         out.meshes.back().update_bounds();
     }
     return out;

@@ -11,7 +11,7 @@ import puppeteer from 'puppeteer-core';
 const [outDir, shotDir] = process.argv.slice(2).map((p) => resolve(p));
 const chromium = process.env.MBD_CHROMIUM || '/usr/bin/chromium';
 const cases = [
-  { name: 'four-bar', body: 'coupler', column: 'crank.angle', fraction: 0.63 },
+  { name: 'four-bar', body: 'coupler', column: 'coupler.omega', fraction: 0.63 },  // an envelope column
   { name: 'gyroscope', body: 'top', column: 'top.x', fraction: 0.41 },
   { name: 'statics', column: null, fraction: 0 },
 ];
@@ -95,6 +95,13 @@ try {
       // the body of interest is inside the canvas (a real position, not off-screen)
       const p = await page.evaluate((n) => window.mbdViewer.bodyScreenPosition(n), c.body);
       check(p.x > 0 && p.x < 1280 && p.y > 0 && p.y < 800 - 44, `${c.name}: ${c.body} is on screen at (${p.x.toFixed(1)}, ${p.y.toFixed(1)})`);
+
+      // the body's name on hover over its drawn mass centre
+      const hover = await page.evaluate((n) => window.mbdViewer.bodyScreenPosition(n), c.body);
+      await page.mouse.move(hover.x, hover.y);
+      const tip = await page.evaluate(() => { const e = document.getElementById('tip'); return e.style.display === 'block' ? e.textContent : ''; });
+      check(tip === c.body, `${c.name}: hovering at (${hover.x.toFixed(1)}, ${hover.y.toFixed(1)}) names '${tip}' (expected '${c.body}')`);
+      await page.mouse.move(1, 1);
 
       // play advances time
       const t0 = await page.evaluate(() => { window.mbdViewer.seek(window.mbdViewer.range()[0]); window.mbdViewer.play(); return window.mbdViewer.time(); });

@@ -10,6 +10,8 @@
 //  - a run that fails or is interrupted before commit() leaves the records written
 //    so far in NAME.partial (none written: no file), and the note saying so is
 //    kept for the command's final message (take_kept_output_notes());
+//  - a document written in parts (an animation export, DocumentStream) is no
+//    record: a run stopped before commit() leaves no file at all;
 //  - an output path that is one of the run's input files (the scene, a `base:`
 //    file, a CSV read), also through a symbolic link, `./` or `..`, is refused by
 //    check_output_path() before anything runs;
@@ -21,6 +23,8 @@
 
 #include <chrono>
 #include <filesystem>
+#include <ostream>
+#include <streambuf>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -57,6 +61,10 @@ public:
     // then holds exactly `document`; `contents` says what that is, for the note left if
     // the run stops here (e.g. "the matrix of the first 3 cases").
     void replace(std::string_view document, const std::string& contents = "");
+    // Bytes of a document that is complete only at commit() (a large export written as it
+    // is produced, see DocumentStream): if the run stops before commit(), PATH.partial is
+    // removed, since part of such a document is no result.
+    void write_document_part(std::string_view bytes);
     // Everything written; PATH.partial becomes PATH. Throws OutputError.
     void commit();
     // Stop here: keep the records in PATH.partial and note what it holds (`what`, e.g.
@@ -79,7 +87,29 @@ private:
     std::string contents_;       // what PATH.partial holds, from replace()
     std::string write_failure_;  // a failed write: PATH.partial holds only the records before it
     bool finished_ = false;
+    bool document_ = false;  // written by write_document_part: nothing kept when abandoned
     std::chrono::steady_clock::time_point last_flush_;
+};
+
+// A std::ostream writing an OutputFile's document (write_document_part); a failed write
+// throws the OutputError out of the stream operation.
+class DocumentStream : public std::ostream {
+public:
+    explicit DocumentStream(OutputFile& file);
+
+private:
+    class Buffer : public std::streambuf {
+    public:
+        explicit Buffer(OutputFile& file) : file_(file) {}
+
+    protected:
+        std::streamsize xsputn(const char* data, std::streamsize size) override;
+        int_type overflow(int_type c) override;
+
+    private:
+        OutputFile& file_;
+    };
+    Buffer buffer_;
 };
 
 // Notes of the files abandoned since the last call ("'out.csv.partial' holds the 120

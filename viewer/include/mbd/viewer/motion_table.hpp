@@ -7,15 +7,39 @@
 #include <Eigen/Geometry>
 
 #include <filesystem>
+#include <memory>
+#include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mbd::viewer {
 
+// An allocator whose resize leaves the values uninitialised: the reader writes every one,
+// and zeroing a table of several hundred MB first would cost about as much as parsing it.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
 struct MotionTable {
     std::string source;                 // the file it came from (for messages)
     std::vector<std::string> columns;
-    std::vector<double> values;         // row-major, rows() x columns.size()
+    std::vector<double, UninitializedAllocator<double>> values;  // row-major, rows() x columns.size()
 
     size_t rows() const { return columns.empty() ? 0 : values.size() / columns.size(); }
     double at(size_t row, size_t column) const { return values[row * columns.size() + column]; }

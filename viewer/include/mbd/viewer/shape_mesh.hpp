@@ -4,6 +4,7 @@
 
 #include <mbd/visual.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,10 +19,20 @@ struct TriangleMesh {
     void update_bounds();
 };
 
+// How finely round shapes are tessellated: vertices around a circle, rings pole to pole.
+struct Tessellation {
+    int segments = 32;
+    int rings = 16;
+};
+
+// Coarser the more shapes a scene draws: a 500-link chain at full detail is about 700,000
+// triangles, which software WebGL draws at about one frame a second.
+Tessellation tessellation_for(size_t shapes);
+
 // The shape in its own frame (no pose or scale): box centred, sphere, cylinder and capsule
 // along z centred on the origin, a mesh file as written (read with Assimp; a file it cannot
 // read throws InputError naming the file and the visual's file:line).
-TriangleMesh shape_mesh(const VisualShape& shape);
+TriangleMesh shape_mesh(const VisualShape& shape, Tessellation detail = {});
 
 // A shape placed on a body (or the ground): mesh index, pose in the body frame, colour.
 struct ShapeInstance {
