@@ -150,6 +150,58 @@ double worst_interpolation_error(const mbd::viewer::MotionTable& table, int colu
     return worst;
 }
 
+// The reader parses blocks of rows in parallel; wherever a fault lies relative to the
+// blocks, the message must name the fault's line, and the first fault in the file wins.
+TEST(MotionCsv, ParallelBlocksReadTheSameTableAndNameTheFirstFaultyLine) {
+    const fs::path dir = scratch("motion-csv");
+    const int rows = 40;
+    auto row_text = [](int r) {
+        char b[64];
+        std::snprintf(b, sizeof b, "%.3f,%.3f,%.3f\n", 0.1 * r, std::sin(0.1 * r), 1.0 + r);
+        return std::string(b);
+    };
+    auto write = [&](const std::string& name, const std::map<int, std::string>& replaced) {
+        std::string text = "t,b.x,b.y\n";
+        for (int r = 0; r < rows; ++r) text += replaced.count(r) ? replaced.at(r) : row_text(r);
+        std::ofstream(dir / name) << text;
+        return dir / name;
+    };
+    const fs::path good = write("good.csv", {});
+    const auto serial = mbd::viewer::read_motion_csv(good, 1);
+    ASSERT_EQ(serial.rows(), static_cast<size_t>(rows));
+    EXPECT_DOUBLE_EQ(serial.at(17, 1), std::round(std::sin(1.7) * 1000) / 1000);
+    for (unsigned threads : {2u, 3u, 7u, 64u}) {
+        const auto parallel = mbd::viewer::read_motion_csv(good, threads);
+        EXPECT_TRUE(std::equal(parallel.values.begin(), parallel.values.end(), serial.values.begin(),
+                               serial.values.end()))
+            << threads << " blocks";
+    }
+    auto message = [](const fs::path& file, unsigned threads) -> std::string {
+        try {
+            mbd::viewer::read_motion_csv(file, threads);
+        } catch (const mbd::InputError& e) {
+            return e.what();
+        }
+        return "no error";
+    };
+    for (int r = 1; r < rows; ++r) {
+        const std::string line = ":" + std::to_string(r + 2);  // the header is line 1
+        const std::map<std::string, std::map<int, std::string>> faults = {
+            {"a cell that is not a number", {{r, "0.1,abc,1\n"}}},
+            {"a short row", {{r, "0.1,0.2\n"}}},
+            {"a time that does not increase", {{r, row_text(r - 1)}}},
+            {"two faults, the first at this row", {{r, "x,1,1\n"}, {std::min(r + 5, rows - 1), "0.1,0.2\n"}}},
+        };
+        for (const auto& [what, replaced] : faults) {
+            if (what.rfind("two", 0) == 0 && r + 5 >= rows) continue;
+            const fs::path file = write("fault.csv", replaced);
+            const std::string expected = message(file, 1);
+            EXPECT_NE(expected.find(file.string() + line + ":"), std::string::npos) << what << ": " << expected;
+            for (unsigned threads : {2u, 3u, 7u}) EXPECT_EQ(message(file, threads), expected) << what << ", " << threads << " blocks";
+        }
+    }
+}
+
 TEST(Keyframes, APiecewiseLinearMotionKeepsItsCornersOnly) {
     // |t - 0.3| has its corner at row 30, 0.5 - |t - 0.7| at row 70
     const auto table = sampled({[](double t) { return std::abs(t - 0.3); }, [](double t) { return 0.5 - std::abs(t - 0.7); }},

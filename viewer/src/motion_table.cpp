@@ -161,7 +161,7 @@ void run_parallel(size_t count, Task task) {
 
 }  // namespace
 
-MotionTable read_motion_csv(const std::filesystem::path& file) {
+MotionTable read_motion_csv(const std::filesystem::path& file, unsigned threads) {
     MotionTable table;
     table.source = file.string();
     const MappedFile text(file);
@@ -179,7 +179,8 @@ MotionTable read_motion_csv(const std::filesystem::path& file) {
     // A result of several hundred MB: blocks of whole lines parsed in parallel, each straight
     // into its rows of the table (a first pass counts the rows of each block).
     const size_t bytes = static_cast<size_t>(end - p);
-    const size_t threads = std::clamp<size_t>(bytes >> 24, 1, std::max(1u, std::thread::hardware_concurrency()));
+    if (threads == 0)  // one block per 16 MB, at most one per core
+        threads = static_cast<unsigned>(std::clamp<size_t>(bytes >> 24, 1, std::max(1u, std::thread::hardware_concurrency())));
     std::vector<RowBlock> blocks(threads);
     for (size_t k = 0; k < threads; ++k) {
         const char* cut = k + 1 == threads ? end : p + bytes / threads * (k + 1);

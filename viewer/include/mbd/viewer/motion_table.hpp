@@ -46,8 +46,9 @@ struct MotionTable {
 };
 
 // Reads a result CSV; a malformed cell, a short row or a time that does not increase
-// throws InputError naming file:line and the column.
-MotionTable read_motion_csv(const std::filesystem::path& file);
+// throws InputError naming file:line and the column (the first such place in the file).
+// The rows are parsed in `threads` blocks at once (0: one per 16 MB, at most one per core).
+MotionTable read_motion_csv(const std::filesystem::path& file, unsigned threads = 0);
 
 // One row from a state (mbd statics): the same columns mbd simulate writes.
 MotionTable motion_from_state(const Model& model, const State& state, const std::string& source);
