@@ -11,7 +11,7 @@
 #include <mbd/output_file.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
-#include <mbd/stability.hpp>
+#include <mbd/app/stability.hpp>
 
 #include <algorithm>
 #include <cstdio>

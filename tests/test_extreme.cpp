@@ -6,7 +6,7 @@
 // failure here).
 #include <mbd/scene.hpp>
 #include <mbd/sdk/params.hpp>
-#include <mbd/stability.hpp>
+#include <mbd/app/stability.hpp>
 
 #include <gtest/gtest.h>
 

@@ -18,6 +18,7 @@
 
 #include <mbd/interrupt.hpp>
 #include <mbd/output_times.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -27,18 +28,6 @@
 namespace mbd {
 
 namespace {
-
-std::string format_number(double x) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.3g", x);
-    return buffer;
-}
-
-std::string format_time(double t) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.6g", t);
-    return buffer;
-}
 
 // C(q) = 0 at a fixed time, as seen by the Newton solver: x is q, dx is a
 // velocity-like increment.
@@ -86,7 +75,7 @@ void check_linear_residual(const ConstraintSystem& system, const Eigen::VectorXd
     const double scale = std::max(1.0, rhs.size() ? rhs.cwiseAbs().maxCoeff() : 0.0);
     if (row >= 0 && !(worst <= 1e-6 * scale)) {
         throw KinematicsError(std::string("the ") + what + " equations have no solution at t = " + format_time(t) +
-                              ": " + system.owner(row).describe() + " is violated by " + format_number(worst) +
+                              ": " + system.owner(row).describe() + " is violated by " + format_number(worst, 3) +
                               ". The constraint Jacobian is singular there (a dead-centre or lock-up position, "
                               "or drivers that contradict the joints); check the driver's motion and which joint "
                               "coordinate it drives");
@@ -108,10 +97,10 @@ AssemblyReport assemble_positions(const ConstraintSystem& system, State& state, 
                 << " Newton iteration" << (result.iterations == 1 ? "" : "s") << ": ";
         if (result.worst_row >= 0)
             message << system.owner(result.worst_row).describe() << " is violated by "
-                    << format_number(result.residual) << " (tolerance " << format_number(options.newton.tolerance)
+                    << format_number(result.residual, 3) << " (tolerance " << format_number(options.newton.tolerance, 3)
                     << ")";
         else
-            message << "the residual is " << format_number(result.residual);
+            message << "the residual is " << format_number(result.residual, 3);
         message << ". Check the initial positions near this joint, or the driver's motion (a mechanism that cannot "
                    "reach the prescribed position, or passes a dead centre, has no solution)";
         throw KinematicsError(message.str());

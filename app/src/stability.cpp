@@ -1,5 +1,6 @@
 // Stability matrix of the extreme cases (issue 8); see mbd/stability.hpp.
-#include <mbd/stability.hpp>
+#include <mbd/app/stability.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <mbd/interrupt.hpp>
 #include <mbd/kinematics.hpp>
@@ -74,12 +75,6 @@ std::vector<std::string> kind_list(const Param& p, const std::string& what) {
 Mat3 rotation_matrix(const Eigen::VectorXd& q, int offset) {
     Eigen::Quaterniond e(q[offset + 3], q[offset + 4], q[offset + 5], q[offset + 6]);
     return e.normalized().toRotationMatrix();
-}
-
-std::string format_g(double x, int digits = 2) {
-    char b[48];
-    std::snprintf(b, sizeof b, "%.*g", digits, x);
-    return b;
 }
 
 // The failure kind of an engine message.
@@ -174,11 +169,11 @@ Expectation read_expectation(const Model& model) {
 }
 
 std::string CellOutcome::cell() const {
-    std::string at = time >= 0.0 ? " at t = " + format_g(time, 3) : std::string();
-    if (kind == "pass") return "pass (error " + format_g(error) + ")";
-    if (kind == "inaccurate") return "inaccurate (error " + format_g(error) + " > " + format_g(bound) + ")";
+    std::string at = time >= 0.0 ? " at t = " + format_number(time, 3) : std::string();
+    if (kind == "pass") return "pass (error " + format_number(error, 2) + ")";
+    if (kind == "inaccurate") return "inaccurate (error " + format_number(error, 2) + " > " + format_number(bound, 2) + ")";
     if (kind == "crashed") return "crashed (signal " + std::to_string(signal) + ")";
-    if (kind == "budget_exceeded") return "budget exceeded (" + format_g(seconds, 3) + " s" + at + ")";
+    if (kind == "budget_exceeded") return "budget exceeded (" + format_number(seconds, 3) + " s" + at + ")";
     if (kind == "not_applicable") return "n/a (" + message + ")";
     std::string name = kind;
     std::replace(name.begin(), name.end(), '_', ' ');
@@ -465,7 +460,7 @@ std::string stability_markdown(const std::vector<StabilityCase>& cases, const st
     for (const StabilityCase& c : cases) {
         std::string expected;
         if (c.expect.pass) {
-            expected = "pass: " + c.expect.measure + " <= " + format_g(c.expect.bound);
+            expected = "pass: " + c.expect.measure + " <= " + format_number(c.expect.bound, 2);
             for (const auto& k : c.expect.kinds) expected += " or " + k;
         } else {
             for (const auto& k : c.expect.kinds) expected += (expected.empty() ? "" : " or ") + k;
@@ -483,7 +478,7 @@ std::string stability_markdown(const std::vector<StabilityCase>& cases, const st
                     verdict = outcome_matches(c.expect, o) ? "ok" : "WRONG";
             }
         if (verdict == "WRONG") ++wrong;
-        md << "| " << c.name << " (t_end " << format_g(c.expect.t_end, 4) << " s) | " << expected << " | "
+        md << "| " << c.name << " (t_end " << format_number(c.expect.t_end, 4) << " s) | " << expected << " | "
            << c.expect.formulation << " + " << c.expect.integrator << ": " << verdict << " |";
         for (size_t fi = 0; fi < formulations.size(); ++fi)
             for (size_t ii = 0; ii < integrators.size(); ++ii) {
