@@ -60,17 +60,20 @@ TEST(JsonOutput, StaticsJsonParsesAndGivesTheClosedFormEquilibrium) {
     json report;
     ASSERT_NO_THROW(report = json::parse(r.out)) << r.out;
     ASSERT_TRUE(report.at("converged").get<bool>()) << r.out;
-    // m g l cos(theta) = M with m = 1, g = 9.81, l = 0.5, M = 2 (the scene's comment); the stable
-    // root hangs below the pin, theta < 0
-    const double m = 1.0, g = 9.81, l = 0.5, M = 2.0, theta = -std::acos(M / (m * g * l));
+    // The pin is at the origin; the scene places the mass centre at R0 = (0.460530, -0.194709)
+    // with the body angle -0.4, so l = |R0| and the line pin -> centre sits delta = atan2(R0) + 0.4
+    // from the body's x axis. Equilibrium of moments about the pin: m g l cos(phi) = M (m = 1,
+    // g = 9.81, M = 2), phi the line's angle; the stable root hangs below the pin, phi < 0.
+    const double m = 1.0, g = 9.81, M = 2.0, x0 = 0.460530, y0 = -0.194709;
+    const double l = std::hypot(x0, y0), delta = std::atan2(y0, x0) + 0.4, phi = -std::acos(M / (m * g * l));
     const json& rod = report.at("bodies").at("rod");
-    EXPECT_NEAR(rod.at("angle").get<double>(), theta, 1e-8) << r.out;
-    EXPECT_NEAR(rod.at("x").get<double>(), l * std::cos(theta), 1e-8);
-    EXPECT_NEAR(rod.at("y").get<double>(), l * std::sin(theta), 1e-8);
+    EXPECT_NEAR(rod.at("angle").get<double>(), phi - delta, 1e-9) << r.out;
+    EXPECT_NEAR(rod.at("x").get<double>(), l * std::cos(phi), 1e-9);
+    EXPECT_NEAR(rod.at("y").get<double>(), l * std::sin(phi), 1e-9);
     // the pin carries the weight: reaction on the rod (m g upward, no horizontal force)
     const json& pin = report.at("reactions").at("pin");
-    EXPECT_NEAR(pin.at("fx").get<double>(), 0.0, 1e-8);
-    EXPECT_NEAR(pin.at("fy").get<double>(), m * g, 1e-8);
+    EXPECT_NEAR(pin.at("fx").get<double>(), 0.0, 1e-9);
+    EXPECT_NEAR(pin.at("fy").get<double>(), m * g, 1e-9);
     EXPECT_EQ(report.at("stability").get<std::string>(), "stable");
 }
 
