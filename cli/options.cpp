@@ -1,5 +1,8 @@
 // Checked numbers and input files of the subcommands (see options.hpp).
 #include "options.hpp"
+
+#include <mbd/output_file.hpp>
+#include <mbd/viewer/animation_export.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <cerrno>
@@ -53,6 +56,12 @@ std::vector<std::filesystem::path> scene_files(const std::string& scene, const M
     std::vector<std::filesystem::path> files{scene};
     for (const std::string& base : model.base_files) files.emplace_back(base);
     return files;
+}
+
+void check_animation_output(const std::string& animation, const std::string& scene, const Model& model) {
+    if (animation.empty()) return;
+    viewer::animation_format(animation);  // a bad name fails before the run
+    check_output_path(animation, scene_files(scene, model), "--animation");
 }
 
 }  // namespace mbd::cli

@@ -124,10 +124,7 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run at a step boundary
-        if (!args->animation.empty()) {
-            viewer::animation_format(args->animation);  // a bad name fails before the run
-            check_output_path(args->animation, scene_files(args->scene, model), "--animation");
-        }
+        check_animation_output(args->animation, args->scene, model);
 
         SimulationSettings settings;
         settings.formulation = args->formulation;

@@ -175,10 +175,7 @@ void add_statics_command(CLI::App& app, Commands& commands) {
         Registry registry;
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
-        if (!args->animation.empty()) {
-            viewer::animation_format(args->animation);  // a bad name fails before the run
-            check_output_path(args->animation, scene_files(args->scene, model), "--animation");
-        }
+        check_animation_output(args->animation, args->scene, model);
         StaticsOptions options;
         options.time = args->time;
         options.objective = args->objective;

@@ -3,6 +3,7 @@
 // spatial arm, the CLI and the input errors.
 #include "support/test_support.hpp"
 
+#include <mbd/app/equilibrium_scene.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
@@ -495,6 +496,33 @@ TEST(StaticsSpatialArm, HoldingTorquesMatchMomentOfTheWeightsAndInverseDynamics)
     EXPECT_NEAR(samples[0].efforts[0], tau_yaw, 1e-8);
     EXPECT_NEAR(samples[0].efforts[1], tau_sh, 1e-8);
     EXPECT_NEAR(samples[0].efforts[2], tau_el, 1e-8);
+}
+
+// The equilibrium scene is written from the scene the Model holds (Model::document), not from
+// the file: changing the file after loading changes nothing, and a scene that inherits from a
+// `base:` file gives a self-contained scene. Oracle: the state handed in, read back.
+TEST(StaticsEquilibriumScene, WrittenFromTheModelNotTheFile) {
+    const std::filesystem::path dir = mbd::test::scratch("equilibrium-scene");
+    std::ofstream(dir / "base.yaml") << pendulum(-0.5, 0.4, 3.0);
+    std::ofstream(dir / "derived.yaml") << "base: base.yaml\nname: derived\n";
+    const mbd::Model model = mbd::load_scene(dir / "derived.yaml", shared_registry());
+    std::ofstream(dir / "derived.yaml") << "this is no longer a scene: [\n";
+    std::filesystem::remove(dir / "base.yaml");
+
+    mbd::State at = model.initial_state();
+    at.q << 0.4 * std::cos(-1.0), 0.4 * std::sin(-1.0), -1.0;  // the rod turned about the pin at the origin
+    const std::string text = mbd::equilibrium_scene(model, at);
+    EXPECT_EQ(text.find("base:"), std::string::npos) << text;
+    const mbd::Model again = scene(text, "equilibrium.yaml");
+    EXPECT_EQ(again.name, "derived");
+    ASSERT_EQ(again.body_count(), 1);
+    EXPECT_DOUBLE_EQ(again.bodies[0].position.x(), at.q[0]);
+    EXPECT_DOUBLE_EQ(again.bodies[0].position.y(), at.q[1]);
+    EXPECT_DOUBLE_EQ(again.bodies[0].angle, -1.0);
+    // the pin stays at the origin, the torque and the gravity are kept
+    const mbd::StaticsReport rep = statics(again);
+    ASSERT_TRUE(rep.result.converged) << rep.result.message;
+    EXPECT_NEAR(rep.result.state.q[2], -std::acos(3.0 / (1.5 * 9.81 * 0.4)), 1e-9);
 }
 
 // ---------------------------------------------------------------- CLI

@@ -554,7 +554,7 @@ Loader::WorldFrame Loader::joint_frame(const Param& node, const std::string& wha
         Vec3 x = a2.normalized();
         if (std::abs(z.dot(x)) > 1e-6)
             axes->fail(what + ": the two 'axes' must be perpendicular (their unit vectors' dot product is " +
-                       std::to_string(z.dot(x)) + ")");
+                       format_number(z.dot(x)) + ")");
         x = (x - x.dot(z) * z).normalized();
         frame.axes.col(0) = x;
         frame.axes.col(1) = z.cross(x);
