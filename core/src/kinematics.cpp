@@ -82,6 +82,21 @@ void check_linear_residual(const ConstraintSystem& system, const Eigen::VectorXd
     }
 }
 
+// The solution of J x = b nearest to x0, x0 + J^+ (b - J x0) (minimum-norm correction), for the
+// `what` analysis at time t (`quantities` names x in the error): refused when J cannot be
+// factored, when a residual stays (check_linear_residual) or when x is not finite.
+Eigen::VectorXd nearest_solution(const ConstraintSystem& system, const Eigen::SparseMatrix<double>& J,
+                                 const Eigen::VectorXd& b, Eigen::VectorXd x0, double t, LinearAlgebra algebra,
+                                 const char* what, const char* quantities) {
+    const std::string failed = std::string(what) + " analysis failed at t = " + format_time(t);
+    MinNormSolver solver(algebra);
+    if (!solver.factor(J)) throw KinematicsError(failed + ": the constraint Jacobian could not be factored");
+    x0 += solver.solve(b - J * x0);
+    check_linear_residual(system, J * x0 - b, b, t, what);
+    if (!x0.allFinite()) throw KinematicsError(failed + ": non-finite " + quantities);
+    return x0;
+}
+
 }  // namespace
 
 AssemblyReport assemble_positions(const ConstraintSystem& system, State& state, const KinematicsOptions& options) {
@@ -113,35 +128,17 @@ void solve_velocities(const ConstraintSystem& system, State& state, LinearAlgebr
     if (system.rows() == 0) return;
     ConstraintValues values;
     system.evaluate(state, values);
-    MinNormSolver solver(algebra);
-    if (!solver.factor(values.J))
-        throw KinematicsError("velocity analysis failed at t = " + format_time(state.t) +
-                              ": the constraint Jacobian could not be factored");
-    // book Eq. 3.120: J v = -C_t; correct the given v by the minimum-norm change
-    const Eigen::VectorXd mismatch = values.J * state.v + values.C_t;
-    state.v -= solver.solve(mismatch);
-    const Eigen::VectorXd residual = values.J * state.v + values.C_t;
-    check_linear_residual(system, residual, values.C_t, state.t, "velocity");
-    if (!state.v.allFinite())
-        throw KinematicsError("velocity analysis failed at t = " + format_time(state.t) + ": non-finite velocities");
+    // book Eq. 3.120: J v = -C_t; the given v corrected by the minimum-norm change
+    state.v = nearest_solution(system, values.J, -values.C_t, state.v, state.t, algebra, "velocity", "velocities");
 }
 
 Eigen::VectorXd solve_accelerations(const ConstraintSystem& system, const State& state, LinearAlgebra algebra) {
     if (system.rows() == 0) return Eigen::VectorXd::Zero(system.cols());
     ConstraintValues values;
     system.evaluate(state, values);
-    MinNormSolver solver(algebra);
-    if (!solver.factor(values.J))
-        throw KinematicsError("acceleration analysis failed at t = " + format_time(state.t) +
-                              ": the constraint Jacobian could not be factored");
-    // book Eq. 3.124: J a = gamma
-    Eigen::VectorXd a = solver.solve(values.gamma);
-    const Eigen::VectorXd residual = values.J * a - values.gamma;
-    check_linear_residual(system, residual, values.gamma, state.t, "acceleration");
-    if (!a.allFinite())
-        throw KinematicsError("acceleration analysis failed at t = " + format_time(state.t) +
-                              ": non-finite accelerations");
-    return a;
+    // book Eq. 3.124: J a = gamma, the minimum-norm solution
+    return nearest_solution(system, values.J, values.gamma, Eigen::VectorXd::Zero(system.cols()), state.t, algebra,
+                            "acceleration", "accelerations");
 }
 
 void run_kinematics(const Model& model, double t_end, double step, const KinematicsSample& sample,
