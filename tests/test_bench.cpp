@@ -1,4 +1,4 @@
-// The work-precision benchmark's own error computation (core/src/bench.cpp), `mbd simulate
+// The work-precision benchmark's own error computation (app/src/bench.cpp), `mbd simulate
 // --error-estimate`, and a missing peer engine. No timings are checked.
 #include "support/test_support.hpp"
 
