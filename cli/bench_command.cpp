@@ -4,7 +4,8 @@
 #include "commands.hpp"
 #include "options.hpp"
 
-#include <mbd/bench.hpp>
+#include <mbd/app/bench.hpp>
+#include <mbd/sdk/text.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/registry.hpp>
@@ -30,12 +31,6 @@ struct BenchArguments {
     double tolerance_floor = 0.0;
     bool quiet = false;
 };
-
-std::string fmt_g(double x) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.3g", x);
-    return b;
-}
 
 }  // namespace
 
@@ -104,7 +99,7 @@ void add_bench_command(CLI::App& app, Commands& commands) {
                 std::printf("%s: %d runs (%d failed or skipped); reference %s; best mbd CPU at error <= 1e-6: %s\n",
                             r.spec.name.c_str(), ok + failed, failed, r.reference.description.c_str(),
                             std::isfinite(best_cpu_at)
-                                ? (fmt_g(best_cpu_at) + " s (error " + fmt_g(best_err) + ")").c_str()
+                                ? (format_number(best_cpu_at, 3) + " s (error " + format_number(best_err, 3) + ")").c_str()
                                 : "not reached");
                 std::fflush(stdout);
             }

@@ -8,6 +8,7 @@
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/sdk/topology.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <Eigen/Dense>
 
@@ -31,12 +32,6 @@ std::string body_list(const Model& model, const std::vector<int>& bodies) {
 
 std::string plural(int n, const char* word) {
     return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
-}
-
-std::string number(double x) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.6g", x);
-    return buffer;
 }
 
 }  // namespace
@@ -65,7 +60,7 @@ void add_check_command(CLI::App& app, Commands& commands) {
         const int w = static_cast<int>(width) + 2;
 
         std::cout << "\nbodies (" << model.bodies.size() << "):\n";
-        for (const auto& b : model.bodies) std::cout << "  " << std::left << std::setw(w) << b.name << "mass " << number(b.mass) << '\n';
+        for (const auto& b : model.bodies) std::cout << "  " << std::left << std::setw(w) << b.name << "mass " << format_number(b.mass) << '\n';
         std::cout << "joints (" << model.joints.size() << "):\n";
         for (const auto& j : model.joints)
             std::cout << "  " << std::left << std::setw(w) << j.name << std::setw(14) << j.type << body_list(model, j.bodies)
@@ -84,7 +79,7 @@ void add_check_command(CLI::App& app, Commands& commands) {
         state.t = 0.0;
         const AssemblyReport assembly = assemble_positions(system, state);
         std::cout << "\nassembled at t = 0 in " << plural(assembly.iterations, "Newton iteration") << " (max |C| = "
-                  << number(assembly.residual) << ")\n";
+                  << format_number(assembly.residual) << ")\n";
 
         const MobilityReport mobility = analyse_mobility(model, state, *tolerance);
         std::cout << "coordinates: " << mobility.coordinates << " velocities, " << mobility.constraint_rows

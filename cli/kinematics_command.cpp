@@ -11,6 +11,7 @@
 #include <mbd/kinematics.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -116,7 +117,7 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
             [&](const State& state, const Eigen::VectorXd&) {
                 std::vector<double> values = motion_values(model, state);
                 for (double x : values)
-                    if (!std::isfinite(x)) throw std::runtime_error("non-finite value in the motion at t = " + std::to_string(state.t));
+                    if (!std::isfinite(x)) throw std::runtime_error("non-finite value in the motion at t = " + format_time(state.t));
                 if (index % stride == 0)
                     rows.push_back(values);
                 else

@@ -14,6 +14,7 @@
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -33,12 +34,6 @@ int report(const std::string& message, int status) {
     std::cerr << "mbd: error: " << message << '\n';
     for (const std::string& note : mbd::take_kept_output_notes()) std::cerr << "mbd: " << note << '\n';
     return status;
-}
-
-std::string time_text(double t) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.9g", t);
-    return text;
 }
 
 }  // namespace
@@ -88,14 +83,14 @@ int main(int argc, char** argv) {
         return 2;
     } catch (const mbd::Interrupted& e) {
         return report("stopped by " + e.signal_name() +
-                          (std::isfinite(e.time()) ? " at t = " + time_text(e.time()) : std::string()) +
+                          (std::isfinite(e.time()) ? " at t = " + mbd::format_time(e.time()) : std::string()) +
                           " before the end of the run",
                       e.exit_status());
     } catch (const mbd::InputError& e) {
         return report(e.what(), 2);
     } catch (const mbd::DynamicsError& e) {
         // a failure without a time (NaN) is not given one
-        return report((std::isfinite(e.time()) ? "at t = " + time_text(e.time()) + ": " : std::string()) + e.what(), 1);
+        return report((std::isfinite(e.time()) ? "at t = " + mbd::format_time(e.time()) + ": " : std::string()) + e.what(), 1);
     } catch (const mbd::KinematicsError& e) {
         return report(e.what(), 1);
     } catch (const std::exception& e) {

@@ -1,6 +1,10 @@
 // Checked numbers and input files of the subcommands (see options.hpp).
 #include "options.hpp"
 
+#include <mbd/output_file.hpp>
+#include <mbd/viewer/animation_export.hpp>
+#include <mbd/sdk/text.hpp>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -9,12 +13,6 @@
 namespace mbd::cli {
 
 namespace {
-
-std::string number(double x) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.6g", x);
-    return text;
-}
 
 // A validator over the parsed number: `accept` says whether it is in range and
 // `expected` describes the range ("a positive number").
@@ -50,14 +48,20 @@ CLI::Validator finite_number() {
 
 CLI::Validator number_between(double lo, double hi, const std::string& why) {
     return number_check([lo, hi](double x) { return x >= lo && x <= hi; },
-                        "a number from " + number(lo) + " to " + number(hi) + (why.empty() ? "" : " (" + why + ")"),
-                        "[" + number(lo) + ", " + number(hi) + "]");
+                        "a number from " + format_number(lo) + " to " + format_number(hi) + (why.empty() ? "" : " (" + why + ")"),
+                        "[" + format_number(lo) + ", " + format_number(hi) + "]");
 }
 
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model) {
     std::vector<std::filesystem::path> files{scene};
     for (const std::string& base : model.base_files) files.emplace_back(base);
     return files;
+}
+
+void check_animation_output(const std::string& animation, const std::string& scene, const Model& model) {
+    if (animation.empty()) return;
+    viewer::animation_format(animation);  // a bad name fails before the run
+    check_output_path(animation, scene_files(scene, model), "--animation");
 }
 
 }  // namespace mbd::cli

@@ -28,4 +28,8 @@ constexpr double kSmallestTolerance = 1e-14;
 // The scene file and every `base:` file it inherits from.
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model);
 
+// `--animation FILE` of simulate and statics, checked before the run: a name the viewer writes
+// (.glb or .html) that is none of the run's input files. Empty: no animation, nothing to check.
+void check_animation_output(const std::string& animation, const std::string& scene, const Model& model);
+
 }  // namespace mbd::cli

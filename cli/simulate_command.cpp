@@ -5,12 +5,14 @@
 #include "commands.hpp"
 #include "options.hpp"
 
+#include <mbd/app/json_output.hpp>
 #include <mbd/integrator.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/output_times.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
+#include <mbd/sdk/text.hpp>
 #include <mbd/simulation.hpp>
 #include <mbd/viewer/animation_export.hpp>
 
@@ -122,10 +124,7 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run at a step boundary
-        if (!args->animation.empty()) {
-            viewer::animation_format(args->animation);  // a bad name fails before the run
-            check_output_path(args->animation, scene_files(args->scene, model), "--animation");
-        }
+        check_animation_output(args->animation, args->scene, model);
 
         SimulationSettings settings;
         settings.formulation = args->formulation;
@@ -176,12 +175,10 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
                 tight.integration.step = 0.5 * settings.integration.step;
                 const double order = r.integrator == "euler" ? 1.0 : r.integrator == "rk4" ? 4.0 : 2.0;
                 factor = std::pow(2.0, order) / (std::pow(2.0, order) - 1.0);
-                against = "step " + std::to_string(tight.integration.step);
+                against = "step " + format_number(tight.integration.step);
             } else {
                 tight.integration.tolerance = 0.1 * settings.integration.tolerance;
-                char b[40];
-                std::snprintf(b, sizeof b, "tol %g", tight.integration.tolerance);
-                against = b;
+                against = "tol " + format_number(tight.integration.tolerance);
             }
             simulate(model, registry, tight, collect(tight_positions));
             double worst = 0.0;
@@ -195,17 +192,21 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         }
         if (!args->animation.empty())  // from the CSV just written: the viewer shows exactly the result
             viewer::export_animation(model, viewer::read_motion_csv(args->output), args->animation);
-        if (args->json) {
-            std::printf("{\"scene\": \"%s\", \"formulation\": \"%s\", \"integrator\": \"%s\", \"t_end\": %.9g, "
-                        "\"rows\": %ld, \"steps\": %ld, \"rejected_steps\": %ld, \"rhs_evaluations\": %ld, "
-                        "\"cpu_s\": %.6g, \"position_violation\": %.6g, \"velocity_violation\": %.6g",
-                        args->scene.c_str(), r.formulation.c_str(), r.integrator.c_str(), args->t_end, r.rows,
-                        r.stats.steps, r.stats.rejected_steps, r.stats.rhs_evaluations, r.cpu_seconds,
-                        r.final_position_violation, r.final_velocity_violation);
+        if (args->json) {  // keys in docs/user-guide.md; a non-finite value is null (json_output.hpp)
+            Json summary = {{"scene", args->scene},
+                            {"formulation", r.formulation},
+                            {"integrator", r.integrator},
+                            {"t_end", args->t_end},
+                            {"rows", r.rows},
+                            {"steps", r.stats.steps},
+                            {"rejected_steps", r.stats.rejected_steps},
+                            {"rhs_evaluations", r.stats.rhs_evaluations},
+                            {"cpu_s", r.cpu_seconds},
+                            {"position_violation", r.final_position_violation},
+                            {"velocity_violation", r.final_velocity_violation}};
             if (args->error_estimate)
-                std::printf(", \"error_estimate\": {\"position_error\": %.6g, \"cpu_s\": %.6g, \"against\": \"%s\"}",
-                            estimate, r.cpu_seconds, against.c_str());
-            std::printf("}\n");
+                summary["error_estimate"] = {{"position_error", estimate}, {"cpu_s", r.cpu_seconds}, {"against", against}};
+            std::cout << json_text(summary) << std::endl;
             return 0;
         }
         if (!args->quiet) {

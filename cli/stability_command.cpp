@@ -2,7 +2,7 @@
 // cases (issue 8). Runs every scene (default: scenes/extreme/*.yaml) with every formulation the
 // registry finds and the integrators dopri5, generalized_alpha and cvode, each run in a forked
 // child with the case's wall-time budget, and writes the case x formulation x integrator matrix
-// (core/src/stability.cpp). Exit status 1 when a declared pair misses its declared outcome or a
+// (app/src/stability.cpp). Exit status 1 when a declared pair misses its declared outcome or a
 // child crashed.
 #include "commands.hpp"
 #include "options.hpp"
@@ -11,7 +11,7 @@
 #include <mbd/output_file.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
-#include <mbd/stability.hpp>
+#include <mbd/app/stability.hpp>
 
 #include <algorithm>
 #include <cstdio>

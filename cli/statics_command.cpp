@@ -4,6 +4,8 @@
 #include "commands.hpp"
 #include "options.hpp"
 
+#include <mbd/app/equilibrium_scene.hpp>
+#include <mbd/app/json_output.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
@@ -14,7 +16,6 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 namespace mbd::cli {
 
@@ -34,82 +35,61 @@ struct StaticsArguments {
     std::string animation;  // --animation eq.glb | eq.html
 };
 
-std::string num(double x) {
-    if (!std::isfinite(x)) return "null";
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", x);
-    return b;
+Json load_json(const JointLoad& l, bool planar) {
+    if (planar) return {{"fx", l.force.x()}, {"fy", l.force.y()}, {"tz", l.torque.z()}};
+    return {{"fx", l.force.x()},  {"fy", l.force.y()},  {"fz", l.force.z()},
+            {"tx", l.torque.x()}, {"ty", l.torque.y()}, {"tz", l.torque.z()}};
 }
 
-std::string str(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        if (c == '\n') { out += "\\n"; continue; }
-        out += c;
-    }
-    return out + "\"";
-}
-
-std::string load_json(const JointLoad& l, bool planar) {
-    std::ostringstream o;
-    if (planar)
-        o << "{\"fx\": " << num(l.force.x()) << ", \"fy\": " << num(l.force.y()) << ", \"tz\": " << num(l.torque.z()) << "}";
-    else
-        o << "{\"fx\": " << num(l.force.x()) << ", \"fy\": " << num(l.force.y()) << ", \"fz\": " << num(l.force.z())
-          << ", \"tx\": " << num(l.torque.x()) << ", \"ty\": " << num(l.torque.y()) << ", \"tz\": " << num(l.torque.z())
-          << "}";
-    return o.str();
-}
-
-std::string to_json(const Model& model, const StaticsReport& rep, const std::vector<JointLimit>& limits) {
+// The --json report: one object (docs/statics.md); NaN (a driver without a multiplier, a
+// joint without a coordinate) and infinite limits become null (json_output.hpp).
+Json to_json(const Model& model, const StaticsReport& rep, const std::vector<JointLimit>& limits) {
     const StaticsResult& r = rep.result;
     const bool planar = model.dimension == Dimension::Planar;
-    std::ostringstream o;
-    o << "{\"converged\": " << (r.converged ? "true" : "false") << ", \"status\": " << str(r.status)
-      << ", \"iterations\": " << r.iterations << ", \"residual\": " << num(r.residual)
-      << ", \"objective\": " << str(r.objective) << ", \"stability\": " << str(r.stability);
-    if (!r.message.empty()) o << ", \"message\": " << str(r.message);
-    o << ", \"tangent_eigenvalues\": [";
-    for (Eigen::Index i = 0; i < r.tangent_eigenvalues.size(); ++i) o << (i ? ", " : "") << num(r.tangent_eigenvalues[i]);
-    o << "], \"bodies\": {";
+    Json o;
+    o["converged"] = r.converged;
+    o["status"] = r.status;
+    o["iterations"] = r.iterations;
+    o["residual"] = r.residual;
+    o["objective"] = r.objective;
+    o["stability"] = r.stability;
+    if (!r.message.empty()) o["message"] = r.message;
+    o["tangent_eigenvalues"] = json_array(r.tangent_eigenvalues);
+    Json bodies = Json::object();
     for (int b = 0; b < model.body_count(); ++b) {
-        o << (b ? ", " : "") << str(model.bodies[b].name) << ": ";
+        Json& body = bodies[model.bodies[b].name];
         if (planar) {
-            o << "{\"x\": " << num(r.state.q[3 * b]) << ", \"y\": " << num(r.state.q[3 * b + 1])
-              << ", \"angle\": " << num(r.state.q[3 * b + 2]) << "}";
+            body = {{"x", r.state.q[3 * b]}, {"y", r.state.q[3 * b + 1]}, {"angle", r.state.q[3 * b + 2]}};
         } else {
             const char* keys[] = {"x", "y", "z", "e0", "e1", "e2", "e3"};
-            o << "{";
-            for (int i = 0; i < 7; ++i) o << (i ? ", " : "") << "\"" << keys[i] << "\": " << num(r.state.q[7 * b + i]);
-            o << "}";
+            for (int i = 0; i < 7; ++i) body[keys[i]] = r.state.q[7 * b + i];
         }
     }
-    o << "}, \"reactions\": {";
-    for (size_t j = 0; j < rep.reactions.size(); ++j)
-        o << (j ? ", " : "") << str(rep.reactions[j].name) << ": " << load_json(rep.reactions[j], planar);
-    o << "}, \"coordinates\": {";
-    for (size_t j = 0; j < rep.coordinates.size(); ++j)
-        o << (j ? ", " : "") << str(model.joints[j].name) << ": " << num(rep.coordinates[j]);
-    o << "}, \"drivers\": {";
+    o["bodies"] = std::move(bodies);
+    Json reactions = Json::object();
+    for (const JointLoad& load : rep.reactions) reactions[load.name] = load_json(load, planar);
+    o["reactions"] = std::move(reactions);
+    Json coordinates = Json::object();
+    for (size_t j = 0; j < rep.coordinates.size(); ++j) coordinates[model.joints[j].name] = rep.coordinates[j];
+    o["coordinates"] = std::move(coordinates);
+    Json drivers = Json::object();
     const int joint_rows = r.lambda.size() - static_cast<int>(model.drivers.size());
     for (size_t d = 0; d < model.drivers.size(); ++d) {
-        o << (d ? ", " : "") << str(model.drivers[d].name) << ": {\"multiplier\": "
-          << num(r.lambda.size() ? r.lambda[joint_rows + d] : NAN) << ", \"effort\": "
-          << num(r.lambda.size() ? -r.lambda[joint_rows + d] : NAN);
-        if (d < rep.driver_efforts.size()) o << ", \"load\": " << load_json(rep.driver_efforts[d], planar);
-        o << "}";
+        const double multiplier = r.lambda.size() ? r.lambda[joint_rows + d] : NAN;
+        Json driver = {{"multiplier", multiplier}, {"effort", -multiplier}};
+        if (d < rep.driver_efforts.size()) driver["load"] = load_json(rep.driver_efforts[d], planar);
+        drivers[model.drivers[d].name] = std::move(driver);
     }
-    o << "}, \"limits\": {";
+    o["drivers"] = std::move(drivers);
+    Json limit_out = Json::object();
     for (size_t k = 0; k < limits.size(); ++k) {
         const bool active = k < r.limit_active.size() && r.limit_active[k];
         const double nu = static_cast<Eigen::Index>(k) < r.limit_multipliers.size() ? r.limit_multipliers[k] : 0.0;
-        o << (k ? ", " : "") << str(model.joints[limits[k].joint].name) << ": {\"lo\": " << num(limits[k].lo)
-          << ", \"hi\": " << num(limits[k].hi) << ", \"active\": " << (active ? "true" : "false")
-          << ", \"multiplier\": " << num(nu) << ", \"effort\": " << num(-nu) << "}";
+        limit_out[model.joints[limits[k].joint].name] = {
+            {"lo", limits[k].lo}, {"hi", limits[k].hi}, {"active", active}, {"multiplier", nu}, {"effort", -nu}};
     }
-    o << "}}";
-    return o.str();
+    o["limits"] = std::move(limit_out);
+    return o;
 }
 
 void print_report(const std::string& scene, const Model& model, const StaticsReport& rep,
@@ -195,10 +175,7 @@ void add_statics_command(CLI::App& app, Commands& commands) {
         Registry registry;
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
-        if (!args->animation.empty()) {
-            viewer::animation_format(args->animation);  // a bad name fails before the run
-            check_output_path(args->animation, scene_files(args->scene, model), "--animation");
-        }
+        check_animation_output(args->animation, args->scene, model);
         StaticsOptions options;
         options.time = args->time;
         options.objective = args->objective;
@@ -209,7 +186,7 @@ void add_statics_command(CLI::App& app, Commands& commands) {
         options.limits = scene_joint_limits(model);
         const StaticsReport rep = run_statics(model, registry, options, args->solver);
         if (args->json)
-            std::cout << to_json(model, rep, options.limits) << std::endl;
+            std::cout << json_text(to_json(model, rep, options.limits)) << std::endl;
         else
             print_report(args->scene, model, rep, options.limits);
         if (!rep.result.converged) {

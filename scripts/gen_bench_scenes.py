@@ -9,6 +9,15 @@ import os
 HERE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "bench")
 
 
+def bench_block(t_end, output_step, measure_line, reference_lines, runs, peers):
+    """The scene's `bench:` key (docs/scene-format.md, Benchmarks): one line per run series and peer."""
+    lines = ["bench:", f"  t_end: {t_end}", f"  output_step: {output_step}", measure_line] + reference_lines
+    lines += ["  runs:"] + [f"    - {r}" for r in runs]
+    if peers:
+        lines += ["  peers:"] + [f"    {p}" for p in peers]
+    return lines
+
+
 def four_bar(n, t_end, runs, peers=""):
     name = f"a02-four-bar-{n}"
     lines = [
@@ -40,17 +49,11 @@ def four_bar(n, t_end, runs, peers=""):
     for k in range(n):
         lines.append(f"  - {{name: B{k}L, type: revolute, bodies: [crank{k}, coupler{k}], point: [{k}.0, 1.0]}}")
         lines.append(f"  - {{name: B{k}R, type: revolute, bodies: [coupler{k}, crank{k + 1}], point: [{k + 1}.0, 1.0]}}")
-    lines += [
-        "bench:",
-        f"  t_end: {t_end}",
-        "  output_step: 0.05",
-        "  measure: {body: crank0, point: [0.5, 0.0], quantity: position, norm: max}",
-        f"  reference: {{kind: closed_form, name: parallelogram_four_bar, cranks: {n + 1}, couplers: {n}, length: 1.0,",
-        "              mass: 1.0, g: 9.81, theta0: 1.5707963267948966, omega0: -1.0}",
-        "  runs:",
-    ] + [f"    - {r}" for r in runs]
-    if peers:
-        lines += ["  peers:"] + [f"    {p}" for p in peers]
+    lines += bench_block(t_end, 0.05, "  measure: {body: crank0, point: [0.5, 0.0], quantity: position, norm: max}",
+                         [f"  reference: {{kind: closed_form, name: parallelogram_four_bar, cranks: {n + 1}, couplers: {n}, "
+                          "length: 1.0,",
+                          "              mass: 1.0, g: 9.81, theta0: 1.5707963267948966, omega0: -1.0}"],
+                         runs, peers)
     return name, "\n".join(lines) + "\n"
 
 
@@ -88,16 +91,10 @@ def chain(n, t_end, runs, peers=None, output_step=None):
     for k in range(n):
         a = "ground" if k == 0 else f"l{k - 1}"
         lines.append(f"  - {{name: j{k}, type: revolute, bodies: [{a}, l{k}], point: [{L * k:.17g}, 0.0]}}")
-    lines += [
-        "bench:",
-        f"  t_end: {t_end}",
-        f"  output_step: {output_step or t_end / 20}",
-        measure(n),
-        "  reference: {kind: tight_run, formulation: embedding, integrator: dopri5, tolerance: 1.0e-12, cross_check: augmented}",
-        "  runs:",
-    ] + [f"    - {r}" for r in runs]
-    if peers:
-        lines += ["  peers:"] + [f"    {p}" for p in peers]
+    lines += bench_block(t_end, output_step or t_end / 20, measure(n),
+                         ["  reference: {kind: tight_run, formulation: embedding, integrator: dopri5, tolerance: 1.0e-12, "
+                          "cross_check: augmented}"],
+                         runs, peers)
     return name, "\n".join(lines) + "\n"
 
 

@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libboost-dev libboost-filesystem-dev
-  libyaml-cpp-dev libsuitesparse-dev libcli11-dev
+  libyaml-cpp-dev libsuitesparse-dev libcli11-dev nlohmann-json3-dev
   coinor-libipopt-dev libsundials-dev
   libgtest-dev
   python3 python3-numpy

@@ -1,12 +1,12 @@
 // Issue 8, extreme cases: every scene of scenes/extreme ends in one of its declared outcomes
 // (the scene's `expect:` key) with its declared formulation/integrator pair, at the case's
-// shorter quick_t_end; plus the `expect:` reader and the forked runner (core/src/stability.cpp).
+// shorter quick_t_end; plus the `expect:` reader and the forked runner (app/src/stability.cpp).
 // No wall-clock assertion: speed belongs to the benchmarks. Each case's own `budget:` (times 5
 // here) only stops a runaway run, which then ends as the named outcome budget_exceeded (a
 // failure here).
 #include <mbd/scene.hpp>
 #include <mbd/sdk/params.hpp>
-#include <mbd/stability.hpp>
+#include <mbd/app/stability.hpp>
 
 #include <gtest/gtest.h>
 

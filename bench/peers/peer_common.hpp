@@ -1,4 +1,4 @@
-// Command line and output of the peer programs (protocol of core/src/bench.cpp):
+// Command line and output of the peer programs (protocol of app/src/bench.cpp):
 //   mbd_peer_<engine> MODEL[:INTEGRATOR] T_END OUTPUT_STEP tol|step VALUE
 // prints "cpu_s steps" and then one line "t x1 y1 z1 [x2 y2 z2 ...]" per output time
 // (output_step, 2 output_step, ..., t_end) with the measured points of the model (the

@@ -1,6 +1,7 @@
 #include <mbd/constraint_system.hpp>
 
 #include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -9,16 +10,10 @@ namespace mbd {
 
 namespace {
 
-std::string number(double x) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.6g", x);
-    return text;
-}
-
 // The first non-finite entry of a joint's output, described ("C of row 'x' = nan").
 std::string first_non_finite(const Joint& joint, const ConstraintEval& e) {
     auto describe = [&](const char* what, int row, double value) {
-        return std::string(what) + " of row '" + joint.row_name(row) + "' = " + number(value);
+        return std::string(what) + " of row '" + joint.row_name(row) + "' = " + format_number(value);
     };
     for (int r = 0; r < e.C.size(); ++r) {
         if (!std::isfinite(e.C[r])) return describe("C", r, e.C[r]);
@@ -99,7 +94,7 @@ void ConstraintSystem::evaluate(const State& state, ConstraintValues& out) const
         if (!(e.C.allFinite() && e.C_t.allFinite() && e.gamma.allFinite() && e.J.allFinite()) && state.q.allFinite() &&
             state.v.allFinite())
             throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type + (ji.where.empty() ? "" : ", " + ji.where) +
-                                             ") gave a non-finite value at t = " + number(state.t) + " (" +
+                                             ") gave a non-finite value at t = " + format_time(state.t) + " (" +
                                              first_non_finite(*ji.joint, e) +
                                              ") although the body positions and velocities are finite: its equations "
                                              "are undefined in this configuration; check the joint's parameters, or "
@@ -123,9 +118,9 @@ void ConstraintSystem::evaluate(const State& state, ConstraintValues& out) const
             const TimeValue f = dr.motion->evaluate(state.t);
             if (!(std::isfinite(f.f) && std::isfinite(f.df) && std::isfinite(f.ddf)))
                 throw DynamicsError(state.t, "driver '" + dr.name + "'" + (dr.where.empty() ? "" : " (" + dr.where + ")") +
-                                                 ": its motion is not finite at t = " + number(state.t) + " (f = " +
-                                                 number(f.f) + ", df/dt = " + number(f.df) + ", d2f/dt2 = " +
-                                                 number(f.ddf) +
+                                                 ": its motion is not finite at t = " + format_time(state.t) + " (f = " +
+                                                 format_number(f.f) + ", df/dt = " + format_number(f.df) + ", d2f/dt2 = " +
+                                                 format_number(f.ddf) +
                                                  "): the time function overflows; check its parameters or shorten "
                                                  "the run");
             // book Sec. 3.6 driving constraints: C = s(q) - f(t), C_t = -fdot, gamma = gamma_s + fddot

@@ -1,5 +1,6 @@
 // Motion output in the CSV contract (see csv.hpp).
 #include <mbd/csv.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -80,7 +81,7 @@ void CsvWriter::row(const std::vector<double>& values) {
                                     std::to_string(columns_) + " columns");
     for (size_t k = 0; k < values.size(); ++k)
         if (!std::isfinite(values[k]))
-            throw std::runtime_error("refusing to write a non-finite value (" + std::to_string(values[k]) +
+            throw std::runtime_error("refusing to write a non-finite value (" + format_number(values[k]) +
                                      ") in column " + std::to_string(k + 1) + " of '" + file_.path().string() + "'");
     line_.clear();
     char buffer[40];

@@ -18,6 +18,7 @@
 
 #include <mbd/interrupt.hpp>
 #include <mbd/output_times.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -27,18 +28,6 @@
 namespace mbd {
 
 namespace {
-
-std::string format_number(double x) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.3g", x);
-    return buffer;
-}
-
-std::string format_time(double t) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.6g", t);
-    return buffer;
-}
 
 // C(q) = 0 at a fixed time, as seen by the Newton solver: x is q, dx is a
 // velocity-like increment.
@@ -86,11 +75,26 @@ void check_linear_residual(const ConstraintSystem& system, const Eigen::VectorXd
     const double scale = std::max(1.0, rhs.size() ? rhs.cwiseAbs().maxCoeff() : 0.0);
     if (row >= 0 && !(worst <= 1e-6 * scale)) {
         throw KinematicsError(std::string("the ") + what + " equations have no solution at t = " + format_time(t) +
-                              ": " + system.owner(row).describe() + " is violated by " + format_number(worst) +
+                              ": " + system.owner(row).describe() + " is violated by " + format_number(worst, 3) +
                               ". The constraint Jacobian is singular there (a dead-centre or lock-up position, "
                               "or drivers that contradict the joints); check the driver's motion and which joint "
                               "coordinate it drives");
     }
+}
+
+// The solution of J x = b nearest to x0, x0 + J^+ (b - J x0) (minimum-norm correction), for the
+// `what` analysis at time t (`quantities` names x in the error): refused when J cannot be
+// factored, when a residual stays (check_linear_residual) or when x is not finite.
+Eigen::VectorXd nearest_solution(const ConstraintSystem& system, const Eigen::SparseMatrix<double>& J,
+                                 const Eigen::VectorXd& b, Eigen::VectorXd x0, double t, LinearAlgebra algebra,
+                                 const char* what, const char* quantities) {
+    const std::string failed = std::string(what) + " analysis failed at t = " + format_time(t);
+    MinNormSolver solver(algebra);
+    if (!solver.factor(J)) throw KinematicsError(failed + ": the constraint Jacobian could not be factored");
+    x0 += solver.solve(b - J * x0);
+    check_linear_residual(system, J * x0 - b, b, t, what);
+    if (!x0.allFinite()) throw KinematicsError(failed + ": non-finite " + quantities);
+    return x0;
 }
 
 }  // namespace
@@ -108,10 +112,10 @@ AssemblyReport assemble_positions(const ConstraintSystem& system, State& state, 
                 << " Newton iteration" << (result.iterations == 1 ? "" : "s") << ": ";
         if (result.worst_row >= 0)
             message << system.owner(result.worst_row).describe() << " is violated by "
-                    << format_number(result.residual) << " (tolerance " << format_number(options.newton.tolerance)
+                    << format_number(result.residual, 3) << " (tolerance " << format_number(options.newton.tolerance, 3)
                     << ")";
         else
-            message << "the residual is " << format_number(result.residual);
+            message << "the residual is " << format_number(result.residual, 3);
         message << ". Check the initial positions near this joint, or the driver's motion (a mechanism that cannot "
                    "reach the prescribed position, or passes a dead centre, has no solution)";
         throw KinematicsError(message.str());
@@ -124,35 +128,17 @@ void solve_velocities(const ConstraintSystem& system, State& state, LinearAlgebr
     if (system.rows() == 0) return;
     ConstraintValues values;
     system.evaluate(state, values);
-    MinNormSolver solver(algebra);
-    if (!solver.factor(values.J))
-        throw KinematicsError("velocity analysis failed at t = " + format_time(state.t) +
-                              ": the constraint Jacobian could not be factored");
-    // book Eq. 3.120: J v = -C_t; correct the given v by the minimum-norm change
-    const Eigen::VectorXd mismatch = values.J * state.v + values.C_t;
-    state.v -= solver.solve(mismatch);
-    const Eigen::VectorXd residual = values.J * state.v + values.C_t;
-    check_linear_residual(system, residual, values.C_t, state.t, "velocity");
-    if (!state.v.allFinite())
-        throw KinematicsError("velocity analysis failed at t = " + format_time(state.t) + ": non-finite velocities");
+    // book Eq. 3.120: J v = -C_t; the given v corrected by the minimum-norm change
+    state.v = nearest_solution(system, values.J, -values.C_t, state.v, state.t, algebra, "velocity", "velocities");
 }
 
 Eigen::VectorXd solve_accelerations(const ConstraintSystem& system, const State& state, LinearAlgebra algebra) {
     if (system.rows() == 0) return Eigen::VectorXd::Zero(system.cols());
     ConstraintValues values;
     system.evaluate(state, values);
-    MinNormSolver solver(algebra);
-    if (!solver.factor(values.J))
-        throw KinematicsError("acceleration analysis failed at t = " + format_time(state.t) +
-                              ": the constraint Jacobian could not be factored");
-    // book Eq. 3.124: J a = gamma
-    Eigen::VectorXd a = solver.solve(values.gamma);
-    const Eigen::VectorXd residual = values.J * a - values.gamma;
-    check_linear_residual(system, residual, values.gamma, state.t, "acceleration");
-    if (!a.allFinite())
-        throw KinematicsError("acceleration analysis failed at t = " + format_time(state.t) +
-                              ": non-finite accelerations");
-    return a;
+    // book Eq. 3.124: J a = gamma, the minimum-norm solution
+    return nearest_solution(system, values.J, values.gamma, Eigen::VectorXd::Zero(system.cols()), state.t, algebra,
+                            "acceleration", "accelerations");
 }
 
 void run_kinematics(const Model& model, double t_end, double step, const KinematicsSample& sample,

@@ -2,6 +2,7 @@
 #include <mbd/output_times.hpp>
 
 #include <mbd/sdk/params.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -9,25 +10,18 @@
 
 namespace mbd {
 
-namespace {
-std::string number(double x) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.6g", x);
-    return text;
-}
-}  // namespace
 
 long output_intervals(double t_end, double h, const std::string& step_name, const std::string& end_name) {
     if (!(std::isfinite(t_end) && t_end >= 0.0))
-        throw InputError(end_name, "must be a finite number >= 0, got " + number(t_end));
+        throw InputError(end_name, "must be a finite number >= 0, got " + format_number(t_end));
     if (!(std::isfinite(h) && h > 0.0))
-        throw InputError(step_name, "must be a positive finite number, got " + number(h));
+        throw InputError(step_name, "must be a positive finite number, got " + format_number(h));
     const double ratio = t_end / h;
     if (!(ratio < static_cast<double>(kMaxOutputRows)))
-        throw InputError(step_name, number(h) + " up to t = " + number(t_end) + " gives " + number(ratio + 1.0) +
+        throw InputError(step_name, format_number(h) + " up to t = " + format_time(t_end) + " gives " + format_number(ratio + 1.0) +
                                         " rows; at most " + std::to_string(kMaxOutputRows) +
                                         " are written: use a larger step (e.g. " +
-                                        number(t_end / 1000.0) + " for 1000 rows)");
+                                        format_number(t_end / 1000.0) + " for 1000 rows)");
     return std::max(0L, static_cast<long>(std::ceil(ratio - 1e-9 * std::max(1.0, ratio))));
 }
 

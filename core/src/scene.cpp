@@ -8,6 +8,7 @@
 #include <mbd/scene.hpp>
 #include <mbd/sdk/suggest.hpp>
 #include <mbd/visual.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include "scene_source.hpp"
 
@@ -79,12 +80,8 @@ void check_principal_moments(const Vec3& moments, const Param& where, const std:
                              const std::string& which) {
     constexpr double tolerance = 1e-9;
     const double scale = moments.cwiseAbs().sum();
-    auto text = [](double x) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%.6g", x);
-        return std::string(b);
-    };
-    const std::string listed = text(moments[0]) + ", " + text(moments[1]) + ", " + text(moments[2]);
+    const std::string listed =
+        format_number(moments[0]) + ", " + format_number(moments[1]) + ", " + format_number(moments[2]);
     if (!(moments.minCoeff() >= -tolerance * scale))
         where.fail(what + ": 'inertia' is not positive semi-definite: " + which + " are " + listed +
                    "; a mass distribution has no negative moment");
@@ -92,7 +89,7 @@ void check_principal_moments(const Vec3& moments, const Param& where, const std:
         const double a = moments[(c + 1) % 3], b = moments[(c + 2) % 3];
         if (moments[c] > a + b + tolerance * scale)
             where.fail(what + ": 'inertia' is not a rigid body's: " + which + " are " + listed + ", and " +
-                       text(moments[c]) + " exceeds the sum of the other two (" + text(a) + " + " + text(b) +
+                       format_number(moments[c]) + " exceeds the sum of the other two (" + format_number(a) + " + " + format_number(b) +
                        "); each principal moment must be at most the sum of the other two (equal for a flat "
                        "body), so check the values and that they are about the mass centre");
     }
@@ -337,11 +334,12 @@ void Loader::build() {
 
     check_keys(root_, "scene",
                {"name", "dimension", "gravity", "bodies", "joints", "forces", "drivers", "formulation", "actuators",
-                "bench", "expect"});  // bench: read by `mbd bench` (core/src/bench.cpp), ignored here;
-                                      // expect: stored raw for `mbd stability` (core/src/stability.cpp)
+                "bench", "expect"});  // bench: read by `mbd bench` (app/src/bench.cpp) from Model::document;
+                                      // expect: stored raw for `mbd stability` (app/src/stability.cpp)
 
     model_.source = file_;
     model_.base_files = base_files_;
+    model_.document = std::make_shared<const Param>(root_);
     if (const Param* name = find(root_, "name")) {
         if (!name->is_scalar()) name->fail("scene: 'name' must be a single line of text");
         model_.name = name->text;
@@ -556,7 +554,7 @@ Loader::WorldFrame Loader::joint_frame(const Param& node, const std::string& wha
         Vec3 x = a2.normalized();
         if (std::abs(z.dot(x)) > 1e-6)
             axes->fail(what + ": the two 'axes' must be perpendicular (their unit vectors' dot product is " +
-                       std::to_string(z.dot(x)) + ")");
+                       format_number(z.dot(x)) + ")");
         x = (x - x.dot(z) * z).normalized();
         frame.axes.col(0) = x;
         frame.axes.col(1) = z.cross(x);

@@ -7,6 +7,7 @@
 #include <mbd/output_times.hpp>
 #include <mbd/progress_bar.hpp>
 #include <mbd/sdk/reactions.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include "energy_growth.hpp"
 
@@ -23,12 +24,6 @@
 namespace mbd {
 
 namespace {
-
-std::string format_number(double x) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.9g", x);
-    return buffer;
-}
 
 const char* stabilization_name(Stabilization s) {
     switch (s) {
@@ -146,12 +141,12 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
 
     // --- integrator (checked before any work)
     if (!(settings.t_end > 0.0) || !std::isfinite(settings.t_end))
-        throw InputError("", "the end time must be positive, got " + format_number(settings.t_end));
+        throw InputError("", "the end time must be positive, got " + format_time(settings.t_end));
     const double tolerance = settings.integration.tolerance, step = settings.integration.step;
     if (!(std::isfinite(tolerance) && tolerance > 0.0))
-        throw InputError("", "the integration tolerance must be a positive finite number, got " + format_number(tolerance));
+        throw InputError("", "the integration tolerance must be a positive finite number, got " + format_number(tolerance, 9));
     if (!(std::isfinite(step) && step >= 0.0))
-        throw InputError("", "the integration step must be a finite number >= 0 (0: none), got " + format_number(step));
+        throw InputError("", "the integration step must be a finite number >= 0 (0: none), got " + format_number(step, 9));
     std::unique_ptr<Integrator> integrator = make_integrator(settings.integrator, settings.integration);
     result.integrator = integrator->name();
 
@@ -202,8 +197,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     Eigen::VectorXd lambda;
     SimulationSample sample;
     ProgressBar progress(settings.progress);
-    char end_text[32];
-    std::snprintf(end_text, sizeof end_text, "%.6g", settings.t_end);
+    const std::string end_text = " / " + format_time(settings.t_end) + " s";
     // a conservative scene: no energy may enter (energy_growth.hpp)
     EnergyGrowthWatch energy(model.drivers.empty() && system.conservative());
     const std::string energy_advice =
@@ -269,9 +263,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         if (writer) writer->row(row);
         ++result.rows;
         result.final_state = sample.state;
-        char detail[64];
-        std::snprintf(detail, sizeof detail, "t = %.6g / %s s", t, end_text);
-        progress.update(t / settings.t_end, detail);
+        progress.update(t / settings.t_end, "t = " + format_time(t) + end_text);
         stop_if_interrupted(t);  // the row is complete: a stop signal ends the run here
         return callback ? callback(sample) : true;
     };

@@ -5,15 +5,12 @@
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/reactions.hpp>
 
-#include <yaml-cpp/yaml.h>
-
-#include "scene_source.hpp"
-
 #include <Eigen/Geometry>
 
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace mbd {
@@ -34,6 +31,15 @@ std::vector<ActuatorInfo> scene_actuators(const Model& model) {
 }
 
 namespace {
+
+// Is the joint's coordinate an angle? Its one relative freedom (relative_motion(), the
+// joint's own description of itself) is a rotation or a screw motion.
+bool coordinate_is_angle(const Joint& joint) {
+    const std::optional<RelativeMotion> motion = joint.relative_motion();
+    if (!motion || motion->freedoms.size() != 1) return false;
+    const RelativeMotion::Kind kind = motion->freedoms[0].kind;
+    return kind == RelativeMotion::Kind::Revolute || kind == RelativeMotion::Kind::Helical;
+}
 
 JointLoad load_of(const JointReaction& r) {
     JointLoad out;
@@ -123,117 +129,16 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
         }
         const CoordinateEval ce = coordinate_at(r.state, j);
         double s = ce.value;
-        // an angle (revolute; periodic coordinates) is reported nearest to its value at
-        // the start, s_start + wrap(s - s_start), as the body angles; a limited one as the
-        // limit row saw it
-        if ((ce.periodic || info.type == "revolute") && !limited[j]) {
+        // an angle (a periodic coordinate, or the joint's one freedom is a rotation) is
+        // reported nearest to its value at the start, s_start + wrap(s - s_start), as the
+        // body angles; a limited one as the limit row saw it
+        if ((ce.periodic || coordinate_is_angle(*info.joint)) && !limited[j]) {
             const double s0 = coordinate_at(start, j).value;
             s = s0 + std::remainder(s - s0, 2 * M_PI);
         }
         report.coordinates.push_back(s);
     }
     return report;
-}
-
-std::string equilibrium_scene(const Model& model, const State& state) {
-    YAML::Node root;
-    try {
-        root = YAML::Load(detail::read_scene_file(model.source));  // within the scene limits
-    } catch (const std::exception& e) {
-        throw std::runtime_error("cannot re-read the scene " + model.source + " to write the equilibrium: " + e.what());
-    }
-    YAML::Node bodies = root["bodies"];
-    const bool planar = model.dimension == Dimension::Planar;
-    for (std::size_t k = 0; k < bodies.size() && static_cast<int>(k) < model.body_count(); ++k) {
-        YAML::Node b = bodies[k];
-        if (planar) {
-            const int o = 3 * static_cast<int>(k);
-            YAML::Node pos;
-            pos.push_back(state.q[o]);
-            pos.push_back(state.q[o + 1]);
-            pos.SetStyle(YAML::EmitterStyle::Flow);
-            b["position"] = pos;
-            b["angle"] = state.q[o + 2];
-        } else {
-            const int o = 7 * static_cast<int>(k);
-            YAML::Node pos, ep, orientation;
-            for (int i = 0; i < 3; ++i) pos.push_back(state.q[o + i]);
-            for (int i = 0; i < 4; ++i) ep.push_back(state.q[o + 3 + i]);
-            pos.SetStyle(YAML::EmitterStyle::Flow);
-            ep.SetStyle(YAML::EmitterStyle::Flow);
-            orientation["euler_parameters"] = ep;
-            orientation.SetStyle(YAML::EmitterStyle::Flow);
-            b["position"] = pos;
-            b["orientation"] = orientation;
-        }
-        b.remove("velocity");
-        b.remove("angular_velocity");
-    }
-    // Joint (and world-frame force) points and axes describe the scene's initial
-    // configuration: move them with the bodies, from the markers of the first
-    // non-ground body, so that the markers stay where they are on the bodies.
-    auto pose = [&](int b, Mat3& A, Vec3& R) {
-        if (planar) {
-            R = Vec3(state.q[3 * b], state.q[3 * b + 1], 0.0);
-            A = Mat3::Identity();
-            A.topLeftCorner<2, 2>() = planar_rotation(state.q[3 * b + 2]);
-        } else {
-            R = state.q.segment<3>(7 * b);
-            A = rotation_from_euler_parameters(Vec4(state.q.segment<4>(7 * b + 3)).normalized());
-        }
-    };
-    auto list = [&](const Vec3& v) {
-        YAML::Node n;
-        for (int i = 0; i < (planar ? 2 : 3); ++i) n.push_back(v[i]);
-        n.SetStyle(YAML::EmitterStyle::Flow);
-        return n;
-    };
-    auto move_frame = [&](YAML::Node node, const std::vector<int>& element_bodies, const std::vector<Marker>& markers,
-                          bool always_point) {
-        for (size_t k = 0; k < element_bodies.size() && k < markers.size(); ++k) {
-            const int b = element_bodies[k];
-            if (b < 0) continue;
-            Mat3 A;
-            Vec3 R;
-            pose(b, A, R);
-            Vec3 u = markers[k].u_bar;
-            if (planar) u.z() = 0.0;
-            if (always_point || node["point"]) node["point"] = list(R + A * u);
-            const Mat3 W = planar ? Mat3(A * Eigen::AngleAxisd(markers[k].angle, Vec3::UnitZ()).toRotationMatrix())
-                                  : Mat3(A * markers[k].A_bar);
-            if (planar) {
-                if (node["axis"]) node["axis"] = list(W.col(0));
-            } else {
-                if (node["axis"]) node["axis"] = list(W.col(2));
-                if (node["x_axis"]) node["x_axis"] = list(W.col(0));
-                if (node["axes"]) {
-                    YAML::Node axes;
-                    axes.push_back(list(W.col(2)));
-                    axes.push_back(list(W.col(0)));
-                    axes.SetStyle(YAML::EmitterStyle::Flow);
-                    node["axes"] = axes;
-                }
-            }
-            return;
-        }
-    };
-    if (YAML::Node joints = root["joints"])
-        for (std::size_t k = 0; k < joints.size() && k < model.joints.size(); ++k)
-            move_frame(joints[k], model.joints[k].bodies, model.joints[k].markers, true);
-    if (YAML::Node forces = root["forces"]) {
-        const std::size_t offset = model.gravity.isZero(0.0) ? 0 : 1;  // the core's gravity element comes first
-        for (std::size_t k = 0; k < forces.size() && k + offset < model.forces.size(); ++k) {
-            YAML::Node f = forces[k];
-            const ForceInstance& fi = model.forces[k + offset];
-            if (fi.bodies.size() >= 2 && !f["points"] && (f["point"] || f["axis"]))
-                move_frame(f, fi.bodies, fi.markers, false);
-        }
-    }
-
-    YAML::Emitter out;
-    out.SetDoublePrecision(17);
-    out << root;
-    return "# static equilibrium of " + model.source + " (mbd statics)\n" + out.c_str() + '\n';
 }
 
 void run_inverse(const Model& model, Registry& registry, double t_end, double step, const InverseCallback& callback,

@@ -89,7 +89,12 @@ public:
     std::string formulation;
     std::shared_ptr<const Param> formulation_node;  // the `formulation:` node (name or map)
     std::string formulation_where;
-    // The scene's `expect:` node (extreme cases: declared outcome), raw; read by core/src/stability.cpp.
+    // The whole scene as read (every `base:` merged in, each node with its file:line): the
+    // application layer reads its own keys (`bench:`) from it and writes results in the
+    // scene's own terms (the equilibrium scene of `mbd statics --output`) without reading
+    // the file again.
+    std::shared_ptr<const Param> document;
+    // The scene's `expect:` node (extreme cases: declared outcome), raw; read by app/src/stability.cpp.
     std::shared_ptr<const Param> expect_node;
 
     int body_count() const { return static_cast<int>(bodies.size()); }

@@ -43,11 +43,6 @@ std::vector<ActuatorInfo> scene_actuators(const Model& model);
 StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions options,
                           const std::string& solver = "ipopt");
 
-// The text of the scene file `model.source` with every body's position/orientation
-// replaced by `state` and its velocities removed (rest); `mbd statics --output`
-// writes it through OutputFile (output_file.hpp).
-std::string equilibrium_scene(const Model& model, const State& state);
-
 // Reactions from multipliers of every constraint row (or of the joint rows only).
 std::vector<JointLoad> joint_loads(const System& system, const State& state, const Eigen::VectorXd& lambda);
 

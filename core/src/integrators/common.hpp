@@ -5,6 +5,7 @@
 #include <mbd/integrator.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/sdk/params.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <Eigen/Core>
 
@@ -22,14 +23,6 @@ std::unique_ptr<Integrator> make_rk4(const IntegratorSettings& settings);
 std::unique_ptr<Integrator> make_dopri5(const IntegratorSettings& settings);
 std::unique_ptr<Integrator> make_generalized_alpha(const IntegratorSettings& settings);
 std::unique_ptr<Integrator> make_cvode(const IntegratorSettings& settings);
-
-// A time for messages: "0.123456".
-inline std::string format_time(double t) {
-    std::ostringstream s;
-    s.precision(9);
-    s << t;
-    return s.str();
-}
 
 // Output times must not decrease and must not lie before t0.
 void check_output_times(const std::string& integrator, double t0, const std::vector<double>& output_times);

@@ -13,6 +13,7 @@
 
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/inverse.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
@@ -113,13 +114,6 @@ Eigen::MatrixXd null_space(const Eigen::MatrixXd& A, int n, int& rank) {
     return svd.matrixV().rightCols(n - rank);
 }
 
-std::string fmt(double x) {
-    std::ostringstream o;
-    o.precision(6);
-    o << x;
-    return o.str();
-}
-
 class IpoptInverse final : public InverseSolver {
 public:
     void bind(const System& system, const InverseOptions& options) override {
@@ -147,14 +141,14 @@ public:
             int rank = 0;
             null_space(Eigen::MatrixXd(all.J), nv, rank);
             if (rank < nv) {
-                throw DynamicsError(t, "the drivers do not prescribe the motion at t = " + fmt(t) + ": " +
+                throw DynamicsError(t, "the drivers do not prescribe the motion at t = " + format_time(t) + ": " +
                                            std::to_string(nv - rank) +
                                            " degree(s) of freedom are free; add drivers so that the motion is "
                                            "fully prescribed (kinematically driven)");
             }
             const Eigen::VectorXd ra = Eigen::MatrixXd(all.J) * acceleration - all.gamma;
             if (ra.size() && ra.cwiseAbs().maxCoeff() > 1e-6 * (1.0 + all.gamma.cwiseAbs().maxCoeff()))
-                throw DynamicsError(t, "the prescribed acceleration is inconsistent with the drivers at t = " + fmt(t));
+                throw DynamicsError(t, "the prescribed acceleration is inconsistent with the drivers at t = " + format_time(t));
         }
 
         Eigen::VectorXd Q;
@@ -190,9 +184,9 @@ public:
         const double scale = 1.0 + r.cwiseAbs().maxCoeff() + (B.cwiseAbs() * tau.cwiseAbs()).maxCoeff();
         const double consistency = G0.rows() ? (G0 * tau - h0).cwiseAbs().maxCoeff() : 0.0;
         if (consistency > 1e-8 * scale)
-            throw DynamicsError(t, "the actuators cannot produce the prescribed motion at t = " + fmt(t) + ": " +
+            throw DynamicsError(t, "the actuators cannot produce the prescribed motion at t = " + format_time(t) + ": " +
                                        std::to_string(G0.rows()) + " degree(s) of freedom but the actuators span " +
-                                       std::to_string(rank_g) + " (under-actuated; residual " + fmt(consistency) + ")");
+                                       std::to_string(rank_g) + " (under-actuated; residual " + format_number(consistency) + ")");
         const bool unique = rank_g == na;
         out.method = unique ? "exact" : "pseudo-inverse";
 
@@ -209,8 +203,8 @@ public:
         if (worst >= 0) {
             const auto& act = opt_.actuators[worst];
             if (unique)
-                throw DynamicsError(t, "actuator '" + act.name + "' needs an effort of " + fmt(tau[worst]) + " at t = " +
-                                           fmt(t) + ", outside its bounds [" + fmt(act.lo) + ", " + fmt(act.hi) +
+                throw DynamicsError(t, "actuator '" + act.name + "' needs an effort of " + format_number(tau[worst]) + " at t = " +
+                                           format_time(t) + ", outside its bounds [" + format_number(act.lo) + ", " + format_number(act.hi) +
                                            "] (the efforts are unique: fully actuated)");
             // reduce to independent rows, then the bounded QP
             Eigen::JacobiSVD<Eigen::MatrixXd> svd(G0, Eigen::ComputeThinU);
@@ -231,10 +225,10 @@ public:
             if (!succeeded(status) || !qp->done) {
                 std::string names;
                 for (int a = 0; a < na; ++a)
-                    names += (a ? ", " : "") + opt_.actuators[a].name + " [" + fmt(lo[a]) + ", " + fmt(hi[a]) + "]";
-                throw DynamicsError(t, "the actuator bounds cannot be met at t = " + fmt(t) + " (Ipopt: " +
+                    names += (a ? ", " : "") + opt_.actuators[a].name + " [" + format_number(lo[a]) + ", " + format_number(hi[a]) + "]";
+                throw DynamicsError(t, "the actuator bounds cannot be met at t = " + format_time(t) + " (Ipopt: " +
                                            status_name(status) + "); the minimum-effort solution needs '" +
-                                           act.name + "' = " + fmt(tau[worst]) + "; bounds: " + names);
+                                           act.name + "' = " + format_number(tau[worst]) + "; bounds: " + names);
             }
             tau = qp->tau;
             out.method = "qp";
@@ -249,12 +243,12 @@ public:
             out.lambda = cod.solve(rhs);
             const double res = (Jj.transpose() * out.lambda - rhs).cwiseAbs().maxCoeff();
             if (res > 1e-7 * scale)
-                throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " + fmt(t) +
-                                           " (residual " + fmt(res) + ")");
+                throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " + format_time(t) +
+                                           " (residual " + format_number(res) + ")");
         } else {
             out.lambda.resize(0);
             if (rhs.cwiseAbs().maxCoeff() > 1e-7 * scale)
-                throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " + fmt(t));
+                throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " + format_time(t));
         }
         return out;
     }

@@ -62,8 +62,9 @@ struct BenchSpec {
     std::vector<BenchPeerSeries> peers;
 };
 
-// Reads the scene's `bench:` key. Throws InputError (file:line) when it is missing or malformed.
-BenchSpec load_bench_spec(const std::string& scene_file);
+// Reads the `bench:` key of the scene the model was loaded from (Model::document). Throws
+// InputError (file:line) when it is missing or malformed.
+BenchSpec load_bench_spec(const Model& model);
 
 // Positions of the measured points at the output times: one row per time, 3 columns per point.
 struct Trajectory {

@@ -1,5 +1,7 @@
 // Work-precision benchmarks (see bench.hpp).
-#include <mbd/bench.hpp>
+#include <mbd/app/bench.hpp>
+#include <mbd/app/json_output.hpp>
+
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/progress_bar.hpp>
@@ -7,12 +9,10 @@
 #include <mbd/scene.hpp>
 #include <mbd/sdk/number.hpp>
 #include <mbd/sdk/rotation.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
-#include <yaml-cpp/yaml.h>
-
-#include "scene_source.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -29,45 +29,48 @@ namespace mbd {
 
 namespace {
 
-std::string num(double x) {
-    if (!std::isfinite(x)) return "nan";
-    char b[40];
-    std::snprintf(b, sizeof b, "%.6g", x);
-    return b;
+// Readers of the scene's `bench:` tree (Model::document), each refusal at file:line.
+const Param* field(const Param& node, const char* key) {
+    const auto it = node.fields.find(key);
+    return it == node.fields.end() ? nullptr : &it->second;
 }
 
-std::string where(const std::string& file, const YAML::Node& n) {
-    return file + ":" + std::to_string(n.Mark().line + 1);
+std::string word(const Param& node, const std::string& what) {
+    if (!node.is_scalar()) node.fail("bench: '" + what + "' must be a single word");
+    return node.text;
 }
 
-double as_double(const std::string& file, const YAML::Node& n, const std::string& what) {
-    if (!n.IsScalar()) throw InputError(where(file, n), "bench: '" + what + "' must be a number");
-    double value = 0.0;
-    const NumberText read = parse_number(n.Scalar(), value);
-    if (read != NumberText::Valid) throw InputError(where(file, n), "bench: " + number_problem(read, what, n.Scalar()));
-    return value;
+std::string word_or(const Param& node, const char* key, const std::string& fallback) {
+    const Param* p = field(node, key);
+    return p ? word(*p, key) : fallback;
 }
 
-std::vector<double> as_list(const std::string& file, const YAML::Node& n, const std::string& what) {
+std::vector<double> number_list(const Param* node, const std::string& what) {
     std::vector<double> out;
-    if (!n) return out;
-    if (!n.IsSequence()) throw InputError(where(file, n), "bench: '" + what + "' must be a list of numbers");
-    for (const auto& item : n) out.push_back(as_double(file, item, what));
+    if (!node) return out;
+    if (!node->is_list()) node->fail("bench: '" + what + "' must be a list of numbers");
+    for (const Param& item : node->items) out.push_back(item.as_number(what, "bench"));
     return out;
 }
 
-void check_keys(const std::string& file, const YAML::Node& n, const std::string& what,
-                const std::vector<std::string>& accepted) {
-    if (!n.IsMap()) throw InputError(where(file, n), "bench: '" + what + "' must be a map of keys");
-    for (const auto& kv : n) {
-        const std::string key = kv.first.as<std::string>();
-        if (std::find(accepted.begin(), accepted.end(), key) == accepted.end()) {
-            std::string list;
-            for (const auto& a : accepted) list += (list.empty() ? "'" : ", '") + a + "'";
-            throw InputError(where(file, kv.first),
-                             "bench: unknown key '" + key + "' in '" + what + "'; accepted keys are " + list);
-        }
+void check_keys(const Param& n, const std::string& what, const std::vector<std::string>& accepted) {
+    if (!n.is_map()) n.fail("bench: '" + what + "' must be a map of keys");
+    for (const auto& [key, value] : n.fields) {
+        if (std::find(accepted.begin(), accepted.end(), key) != accepted.end()) continue;
+        std::string list;
+        for (const auto& a : accepted) list += (list.empty() ? "'" : ", '") + a + "'";
+        value.fail("bench: unknown key '" + key + "' in '" + what + "'; accepted keys are " + list);
     }
+}
+
+// A series' grid: its tolerances (adaptive, those not below `tolerance_floor`), then its steps.
+std::vector<std::pair<bool, double>> grid_points(const std::vector<double>& tolerances, const std::vector<double>& steps,
+                                                 double tolerance_floor) {
+    std::vector<std::pair<bool, double>> grid;
+    for (double t : tolerances)
+        if (t >= tolerance_floor) grid.push_back({true, t});
+    for (double h : steps) grid.push_back({false, h});
+    return grid;
 }
 
 double median(std::vector<double> v) {
@@ -194,8 +197,8 @@ struct PeerRun {
 PeerRun run_peer(const std::string& exe, const std::string& model, double t_end, double output_step, bool tolerance,
                  double value, int points) {
     PeerRun r;
-    const std::string cmd = "'" + exe + "' " + model + " " + num(t_end) + " " + num(output_step) + " " +
-                            (tolerance ? "tol " : "step ") + num(value) + " 2>&1";
+    const std::string cmd = "'" + exe + "' " + model + " " + format_number(t_end) + " " + format_number(output_step) + " " +
+                            (tolerance ? "tol " : "step ") + format_number(value) + " 2>&1";
     FILE* pipe = ::popen(cmd.c_str(), "r");
     if (!pipe) {
         r.message = "could not start " + exe;
@@ -234,30 +237,6 @@ PeerRun run_peer(const std::string& exe, const std::string& model, double t_end,
     return r;
 }
 
-std::string json_escape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += c;
-        } else if (c == '\n') {
-            out += "\\n";
-        } else if (static_cast<unsigned char>(c) < 0x20) {
-            out += ' ';
-        } else {
-            out += c;
-        }
-    }
-    return out;
-}
-
-std::string json_number(double x) {
-    if (!std::isfinite(x)) return "null";
-    char b[40];
-    std::snprintf(b, sizeof b, "%.9g", x);
-    return b;
-}
-
 std::string csv_field(const std::string& s) {
     if (s.find_first_of(",\"\n") == std::string::npos) return s;
     std::string out = "\"";
@@ -271,98 +250,98 @@ std::string BenchMeasure::describe() const {
     std::string who;
     for (size_t i = 0; i < bodies.size(); ++i) {
         who += (i ? ", " : "") + bodies[i];
-        if (!points[i].isZero()) who += " point (" + num(points[i].x()) + ", " + num(points[i].y()) + ", " +
-                                        num(points[i].z()) + ")";
+        if (!points[i].isZero()) who += " point (" + format_number(points[i].x()) + ", " + format_number(points[i].y()) + ", " +
+                                        format_number(points[i].z()) + ")";
     }
     return (norm == "final" ? "final |r - r_ref| of " : "max |r - r_ref| over the output times of ") + who;
 }
 
-BenchSpec load_bench_spec(const std::string& file) {
-    // the file's own 'bench:' key (not inherited through 'base:'), read within the scene limits
-    const YAML::Node root = detail::SceneTreeReader().parse(detail::read_scene_file(file), file);
+BenchSpec load_bench_spec(const Model& model) {
+    // the scene's `bench:` key as the loader read it (inherited through `base:` like every key)
+    const Param* b = model.document ? field(*model.document, "bench") : nullptr;
+    if (!b) throw InputError(model.source, "the scene has no 'bench:' key (docs/scene-format.md, Benchmarks)");
     BenchSpec spec;
-    spec.scene = file;
-    spec.name = root["name"] ? root["name"].as<std::string>() : std::filesystem::path(file).stem().string();
-    const YAML::Node b = root["bench"];
-    if (!b) throw InputError(file, "the scene has no 'bench:' key (docs/scene-format.md, Benchmarks)");
-    check_keys(file, b, "bench", {"t_end", "output_step", "measure", "reference", "runs", "peers"});
-    if (!b["t_end"]) throw InputError(where(file, b), "bench: missing key 't_end'");
-    spec.t_end = as_double(file, b["t_end"], "t_end");
-    if (b["output_step"]) spec.output_step = as_double(file, b["output_step"], "output_step");
-    if (!(spec.t_end > 0)) throw InputError(where(file, b["t_end"]), "bench: 't_end' must be positive");
+    spec.scene = model.source;
+    spec.name = model.name;
+    check_keys(*b, "bench", {"t_end", "output_step", "measure", "reference", "runs", "peers"});
+    const Param* t_end = field(*b, "t_end");
+    if (!t_end) b->fail("bench: missing key 't_end'");
+    spec.t_end = t_end->as_number("t_end", "bench");
+    if (const Param* h = field(*b, "output_step")) spec.output_step = h->as_number("output_step", "bench");
+    if (!(spec.t_end > 0)) t_end->fail("bench: 't_end' must be positive");
 
-    const YAML::Node m = b["measure"];
-    if (!m) throw InputError(where(file, b), "bench: missing key 'measure' ({body: NAME, quantity: position, norm: max})");
-    check_keys(file, m, "measure", {"body", "bodies", "point", "points", "quantity", "norm"});
-    if (m["body"]) spec.measure.bodies.push_back(m["body"].as<std::string>());
-    if (m["bodies"])
-        for (const auto& x : m["bodies"]) spec.measure.bodies.push_back(x.as<std::string>());
-    if (spec.measure.bodies.empty()) throw InputError(where(file, m), "bench: 'measure' needs 'body' or 'bodies'");
+    const Param* m = field(*b, "measure");
+    if (!m) b->fail("bench: missing key 'measure' ({body: NAME, quantity: position, norm: max})");
+    check_keys(*m, "measure", {"body", "bodies", "point", "points", "quantity", "norm"});
+    if (const Param* body = field(*m, "body")) spec.measure.bodies.push_back(word(*body, "body"));
+    if (const Param* bodies = field(*m, "bodies")) {
+        if (!bodies->is_list()) bodies->fail("bench: 'bodies' must be a list of body names");
+        for (const Param& x : bodies->items) spec.measure.bodies.push_back(word(x, "bodies"));
+    }
+    if (spec.measure.bodies.empty()) m->fail("bench: 'measure' needs 'body' or 'bodies'");
     spec.measure.points.assign(spec.measure.bodies.size(), Eigen::Vector3d::Zero());
-    auto read_point = [&](const YAML::Node& n) {
-        const std::vector<double> v = as_list(file, n, "point");
-        if (v.size() < 2 || v.size() > 3) throw InputError(where(file, n), "bench: a point is [x, y] or [x, y, z]");
+    auto read_point = [](const Param& n) {
+        const std::vector<double> v = number_list(&n, "point");
+        if (v.size() < 2 || v.size() > 3) n.fail("bench: a point is [x, y] or [x, y, z]");
         return Eigen::Vector3d(v[0], v[1], v.size() == 3 ? v[2] : 0.0);
     };
-    if (m["point"]) spec.measure.points[0] = read_point(m["point"]);
-    if (m["points"]) {
-        if (m["points"].size() != spec.measure.bodies.size())
-            throw InputError(where(file, m["points"]), "bench: 'points' needs one point per measured body");
-        for (size_t i = 0; i < spec.measure.bodies.size(); ++i) spec.measure.points[i] = read_point(m["points"][i]);
+    if (const Param* point = field(*m, "point")) spec.measure.points[0] = read_point(*point);
+    if (const Param* points = field(*m, "points")) {
+        if (!points->is_list() || points->items.size() != spec.measure.bodies.size())
+            points->fail("bench: 'points' needs one point per measured body");
+        for (size_t i = 0; i < spec.measure.bodies.size(); ++i) spec.measure.points[i] = read_point(points->items[i]);
     }
-    if (m["quantity"]) spec.measure.quantity = m["quantity"].as<std::string>();
-    if (spec.measure.quantity != "position")
-        throw InputError(where(file, m["quantity"]), "bench: only 'quantity: position' is measured");
-    if (m["norm"]) spec.measure.norm = m["norm"].as<std::string>();
+    spec.measure.quantity = word_or(*m, "quantity", spec.measure.quantity);
+    if (spec.measure.quantity != "position") field(*m, "quantity")->fail("bench: only 'quantity: position' is measured");
+    spec.measure.norm = word_or(*m, "norm", spec.measure.norm);
     if (spec.measure.norm != "max" && spec.measure.norm != "final")
-        throw InputError(where(file, m["norm"]), "bench: 'norm' is max or final");
+        field(*m, "norm")->fail("bench: 'norm' is max or final");
 
-    const YAML::Node r = b["reference"];
-    if (!r) throw InputError(where(file, b), "bench: missing key 'reference' ({kind: closed_form|published|tight_run, ...})");
-    if (!r.IsMap()) throw InputError(where(file, r), "bench: 'reference' must be a map of keys");
-    spec.reference.kind = r["kind"] ? r["kind"].as<std::string>() : "";
-    for (const auto& kv : r) {
-        const std::string key = kv.first.as<std::string>();
+    const Param* r = field(*b, "reference");
+    if (!r) b->fail("bench: missing key 'reference' ({kind: closed_form|published|tight_run, ...})");
+    if (!r->is_map()) r->fail("bench: 'reference' must be a map of keys");
+    spec.reference.kind = word_or(*r, "kind", "");
+    for (const auto& [key, value] : r->fields) {
         if (key == "kind") continue;
-        if (key == "name") spec.reference.name = kv.second.as<std::string>();
-        else if (key == "formulation") spec.reference.formulation = kv.second.as<std::string>();
-        else if (key == "integrator") spec.reference.integrator = kv.second.as<std::string>();
-        else if (key == "cross_check") spec.reference.cross_check = kv.second.as<std::string>();
-        else if (key == "tolerance") spec.reference.tolerance = as_double(file, kv.second, key);
-        else spec.reference.params[key] = as_double(file, kv.second, key);
+        if (key == "name") spec.reference.name = word(value, key);
+        else if (key == "formulation") spec.reference.formulation = word(value, key);
+        else if (key == "integrator") spec.reference.integrator = word(value, key);
+        else if (key == "cross_check") spec.reference.cross_check = word(value, key);
+        else if (key == "tolerance") spec.reference.tolerance = value.as_number(key, "bench");
+        else spec.reference.params[key] = value.as_number(key, "bench");
     }
     if (spec.reference.kind != "closed_form" && spec.reference.kind != "published" && spec.reference.kind != "tight_run")
-        throw InputError(where(file, r), "bench: reference 'kind' is closed_form, published or tight_run");
+        r->fail("bench: reference 'kind' is closed_form, published or tight_run");
 
-    const YAML::Node runs = b["runs"];
-    if (!runs || !runs.IsSequence()) throw InputError(where(file, b), "bench: 'runs' must be a list of series");
-    for (const auto& s : runs) {
-        check_keys(file, s, "runs", {"formulation", "integrator", "tolerances", "steps"});
+    const Param* runs = field(*b, "runs");
+    if (!runs || !runs->is_list()) (runs ? runs : b)->fail("bench: 'runs' must be a list of series");
+    for (const Param& s : runs->items) {
+        check_keys(s, "runs", {"formulation", "integrator", "tolerances", "steps"});
         BenchSeries series;
-        series.formulation = s["formulation"] ? s["formulation"].as<std::string>() : "augmented";
-        series.integrator = s["integrator"] ? s["integrator"].as<std::string>() : "dopri5";
-        series.tolerances = as_list(file, s["tolerances"], "tolerances");
-        series.steps = as_list(file, s["steps"], "steps");
+        series.formulation = word_or(s, "formulation", "augmented");
+        series.integrator = word_or(s, "integrator", "dopri5");
+        series.tolerances = number_list(field(s, "tolerances"), "tolerances");
+        series.steps = number_list(field(s, "steps"), "steps");
         spec.runs.push_back(series);
     }
-    if (const YAML::Node p = b["peers"]) {
-        check_keys(file, p, "peers", {"model", "simbody", "mujoco"});
-        if (p["model"]) spec.peer_model = p["model"].as<std::string>();
+    if (const Param* p = field(*b, "peers")) {
+        check_keys(*p, "peers", {"model", "simbody", "mujoco"});
+        spec.peer_model = word_or(*p, "model", "");
         for (const char* engine : {"simbody", "mujoco"}) {
-            if (!p[engine]) continue;
-            const YAML::Node e = p[engine];
-            std::vector<YAML::Node> list;
-            if (e.IsSequence())
-                for (const auto& x : e) list.push_back(x);
+            const Param* e = field(*p, engine);
+            if (!e) continue;
+            std::vector<const Param*> list;
+            if (e->is_list())
+                for (const Param& x : e->items) list.push_back(&x);
             else
                 list.push_back(e);
-            for (const auto& s : list) {
-                check_keys(file, s, std::string("peers.") + engine, {"integrator", "tolerances", "steps"});
+            for (const Param* s : list) {
+                check_keys(*s, std::string("peers.") + engine, {"integrator", "tolerances", "steps"});
                 BenchPeerSeries ps;
                 ps.engine = engine;
-                ps.integrator = s["integrator"] ? s["integrator"].as<std::string>() : "default";
-                ps.tolerances = as_list(file, s["tolerances"], "tolerances");
-                ps.steps = as_list(file, s["steps"], "steps");
+                ps.integrator = word_or(*s, "integrator", "default");
+                ps.tolerances = number_list(field(*s, "tolerances"), "tolerances");
+                ps.steps = number_list(field(*s, "steps"), "steps");
                 spec.peers.push_back(ps);
             }
         }
@@ -433,7 +412,7 @@ double bench_error(const Trajectory& run, const Trajectory& reference, const Ben
         const double tol = 1e-9 * std::max(1.0, std::abs(t));
         while (j < run.times.size() && run.times[j] < t - tol) ++j;
         if (j >= run.times.size() || std::abs(run.times[j] - t) > tol)
-            throw std::invalid_argument("bench_error: the run has no sample at t = " + num(t));
+            throw std::invalid_argument("bench_error: the run has no sample at t = " + format_number(t));
         double e = 0.0;
         for (int p = 0; p < points; ++p)
             e = std::max(e, (run.points.block<1, 3>(j, 3 * p) - reference.points.block<1, 3>(k, 3 * p)).norm());
@@ -480,7 +459,7 @@ BenchReferenceData make_bench_reference(const Model& model, Registry& registry, 
         SimulationResult r;
         ref.trajectory = sample_trajectory(model, registry, s, spec.measure, r);
         ref.description = "tight run: " + s.formulation + " + " + s.integrator + " at tol " +
-                          num(spec.reference.tolerance);
+                          format_number(spec.reference.tolerance);
         if (!spec.reference.cross_check.empty() && spec.reference.cross_check != "none") {
             SimulationSettings c = s;
             c.formulation = spec.reference.cross_check;
@@ -489,7 +468,7 @@ BenchReferenceData make_bench_reference(const Model& model, Registry& registry, 
                 ref.cross_check = bench_error(other, ref.trajectory, BenchMeasure{spec.measure.bodies,
                                                                                   spec.measure.points, "position", "max"});
                 ref.description += ", cross-checked by " + c.formulation + " (max difference " +
-                                   num(ref.cross_check) + ")";
+                                   format_number(ref.cross_check) + ")";
             } catch (const std::exception& e) {
                 ref.description += ", cross-check by " + c.formulation + " failed: " + e.what();
             }
@@ -501,9 +480,9 @@ BenchReferenceData make_bench_reference(const Model& model, Registry& registry, 
 BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& registry, const BenchOptions& options,
                                  const std::function<void(const std::string&)>& log) {
     BenchSceneResult out;
-    out.spec = load_bench_spec(scene_file);
-    const BenchSpec& spec = out.spec;
     const Model model = load_scene(scene_file, registry);
+    out.spec = load_bench_spec(model);
+    const BenchSpec& spec = out.spec;
     auto note = [&](const std::string& text) {
         out.notes.push_back(text);
         if (log) log(text);
@@ -525,23 +504,26 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
     int done = 0;
 
     const int repeat = std::max(1, options.repeat);
+    // The row of one grid point (a tolerance when adaptive, else a step), announced on the progress bar.
+    auto grid_row = [&](const std::string& engine, const std::string& formulation, const std::string& integrator,
+                        bool adaptive, double value) {
+        progress.update(done++, formulation + " " + integrator + " " + format_number(value));
+        BenchRow row;
+        row.engine = engine;
+        row.scene = spec.name;
+        row.formulation = formulation;
+        row.integrator = integrator;
+        row.tolerance = adaptive ? value : 0.0;
+        row.step = adaptive ? 0.0 : value;
+        row.error_measure = measure;
+        row.reference_kind = out.reference.kind;
+        return row;
+    };
     for (const auto& series : spec.runs) {
         if (!wanted(series.formulation)) continue;
-        std::vector<std::pair<bool, double>> grid;
-        for (double t : series.tolerances)
-            if (t >= options.tolerance_floor) grid.push_back({true, t});
-        for (double h : series.steps) grid.push_back({false, h});
         bool failed_before = false;  // a failed (or very slow) point: tighter ones are skipped
-        for (const auto& [adaptive, value] : grid) {
-            progress.update(done++, series.formulation + " " + series.integrator + " " + num(value));
-            BenchRow row;
-            row.scene = spec.name;
-            row.formulation = series.formulation;
-            row.integrator = series.integrator;
-            row.tolerance = adaptive ? value : 0.0;
-            row.step = adaptive ? 0.0 : value;
-            row.error_measure = measure;
-            row.reference_kind = out.reference.kind;
+        for (const auto& [adaptive, value] : grid_points(series.tolerances, series.steps, options.tolerance_floor)) {
+            BenchRow row = grid_row("mbd", series.formulation, series.integrator, adaptive, value);
             if (failed_before) {
                 row.status = "skipped (a looser point of this series failed)";
                 row.error = std::numeric_limits<double>::quiet_NaN();
@@ -591,20 +573,8 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
             if (std::find(out.notes.begin(), out.notes.end(), text) == out.notes.end()) note(text);
             continue;
         }
-        std::vector<std::pair<bool, double>> grid;
-        for (double t : series.tolerances) grid.push_back({true, t});
-        for (double h : series.steps) grid.push_back({false, h});
-        for (const auto& [adaptive, value] : grid) {
-            progress.update(done++, series.engine + " " + series.integrator + " " + num(value));
-            BenchRow row;
-            row.engine = series.engine;
-            row.scene = spec.name;
-            row.formulation = series.engine;
-            row.integrator = series.integrator;
-            row.tolerance = adaptive ? value : 0.0;
-            row.step = adaptive ? 0.0 : value;
-            row.error_measure = measure;
-            row.reference_kind = out.reference.kind;
+        for (const auto& [adaptive, value] : grid_points(series.tolerances, series.steps, 0.0)) {
+            BenchRow row = grid_row(series.engine, series.engine, series.integrator, adaptive, value);
             std::vector<double> cpu;
             for (int k = 0; k < repeat; ++k) {
                 const PeerRun r = run_peer(exe, spec.peer_model + ":" + series.integrator, spec.t_end, times.front(),
@@ -641,42 +611,43 @@ std::string bench_csv(const std::vector<BenchSceneResult>& results) {
     for (const auto& r : results)
         for (const auto& row : r.rows)
             f << row.engine << ',' << csv_field(row.scene) << ',' << row.formulation << ',' << row.integrator << ','
-              << (row.tolerance > 0 ? json_number(row.tolerance) : "") << ','
-              << (row.step > 0 ? json_number(row.step) : "") << ',' << json_number(row.cpu_s) << ',' << row.steps
-              << ',' << (std::isfinite(row.error) ? json_number(row.error) : "") << ','
+              << (row.tolerance > 0 ? format_number(row.tolerance, 9) : "") << ','
+              << (row.step > 0 ? format_number(row.step, 9) : "") << ',' << format_number(row.cpu_s, 9) << ','
+              << row.steps << ',' << (std::isfinite(row.error) ? format_number(row.error, 9) : "") << ','
               << csv_field(row.error_measure) << ',' << row.reference_kind << ',' << csv_field(row.status) << '\n';
     return f.str();
 }
 
+// Absent values (no tolerance on a fixed-step run, no cross-check) are null; a failed run's
+// error is NaN, written null and listed under "non_finite" (json_output.hpp), its row's
+// status saying why.
 std::string bench_json(const std::vector<BenchSceneResult>& results) {
-    std::ostringstream f;
-    f << "{\n  \"scenes\": [\n";
-    for (size_t i = 0; i < results.size(); ++i) {
-        const auto& r = results[i];
-        f << "    {\"scene\": \"" << json_escape(r.spec.name) << "\", \"file\": \"" << json_escape(r.spec.scene)
-          << "\", \"t_end\": " << json_number(r.spec.t_end) << ", \"error_measure\": \""
-          << json_escape(r.spec.measure.describe()) << "\", \"reference_kind\": \"" << r.reference.kind
-          << "\", \"reference\": \"" << json_escape(r.reference.description) << "\", \"cross_check\": "
-          << (r.reference.cross_check >= 0 ? json_number(r.reference.cross_check) : "null") << ", \"notes\": [";
-        for (size_t k = 0; k < r.notes.size(); ++k) f << (k ? ", " : "") << '"' << json_escape(r.notes[k]) << '"';
-        f << "]}" << (i + 1 < results.size() ? "," : "") << '\n';
+    Json scenes = Json::array(), rows = Json::array();
+    auto positive_or_null = [](double x) { return x > 0 ? Json(x) : Json(nullptr); };
+    for (const auto& r : results) {
+        scenes.push_back({{"scene", r.spec.name},
+                          {"file", r.spec.scene},
+                          {"t_end", r.spec.t_end},
+                          {"error_measure", r.spec.measure.describe()},
+                          {"reference_kind", r.reference.kind},
+                          {"reference", r.reference.description},
+                          {"cross_check", r.reference.cross_check >= 0 ? Json(r.reference.cross_check) : Json(nullptr)},
+                          {"notes", r.notes}});
+        for (const auto& row : r.rows)
+            rows.push_back({{"engine", row.engine},
+                            {"scene", row.scene},
+                            {"formulation", row.formulation},
+                            {"integrator", row.integrator},
+                            {"tolerance", positive_or_null(row.tolerance)},
+                            {"step", positive_or_null(row.step)},
+                            {"cpu_s", row.cpu_s},
+                            {"steps", row.steps},
+                            {"error", row.error},
+                            {"error_measure", row.error_measure},
+                            {"reference_kind", row.reference_kind},
+                            {"status", row.status}});
     }
-    f << "  ],\n  \"rows\": [\n";
-    bool first = true;
-    for (const auto& r : results)
-        for (const auto& row : r.rows) {
-            f << (first ? "" : ",\n") << "    {\"engine\": \"" << row.engine << "\", \"scene\": \""
-              << json_escape(row.scene) << "\", \"formulation\": \"" << row.formulation << "\", \"integrator\": \""
-              << row.integrator << "\", \"tolerance\": " << (row.tolerance > 0 ? json_number(row.tolerance) : "null")
-              << ", \"step\": " << (row.step > 0 ? json_number(row.step) : "null")
-              << ", \"cpu_s\": " << json_number(row.cpu_s) << ", \"steps\": " << row.steps
-              << ", \"error\": " << json_number(row.error) << ", \"error_measure\": \""
-              << json_escape(row.error_measure) << "\", \"reference_kind\": \"" << row.reference_kind
-              << "\", \"status\": \"" << json_escape(row.status) << "\"}";
-            first = false;
-        }
-    f << "\n  ]\n}\n";
-    return f.str();
+    return json_text({{"scenes", std::move(scenes)}, {"rows", std::move(rows)}}, 2) + "\n";
 }
 
 }  // namespace mbd
