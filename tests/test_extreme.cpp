@@ -147,6 +147,11 @@ TEST(Extreme, IsolatedRunnerReportsOutcomes) {
     const CellOutcome na =
         run_case_isolated(scene_path("extreme/spring-k1e2.yaml").string(), "embedding", "generalized_alpha", 0.5);
     EXPECT_TRUE(na.kind == "not_applicable" || na.kind == "pass") << na.cell();
+    // and it is named before any work: on a scene whose assembly fails, the refusal comes
+    // first (before, a large scene spent its whole budget setting up the formulation)
+    const CellOutcome na_first =
+        run_case_isolated(scene_path("extreme/unreachable-driver.yaml").string(), "amalgamated", "generalized_alpha", 0.0);
+    EXPECT_EQ(na_first.kind, "not_applicable") << na_first.cell() << " " << na_first.message;
 }
 
 }  // namespace

@@ -149,6 +149,9 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         throw InputError("", "the integration step must be a finite number >= 0 (0: none), got " + format_number(step, 9));
     std::unique_ptr<Integrator> integrator = make_integrator(settings.integrator, settings.integration);
     result.integrator = integrator->name();
+    if (integrator->needs_index3() && !formulation->supports_index3())
+        throw InputError(integrator->name(), integrator->name() + " needs a formulation that supports index-3 (augmented); '" +
+                                                 name + "' has none");
 
     // --- bind and assemble a consistent initial state
     require_positive_masses(model);

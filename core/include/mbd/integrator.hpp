@@ -51,6 +51,9 @@ public:
     virtual ~Integrator() = default;
     virtual std::string name() const = 0;
     virtual bool adaptive() const = 0;
+    // Integrates the index-3 form (positions, velocities and multipliers together), which
+    // only formulations with supports_index3() have; checked before the formulation binds.
+    virtual bool needs_index3() const { return false; }
     // Advance y from t0 through every output time (increasing, the last is the
     // end time). Throws DynamicsError naming the time and the cause.
     virtual void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,

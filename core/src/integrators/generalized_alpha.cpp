@@ -52,6 +52,7 @@ public:
     explicit GeneralizedAlpha(const IntegratorSettings& settings) : settings_(settings) {}
     std::string name() const override { return "generalized_alpha"; }
     bool adaptive() const override { return false; }
+    bool needs_index3() const override { return true; }
 
     void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
                    const OutputCallback& output, IntegratorStats& stats) override;
