@@ -38,10 +38,12 @@ YAML::Node yaml_of(const Param& p) {
     YAML::Node map(YAML::NodeType::Map);
     for (const char* key : kLeadingKeys)
         if (const auto it = p.fields.find(key); it != p.fields.end()) map[key] = yaml_of(it->second);
-    for (const auto& [key, value] : p.fields)
+    for (const auto& field : p.fields) {
+        const std::string& key = field.first;  // a plain name: C++17 lambdas cannot capture structured bindings
         if (std::find_if(std::begin(kLeadingKeys), std::end(kLeadingKeys), [&](const char* k) { return key == k; }) ==
             std::end(kLeadingKeys))
-            map[key] = yaml_of(value);
+            map[key] = yaml_of(field.second);
+    }
     return map;
 }
 
