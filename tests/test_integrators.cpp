@@ -10,6 +10,7 @@
 //     index-3 DAE by generalized_alpha and compared with the 1-DOF pendulum
 //     equation J_O phi'' = -m g c sin(phi) written here.
 // No expected number comes from the engine's own output.
+#include "support/allocation_counter.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/integrator.hpp>
@@ -29,39 +30,6 @@
 #include <functional>
 #include <string>
 #include <vector>
-
-// Count heap allocations. operator new and Eigen's aligned_malloc both go through malloc:
-// in a normal build the executable interposes glibc's malloc; under AddressSanitizer, which
-// owns malloc itself, its allocation hook counts instead (scripts/test-sanitizers.sh).
-#if defined(__SANITIZE_ADDRESS__)
-#define MBD_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define MBD_TEST_ASAN 1
-#endif
-#endif
-namespace {
-std::atomic<bool> g_count_mallocs{false};
-std::atomic<long> g_mallocs{0};
-void count_malloc() {
-    if (g_count_mallocs.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-}
-}  // namespace
-#ifdef MBD_TEST_ASAN
-// the sanitizer runtime's allocator interface (sanitizer/allocator_interface.h, which g++ does not ship)
-extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*)(const volatile void*, std::size_t),
-                                                         void (*)(const volatile void*));
-namespace {
-void asan_malloc_hook(const volatile void*, std::size_t) { count_malloc(); }
-[[maybe_unused]] const int g_hook_installed = __sanitizer_install_malloc_and_free_hooks(asan_malloc_hook, nullptr);
-}  // namespace
-#else
-extern "C" void* __libc_malloc(std::size_t size);
-extern "C" void* malloc(std::size_t size) {
-    count_malloc();
-    return __libc_malloc(size);
-}
-#endif
 
 namespace {
 
@@ -410,11 +378,9 @@ TEST(Integrators, ExplicitStepsDoNotAllocate) {
             mbd::IntegratorStats stats;
             const std::vector<double> outputs = {T / 2, T};
             const mbd::OutputCallback output = [](double, const VectorXd&) { return true; };
-            g_mallocs = 0;
-            g_count_mallocs = true;
+            mbd::test::AllocationCount allocations;
             integrator->integrate(problem, 0.0, y, outputs, output, stats);
-            g_count_mallocs = false;
-            counts[i++] = g_mallocs;
+            counts[i++] = allocations.stop();
             EXPECT_GT(stats.steps, 10) << name;
         }
         std::printf("%s: %ld allocations over 1 s, %ld over 3 s\n", name, counts[0], counts[1]);
