@@ -75,9 +75,10 @@ void add_check_command(CLI::App& app, Commands& commands) {
 
         // assemble with the drivers at t = 0
         const ConstraintSystem system(model, true);
+        Data data(model);
         State state = model.initial_state();
         state.t = 0.0;
-        const AssemblyReport assembly = assemble_positions(system, state);
+        const AssemblyReport assembly = assemble_positions(system, data, state);
         std::cout << "\nassembled at t = 0 in " << plural(assembly.iterations, "Newton iteration") << " (max |C| = "
                   << format_number(assembly.residual) << ")\n";
 
@@ -93,7 +94,7 @@ void add_check_command(CLI::App& app, Commands& commands) {
 
         if (!model.drivers.empty()) {
             ConstraintValues values;
-            system.evaluate(state, values);
+            system.evaluate(state, data, values);
             Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr{Eigen::MatrixXd(values.J)};
             qr.setThreshold(*tolerance);
             const int full_rank = static_cast<int>(qr.rank());

@@ -64,7 +64,7 @@ void add_inverse_command(CLI::App& app, Commands& commands) {
             for (const auto& c : columns) std::printf("%s%16s", c == "t" ? "" : " ", c.c_str());
             std::printf("\n");
         }
-        run_inverse(model, registry, args->t_end, args->step, [&](const InverseSample& s, const System& system) {
+        run_inverse(model, registry, args->t_end, args->step, [&](const InverseSample& s, System& system) {
             std::vector<double> row{s.state.t};
             for (Eigen::Index a = 0; a < s.efforts.size(); ++a) row.push_back(s.efforts[a]);
             if (args->reactions)

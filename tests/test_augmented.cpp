@@ -103,7 +103,7 @@ TEST(Augmented, Rk4ConvergesAtFourthOrder) {
 // driver) reactions, each reaction moved back from its joint point to the mass centre
 // with the test's own marker geometry.
 double newton_euler_residual(const mbd::Model& model, const mbd::State& state, mbd::Formulation& formulation,
-                             const mbd::System& system) {
+                             mbd::System& system) {
     Eigen::VectorXd lambda, vdot, Q;
     formulation.multipliers(state, lambda);
     formulation.accelerations(state, vdot);

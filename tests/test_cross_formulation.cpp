@@ -101,7 +101,7 @@ std::vector<Sample> run(const mbd::Model& model, const std::string& formulation,
     s.output_step = c.sample_step;
     s.reactions = true;
     s.progress = false;
-    const mbd::ModelSystem system(model);
+    mbd::ModelSystem system(model);
     std::vector<Sample> out;
     mbd::simulate(model, shared_registry(), s, [&](const mbd::SimulationSample& sample) {
         Sample k;
@@ -177,7 +177,7 @@ class CrossFormulation : public ::testing::TestWithParam<Case> {};
 TEST_P(CrossFormulation, PositionsVelocitiesAndReactionsMatchTheReference) {
     const Case c = GetParam();
     const mbd::Model model = mbd::test::load(c.scene);
-    const mbd::ModelSystem system(model);
+    mbd::ModelSystem system(model);
     const Eigen::MatrixXd M(system.mass_matrix());
     const std::vector<std::string> names = formulations();
     ASSERT_GE(names.size(), 4u) << "expected augmented, embedding, amalgamated and hamiltonian";
@@ -230,7 +230,7 @@ TEST_P(CrossFormulation, PositionsVelocitiesAndReactionsMatchTheReference) {
 TEST_P(CrossFormulation, EveryBodyObeysNewtonEulerWithTheReportedReactions) {
     const Case c = GetParam();
     const mbd::Model model = mbd::test::load(c.scene);
-    const mbd::ModelSystem system(model);
+    mbd::ModelSystem system(model);
     const bool planar = model.dimension == mbd::Dimension::Planar;
     const int nvb = mbd::velocities_per_body(model.dimension);
     const Eigen::MatrixXd M(system.mass_matrix());

@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 using mbd::test::run_mbd;
 using mbd::test::shared_registry;
 
-mbd::State assembled(const mbd::System& system) {
+mbd::State assembled(mbd::System& system) {
     mbd::State s = system.initial_state();
     s.t = 0.0;
     system.assemble(s, true);

@@ -448,13 +448,13 @@ namespace {
 // the augmented (KKT) system [M J^T; J 0][vdot; lambda] = [Q; gamma], dense.
 class TestFormulation : public mbd::Formulation {
 public:
-    void bind(const mbd::System& system, const mbd::FormulationOptions&) override { system_ = &system; }
+    void bind(mbd::System& system, const mbd::FormulationOptions&) override { system_ = &system; }
     int ode_size() const override { return system_->nq() + system_->nv(); }
-    void to_ode(const mbd::State& state, VectorXd& y) const override {
+    void to_ode(const mbd::State& state, VectorXd& y) override {
         y.resize(ode_size());
         y << state.q, state.v;
     }
-    void from_ode(double t, const VectorXd& y, mbd::State& state) const override {
+    void from_ode(double t, const VectorXd& y, mbd::State& state) override {
         state.t = t;
         state.q = y.head(system_->nq());
         state.v = y.tail(system_->nv());
@@ -496,20 +496,20 @@ private:
         vdot = x.head(nv);
         lambda = x.tail(nc);
     }
-    const mbd::System* system_ = nullptr;
+    mbd::System* system_ = nullptr;
 };
 
 class SystemProblem : public mbd::OdeProblem {
 public:
-    SystemProblem(const mbd::System& system, mbd::Formulation& formulation) : system_(system), formulation_(formulation) {}
+    SystemProblem(mbd::System& system, mbd::Formulation& formulation) : system_(system), formulation_(formulation) {}
     int size() const override { return formulation_.ode_size(); }
     void rhs(double t, const VectorXd& y, VectorXd& ydot) override { formulation_.rhs(t, y, ydot); }
     bool project(double t, VectorXd& y) override { return formulation_.project(t, y); }
-    const mbd::System* system() const override { return &system_; }
+    mbd::System* system() override { return &system_; }
     mbd::Formulation* formulation() override { return &formulation_; }
 
 private:
-    const mbd::System& system_;
+    mbd::System& system_;
     mbd::Formulation& formulation_;
 };
 

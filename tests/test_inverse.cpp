@@ -25,7 +25,7 @@ using mbd::test::shared_registry;
 
 std::vector<mbd::InverseSample> inverse(const mbd::Model& model, double t_end, double step) {
     std::vector<mbd::InverseSample> out;
-    mbd::run_inverse(model, shared_registry(), t_end, step, [&](const mbd::InverseSample& s, const mbd::System&) {
+    mbd::run_inverse(model, shared_registry(), t_end, step, [&](const mbd::InverseSample& s, mbd::System&) {
         out.push_back(s);
         return true;
     });
@@ -116,7 +116,7 @@ TEST(InverseTwoLinkArm, MatchesEq435) {
 TEST(InverseTwoLinkArm, EffortsEqualMinusDriverMultipliersOfTheKkt) {
     const Arm arm;
     const mbd::Model model = scene(arm.yaml(kArmActuators));
-    mbd::run_inverse(model, shared_registry(), 1.0, 0.25, [&](const mbd::InverseSample& s, const mbd::System& sys) {
+    mbd::run_inverse(model, shared_registry(), 1.0, 0.25, [&](const mbd::InverseSample& s, mbd::System& sys) {
         mbd::ConstraintValues cv;
         sys.constraints(s.state, cv, true);
         Eigen::VectorXd Q;

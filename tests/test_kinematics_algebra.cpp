@@ -59,7 +59,8 @@ TEST(KinematicsAlgebra, LargeChainUsesTheSparsePathAndMatchesDense) {
     MinNormSolver probe(LinearAlgebra::Auto);
     ConstraintSystem system(model);
     ConstraintValues values;
-    system.evaluate(model.initial_state(), values);
+    Data data(model);
+    system.evaluate(model.initial_state(), data, values);
     ASSERT_TRUE(probe.factor(values.J));
     EXPECT_EQ(probe.used(), LinearAlgebra::Sparse);
 

@@ -229,7 +229,7 @@ public:
     BookFourBar(double l1, double l2, double l3, double l4, double theta2) : l1_(l1), l2_(l2), l3_(l3), l4_(l4), th2_(theta2) {}
     int equations() const override { return 3; }
     int unknowns() const override { return 3; }
-    void evaluate(const Eigen::VectorXd& q, Eigen::VectorXd& C, Eigen::SparseMatrix<double>& J) const override {
+    void evaluate(const Eigen::VectorXd& q, Eigen::VectorXd& C, Eigen::SparseMatrix<double>& J) override {
         C.resize(3);
         C << l2_ * std::cos(q[0]) + l3_ * std::cos(q[1]) + l4_ * std::cos(q[2]) - l1_,
             l2_ * std::sin(q[0]) + l3_ * std::sin(q[1]) + l4_ * std::sin(q[2]), q[0] - th2_;
@@ -246,7 +246,7 @@ private:
 TEST(BookExample313, OneNewtonIterationFromTheBooksGuess) {
     // "At t = 0.02 s, theta2 = 63 deg = 1.0996 rad"; the driver row uses the book's
     // 1.0996 (its C(q0) has a zero third entry).
-    const BookFourBar equations(0.35, 0.2, 0.35, 0.25, 1.0996);
+    BookFourBar equations(0.35, 0.2, 0.35, 0.25, 1.0996);
     Eigen::VectorXd q(3);
     q << 1.0996, 0.1745, 4.2761;  // q0 = [63, 10, 245] deg
     mbd::NewtonOptions options;
@@ -331,11 +331,12 @@ TEST(BookExample313, ConvergedAbsoluteCoordinateModelAtTwentyMilliseconds) {
 TEST(Kinematics, AssemblyFromAPerturbedGuessAndItsFailureMessage) {
     const mbd::Model model = mbd::load_scene(book_scene("four-bar-ex313.yaml"), registry());
     const mbd::ConstraintSystem system(model, true);
+    mbd::Data data(model);
     mbd::State state = model.initial_state();
     // the book's rough guess for the coupler and rocker angles (10 deg, 245 deg) at t = 0
     state.q[model.q_offset(model.body_index("coupler")) + 2] = 10.0 * M_PI / 180.0;
     state.q[model.q_offset(model.body_index("rocker")) + 2] = 245.0 * M_PI / 180.0;
-    const mbd::AssemblyReport report = mbd::assemble_positions(system, state);
+    const mbd::AssemblyReport report = mbd::assemble_positions(system, data, state);
     EXPECT_GT(report.iterations, 1);
     EXPECT_LE(report.residual, 1e-10);
     const FourBarClosedForm exact = four_bar(0.35, 0.2, 0.35, 0.25, 57.27 * M_PI / 180.0, 5.0, 0.1745, 4.2761);
@@ -348,7 +349,7 @@ TEST(Kinematics, AssemblyFromAPerturbedGuessAndItsFailureMessage) {
     options.newton.max_iterations = 1;
     bad.q[model.q_offset(model.body_index("coupler")) + 2] += 2.0;
     try {
-        mbd::assemble_positions(system, bad, options);
+        mbd::assemble_positions(system, data, bad, options);
         FAIL() << "expected KinematicsError";
     } catch (const mbd::KinematicsError& e) {
         const std::string message = e.what();

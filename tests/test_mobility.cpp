@@ -102,7 +102,8 @@ TEST(Mobility, BricardMovesAlongItsOneDegreeOfFreedom) {
     EXPECT_EQ(samples, 11);
     const mbd::ConstraintSystem joints(model, false);
     mbd::ConstraintValues values;
-    joints.evaluate(last, values);
+    mbd::Data data(model);
+    joints.evaluate(last, data, values);
     EXPECT_LE(values.C.cwiseAbs().maxCoeff(), 1e-9);
     // bar1 turned about world y by 0.5 rad about C0: its centre moved from (0.5, 0, 0)
     const Eigen::Vector3d R1 = last.q.segment<3>(model.q_offset(model.body_index("bar1")));

@@ -47,7 +47,7 @@ joints:
 
 TEST(SpatialReactions, SpinningUnbalancedBodyOnAHingeMatchesNewtonEuler) {
     const Model model = test::scene(kScene, "spinning-arm.yaml");
-    const ModelSystem system(model);
+    ModelSystem system(model);
     for (const std::string& formulation : test::shared_registry().type_names("formulation")) {
         SimulationSettings s;
         s.formulation = formulation;

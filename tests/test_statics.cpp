@@ -488,7 +488,7 @@ TEST(StaticsSpatialArm, HoldingTorquesMatchMomentOfTheWeightsAndInverseDynamics)
 
     // inverse dynamics at rest (constant drivers) gives the same efforts
     std::vector<mbd::InverseSample> samples;
-    mbd::run_inverse(model, shared_registry(), 0.0, 0.1, [&](const mbd::InverseSample& s, const mbd::System&) {
+    mbd::run_inverse(model, shared_registry(), 0.0, 0.1, [&](const mbd::InverseSample& s, mbd::System&) {
         samples.push_back(s);
         return true;
     });

@@ -3,6 +3,7 @@
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/text.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -33,62 +34,89 @@ std::string RowOwner::describe() const {
 }
 
 ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers)
-    : model_(&model), include_drivers_(include_drivers), poses_(model) {
+    : model_(&model), include_drivers_(include_drivers) {
     const int nvb = velocities_per_body(model.dimension);
+    // the element rows in evaluation order, each with the bodies its Jacobian row spans
+    std::vector<std::pair<int, const std::vector<int>*>> element_rows;
     for (size_t j = 0; j < model.joints.size(); ++j) {
         const JointInstance& ji = model.joints[j];
         const int r = ji.joint->rows();
         joint_offset_.push_back(rows_);
-        for (int k = 0; k < r; ++k)
+        for (int k = 0; k < r; ++k) {
             owners_.push_back({RowOwner::Kind::Joint, static_cast<int>(j), k, ji.name, ji.joint->row_name(k)});
+            element_rows.emplace_back(rows_ + k, &ji.bodies);
+        }
         rows_ += r;
-        ConstraintEval eval;
-        eval.resize(r, nvb * static_cast<int>(ji.bodies.size()));
-        joint_eval_.push_back(std::move(eval));
     }
     joint_rows_ = rows_;
     if (include_drivers_) {
         for (size_t d = 0; d < model.drivers.size(); ++d) {
             const Driver& dr = model.drivers[d];
             owners_.push_back({RowOwner::Kind::Driver, static_cast<int>(d), 0, dr.name, "coordinate"});
+            element_rows.emplace_back(rows_, &model.joints[dr.joint].bodies);
             ++rows_;
-            CoordinateEval eval;
-            eval.J.setZero(nvb * static_cast<int>(model.joints[dr.joint].bodies.size()));
-            driver_eval_.push_back(std::move(eval));
         }
+    }
+    // the pattern, then each visited entry's place in it
+    std::vector<Eigen::Triplet<double>> entries;
+    for (const auto& [row, bodies] : element_rows)
+        for (int body : *bodies)
+            if (body != kGround)
+                for (int c = 0; c < nvb; ++c) entries.emplace_back(row, model.v_offset(body) + c, 0.0);
+    pattern_.resize(rows_, model.nv());
+    pattern_.setFromTriplets(entries.begin(), entries.end());  // a body twice in one element: one entry
+    pattern_.makeCompressed();
+    slot_.reserve(entries.size());
+    for (const Eigen::Triplet<double>& e : entries) {
+        const int* begin = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[e.col()];
+        const int* end = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[e.col() + 1];
+        slot_.push_back(static_cast<int>(std::lower_bound(begin, end, e.row()) - pattern_.innerIndexPtr()));
     }
 }
 
-void ConstraintSystem::evaluate(const State& state, ConstraintValues& out) const {
+namespace {
+
+// True when J already has exactly this pattern (then only its values are written).
+bool has_pattern(const Eigen::SparseMatrix<double>& J, const Eigen::SparseMatrix<double>& pattern) {
+    if (J.rows() != pattern.rows() || J.cols() != pattern.cols() || !J.isCompressed() ||
+        J.nonZeros() != pattern.nonZeros())
+        return false;
+    const auto cols = static_cast<size_t>(pattern.cols()) + 1, nnz = static_cast<size_t>(pattern.nonZeros());
+    return std::equal(J.outerIndexPtr(), J.outerIndexPtr() + cols, pattern.outerIndexPtr()) &&
+           std::equal(J.innerIndexPtr(), J.innerIndexPtr() + nnz, pattern.innerIndexPtr());
+}
+
+}  // namespace
+
+void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues& out) const {
+    data.pose(state);
     const Model& m = *model_;
     const int nvb = velocities_per_body(m.dimension);
-    poses_.update(state);
     out.C.resize(rows_);
     out.C_t.resize(rows_);
     out.gamma.resize(rows_);
-    triplets_.clear();
+    if (!has_pattern(out.J, pattern_)) out.J = pattern_;  // once per ConstraintValues
+    double* values = out.J.valuePtr();
+    std::fill(values, values + out.J.nonZeros(), 0.0);
+    const int* slot = slot_.data();
 
-    // scatter one row's body blocks into the sparse Jacobian, skipping the ground
-    auto scatter = [&](int row, const std::vector<int>& bodies, const auto& row_values) {
+    // add one row's body blocks into the Jacobian's values (a body that appears twice adds up)
+    auto scatter = [&](const std::vector<int>& bodies, const auto& row_values) {
         for (size_t b = 0; b < bodies.size(); ++b) {
             if (bodies[b] == kGround) continue;
-            const int col0 = m.v_offset(bodies[b]);
-            for (int c = 0; c < nvb; ++c) {
-                const double value = row_values(nvb * static_cast<int>(b) + c);
-                if (value != 0.0) triplets_.emplace_back(row, col0 + c, value);
-            }
+            for (int c = 0; c < nvb; ++c) values[*slot++] += row_values(nvb * static_cast<int>(b) + c);
         }
     };
 
     for (size_t j = 0; j < m.joints.size(); ++j) {
         const JointInstance& ji = m.joints[j];
-        ConstraintEval& e = joint_eval_[j];
+        ConstraintEval& e = data.joint_rows[j];
         e.C.setZero();
         e.J.setZero();
         e.C_t.setZero();
         e.gamma.setZero();
-        poses_.fill(ji.bodies, state.t, view_);
-        ji.joint->evaluate(view_, e);
+        data.poses.fill(ji.bodies, state.t, data.view);
+        ji.joint->evaluate(data.view, e);
         // a NaN from a joint would surface later as a failed projection or a singular
         // matrix; name the joint here instead (unless the state itself is not finite)
         if (!(e.C.allFinite() && e.C_t.allFinite() && e.gamma.allFinite() && e.J.allFinite()) && state.q.allFinite() &&
@@ -103,18 +131,18 @@ void ConstraintSystem::evaluate(const State& state, ConstraintValues& out) const
         out.C.segment(r0, e.C.size()) = e.C;
         out.C_t.segment(r0, e.C.size()) = e.C_t;
         out.gamma.segment(r0, e.C.size()) = e.gamma;
-        for (int r = 0; r < e.C.size(); ++r) scatter(r0 + r, ji.bodies, e.J.row(r));
+        for (int r = 0; r < e.C.size(); ++r) scatter(ji.bodies, e.J.row(r));
     }
 
     if (include_drivers_) {
         for (size_t d = 0; d < m.drivers.size(); ++d) {
             const Driver& dr = m.drivers[d];
             const JointInstance& ji = m.joints[dr.joint];
-            CoordinateEval& e = driver_eval_[d];
+            CoordinateEval& e = data.driver_rows[d];
             e.J.setZero();
             e.gamma = 0.0;
-            poses_.fill(ji.bodies, state.t, view_);
-            ji.joint->coordinate(view_, e);
+            data.poses.fill(ji.bodies, state.t, data.view);
+            ji.joint->coordinate(data.view, e);
             const TimeValue f = dr.motion->evaluate(state.t);
             if (!(std::isfinite(f.f) && std::isfinite(f.df) && std::isfinite(f.ddf)))
                 throw DynamicsError(state.t, "driver '" + dr.name + "'" + (dr.where.empty() ? "" : " (" + dr.where + ")") +
@@ -129,12 +157,9 @@ void ConstraintSystem::evaluate(const State& state, ConstraintValues& out) const
             out.C[row] = e.periodic ? wrap_angle(residual) : residual;
             out.C_t[row] = -f.df;
             out.gamma[row] = e.gamma + f.ddf;
-            scatter(row, ji.bodies, e.J);
+            scatter(ji.bodies, e.J);
         }
     }
-
-    out.J.resize(rows_, m.nv());
-    out.J.setFromTriplets(triplets_.begin(), triplets_.end());
 }
 
 }  // namespace mbd

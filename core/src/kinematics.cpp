@@ -33,14 +33,15 @@ namespace {
 // velocity-like increment.
 class PositionEquations final : public NonlinearEquations {
 public:
-    PositionEquations(const ConstraintSystem& system, const State& state) : system_(system), state_(state) {
+    PositionEquations(const ConstraintSystem& system, Data& data, const State& state)
+        : system_(system), data_(data), state_(state) {
         if (state_.v.size() != system.cols()) state_.v = Eigen::VectorXd::Zero(system.cols());
     }
     int equations() const override { return system_.rows(); }
     int unknowns() const override { return system_.cols(); }
-    void evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& C, Eigen::SparseMatrix<double>& J) const override {
+    void evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& C, Eigen::SparseMatrix<double>& J) override {
         state_.q = x;
-        system_.evaluate(state_, values_);
+        system_.evaluate(state_, data_, values_);
         C = values_.C;
         J = values_.J;
     }
@@ -50,8 +51,9 @@ public:
 
 private:
     const ConstraintSystem& system_;
-    mutable State state_;
-    mutable ConstraintValues values_;
+    Data& data_;
+    State state_;
+    ConstraintValues values_;
 };
 
 int worst_row(const Eigen::VectorXd& r, double& value) {
@@ -99,10 +101,10 @@ Eigen::VectorXd nearest_solution(const ConstraintSystem& system, const Eigen::Sp
 
 }  // namespace
 
-AssemblyReport assemble_positions(const ConstraintSystem& system, State& state, const KinematicsOptions& options) {
+AssemblyReport assemble_positions(const ConstraintSystem& system, Data& data, State& state, const KinematicsOptions& options) {
     AssemblyReport report;
     if (system.rows() == 0) return report;
-    PositionEquations equations(system, state);
+    PositionEquations equations(system, data, state);
     const NewtonResult result = newton_raphson(equations, state.q, options.newton);
     report.iterations = result.iterations;
     report.residual = result.residual;
@@ -123,19 +125,20 @@ AssemblyReport assemble_positions(const ConstraintSystem& system, State& state, 
     return report;
 }
 
-void solve_velocities(const ConstraintSystem& system, State& state, LinearAlgebra algebra) {
+void solve_velocities(const ConstraintSystem& system, Data& data, State& state, LinearAlgebra algebra) {
     if (state.v.size() != system.cols()) state.v = Eigen::VectorXd::Zero(system.cols());
     if (system.rows() == 0) return;
     ConstraintValues values;
-    system.evaluate(state, values);
+    system.evaluate(state, data, values);
     // book Eq. 3.120: J v = -C_t; the given v corrected by the minimum-norm change
     state.v = nearest_solution(system, values.J, -values.C_t, state.v, state.t, algebra, "velocity", "velocities");
 }
 
-Eigen::VectorXd solve_accelerations(const ConstraintSystem& system, const State& state, LinearAlgebra algebra) {
+Eigen::VectorXd solve_accelerations(const ConstraintSystem& system, Data& data, const State& state,
+                                    LinearAlgebra algebra) {
     if (system.rows() == 0) return Eigen::VectorXd::Zero(system.cols());
     ConstraintValues values;
-    system.evaluate(state, values);
+    system.evaluate(state, data, values);
     // book Eq. 3.124: J a = gamma, the minimum-norm solution
     return nearest_solution(system, values.J, values.gamma, Eigen::VectorXd::Zero(system.cols()), state.t, algebra,
                             "acceleration", "accelerations");
@@ -147,13 +150,14 @@ void run_kinematics(const Model& model, double t_end, double step, const Kinemat
     const long long n = output_intervals(t_end, step, "kinematics: the output step", "kinematics: the end time");
 
     const ConstraintSystem system(model, true);
+    Data data(model);
     const LinearAlgebra algebra = options.newton.algebra;
 
     State state = model.initial_state();
     state.t = 0.0;
-    assemble_positions(system, state, options);
-    solve_velocities(system, state, algebra);
-    Eigen::VectorXd a = solve_accelerations(system, state, algebra);
+    assemble_positions(system, data, state, options);
+    solve_velocities(system, data, state, algebra);
+    Eigen::VectorXd a = solve_accelerations(system, data, state, algebra);
     if (!sample(state, a)) return;
 
     double t_previous = 0.0;
@@ -164,9 +168,9 @@ void run_kinematics(const Model& model, double t_end, double step, const Kinemat
         const Eigen::VectorXd increment = h * state.v + (0.5 * h * h) * a;
         advance_positions(model, state.q, increment);
         state.t = t;
-        assemble_positions(system, state, options);
-        solve_velocities(system, state, algebra);
-        a = solve_accelerations(system, state, algebra);
+        assemble_positions(system, data, state, options);
+        solve_velocities(system, data, state, algebra);
+        a = solve_accelerations(system, data, state, algebra);
         if (!sample(state, a)) return;
         t_previous = t;
         stop_if_interrupted(t);  // after a complete sample: SIGINT/SIGTERM/SIGHUP stop here

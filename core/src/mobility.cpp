@@ -28,7 +28,8 @@ MobilityReport analyse_mobility(const Model& model, const State& state, double r
     State s = state;
     if (s.v.size() != model.nv()) s.v = Eigen::VectorXd::Zero(model.nv());
     ConstraintValues values;
-    system.evaluate(s, values);
+    Data data(model);
+    system.evaluate(s, data, values);
     const Eigen::MatrixXd J(values.J);
 
     // rank by column-pivoting Householder QR with a relative threshold

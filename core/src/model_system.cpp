@@ -3,7 +3,7 @@
 namespace mbd {
 
 ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
-    : model_(&model), kinematics_(kinematics), with_drivers_(model, true), joints_only_(model, false), poses_(model) {
+    : model_(&model), kinematics_(kinematics), with_drivers_(model, true), joints_only_(model, false), data_(model) {
     for (const Body& b : model.bodies) {
         BodyInfo info;
         info.name = b.name;
@@ -61,24 +61,43 @@ void ModelSystem::normalize(Eigen::VectorXd& q) const { normalize_euler_paramete
 namespace {
 
 // Add an element's body-block vector into the system vector, skipping the ground.
-void scatter_vector(const Model& m, const std::vector<int>& bodies, const Eigen::VectorXd& local, Eigen::VectorXd& Q) {
+void scatter_vector(const Model& m, const std::vector<int>& bodies, const Eigen::Ref<const Eigen::VectorXd>& local,
+                    Eigen::VectorXd& Q) {
     const int nvb = velocities_per_body(m.dimension);
     for (size_t b = 0; b < bodies.size(); ++b)
         if (bodies[b] != kGround) Q.segment(m.v_offset(bodies[b]), nvb) += local.segment(nvb * b, nvb);
 }
 
+// Add an element's body-block matrix into the system's triplets, skipping the ground.
+void scatter_matrix(const Model& m, const std::vector<int>& bodies, const Eigen::Ref<const Eigen::MatrixXd>& local,
+                    std::vector<Eigen::Triplet<double>>& out) {
+    const int nvb = velocities_per_body(m.dimension);
+    for (size_t a = 0; a < bodies.size(); ++a) {
+        if (bodies[a] == kGround) continue;
+        for (size_t b = 0; b < bodies.size(); ++b) {
+            if (bodies[b] == kGround) continue;
+            for (int i = 0; i < nvb; ++i)
+                for (int j = 0; j < nvb; ++j) {
+                    const double value = local(nvb * a + i, nvb * b + j);
+                    if (value != 0.0) out.emplace_back(m.v_offset(bodies[a]) + i, m.v_offset(bodies[b]) + j, value);
+                }
+        }
+    }
+}
+
 }  // namespace
 
-void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) const {
+void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
     const Model& m = *model_;
     const int nvb = velocities_per_body(m.dimension);
     Q.setZero(m.nv());
-    poses_.update(state);
+    data_.pose(state);
     for (const ForceInstance& f : m.forces) {
-        element_q_.setZero(nvb * static_cast<int>(f.bodies.size()));
-        poses_.fill(f.bodies, state.t, view_);
-        f.force->evaluate(view_, element_q_);
-        scatter_vector(m, f.bodies, element_q_, Q);
+        auto element = data_.force_Q.head(nvb * static_cast<int>(f.bodies.size()));
+        element.setZero();
+        data_.poses.fill(f.bodies, state.t, data_.view);
+        f.force->evaluate(data_.view, element);
+        scatter_vector(m, f.bodies, element, Q);
     }
     if (m.dimension == Dimension::Spatial) {
         // gyroscopic moment in body axes, -wbar x (Jbar wbar) (book Eq. 7.155, Q_v)
@@ -89,64 +108,61 @@ void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) con
     }
 }
 
+// One force element's Jacobians by central differences over its own bodies.
+void ModelSystem::force_differences(const ForceInstance& f, const State& state, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
+                                    Eigen::Ref<Eigen::MatrixXd> dQ_dv) {
+    const Model& m = *model_;
+    const int nvb = velocities_per_body(m.dimension);
+    const int n = nvb * static_cast<int>(f.bodies.size());
+    const double h = 1e-7;
+    auto plus = data_.force_plus.head(n), minus = data_.force_minus.head(n);
+    Eigen::VectorXd dv = Eigen::VectorXd::Zero(m.nv());
+    for (size_t b = 0; b < f.bodies.size(); ++b) {
+        if (f.bodies[b] == kGround) continue;
+        for (int c = 0; c < nvb; ++c) {
+            const int col = m.v_offset(f.bodies[b]) + c;
+            for (int pass = 0; pass < 2; ++pass) {
+                for (int sign : {1, -1}) {
+                    State& s = data_.probe;
+                    s = state;
+                    dv[col] = sign * h;
+                    if (pass == 0)
+                        mbd::advance_positions(m, s.q, dv);
+                    else
+                        s.v += dv;
+                    dv[col] = 0.0;
+                    data_.pose(s);
+                    data_.poses.fill(f.bodies, s.t, data_.view);
+                    auto target = sign > 0 ? plus : minus;
+                    target.setZero();
+                    f.force->evaluate(data_.view, target);
+                }
+                (pass == 0 ? dQ_dq : dQ_dv).col(nvb * b + c) = (plus - minus) / (2 * h);
+            }
+        }
+    }
+    data_.pose(state);
+}
+
 void ModelSystem::force_jacobians(const State& state, Eigen::SparseMatrix<double>& dQ_dq,
-                                  Eigen::SparseMatrix<double>& dQ_dv) const {
+                                  Eigen::SparseMatrix<double>& dQ_dv) {
     const Model& m = *model_;
     const int nvb = velocities_per_body(m.dimension);
     std::vector<Eigen::Triplet<double>> tq, tv;
-    auto scatter = [&](const std::vector<int>& bodies, const Eigen::MatrixXd& local,
-                       std::vector<Eigen::Triplet<double>>& out) {
-        for (size_t a = 0; a < bodies.size(); ++a) {
-            if (bodies[a] == kGround) continue;
-            for (size_t b = 0; b < bodies.size(); ++b) {
-                if (bodies[b] == kGround) continue;
-                for (int i = 0; i < nvb; ++i)
-                    for (int j = 0; j < nvb; ++j) {
-                        const double value = local(nvb * a + i, nvb * b + j);
-                        if (value != 0.0) out.emplace_back(m.v_offset(bodies[a]) + i, m.v_offset(bodies[b]) + j, value);
-                    }
-            }
-        }
-    };
-    poses_.update(state);
+    data_.pose(state);
     for (const ForceInstance& f : m.forces) {
         const int n = nvb * static_cast<int>(f.bodies.size());
-        element_dq_.setZero(n, n);
-        element_dv_.setZero(n, n);
+        auto element_dq = data_.force_dQ_dq.topLeftCorner(n, n), element_dv = data_.force_dQ_dv.topLeftCorner(n, n);
+        element_dq.setZero();
+        element_dv.setZero();
         if (f.force->has_jacobians()) {
-            poses_.fill(f.bodies, state.t, view_);
-            f.force->jacobians(view_, element_dq_, element_dv_);
+            data_.poses.fill(f.bodies, state.t, data_.view);
+            f.force->jacobians(data_.view, element_dq, element_dv);
         } else {
-            // central differences over the element's own bodies
-            const double h = 1e-7;
-            Eigen::VectorXd plus(n), minus(n);
-            for (size_t b = 0; b < f.bodies.size(); ++b) {
-                if (f.bodies[b] == kGround) continue;
-                for (int c = 0; c < nvb; ++c) {
-                    const int col = m.v_offset(f.bodies[b]) + c;
-                    for (int pass = 0; pass < 2; ++pass) {
-                        Eigen::VectorXd dv = Eigen::VectorXd::Zero(m.nv());
-                        dv[col] = h;
-                        for (int sign : {1, -1}) {
-                            State s = state;
-                            if (pass == 0)
-                                mbd::advance_positions(m, s.q, sign * dv);
-                            else
-                                s.v += sign * dv;
-                            poses_.update(s);
-                            poses_.fill(f.bodies, s.t, view_);
-                            Eigen::VectorXd& target = sign > 0 ? plus : minus;
-                            target.setZero();
-                            f.force->evaluate(view_, target);
-                        }
-                        (pass == 0 ? element_dq_ : element_dv_).col(nvb * b + c) = (plus - minus) / (2 * h);
-                    }
-                }
-            }
-            poses_.update(state);
+            force_differences(f, state, element_dq, element_dv);
         }
-        scatter(f.bodies, element_dq_, tq);
-        scatter(f.bodies, element_dv_, tv);
+        scatter_matrix(m, f.bodies, element_dq, tq);
+        scatter_matrix(m, f.bodies, element_dv, tv);
     }
     if (m.dimension == Dimension::Spatial) {
         // d/dwbar of -wbar x (J wbar) = skew(J wbar) - skew(wbar) J
@@ -170,12 +186,12 @@ double ModelSystem::kinetic_energy(const State& state) const {
     return 0.5 * state.v.dot(mass_ * state.v);
 }
 
-double ModelSystem::potential_energy(const State& state) const {
+double ModelSystem::potential_energy(const State& state) {
     double V = 0.0;
-    poses_.update(state);
+    data_.pose(state);
     for (const ForceInstance& f : model_->forces) {
-        poses_.fill(f.bodies, state.t, view_);
-        V += f.force->potential_energy(view_);
+        data_.poses.fill(f.bodies, state.t, data_.view);
+        V += f.force->potential_energy(data_.view);
     }
     return V;
 }
@@ -186,16 +202,16 @@ bool ModelSystem::conservative() const {
     return true;
 }
 
-void ModelSystem::constraints(const State& state, ConstraintValues& out, bool include_drivers) const {
-    (include_drivers ? with_drivers_ : joints_only_).evaluate(state, out);
+void ModelSystem::constraints(const State& state, ConstraintValues& out, bool include_drivers) {
+    (include_drivers ? with_drivers_ : joints_only_).evaluate(state, data_, out);
 }
 
-void ModelSystem::assemble(State& state, bool include_drivers) const {
-    assemble_positions(include_drivers ? with_drivers_ : joints_only_, state, kinematics_);
+void ModelSystem::assemble(State& state, bool include_drivers) {
+    assemble_positions(include_drivers ? with_drivers_ : joints_only_, data_, state, kinematics_);
 }
 
-void ModelSystem::consistent_velocities(State& state, bool include_drivers) const {
-    solve_velocities(include_drivers ? with_drivers_ : joints_only_, state, kinematics_.newton.algebra);
+void ModelSystem::consistent_velocities(State& state, bool include_drivers) {
+    solve_velocities(include_drivers ? with_drivers_ : joints_only_, data_, state, kinematics_.newton.algebra);
 }
 
 }  // namespace mbd

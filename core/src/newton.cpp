@@ -4,7 +4,7 @@
 
 namespace mbd {
 
-NewtonResult newton_raphson(const NonlinearEquations& equations, Eigen::VectorXd& x, const NewtonOptions& options,
+NewtonResult newton_raphson(NonlinearEquations& equations, Eigen::VectorXd& x, const NewtonOptions& options,
                             bool keep_trace) {
     NewtonResult result;
     Eigen::VectorXd C;

@@ -37,16 +37,16 @@ const char* stabilization_name(Stabilization s) {
 // The OdeProblem the integrators see: the formulation's ODE and projection hook.
 class FormulationProblem final : public OdeProblem {
 public:
-    FormulationProblem(Formulation& formulation, const System& system) : formulation_(formulation), system_(system) {}
+    FormulationProblem(Formulation& formulation, System& system) : formulation_(formulation), system_(system) {}
     int size() const override { return formulation_.ode_size(); }
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { formulation_.rhs(t, y, ydot); }
     bool project(double t, Eigen::VectorXd& y) override { return formulation_.project(t, y); }
-    const System* system() const override { return &system_; }
+    System* system() override { return &system_; }
     Formulation* formulation() override { return &formulation_; }
 
 private:
     Formulation& formulation_;
-    const System& system_;
+    System& system_;
 };
 
 // The formulation's scene keys, with the command line's overrides written over

@@ -64,7 +64,7 @@ JointLoad load_of(const JointReaction& r) {
 
 }  // namespace
 
-std::vector<JointLoad> joint_loads(const System& system, const State& state, const Eigen::VectorXd& lambda) {
+std::vector<JointLoad> joint_loads(System& system, const State& state, const Eigen::VectorXd& lambda) {
     std::vector<JointLoad> out;
     for (const JointReaction& r : joint_reactions(system, state, lambda)) out.push_back(load_of(r));
     return out;

@@ -56,10 +56,10 @@ class Amalgamated final : public Formulation {
 public:
     explicit Amalgamated(const FormulationSpec& spec);
 
-    void bind(const System& system, const FormulationOptions& options) override;
+    void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override { return nq_ + nv_; }
-    void to_ode(const State& state, Eigen::VectorXd& y) const override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void to_ode(const State& state, Eigen::VectorXd& y) override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
@@ -79,7 +79,7 @@ private:
     std::optional<double> alpha_, beta_, projection_tolerance_;
     PartitionSettings partition_settings_;  // log defaults to false
 
-    const System* system_ = nullptr;
+    System* system_ = nullptr;
     FormulationOptions options_;
     int nq_ = 0, nv_ = 0, nc_ = 0, nvb_ = 3;
     Eigen::MatrixXd Mdense_;
@@ -115,7 +115,7 @@ Amalgamated::Amalgamated(const FormulationSpec& spec) {
                     "singularity_tolerance");
 }
 
-void Amalgamated::bind(const System& system, const FormulationOptions& options) {
+void Amalgamated::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     options_ = options;
     if (stabilization_) options_.stabilization = *stabilization_;
@@ -177,7 +177,7 @@ void Amalgamated::build_pattern() {
 }
 
 void Amalgamated::solve_dynamics(double t) {
-    const System& sys = *system_;
+    System& sys = *system_;
     sys.constraints(state_, cv_, true);
     J_ = Eigen::MatrixXd(cv_.J);
     sys.generalized_forces(state_, Q_);
@@ -212,9 +212,9 @@ void Amalgamated::solve_dynamics(double t) {
     Qc_ = -x_.segment(n, n);
 }
 
-void Amalgamated::to_ode(const State& state, Eigen::VectorXd& y) const { qv_to_ode(state, nq_, nv_, y); }
+void Amalgamated::to_ode(const State& state, Eigen::VectorXd& y) { qv_to_ode(state, nq_, nv_, y); }
 
-void Amalgamated::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+void Amalgamated::from_ode(double t, const Eigen::VectorXd& y, State& state) {
     qv_from_ode(t, y, nq_, nv_, state);
 }
 
@@ -228,7 +228,7 @@ void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
 }
 
 bool Amalgamated::project(double t, Eigen::VectorXd& y) {
-    const System& sys = *system_;
+    System& sys = *system_;
     qv_from_ode(t, y, nq_, nv_, state_);
     sys.normalize(state_.q);
     const bool projected = options_.stabilization == Stabilization::Projection && nc_ > 0;

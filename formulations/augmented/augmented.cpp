@@ -60,10 +60,10 @@ public:
     Augmented(const Augmented&) = delete;
     Augmented& operator=(const Augmented&) = delete;
 
-    void bind(const System& system, const FormulationOptions& options) override;
+    void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override { return nq_ + nv_; }
-    void to_ode(const State& state, Eigen::VectorXd& y) const override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void to_ode(const State& state, Eigen::VectorXd& y) override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
@@ -94,7 +94,7 @@ private:
     std::optional<std::string> algebra_;
     std::optional<int> sparse_threshold_;
 
-    const System* system_ = nullptr;
+    System* system_ = nullptr;
     FormulationOptions options_;
     bool sparse_ = false;
     bool planar_ = true;
@@ -178,7 +178,7 @@ void Augmented::release_cholmod() {
     cholmod_started_ = false;
 }
 
-void Augmented::bind(const System& system, const FormulationOptions& options) {
+void Augmented::bind(System& system, const FormulationOptions& options) {
     release_cholmod();
     system_ = &system;
     options_ = options;
@@ -297,9 +297,9 @@ void Augmented::bind(const System& system, const FormulationOptions& options) {
     if (!L_) throw std::runtime_error("augmented formulation: CHOLMOD analysis failed");
 }
 
-void Augmented::to_ode(const State& state, Eigen::VectorXd& y) const { qv_to_ode(state, nq_, nv_, y); }
+void Augmented::to_ode(const State& state, Eigen::VectorXd& y) { qv_to_ode(state, nq_, nv_, y); }
 
-void Augmented::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+void Augmented::from_ode(double t, const Eigen::VectorXd& y, State& state) {
     qv_from_ode(t, y, nq_, nv_, state);
 }
 
@@ -537,7 +537,7 @@ bool Augmented::reselect_dropped_rows(double t) {
 }
 
 void Augmented::solve_dynamics(double t) {
-    const System& sys = *system_;
+    System& sys = *system_;
     sys.constraints(state_, cv_, true);
     if (!redundancy_checked_) find_structural_redundancy(t);
     sys.generalized_forces(state_, Q_);
@@ -622,7 +622,7 @@ void Augmented::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
 }
 
 bool Augmented::project(double t, Eigen::VectorXd& y) {
-    const System& sys = *system_;
+    System& sys = *system_;
     qv_from_ode(t, y, nq_, nv_, state_);
     sys.normalize(state_.q);  // unit Euler parameters
     if (options_.stabilization != Stabilization::Projection || nc_ == 0) {

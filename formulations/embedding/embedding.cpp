@@ -31,7 +31,7 @@ class Embedding final : public Formulation {
 public:
     explicit Embedding(const FormulationSpec& spec);
 
-    void bind(const System& system, const FormulationOptions& options) override {
+    void bind(System& system, const FormulationOptions& options) override {
         std::string reason;
         const bool tree = recursive_embedding_possible(system, &reason);
         bool recursive = settings_.path == "recursive" || (settings_.path == "auto" && tree);
@@ -47,8 +47,8 @@ public:
         singularity_.reset();
     }
     int ode_size() const override { return impl_->ode_size(); }
-    void to_ode(const State& state, Eigen::VectorXd& y) const override { impl_->to_ode(state, y); }
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override { impl_->from_ode(t, y, state); }
+    void to_ode(const State& state, Eigen::VectorXd& y) override { impl_->to_ode(state, y); }
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) override { impl_->from_ode(t, y, state); }
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { impl_->rhs(t, y, ydot); }
     bool project(double t, Eigen::VectorXd& y) override {
         if (!impl_->project(t, y)) return false;
@@ -68,7 +68,7 @@ public:
 private:
     embedding::Settings settings_;
     std::unique_ptr<Formulation> impl_;
-    const System* system_ = nullptr;
+    System* system_ = nullptr;
     SingularityMonitor singularity_;
     State check_state_;
     ConstraintValues check_cv_;

@@ -16,7 +16,7 @@ bool same_set(std::vector<int> a, std::vector<int> b) {
 }
 }  // namespace
 
-void Partitioned::bind(const System& system, const FormulationOptions& options) {
+void Partitioned::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     options_ = options;
     nq_ = system.nq();
@@ -47,12 +47,12 @@ void Partitioned::log_partition(double t, const char* what) const {
     if (settings_.log) options_.log("embedding: t = " + format_time(t) + ": independent coordinates " + what + independent_names());
 }
 
-void Partitioned::evaluate(const State& state) const {
+void Partitioned::evaluate(const State& state) {
     system_->constraints(state, cv_, true);
     J_ = Eigen::MatrixXd(cv_.J);
 }
 
-void Partitioned::select(const State& state, bool initial) const {
+void Partitioned::select(const State& state, bool initial) {
     evaluate(state);
     if (initial && !settings_.independent.empty()) {
         // the requested independent components last, with a tiny threshold: they stay
@@ -90,7 +90,7 @@ void Partitioned::velocities(const Eigen::VectorXd& vi, Eigen::VectorXd& v) cons
 double Partitioned::jd_pivot_ratio(const CoordinatePartition& p) const { return dependent_pivot_ratio(J_, p); }
 
 void Partitioned::solve_accelerations(double t, const CoordinatePartition& p, const State& state,
-                                      Eigen::VectorXd& vdot) const {
+                                      Eigen::VectorXd& vdot) {
     const int k = static_cast<int>(p.independent.size());
     system_->generalized_forces(state, Q_);
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
@@ -117,14 +117,14 @@ void Partitioned::solve_accelerations(double t, const CoordinatePartition& p, co
     if (!vdot.allFinite()) throw DynamicsError(t, "non-finite accelerations: the motion diverged");
 }
 
-void Partitioned::to_ode(const State& state, Eigen::VectorXd& y) const {
+void Partitioned::to_ode(const State& state, Eigen::VectorXd& y) {
     if (!selected_) select(state, true);
     y.resize(ode_size());
     y.head(nq_) = state.q;
     for (size_t c = 0; c < part_.independent.size(); ++c) y[nq_ + c] = state.v[part_.independent[c]];
 }
 
-void Partitioned::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+void Partitioned::from_ode(double t, const Eigen::VectorXd& y, State& state) {
     state.t = t;
     state.q = y.head(nq_);
     state.v.setZero(nv_);
@@ -150,7 +150,7 @@ void Partitioned::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
 }
 
 bool Partitioned::project(double t, Eigen::VectorXd& y) {
-    const System& sys = *system_;
+    System& sys = *system_;
     state_.t = t;
     state_.q = y.head(nq_);
     state_.v.setZero(nv_);

@@ -48,10 +48,10 @@ class Partitioned final : public Formulation {
 public:
     explicit Partitioned(Settings settings) : settings_(std::move(settings)) {}
 
-    void bind(const System& system, const FormulationOptions& options) override;
+    void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override;
-    void to_ode(const State& state, Eigen::VectorXd& y) const override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void to_ode(const State& state, Eigen::VectorXd& y) override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
@@ -69,35 +69,35 @@ public:
 
 private:
     // part_ from J at state (the first time, or on re-selection)
-    void select(const State& state, bool initial) const;
+    void select(const State& state, bool initial);
     // dense J (n_c x n_v) and C, C_t, gamma at state (gamma with state.v)
-    void evaluate(const State& state) const;
+    void evaluate(const State& state);
     // full v from q (in state) and the independent components (Eq. 6.169); needs evaluate()
     void velocities(const Eigen::VectorXd& vi, Eigen::VectorXd& v) const;
     // vdot (and its pieces) at a consistent state, for partition p; needs evaluate()
-    void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot) const;
+    void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot);
     double jd_pivot_ratio(const CoordinatePartition& p) const;
     void log_partition(double t, const char* what) const;
 
     Settings settings_;
     FormulationOptions options_;
-    const System* system_ = nullptr;
+    System* system_ = nullptr;
     int nq_ = 0, nv_ = 0, nc_ = 0;
     std::vector<std::string> names_;
     Eigen::MatrixXd M_;
 
     // the partition (mutable: chosen from the first state the formulation sees)
-    mutable CoordinatePartition part_;
-    mutable bool selected_ = false;
-    mutable int reselections_ = 0;
+    CoordinatePartition part_;
+    bool selected_ = false;
+    int reselections_ = 0;
     bool redefined_ = false;  // set by a re-selection in project(), cleared by state_redefined()
     double last_rhs_t_ = -std::numeric_limits<double>::infinity();
 
     // scratch
-    mutable ConstraintValues cv_;
-    mutable Eigen::MatrixXd J_;
-    mutable State state_;
-    mutable Eigen::VectorXd Q_;
+    ConstraintValues cv_;
+    Eigen::MatrixXd J_;
+    State state_;
+    Eigen::VectorXd Q_;
 };
 
 }  // namespace mbd::embedding

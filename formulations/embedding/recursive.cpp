@@ -71,7 +71,7 @@ Vec6 Recursive::to6(const Eigen::VectorXd& x, int body) const {
     return out;
 }
 
-void Recursive::bind(const System& system, const FormulationOptions& /*options*/) {
+void Recursive::bind(System& system, const FormulationOptions& /*options*/) {
     system_ = &system;
     planar_ = system.dimension() == Dimension::Planar;
     nb_ = system.body_count();
@@ -165,7 +165,7 @@ void Recursive::bind(const System& system, const FormulationOptions& /*options*/
     udot_.setZero(nu_);
 }
 
-void Recursive::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) const {
+void Recursive::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) {
     struct Column {
         Vec3 g, o, t;  // H column: [g x (R_c - o) + t; A_c^T g]
     };
@@ -278,7 +278,7 @@ void Recursive::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) c
     }
 }
 
-void Recursive::write_state(double t, State& state) const {
+void Recursive::write_state(double t, State& state) {
     state.t = t;
     state.q.resize(nq_);
     state.v.resize(nv_);
@@ -295,7 +295,7 @@ void Recursive::write_state(double t, State& state) const {
     }
 }
 
-void Recursive::articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot) const {
+void Recursive::articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot) {
     for (const Edge& e : edges_) {
         Body& b = bodies_[e.body];
         b.P.setZero();
@@ -339,7 +339,7 @@ void Recursive::articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd&
     if (!udot.allFinite()) throw DynamicsError(t, "non-finite accelerations: the motion diverged");
 }
 
-void Recursive::vdot_system(Eigen::VectorXd& vdot) const {
+void Recursive::vdot_system(Eigen::VectorXd& vdot) {
     vdot.resize(nv_);
     for (int b = 0; b < nb_; ++b) {
         const Vec6& a = bodies_[b].vdot;
@@ -350,7 +350,7 @@ void Recursive::vdot_system(Eigen::VectorXd& vdot) const {
     }
 }
 
-void Recursive::to_ode(const State& state, Eigen::VectorXd& y) const {
+void Recursive::to_ode(const State& state, Eigen::VectorXd& y) {
     y.setZero(ns_ + nu_);
     Eigen::VectorXd s = Eigen::VectorXd::Zero(ns_);
     // poses from the state
@@ -445,7 +445,7 @@ void Recursive::to_ode(const State& state, Eigen::VectorXd& y) const {
     y.tail(nu_) = u;
 }
 
-void Recursive::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+void Recursive::from_ode(double t, const Eigen::VectorXd& y, State& state) {
     kinematics(y.head(ns_), y.tail(nu_));
     write_state(t, state);
 }

@@ -60,10 +60,10 @@ class Recursive final : public Formulation {
 public:
     explicit Recursive(Settings settings) : settings_(std::move(settings)) {}
 
-    void bind(const System& system, const FormulationOptions& options) override;
+    void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override { return ns_ + nu_; }
-    void to_ode(const State& state, Eigen::VectorXd& y) const override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void to_ode(const State& state, Eigen::VectorXd& y) override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
@@ -108,30 +108,30 @@ private:
     };
 
     // forward kinematics: s, u -> bodies_ (poses, velocities, Phi, H, a)
-    void kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) const;
+    void kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u);
     // bodies_ -> state (q, v)
-    void write_state(double t, State& state) const;
+    void write_state(double t, State& state);
     // articulated-body algorithm at bodies_ with Q (System layout): vdot, f, udot
-    void articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot) const;
-    void vdot_system(Eigen::VectorXd& vdot) const;
+    void articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot);
+    void vdot_system(Eigen::VectorXd& vdot);
     Vec6 to6(const Eigen::VectorXd& x, int body) const;
     static Vec6 phi_mul(const Body& c, const Vec6& x);
     static Vec6 phiT_mul(const Body& c, const Vec6& f);
     static void add_phiT_X_phi(const Body& c, const Mat6& X, Mat6& P);
 
     Settings settings_;
-    const System* system_ = nullptr;
+    System* system_ = nullptr;
     bool planar_ = true;
     int nb_ = 0, nq_ = 0, nv_ = 0, ns_ = 0, nu_ = 0;
     std::vector<Edge> edges_;  // parent before child
-    mutable std::vector<Body> bodies_;
-    mutable std::vector<double> sign_;
+    std::vector<Body> bodies_;
+    std::vector<double> sign_;
     // H and D^-1 of every edge, packed (a compact working set keeps the O(n) passes in cache)
-    mutable std::vector<double> hpool_, dpool_;
-    Eigen::Map<Eigen::Matrix<double, 6, Eigen::Dynamic>> H(const Edge& e) const { return {hpool_.data() + e.h0, 6, e.nu}; }
-    Eigen::Map<Eigen::MatrixXd> Dinv(const Edge& e) const { return {dpool_.data() + e.d0, e.nu, e.nu}; }  // per body: +-1 so that written Euler parameters continue the state's
-    mutable State state_;
-    mutable Eigen::VectorXd Q_, udot_;
+    std::vector<double> hpool_, dpool_;
+    Eigen::Map<Eigen::Matrix<double, 6, Eigen::Dynamic>> H(const Edge& e) { return {hpool_.data() + e.h0, 6, e.nu}; }
+    Eigen::Map<Eigen::MatrixXd> Dinv(const Edge& e) { return {dpool_.data() + e.d0, e.nu, e.nu}; }  // per body: +-1 so that written Euler parameters continue the state's
+    State state_;
+    Eigen::VectorXd Q_, udot_;
 };
 
 }  // namespace mbd::embedding

@@ -24,7 +24,7 @@ struct Settings : PartitionSettings {
 // Names of the velocity components: planar body.x, body.y, body.angle; spatial body.x,
 // body.y, body.z (mass-centre velocity, world) and body.wx, body.wy, body.wz (angular
 // velocity in body axes).
-inline std::vector<std::string> velocity_names(const System& system) {
+inline std::vector<std::string> velocity_names(System& system) {
     static const char* planar[] = {"x", "y", "angle"};
     static const char* spatial[] = {"x", "y", "z", "wx", "wy", "wz"};
     const bool is_planar = system.dimension() == Dimension::Planar;

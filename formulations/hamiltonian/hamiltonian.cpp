@@ -60,10 +60,10 @@ class Hamiltonian final : public Formulation {
 public:
     explicit Hamiltonian(const FormulationSpec& spec);
 
-    void bind(const System& system, const FormulationOptions& options) override;
+    void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override { return nq_ + static_cast<int>(part_.independent.size()); }
-    void to_ode(const State& state, Eigen::VectorXd& y) const override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) const override;
+    void to_ode(const State& state, Eigen::VectorXd& y) override;
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
@@ -74,18 +74,18 @@ public:
         return r;
     }
     bool has_hamiltonian() const override { return true; }
-    double hamiltonian(double t, const Eigen::VectorXd& y) const override;
+    double hamiltonian(double t, const Eigen::VectorXd& y) override;
 
 private:
-    void select(const State& state, bool initial) const;
+    void select(const State& state, bool initial);
     // cv_, J_ at (t, q) with v = 0; B_, c_ for the partition
-    void transform(double t, const Eigen::VectorXd& q) const;
+    void transform(double t, const Eigen::VectorXd& q);
     // transform(), then v_i and v from p: state_ holds (t, q, v)
-    void kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p) const;
+    void kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p);
     // vdot at a state for partition p (and Q_ there)
-    void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot) const;
+    void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot);
     // Jdot w on all rows (polarization of gamma, see the header)
-    void jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out) const;
+    void jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out);
     // the momenta p from the state's scaled momenta, and back (see the header)
     Eigen::VectorXd momenta(const Eigen::VectorXd& y) const {
         return y.tail(momentum_scale_.size()).cwiseProduct(momentum_scale_);
@@ -94,29 +94,29 @@ private:
         y.tail(momentum_scale_.size()) = p.cwiseQuotient(momentum_scale_);
     }
     // momentum_scale_ = diag(Mbar) at q, for the current partition
-    void set_momentum_scale(double t, const Eigen::VectorXd& q) const;
+    void set_momentum_scale(double t, const Eigen::VectorXd& q);
 
     PartitionSettings partition_settings_;  // log defaults to false
     SingularityMonitor singularity_;        // rank drop of J after an accepted step (singularity.hpp)
     double newton_tolerance_ = 1e-12;
     int newton_iterations_ = 25;
 
-    const System* system_ = nullptr;
+    System* system_ = nullptr;
     bool planar_ = true;
     int nq_ = 0, nv_ = 0, nc_ = 0;
     Eigen::MatrixXd M_;
     MessageLog log_;  // FormulationOptions::log
-    mutable CoordinatePartition part_;
-    mutable Eigen::VectorXd momentum_scale_;  // diag(Mbar) at the selection: p = momentum_scale_ .* y_p
-    mutable bool selected_ = false;
+    CoordinatePartition part_;
+    Eigen::VectorXd momentum_scale_;  // diag(Mbar) at the selection: p = momentum_scale_ .* y_p
+    bool selected_ = false;
     bool redefined_ = false;  // set by a re-selection in project(), cleared by state_redefined()
     double last_rhs_t_ = -std::numeric_limits<double>::infinity();
 
-    mutable State state_, probe_;
-    mutable ConstraintValues cv_, cv_probe_;
-    mutable Eigen::MatrixXd J_, B_, Mbar_;
-    mutable Eigen::VectorXd c_, vi_, gamma_prime_, Q_;
-    mutable Eigen::LLT<Eigen::MatrixXd> llt_;
+    State state_, probe_;
+    ConstraintValues cv_, cv_probe_;
+    Eigen::MatrixXd J_, B_, Mbar_;
+    Eigen::VectorXd c_, vi_, gamma_prime_, Q_;
+    Eigen::LLT<Eigen::MatrixXd> llt_;
 };
 
 Hamiltonian::Hamiltonian(const FormulationSpec& spec) {
@@ -135,7 +135,7 @@ Hamiltonian::Hamiltonian(const FormulationSpec& spec) {
                     "rank_tolerance, newton_tolerance, newton_iterations, log, singularity_tolerance");
 }
 
-void Hamiltonian::bind(const System& system, const FormulationOptions& options) {
+void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     log_ = options.log;
     planar_ = system.dimension() == Dimension::Planar;
@@ -153,7 +153,7 @@ void Hamiltonian::bind(const System& system, const FormulationOptions& options) 
     select(assembled_initial_state(system), true);
 }
 
-void Hamiltonian::select(const State& state, bool initial) const {
+void Hamiltonian::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
     J_ = Eigen::MatrixXd(cv_.J);
     part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
@@ -163,12 +163,12 @@ void Hamiltonian::select(const State& state, bool initial) const {
         log_("hamiltonian: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
 }
 
-void Hamiltonian::set_momentum_scale(double t, const Eigen::VectorXd& q) const {
+void Hamiltonian::set_momentum_scale(double t, const Eigen::VectorXd& q) {
     transform(t, q);
     momentum_scale_ = Mbar_.diagonal();  // positive: Mbar is positive definite
 }
 
-void Hamiltonian::transform(double t, const Eigen::VectorXd& q) const {
+void Hamiltonian::transform(double t, const Eigen::VectorXd& q) {
     state_.t = t;
     state_.q = q;
     state_.v.setZero(nv_);
@@ -185,7 +185,7 @@ void Hamiltonian::transform(double t, const Eigen::VectorXd& q) const {
     }
 }
 
-void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p) const {
+void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p) {
     transform(t, q);
     const int k = static_cast<int>(part_.independent.size());
     // qdot_i = dH/dp = Mbar^-1 (p - B^T M c)
@@ -196,7 +196,7 @@ void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::Ve
     state_.v = B_ * vi_ + c_;
 }
 
-void Hamiltonian::jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out) const {
+void Hamiltonian::jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out) {
     probe_.t = state_.t;
     probe_.q = state_.q;
     probe_.v = state_.v + w;
@@ -217,7 +217,7 @@ void Hamiltonian::jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out) con
     }
 }
 
-void Hamiltonian::to_ode(const State& state, Eigen::VectorXd& y) const {
+void Hamiltonian::to_ode(const State& state, Eigen::VectorXd& y) {
     if (!selected_) select(state, true);
     transform(state.t, state.q);
     const int k = static_cast<int>(part_.independent.size());
@@ -226,14 +226,14 @@ void Hamiltonian::to_ode(const State& state, Eigen::VectorXd& y) const {
     store_momenta(B_.transpose() * (M_ * state.v), y);  // p = B^T M v
 }
 
-void Hamiltonian::from_ode(double t, const Eigen::VectorXd& y, State& state) const {
+void Hamiltonian::from_ode(double t, const Eigen::VectorXd& y, State& state) {
     kinematics(t, y.head(nq_), momenta(y));
     state.t = t;
     state.q = state_.q;
     state.v = state_.v;
 }
 
-double Hamiltonian::hamiltonian(double t, const Eigen::VectorXd& y) const {
+double Hamiltonian::hamiltonian(double t, const Eigen::VectorXd& y) {
     const Eigen::VectorXd p = momenta(y);
     kinematics(t, y.head(nq_), p);
     // H = p^T qdot_i - L = p^T v_i - T + V (= T + V when scleronomic)
@@ -267,7 +267,7 @@ void Hamiltonian::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
 }
 
 bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
-    const System& sys = *system_;
+    System& sys = *system_;
     State s;
     s.t = t;
     s.q = y.head(nq_);
@@ -309,7 +309,7 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
 }
 
 void Hamiltonian::solve_accelerations(double t, const CoordinatePartition& p, const State& state,
-                                      Eigen::VectorXd& vdot) const {
+                                      Eigen::VectorXd& vdot) {
     system_->constraints(state, cv_, true);
     J_ = Eigen::MatrixXd(cv_.J);
     system_->generalized_forces(state, Q_);

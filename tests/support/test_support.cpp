@@ -69,7 +69,7 @@ std::shared_ptr<Formulation> make_formulation(const std::string& type, Param& no
     return shared_registry().create_formulation(spec, "test");
 }
 
-State random_consistent_state(const System& system, std::mt19937& rng, double spread) {
+State random_consistent_state(System& system, std::mt19937& rng, double spread) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     State s = system.initial_state();
     s.t = 0.0;

@@ -29,7 +29,7 @@ Model scene(const std::string& yaml, const std::string& label = "test.yaml");
 std::shared_ptr<Formulation> make_formulation(const std::string& type, Param& node);
 // A random consistent state near the scene's initial configuration: random coordinate
 // increments of size `spread`, assembled; random velocities, made consistent.
-State random_consistent_state(const System& system, std::mt19937& rng, double spread);
+State random_consistent_state(System& system, std::mt19937& rng, double spread);
 
 // The whole text of a file.
 std::string read_text(const std::filesystem::path& path);

@@ -1,9 +1,12 @@
 // The assembler of constraint equations: stacks the rows of every joint and
 // driver into C(q, t), the sparse Jacobian C_q (with respect to v), C_t and
 // gamma (book Eqs. 3.108-3.124), and remembers which element owns each row.
+// It is immutable: the Jacobian's sparsity pattern (every body block of every row,
+// zeros included) is fixed when it is built, and each evaluation writes the values
+// in place, into the caller's Data and ConstraintValues.
 #pragma once
 
-#include <mbd/body_poses.hpp>
+#include <mbd/data.hpp>
 #include <mbd/model.hpp>
 
 #include <Eigen/Sparse>
@@ -35,8 +38,8 @@ public:
     int cols() const { return model_->nv(); }
     const RowOwner& owner(int row) const { return owners_[row]; }
 
-    // Evaluate every row at the given state.
-    void evaluate(const State& state, ConstraintValues& out) const;
+    // Evaluate every row at the given state, writing the rows into `data` and `out`.
+    void evaluate(const State& state, Data& data, ConstraintValues& out) const;
 
 private:
     const Model* model_;
@@ -45,12 +48,11 @@ private:
     int joint_rows_ = 0;
     std::vector<int> joint_offset_;
     std::vector<RowOwner> owners_;
-    // scratch, allocated once
-    mutable BodyPoses poses_;
-    mutable std::vector<ConstraintEval> joint_eval_;
-    mutable std::vector<CoordinateEval> driver_eval_;
-    mutable std::vector<Eigen::Triplet<double>> triplets_;
-    mutable BodyStates view_;
+    // The Jacobian's fixed pattern, and for each element row and each of its body
+    // columns (in the order evaluate() visits them, ground bodies skipped) the index
+    // of that entry in the pattern's value array.
+    Eigen::SparseMatrix<double> pattern_;
+    std::vector<int> slot_;
 };
 
 }  // namespace mbd

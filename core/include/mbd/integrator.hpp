@@ -23,7 +23,7 @@ public:
     virtual void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) = 0;  // throws DynamicsError
     virtual bool project(double t, Eigen::VectorXd& y) = 0;
     // For integrators that work on the second-order DAE directly (index 3).
-    virtual const System* system() const { return nullptr; }
+    virtual System* system() { return nullptr; }
     virtual Formulation* formulation() { return nullptr; }
 };
 

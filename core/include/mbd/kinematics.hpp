@@ -29,11 +29,13 @@ struct AssemblyReport {
 };
 
 // Positions: solve C(q, t) = 0 from state.q (min-norm Newton steps). Throws KinematicsError.
-AssemblyReport assemble_positions(const ConstraintSystem& system, State& state, const KinematicsOptions& options = {});
+// Each writes its evaluations into `data` (a Data of the system's model).
+AssemblyReport assemble_positions(const ConstraintSystem& system, Data& data, State& state,
+                                  const KinematicsOptions& options = {});
 // Velocities: the consistent velocity nearest to state.v (J v = -C_t).
-void solve_velocities(const ConstraintSystem& system, State& state, LinearAlgebra algebra = LinearAlgebra::Auto);
+void solve_velocities(const ConstraintSystem& system, Data& data, State& state, LinearAlgebra algebra = LinearAlgebra::Auto);
 // Accelerations: the minimum-norm solution of J a = gamma.
-Eigen::VectorXd solve_accelerations(const ConstraintSystem& system, const State& state,
+Eigen::VectorXd solve_accelerations(const ConstraintSystem& system, Data& data, const State& state,
                                     LinearAlgebra algebra = LinearAlgebra::Auto);
 
 // Positions, velocities and accelerations at every output time t = 0, h, 2h, ..., t_end.

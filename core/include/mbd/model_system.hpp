@@ -1,8 +1,10 @@
-// The core's implementation of the SDK's System over a Model: what
-// formulation, statics and inverse-dynamics plugins see.
+// The core's implementation of the SDK's System: one Model (shared, immutable) and
+// the Data this System evaluates into (its own). What formulation, statics and
+// inverse-dynamics plugins see. One ModelSystem per thread; any number per Model.
 #pragma once
 
 #include <mbd/constraint_system.hpp>
+#include <mbd/data.hpp>
 #include <mbd/kinematics.hpp>
 #include <mbd/model.hpp>
 #include <mbd/sdk/system.hpp>
@@ -17,6 +19,7 @@ public:
     ModelSystem(Model&&, KinematicsOptions = {}) = delete;  // it keeps a reference: no temporaries
 
     const Model& model() const { return *model_; }
+    Data& data() { return data_; }
 
     Dimension dimension() const override { return model_->dimension; }
     const std::string& name() const override { return model_->name; }
@@ -37,18 +40,21 @@ public:
     void normalize(Eigen::VectorXd& q) const override;
 
     const Eigen::SparseMatrix<double>& mass_matrix() const override { return mass_; }
-    void generalized_forces(const State& state, Eigen::VectorXd& Q) const override;
+    void generalized_forces(const State& state, Eigen::VectorXd& Q) override;
     void force_jacobians(const State& state, Eigen::SparseMatrix<double>& dQ_dq,
-                         Eigen::SparseMatrix<double>& dQ_dv) const override;
+                         Eigen::SparseMatrix<double>& dQ_dv) override;
     double kinetic_energy(const State& state) const override;
-    double potential_energy(const State& state) const override;
+    double potential_energy(const State& state) override;
     bool conservative() const override;
 
-    void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) const override;
-    void assemble(State& state, bool include_drivers = true) const override;
-    void consistent_velocities(State& state, bool include_drivers = true) const override;
+    void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) override;
+    void assemble(State& state, bool include_drivers = true) override;
+    void consistent_velocities(State& state, bool include_drivers = true) override;
 
 private:
+    void force_differences(const ForceInstance& f, const State& state, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
+                           Eigen::Ref<Eigen::MatrixXd> dQ_dv);
+
     const Model* model_;
     KinematicsOptions kinematics_;
     std::vector<BodyInfo> bodies_;
@@ -56,12 +62,9 @@ private:
     std::vector<DriverInfo> drivers_;
     std::vector<ForceInfo> forces_;
     Eigen::SparseMatrix<double> mass_;
-    ConstraintSystem with_drivers_;
-    ConstraintSystem joints_only_;
-    mutable BodyPoses poses_;
-    mutable BodyStates view_;
-    mutable Eigen::VectorXd element_q_;
-    mutable Eigen::MatrixXd element_dq_, element_dv_;
+    const ConstraintSystem with_drivers_;
+    const ConstraintSystem joints_only_;
+    Data data_;
 };
 
 }  // namespace mbd

@@ -19,7 +19,7 @@ public:
     virtual ~NonlinearEquations() = default;
     virtual int equations() const = 0;
     virtual int unknowns() const = 0;  // size of the increment dx
-    virtual void evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& C, Eigen::SparseMatrix<double>& J) const = 0;
+    virtual void evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& C, Eigen::SparseMatrix<double>& J) = 0;
     // x <- x (+) dx; the default is a plain sum.
     virtual void advance(Eigen::VectorXd& x, const Eigen::VectorXd& dx) const { x += dx; }
 };
@@ -45,7 +45,7 @@ struct NewtonResult {
     std::vector<NewtonIteration> trace;  // filled when options ask for it
 };
 
-NewtonResult newton_raphson(const NonlinearEquations& equations, Eigen::VectorXd& x,
+NewtonResult newton_raphson(NonlinearEquations& equations, Eigen::VectorXd& x,
                             const NewtonOptions& options, bool keep_trace = false);
 
 }  // namespace mbd

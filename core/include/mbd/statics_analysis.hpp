@@ -44,12 +44,12 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
                           const std::string& solver = "ipopt");
 
 // Reactions from multipliers of every constraint row (or of the joint rows only).
-std::vector<JointLoad> joint_loads(const System& system, const State& state, const Eigen::VectorXd& lambda);
+std::vector<JointLoad> joint_loads(System& system, const State& state, const Eigen::VectorXd& lambda);
 
 // Inverse dynamics at t = 0, step, ..., t_end (kinematics from the drivers).
 // Throws DynamicsError naming the first time it fails, KinematicsError when the
 // drivers cannot be assembled.
-using InverseCallback = std::function<bool(const InverseSample& sample, const System& system)>;
+using InverseCallback = std::function<bool(const InverseSample& sample, System& system)>;
 void run_inverse(const Model& model, Registry& registry, double t_end, double step, const InverseCallback& callback,
                  InverseOptions options = {}, const std::string& solver = "ipopt");
 

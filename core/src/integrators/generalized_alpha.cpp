@@ -69,7 +69,7 @@ private:
     [[noreturn]] void newton_failure(double t, const std::string& cause) const;
 
     IntegratorSettings settings_;
-    const System* system_ = nullptr;
+    System* system_ = nullptr;
     int nv_ = 0, nc_ = 0;
     double regularization_ = 0.0;
 
@@ -195,7 +195,7 @@ void GeneralizedAlpha::initial_accelerations(double t, IntegratorStats& stats) {
 void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y,
                                  const std::vector<double>& output_times, const OutputCallback& output,
                                  IntegratorStats& stats) {
-    const System* system = problem.system();
+    System* system = problem.system();
     Formulation* formulation = problem.formulation();
     if (!system || !formulation || !formulation->supports_index3())
         throw InputError(name(), "generalized_alpha needs a formulation that supports index-3 (augmented)");

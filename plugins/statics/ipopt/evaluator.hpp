@@ -84,7 +84,7 @@ struct Coordinate {
 
 class Evaluator {
 public:
-    Evaluator(const System& system, double t, const std::vector<int>& coordinate_joints)
+    Evaluator(System& system, double t, const std::vector<int>& coordinate_joints)
         : sys(system), dim(system.dimension()), nb(system.body_count()), vpb(velocities_per_body(system.dimension())),
           nv(system.nv()), mc(system.constraint_rows(true)), t_(t), poses_(system.dimension(), system.body_count()),
           coordinate_joints_(coordinate_joints) {
@@ -128,7 +128,7 @@ public:
         T.assign(nb, Mat3::Identity());
     }
 
-    const System& sys;
+    System& sys;
     const Dimension dim;
     const int nb, vpb, nv, mc;
     std::vector<std::vector<int>> row_bodies;        // per constraint row

@@ -116,7 +116,7 @@ Eigen::MatrixXd null_space(const Eigen::MatrixXd& A, int n, int& rank) {
 
 class IpoptInverse final : public InverseSolver {
 public:
-    void bind(const System& system, const InverseOptions& options) override {
+    void bind(System& system, const InverseOptions& options) override {
         sys_ = &system;
         opt_ = options;
         if (opt_.actuators.empty())
@@ -127,7 +127,7 @@ public:
     }
 
     InverseSample solve(const State& state, const Eigen::VectorXd& acceleration) override {
-        const System& sys = *sys_;
+        System& sys = *sys_;
         const int nv = sys.nv(), mj = sys.constraint_rows(false), na = static_cast<int>(opt_.actuators.size());
         const double t = state.t;
         InverseSample out;
@@ -254,7 +254,7 @@ public:
     }
 
 private:
-    const System* sys_ = nullptr;
+    System* sys_ = nullptr;
     InverseOptions opt_;
     std::unique_ptr<Evaluator> ev_;
 };

@@ -40,7 +40,7 @@ class Relaxation {
 public:
     // unit: per velocity component, the size of a unit increment (1 rad for rotations, the
     // model's length for translations); stability_tolerance as StaticsOptions.
-    Relaxation(const System& sys, Evaluator& ev, Eigen::VectorXd unit, double stability_tolerance)
+    Relaxation(System& sys, Evaluator& ev, Eigen::VectorXd unit, double stability_tolerance)
         : sys_(sys), ev_(ev), unit_(std::move(unit)), stability_tolerance_(stability_tolerance),
           nv_(sys.nv()), mc_(sys.constraint_rows(true)) {}
 
@@ -169,7 +169,7 @@ private:
         return dx.allFinite();
     }
 
-    const System& sys_;
+    System& sys_;
     Evaluator& ev_;
     Eigen::VectorXd unit_;
     double stability_tolerance_;

@@ -387,7 +387,7 @@ private:
 // True when Q(q, v = 0) = -grad V at q0 and at a perturbed configuration (checked
 // along a few random directions): the forces are conservative at rest (damping
 // does not count), so the potential can be minimised.
-bool conservative_at_rest(const System& sys, const State& start) {
+bool conservative_at_rest(System& sys, const State& start) {
     const int nv = sys.nv();
     std::mt19937 rng(12345);
     std::normal_distribution<double> normal;
@@ -417,7 +417,7 @@ bool conservative_at_rest(const System& sys, const State& start) {
 }
 
 // Minimum-norm least-squares lambda from J^T lambda = Q (starting multipliers).
-Eigen::VectorXd initial_multipliers(const System& sys, const State& s) {
+Eigen::VectorXd initial_multipliers(System& sys, const State& s) {
     const int mc = sys.constraint_rows(true);
     if (mc == 0) return Eigen::VectorXd();
     ConstraintValues cv;
@@ -477,7 +477,7 @@ struct IncrementGeometry {
     }
 };
 
-IncrementGeometry increment_geometry(const System& sys, const Eigen::VectorXd& q) {
+IncrementGeometry increment_geometry(System& sys, const Eigen::VectorXd& q) {
     IncrementGeometry g;
     g.dim = sys.dimension();
     g.nb = sys.body_count();
@@ -514,7 +514,7 @@ IncrementGeometry increment_geometry(const System& sys, const Eigen::VectorXd& q
 // when it does not converge.
 class Projector {
 public:
-    explicit Projector(const System& sys) : sys_(sys), nv_(sys.nv()), mc_(sys.constraint_rows(true)) {}
+    explicit Projector(System& sys) : sys_(sys), nv_(sys.nv()), mc_(sys.constraint_rows(true)) {}
 
     bool project(double t, Eigen::VectorXd& q, double tol, int max_iterations = 25) {
         if (mc_ == 0) return true;
@@ -560,7 +560,7 @@ private:
         return ldlt_.info() == Eigen::Success;
     }
 
-    const System& sys_;
+    System& sys_;
     int nv_, mc_;
     ConstraintValues cv_;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
@@ -582,7 +582,7 @@ struct MarchResult {
     double jump_at = -1.0;  // t where the projections jump
 };
 
-MarchResult march(const System& sys, Projector& projector, const IncrementGeometry& geo, double t,
+MarchResult march(System& sys, Projector& projector, const IncrementGeometry& geo, double t,
                   const Eigen::VectorXd& centre, const Eigen::VectorXd& x, double tol) {
     MarchResult out;
     if (sys.constraint_rows(true) == 0) return out;
@@ -641,7 +641,7 @@ public:
     // start is followed to a stable one (relaxation.hpp) and the solve repeated from there.
     // An explicit objective keeps the nearest equilibrium, stable or not. Dense, without
     // joint limits (nv <= 600, no limits).
-    StaticsResult solve(const System& sys, const State& start, const StaticsOptions& opt) override {
+    StaticsResult solve(System& sys, const State& start, const StaticsOptions& opt) override {
         StaticsOptions assessed = opt;
         assessed.analyse_stability = true;  // the search needs the verdict
         const bool search = opt.objective == "auto" && opt.limits.empty() && sys.nv() <= 600;
@@ -680,7 +680,7 @@ private:
         return res;
     }
 
-    StaticsResult solve_from(const System& sys, const State& start, const StaticsOptions& opt) {
+    StaticsResult solve_from(System& sys, const State& start, const StaticsOptions& opt) {
         StaticsResult res;
         res.state = start;
         res.state.t = opt.time;
@@ -903,7 +903,7 @@ private:
     // of the start's. Kept unwrapped when that would change a constraint (a driver on
     // an unwrapped angle) or a limited joint coordinate: then the path-continuous
     // angles are the ones the equations hold for.
-    static void wrap_angles(const System& sys, Evaluator& ev, const State& start, const StaticsOptions& opt,
+    static void wrap_angles(System& sys, Evaluator& ev, const State& start, const StaticsOptions& opt,
                             State& state) {
         const int nb = sys.body_count(), mc = sys.constraint_rows(true);
         Eigen::VectorXd q = state.q;
@@ -932,7 +932,7 @@ private:
     // Interior-point iterates stop a barrier distance (~tol / nu) inside an active
     // limit. Newton steps on the square system [C; s_a - bound; Q - J^T lambda -
     // J_a^T nu_a] = 0 (active limits as equalities) put them on it exactly.
-    static void polish(const System& sys, Evaluator& ev, State& state, Eigen::VectorXd& lambda, Eigen::VectorXd& nu,
+    static void polish(System& sys, Evaluator& ev, State& state, Eigen::VectorXd& lambda, Eigen::VectorXd& nu,
                        const std::vector<JointLimit>& limits) {
         const int nv = sys.nv(), mc = sys.constraint_rows(true);
         std::vector<int> act;
@@ -985,7 +985,7 @@ private:
 
     // Reduced Hessian of the potential on the tangent space of the active constraints:
     // K = sym(-dQ/dq) + sym(d(J^T lambda + J_s^T nu)/dq), Z^T K Z with Z a null-space basis.
-    static void stability(const System& sys, Evaluator& ev, StaticsResult& res, const StaticsOptions& opt,
+    static void stability(System& sys, Evaluator& ev, StaticsResult& res, const StaticsOptions& opt,
                           const std::vector<int>& active) {
         const int nv = sys.nv(), mc = sys.constraint_rows(true);
         ev.clear_blocks();

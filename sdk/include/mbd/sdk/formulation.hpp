@@ -52,14 +52,14 @@ public:
     virtual ~Formulation() = default;
 
     // Bind to a system; allocate all scratch here so the hot path does not allocate.
-    virtual void bind(const System& system, const FormulationOptions& options) = 0;
+    virtual void bind(System& system, const FormulationOptions& options) = 0;
 
     // --- the ODE y' = f(t, y)
     virtual int ode_size() const = 0;
     // y from a consistent state (assembled, consistent velocities).
-    virtual void to_ode(const State& state, Eigen::VectorXd& y) const = 0;
+    virtual void to_ode(const State& state, Eigen::VectorXd& y) = 0;
     // The engine's state (q, v) from y.
-    virtual void from_ode(double t, const Eigen::VectorXd& y, State& state) const = 0;
+    virtual void from_ode(double t, const Eigen::VectorXd& y, State& state) = 0;
     // f(t, y); throws DynamicsError when the equations cannot be solved.
     virtual void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) = 0;
     // After an accepted step: pull y back onto the manifold (positions and
@@ -78,7 +78,7 @@ public:
     virtual void accelerations(const State& state, Eigen::VectorXd& vdot) = 0;
     // The formulation's conserved quantity where it has one (Hamiltonian: H).
     virtual bool has_hamiltonian() const { return false; }
-    virtual double hamiltonian(double /*t*/, const Eigen::VectorXd& /*y*/) const { return 0.0; }
+    virtual double hamiltonian(double /*t*/, const Eigen::VectorXd& /*y*/) { return 0.0; }
 
     // True if an implicit integrator may solve this formulation's index-3 DAE
     // M vdot + J^T lambda = Q, C(q, t) = 0 on the System directly.

@@ -48,7 +48,7 @@ struct InverseSample {
 class MBD_SDK_API InverseSolver {
 public:
     virtual ~InverseSolver() = default;
-    virtual void bind(const System& system, const InverseOptions& options) = 0;
+    virtual void bind(System& system, const InverseOptions& options) = 0;
     // Efforts at `state` (assembled, consistent velocities, at state.t) with the
     // prescribed acceleration. Throws DynamicsError (formulation.hpp) naming the
     // time and the cause when the motion cannot be produced.

@@ -21,7 +21,7 @@
 #include <memory>
 
 // Bumped whenever a type in the SDK headers changes layout or meaning.
-#define MBD_ABI_VERSION 2
+#define MBD_ABI_VERSION 3
 
 namespace mbd {
 

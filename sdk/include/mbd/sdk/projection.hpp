@@ -33,7 +33,7 @@ namespace mbd {
 // Projects (q0, v0) at time t; on success returns true with the result in state.
 // cv is scratch (left at the projected state).
 template <class Factor, class SolveS, class ApplyMinv>
-bool project_onto_constraints(const System& system, double t, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+bool project_onto_constraints(System& system, double t, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                               double tolerance, State& state, ConstraintValues& cv, Factor&& factor, SolveS&& solve_S,
                               ApplyMinv&& apply_Minv) {
     Eigen::VectorXd x, tmp(system.nv()), dv(system.nv());
@@ -87,7 +87,7 @@ bool project_onto_constraints(const System& system, double t, const Eigen::Vecto
 // orthogonal decompositions (singular values below 1e-10 of the largest are zero).
 class DenseMetricSolver {
 public:
-    void bind(const System& system) {
+    void bind(System& system) {
         const Eigen::MatrixXd M(system.mass_matrix());
         Minv_ = M.inverse();
         Minv_ = 0.5 * (Minv_ + Minv_.transpose());

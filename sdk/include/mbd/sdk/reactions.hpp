@@ -49,7 +49,7 @@ struct JointReaction {
 namespace reactions_detail {
 
 // Pose of a body at state: rotation A (3x3, planar embedded) and mass centre R.
-inline void body_pose(const System& system, const State& state, int body, Mat3& A, Vec3& R) {
+inline void body_pose(System& system, const State& state, int body, Mat3& A, Vec3& R) {
     if (system.dimension() == Dimension::Planar) {
         const int o = 3 * body;
         R = Vec3(state.q[o], state.q[o + 1], 0.0);
@@ -64,7 +64,7 @@ inline void body_pose(const System& system, const State& state, int body, Mat3& 
 }
 
 // Marker axes in body coordinates (planar: rotation by the marker angle).
-inline Mat3 marker_axes(const System& system, const Marker& m) {
+inline Mat3 marker_axes(System& system, const Marker& m) {
     if (system.dimension() == Dimension::Planar) {
         Mat3 a = Mat3::Identity();
         a.topLeftCorner<2, 2>() = planar_rotation(m.angle);
@@ -74,7 +74,7 @@ inline Mat3 marker_axes(const System& system, const Marker& m) {
 }
 
 // Reactions on the bodies of one element from rows [first, first + count) of J and lambda.
-inline JointReaction element_reaction(const System& system, const State& state,
+inline JointReaction element_reaction(System& system, const State& state,
                                       const Eigen::SparseMatrix<double, Eigen::RowMajor>& J,
                                       const Eigen::VectorXd& lambda, const JointInfo& joint, int first, int count) {
     const bool planar = system.dimension() == Dimension::Planar;
@@ -126,7 +126,7 @@ inline JointReaction element_reaction(const System& system, const State& state,
     return out;
 }
 
-inline void check_sizes(const System& system, const State& state, const Eigen::VectorXd& lambda) {
+inline void check_sizes(System& system, const State& state, const Eigen::VectorXd& lambda) {
     if (state.q.size() != system.nq() || state.v.size() != system.nv())
         throw std::invalid_argument("joint_reactions: the state does not match the system");
     if (lambda.size() != system.constraint_rows(true) && lambda.size() != system.constraint_rows(false))
@@ -139,7 +139,7 @@ inline void check_sizes(const System& system, const State& state, const Eigen::V
 
 // Reactions of every joint on each of its bodies (joint rows only), in scene order.
 // lambda holds one multiplier per constraint row (joints then drivers, or joints only).
-inline std::vector<JointReaction> joint_reactions(const System& system, const State& state,
+inline std::vector<JointReaction> joint_reactions(System& system, const State& state,
                                                   const Eigen::VectorXd& lambda) {
     reactions_detail::check_sizes(system, state, lambda);
     const bool drivers = lambda.size() == system.constraint_rows(true) && system.driver_count() > 0;
@@ -160,7 +160,7 @@ inline std::vector<JointReaction> joint_reactions(const System& system, const St
 
 // The actuator effort of every driver on the bodies of its joint (empty when lambda
 // has no driver rows). For a revolute driver this is the motor torque pair.
-inline std::vector<JointReaction> driver_reactions(const System& system, const State& state,
+inline std::vector<JointReaction> driver_reactions(System& system, const State& state,
                                                    const Eigen::VectorXd& lambda) {
     reactions_detail::check_sizes(system, state, lambda);
     std::vector<JointReaction> out;

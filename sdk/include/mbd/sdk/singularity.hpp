@@ -48,14 +48,14 @@ public:
     void reset() { reference_ = -1; }
     int reference_rank() const { return reference_; }
 
-    bool active(const System& system) const {
+    bool active(System& system) const {
         const double nc = system.constraint_rows(true), nv = system.nv();
         return tolerance > 0.0 && nc > 0 && nc * nv * std::min(nc, nv) <= max_work;
     }
 
     // J at an accepted (projected) state at time t. The first call sets the reference
     // rank; a later call with a lower rank throws DynamicsError naming the dependent rows.
-    void check(const System& system, double t, const Eigen::SparseMatrix<double>& J) {
+    void check(System& system, double t, const Eigen::SparseMatrix<double>& J) {
         if (!active(system) || J.rows() == 0) return;
         Jt_ = Eigen::MatrixXd(J).transpose();
         qr_.compute(Jt_);

@@ -62,7 +62,7 @@ public:
     virtual ~StaticsSolver() = default;
     // Solve from `start` (assembled; t = options.time). Never throws for a
     // solver failure: converged = false with status and message set.
-    virtual StaticsResult solve(const System& system, const State& start, const StaticsOptions& options) = 0;
+    virtual StaticsResult solve(System& system, const State& start, const StaticsOptions& options) = 0;
 };
 
 struct StaticsSpec {

@@ -6,6 +6,12 @@
 // joint's rows in scene order, then one row per driver. Every Jacobian is with
 // respect to v (spatial: (dR, dpi_bar)); position increments are applied with
 // advance_positions().
+//
+// A System is one immutable Model together with one evaluation workspace (the core's
+// Data): the evaluation methods write that workspace, so they are not const, and one
+// System serves one thread at a time. Threads share the Model, each with its own System.
+// Constraint Jacobians keep one sparsity pattern for the life of the System (entries that
+// happen to be zero are stored), so a factorization's symbolic analysis can be reused.
 #pragma once
 
 #include <exception>
@@ -82,27 +88,27 @@ public:
     virtual const Eigen::SparseMatrix<double>& mass_matrix() const = 0;
     // All applied generalized forces plus, for spatial bodies, the gyroscopic
     // term -wbar x (Jbar wbar) (book Eq. 7.155's Q_v). Q has size nv.
-    virtual void generalized_forces(const State& state, Eigen::VectorXd& Q) const = 0;
+    virtual void generalized_forces(const State& state, Eigen::VectorXd& Q) = 0;
     // dQ/dq (position increments) and dQ/dv of generalized_forces(): exact where the
     // force elements give Jacobians, central finite differences for the others.
     virtual void force_jacobians(const State& state, Eigen::SparseMatrix<double>& dQ_dq,
-                                 Eigen::SparseMatrix<double>& dQ_dv) const = 0;
+                                 Eigen::SparseMatrix<double>& dQ_dv) = 0;
     virtual double kinetic_energy(const State& state) const = 0;
-    virtual double potential_energy(const State& state) const = 0;  // conservative parts
+    virtual double potential_energy(const State& state) = 0;  // conservative parts
     virtual bool conservative() const = 0;                          // every force conservative
 
     // --- constraints (joints, then drivers when include_drivers)
-    virtual void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) const = 0;
+    virtual void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) = 0;
 
     // --- kinematics (the core's Newton-Raphson; throws std::runtime_error naming the worst joint)
-    virtual void assemble(State& state, bool include_drivers = true) const = 0;  // positions
-    virtual void consistent_velocities(State& state, bool include_drivers = true) const = 0;
+    virtual void assemble(State& state, bool include_drivers = true) = 0;  // positions
+    virtual void consistent_velocities(State& state, bool include_drivers = true) = 0;
 };
 
 // The state at which a formulation picks its coordinate partition in bind(): the scene's
 // initial state assembled as the run will assemble it, or as given when the assembly fails
 // (the run itself then reports that failure).
-inline State assembled_initial_state(const System& system) {
+inline State assembled_initial_state(System& system) {
     State s = system.initial_state();
     s.t = 0.0;
     try {

@@ -82,7 +82,7 @@ inline void multipliers_from_dependent_rows(const Eigen::MatrixXd& J, const Coor
 // J_d dd = -C (kept rows), q <- q (+) P_d dd (book Sec. 6.12 step 3; Ch. 3 Eq. 3.117),
 // until max |C| on the kept rows <= tolerance. state.q is updated; returns false if
 // the iteration did not converge. cv and J are left at the final q.
-inline bool correct_dependent_positions(const System& system, State& state, const CoordinatePartition& p,
+inline bool correct_dependent_positions(System& system, State& state, const CoordinatePartition& p,
                                         double tolerance, int iterations, ConstraintValues& cv, Eigen::MatrixXd& J) {
     const int nv = system.nv();
     bool converged = p.rank == 0;

@@ -1,0 +1,48 @@
+#include <mbd/data.hpp>
+
+#include <algorithm>
+
+namespace mbd {
+
+Data::Data(const Model& model) : poses(model) {
+    const int nvb = velocities_per_body(model.dimension);
+    size_t widest = 1;
+    for (const ForceInstance& f : model.forces) widest = std::max(widest, f.bodies.size());
+    for (const JointInstance& j : model.joints) widest = std::max(widest, j.bodies.size());
+    view.planar_bodies.reserve(widest);
+    view.spatial_bodies.reserve(widest);
+    const int n = nvb * static_cast<int>(widest);
+    force_Q.setZero(n);
+    force_plus.setZero(n);
+    force_minus.setZero(n);
+    force_dQ_dq.setZero(n, n);
+    force_dQ_dv.setZero(n, n);
+    probe.q.setZero(model.nq());
+    probe.v.setZero(model.nv());
+    for (const JointInstance& j : model.joints) {
+        ConstraintEval eval;
+        eval.resize(j.joint->rows(), nvb * static_cast<int>(j.bodies.size()));
+        joint_rows.push_back(std::move(eval));
+    }
+    posed_q_.setZero(model.nq());
+    posed_v_.setZero(model.nv());
+    for (const Driver& d : model.drivers) {
+        CoordinateEval eval;
+        eval.J.setZero(nvb * static_cast<int>(model.joints[d.joint].bodies.size()));
+        driver_rows.push_back(std::move(eval));
+    }
+}
+
+void Data::pose(const State& state) {
+    if (posed_ && state.q.size() == posed_q_.size() && state.v.size() == posed_v_.size() && state.q == posed_q_ &&
+        state.v == posed_v_)
+        return;
+    poses.update(state);
+    posed_ = state.q.size() == posed_q_.size() && state.v.size() == posed_v_.size();
+    if (posed_) {
+        posed_q_ = state.q;
+        posed_v_ = state.v;
+    }
+}
+
+}  // namespace mbd
