@@ -143,6 +143,7 @@ const PluginType& Registry::find(const std::string& kind, const std::string& typ
 
 std::shared_ptr<Registry::Library> Registry::open(const fs::path& library) {
     const std::string key = library.string();
+    const std::lock_guard<std::mutex> lock(mutex_);
     auto it = opened_.find(key);
     if (it != opened_.end()) return it->second;
     auto lib = std::make_shared<Library>();
@@ -207,6 +208,9 @@ std::shared_ptr<InverseSolver> Registry::create_inverse(const InverseSpec& spec,
     return create<InverseSolver>("inverse", spec, where);
 }
 
-std::vector<std::string> Registry::loaded_libraries() const { return open_order_; }
+std::vector<std::string> Registry::loaded_libraries() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return open_order_;
+}
 
 }  // namespace mbd

@@ -166,7 +166,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     options.sparse_threshold = settings.sparse_threshold ? *settings.sparse_threshold : 30;
     formulation->bind(system, options);
 
-    State state = system.initial_state();
+    State state = settings.initial_state ? *settings.initial_state : system.initial_state();
     state.t = 0.0;
     system.assemble(state, true);
     system.consistent_velocities(state, true);

@@ -234,9 +234,12 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     const bool projected = options_.stabilization == Stabilization::Projection && nc_ > 0;
     if (projected) {
         // the augmented formulation's projection (projection.hpp), dense S = J M^-1 J^T
-        const Eigen::VectorXd q0 = state_.q, v0 = state_.v;
+        ProjectionScratch work;
+        work.resize(nq_, nv_, nc_);
+        work.q0 = state_.q;
+        work.v0 = state_.v;
         const bool ok = project_onto_constraints(
-            sys, t, q0, v0, options_.projection_tolerance, state_, cv_,
+            sys, t, work, options_.projection_tolerance, state_, cv_,
             [&](bool robust) { metric_.factor(cv_.J, robust); }, [&](Eigen::VectorXd& x) { metric_.solve(x); },
             [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { metric_.apply_Minv(x, out); });
         if (!ok) return false;

@@ -107,11 +107,13 @@ private:
     State state_;
     ConstraintValues cv_;
     Eigen::VectorXd Q_, vdot_, lambda_, b_, tmp_nv_, tmp_nv2_, tmp_nc_, r_nc_, dv_;
+    ProjectionScratch projection_;
     // dense path
     Eigen::MatrixXd Jd_, Wd_, S_;
     Eigen::LDLT<Eigen::MatrixXd> ldlt_;
     // near rank-deficient S: pseudo-inverse through W, whose condition is the square root of S's
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
+    PseudoInverseSolver pinv_w_, pinv_wt_;
     bool rank_deficient_ = false;
     // sparse path
     cholmod_common common_{};
@@ -228,6 +230,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     b_.setZero(nc_);
     tmp_nc_.setZero(nc_);
     r_nc_.setZero(nc_);
+    projection_.resize(nq_, nv_, nc_);
     tmp_nv_.setZero(nv_);
     tmp_nv2_.setZero(nv_);
     dv_.setZero(nv_);
@@ -251,6 +254,8 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
             cod_w_.compute(Wd_);
             cod_wt_.compute(Wd_.transpose());
         }
+        pinv_w_.resize(nc_, nv_);
+        pinv_wt_.resize(nv_, nc_);
         return;
     }
 
@@ -440,8 +445,8 @@ void Augmented::solve_S(Eigen::VectorXd& x) {
     for (int r : dropped_) x[r] = 0.0;
     if (!sparse_) {
         if (rank_deficient_) {
-            tmp_nv2_.noalias() = cod_w_.solve(x);  // W^+ x
-            x.noalias() = cod_wt_.solve(tmp_nv2_);  // (W^T)^+ W^+ x = S^+ x
+            pinv_w_.solve(cod_w_, x, tmp_nv2_);   // W^+ x
+            pinv_wt_.solve(cod_wt_, tmp_nv2_, x);  // (W^T)^+ W^+ x = S^+ x
         } else {
             ldlt_.solveInPlace(x);
         }
@@ -636,9 +641,10 @@ bool Augmented::project(double t, Eigen::VectorXd& y) {
     // Newton on C(q, t) = 0 with steps of least kinetic-energy norm, then the velocity
     // projection (shared with the amalgamated formulation: sdk/include/mbd/sdk/projection.hpp),
     // with this formulation's factorization of S = J M^-1 J^T (fast first, then robust)
-    const Eigen::VectorXd q0 = y.head(nq_), v0 = y.tail(nv_);
+    projection_.q0 = y.head(nq_);
+    projection_.v0 = y.tail(nv_);
     const bool ok = project_onto_constraints(
-        sys, t, q0, v0, options_.projection_tolerance, state_, cv_,
+        sys, t, projection_, options_.projection_tolerance, state_, cv_,
         [&](bool robust) { factor(t, "projection", robust); }, [&](Eigen::VectorXd& x) { solve_S(x); },
         [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { apply_Minv(x, out); });
     if (!ok) return false;

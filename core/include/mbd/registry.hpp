@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,8 @@ private:
     std::vector<std::filesystem::path> search_path_;
     std::vector<PluginType> types_;
     std::vector<std::string> problems_;
+    // Libraries are opened on first use; threads creating elements at once take turns.
+    mutable std::mutex mutex_;
     std::map<std::string, std::shared_ptr<Library>> opened_;
     std::vector<std::string> open_order_;
 };

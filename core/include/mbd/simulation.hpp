@@ -35,6 +35,8 @@ struct SimulationSettings {
     std::optional<Stabilization> stabilization;
     std::string algebra;              // "", "auto", "dense", "sparse"
     std::optional<int> sparse_threshold;
+    // Start here instead of the scene's initial state (assembled and made consistent the same way).
+    std::optional<State> initial_state;
     bool progress = true;             // a progress bar on stderr when it is a terminal and the run is long
     MessageLog messages;              // the formulation's messages (default std::clog; MessageLog::silent() for none)
 };

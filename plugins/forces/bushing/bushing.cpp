@@ -97,8 +97,8 @@ public:
         add_jacobians<2>(b, [&](const auto& s) { return this->generalized(s); }, dQ_dq, dQ_dv);
     }
     double potential_energy(const BodyStates& b) const override {
-        Eigen::VectorXd delta;
-        Eigen::MatrixXd J;
+        VX<double> delta;
+        MX<double> J;
         if (!b.planar_bodies.empty())
             deformation(planar_states<double>(b), delta, J);
         else
@@ -108,14 +108,14 @@ public:
     bool is_conservative() const override { return C_.isZero(0.0); }
 
     template <class S>
-    void deformation(const std::vector<PlanarT<S>>& s, VX<S>& delta, Eigen::Matrix<S, -1, -1>& J) const {
+    void deformation(const PlanarStates<S>& s, VX<S>& delta, MX<S>& J) const {
         const Vec2 ui = marker_[0].u_bar2(), uj = marker_[1].u_bar2();
         const M2<S> Mi = s[0].A * planar_rotation(marker_[0].angle).cast<S>();
         const V2<S> r = s[1].point(uj) - s[0].point(ui);
         const V2<S> d = Mi.transpose() * r;
         delta.resize(3);
         delta << d, s[1].theta + marker_[1].angle - s[0].theta - marker_[0].angle;
-        J = Eigen::Matrix<S, -1, -1>::Zero(3, 6);
+        J = MX<S>::Zero(3, 6);
         J.template block<2, 2>(0, 0) = -Mi.transpose();
         V2<S> Std;  // S^T d, S = [[0,-1],[1,0]]: derivative of A_mi^T with theta_i
         Std << d.y(), -d.x();
@@ -126,7 +126,7 @@ public:
         J(2, 5) = S(1);
     }
     template <class S>
-    void deformation(const std::vector<SpatialT<S>>& s, VX<S>& delta, Eigen::Matrix<S, -1, -1>& J) const {
+    void deformation(const SpatialStates<S>& s, VX<S>& delta, MX<S>& J) const {
         const Vec3 ui = marker_[0].u_bar, uj = marker_[1].u_bar;
         const M3<S> Abi = marker_[0].A_bar.cast<S>(), Abj = marker_[1].A_bar.cast<S>();
         const M3<S> Mi = s[0].A * Abi, Mj = s[1].A * Abj;
@@ -135,7 +135,7 @@ public:
         const V3<S> phi = log_so3<S>(Mi.transpose() * Mj);
         delta.resize(6);
         delta << d, phi;
-        J = Eigen::Matrix<S, -1, -1>::Zero(6, 12);
+        J = MX<S>::Zero(6, 12);
         J.template block<3, 3>(0, 0) = -Mi.transpose();
         J.template block<3, 3>(0, 3) = Abi.transpose() * (skew_t<S>(s[0].A.transpose() * r) +
                                                           skew_t<S>(ui.cast<S>()));
@@ -145,11 +145,12 @@ public:
         J.template block<3, 3>(3, 9) = inverse_jacobian_so3<S>(phi, 1.0) * Abj.transpose();
     }
 
-    template <class State>
-    auto generalized(const std::vector<State>& s) const {
+    template <class States>
+    auto generalized(const States& s) const {
+        using State = typename States::value_type;
         using S = std::decay_t<decltype(s[0].R[0])>;
         VX<S> delta;
-        Eigen::Matrix<S, -1, -1> J;
+        MX<S> J;
         deformation(s, delta, J);
         VX<S> v(J.cols());
         const int nv = static_cast<int>(J.cols()) / 2;

@@ -58,14 +58,14 @@ public:
         return F;
     }
     template <class S>
-    VX<S> generalized(const std::vector<PlanarT<S>>& s, const Vec3& F) const {
+    VX<S> generalized(const PlanarStates<S>& s, const Vec3& F) const {
         const V2<S> Fw = body_frame_ ? V2<S>(s[0].A * F.head<2>().cast<S>()) : V2<S>(F.head<2>().cast<S>());
         VX<S> Q(3);
         Q << Fw, s[0].A_theta_u(u_.head<2>()).dot(Fw);  // (5.45): u_bar^T A_theta^T F = (A u_bar) x F
         return Q;
     }
     template <class S>
-    VX<S> generalized(const std::vector<SpatialT<S>>& s, const Vec3& F) const {
+    VX<S> generalized(const SpatialStates<S>& s, const Vec3& F) const {
         const V3<S> Fw = body_frame_ ? V3<S>(s[0].A * F.cast<S>()) : V3<S>(F.cast<S>());
         const V3<S> Fb = body_frame_ ? V3<S>(F.cast<S>()) : V3<S>(s[0].A.transpose() * Fw);
         VX<S> Q(6);

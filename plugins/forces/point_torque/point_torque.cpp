@@ -65,13 +65,13 @@ public:
         return T;
     }
     template <class S>
-    VX<S> generalized(const std::vector<PlanarT<S>>&, const Vec3& T) const {
+    VX<S> generalized(const PlanarStates<S>&, const Vec3& T) const {
         VX<S> Q = VX<S>::Zero(3);
         Q[2] = S(T[0]);
         return Q;
     }
     template <class S>
-    VX<S> generalized(const std::vector<SpatialT<S>>& s, const Vec3& T) const {
+    VX<S> generalized(const SpatialStates<S>& s, const Vec3& T) const {
         VX<S> Q = VX<S>::Zero(6);
         if (body_frame_)
             Q.template segment<3>(3) = T.cast<S>();

@@ -77,11 +77,11 @@ public:
     bool is_conservative() const override { return c_ == 0.0 && !actuator_; }
 
     template <class S>
-    S planar_angle(const std::vector<PlanarT<S>>& s) const {
+    S planar_angle(const PlanarStates<S>& s) const {
         return s[1].theta - s[0].theta - rest_;
     }
     template <class S>
-    VX<S> generalized(const std::vector<PlanarT<S>>& s, double ta) const {
+    VX<S> generalized(const PlanarStates<S>& s, double ta) const {
         const S T = k_ * planar_angle(s) + c_ * (s[1].omega - s[0].omega) + ta;  // (5.73), c_r thetadot
         VX<S> Q = VX<S>::Zero(6);
         Q[2] = T;
@@ -91,7 +91,7 @@ public:
 
     // Spatial relative angle about z_i and the direction h of its gradient (world axes).
     template <class S>
-    S spatial_angle(const std::vector<SpatialT<S>>& s, V3<S>& h) const {
+    S spatial_angle(const SpatialStates<S>& s, V3<S>& h) const {
         using std::atan2;
         const M3<S> ai = s[0].A * frame_[0].cast<S>(), aj = s[1].A * frame_[1].cast<S>();
         const V3<S> xi = ai.col(0), yi = ai.col(1), xj = aj.col(0);
@@ -108,7 +108,7 @@ public:
         return phi - rest_ + (wrap_angle(raw) - raw);
     }
     template <class S>
-    VX<S> generalized(const std::vector<SpatialT<S>>& s, double ta) const {
+    VX<S> generalized(const SpatialStates<S>& s, double ta) const {
         V3<S> h;
         const S angle = spatial_angle(s, h);
         const S rate = h.dot(s[1].omega() - s[0].omega());

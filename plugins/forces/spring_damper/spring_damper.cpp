@@ -73,7 +73,7 @@ public:
     bool is_conservative() const override { return c_ == 0.0 && !actuator_; }
 
     template <class S>
-    VX<S> generalized(const std::vector<PlanarT<S>>& s, double fa) const {
+    VX<S> generalized(const PlanarStates<S>& s, double fa) const {
         using std::sqrt;
         const Vec2 ui = u_[0].head<2>(), uj = u_[1].head<2>();
         const V2<S> r = s[0].point(ui) - s[1].point(uj);  // (5.62)
@@ -92,7 +92,7 @@ public:
         return Q;
     }
     template <class S>
-    VX<S> generalized(const std::vector<SpatialT<S>>& s, double fa) const {
+    VX<S> generalized(const SpatialStates<S>& s, double fa) const {
         using std::sqrt;
         const V3<S> r = s[0].point(u_[0]) - s[1].point(u_[1]);
         VX<S> Q = VX<S>::Zero(12);

@@ -8,10 +8,12 @@
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/time_function.hpp>
 
+#include <boost/container/static_vector.hpp>
 #include <unsupported/Eigen/AutoDiff>
 
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -37,8 +39,13 @@ template <class S>
 using M2 = Eigen::Matrix<S, 2, 2>;
 template <class S>
 using M3 = Eigen::Matrix<S, 3, 3>;
+// An element's generalized force and its deformation Jacobians, at most two bodies
+// (12 velocities): sized at run time but stored in place, so evaluations never allocate.
+constexpr int kMaxForceBodies = 2;
 template <class S>
-using VX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+using VX = Eigen::Matrix<S, Eigen::Dynamic, 1, 0, 6 * kMaxForceBodies, 1>;
+template <class S>
+using MX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6 * kMaxForceBodies>;
 
 inline double value_of(double x) { return x; }
 template <class D>
@@ -88,12 +95,18 @@ struct SpatialT {
     V3<S> omega() const { return A * wbar; }
 };
 
+template <class S>
+using PlanarStates = boost::container::static_vector<PlanarT<S>, kMaxForceBodies>;
+template <class S>
+using SpatialStates = boost::container::static_vector<SpatialT<S>, kMaxForceBodies>;
+
 // States of all bodies; body k's position increments are variables 3k.. (planar) or
 // 6k.. (spatial), its velocities follow after all the increments.
 template <class S>
-std::vector<PlanarT<S>> planar_states(const BodyStates& b) {
+PlanarStates<S> planar_states(const BodyStates& b) {
     const int nb = b.size(), n = 3 * nb;
-    std::vector<PlanarT<S>> out(nb);
+    if (nb > kMaxForceBodies) throw std::logic_error("force_support: an element of more than two bodies");
+    PlanarStates<S> out(nb);
     for (int k = 0; k < nb; ++k) {
         const PlanarBody& s = b.planar(k);
         PlanarT<S>& o = out[k];
@@ -106,9 +119,10 @@ std::vector<PlanarT<S>> planar_states(const BodyStates& b) {
     return out;
 }
 template <class S>
-std::vector<SpatialT<S>> spatial_states(const BodyStates& b) {
+SpatialStates<S> spatial_states(const BodyStates& b) {
     const int nb = b.size(), n = 6 * nb;
-    std::vector<SpatialT<S>> out(nb);
+    if (nb > kMaxForceBodies) throw std::logic_error("force_support: an element of more than two bodies");
+    SpatialStates<S> out(nb);
     for (int k = 0; k < nb; ++k) {
         const SpatialBody& s = b.spatial(k);
         SpatialT<S>& o = out[k];

@@ -22,6 +22,7 @@
 // one. DenseMetricSolver below is a ready-made dense implementation.
 #pragma once
 
+#include <mbd/sdk/pseudo_inverse.hpp>
 #include <mbd/sdk/system.hpp>
 
 #include <Eigen/Dense>
@@ -30,13 +31,26 @@
 
 namespace mbd {
 
-// Projects (q0, v0) at time t; on success returns true with the result in state.
+// The projection's own vectors, kept by the caller so that projecting allocates nothing.
+struct ProjectionScratch {
+    Eigen::VectorXd q0, v0;   // the state to project (copied in by the caller)
+    Eigen::VectorXd x, tmp, dv;
+    void resize(int nq, int nv, int rows) {
+        q0.setZero(nq);
+        v0.setZero(nv);
+        x.setZero(rows);
+        tmp.setZero(nv);
+        dv.setZero(nv);
+    }
+};
+
+// Projects (work.q0, work.v0) at time t; on success returns true with the result in state.
 // cv is scratch (left at the projected state).
 template <class Factor, class SolveS, class ApplyMinv>
-bool project_onto_constraints(System& system, double t, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
-                              double tolerance, State& state, ConstraintValues& cv, Factor&& factor, SolveS&& solve_S,
-                              ApplyMinv&& apply_Minv) {
-    Eigen::VectorXd x, tmp(system.nv()), dv(system.nv());
+bool project_onto_constraints(System& system, double t, ProjectionScratch& work, double tolerance, State& state,
+                              ConstraintValues& cv, Factor&& factor, SolveS&& solve_S, ApplyMinv&& apply_Minv) {
+    const Eigen::VectorXd &q0 = work.q0, &v0 = work.v0;
+    Eigen::VectorXd &x = work.x, &tmp = work.tmp, &dv = work.dv;
     for (int attempt = 0; attempt < 2; ++attempt) {
         const bool robust = attempt > 0;
         state.t = t;
@@ -92,14 +106,29 @@ public:
         Minv_ = M.inverse();
         Minv_ = 0.5 * (Minv_ + Minv_.transpose());
         Lm_ = Eigen::LLT<Eigen::MatrixXd>(Minv_).matrixL();
+        const int rows = system.constraint_rows(true), nv = system.nv();
+        J_.setZero(rows, nv);
+        W_.setZero(rows, nv);
+        S_.setZero(rows, rows);
+        // size the factorizations' storage once by computing on zeros (a size-constructed
+        // Eigen decomposition leaves its status uninitialized)
+        if (rows > 0) {
+            ldlt_.compute(S_);
+            cod_w_.compute(W_);
+            cod_wt_.compute(W_.transpose());
+        }
+        pinv_w_.resize(rows, nv);
+        pinv_wt_.resize(nv, rows);
+        w_.setZero(nv);
     }
     void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const { out.noalias() = Minv_ * x; }
     void factor(const Eigen::SparseMatrix<double>& J, bool robust) {
-        W_ = Eigen::MatrixXd(J) * Lm_;
-        const Eigen::MatrixXd S = W_ * W_.transpose();
+        J_ = J;
+        W_.noalias() = J_ * Lm_;
+        S_.noalias() = W_ * W_.transpose();
         pseudo_ = false;
-        if (S.rows() == 0) return;
-        ldlt_.compute(S);
+        if (S_.rows() == 0) return;
+        ldlt_.compute(S_);
         const auto& D = ldlt_.vectorD();
         const double dmax = D.cwiseAbs().maxCoeff();
         if (robust || ldlt_.info() != Eigen::Success || !(dmax > 0) || D.minCoeff() <= 1e-8 * dmax) {
@@ -110,20 +139,22 @@ public:
             pseudo_ = true;
         }
     }
-    void solve(Eigen::VectorXd& x) const {
+    void solve(Eigen::VectorXd& x) {
         if (x.size() == 0) return;
         if (pseudo_) {
-            const Eigen::VectorXd w = cod_w_.solve(x);
-            x = cod_wt_.solve(w);
+            pinv_w_.solve(cod_w_, x, w_);
+            pinv_wt_.solve(cod_wt_, w_, x);
         } else {
-            x = ldlt_.solve(x);
+            ldlt_.solveInPlace(x);
         }
     }
 
 private:
-    Eigen::MatrixXd Minv_, Lm_, W_;
+    Eigen::MatrixXd Minv_, Lm_, J_, W_, S_;
+    Eigen::VectorXd w_;
     Eigen::LDLT<Eigen::MatrixXd> ldlt_;
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
+    PseudoInverseSolver pinv_w_, pinv_wt_;
     bool pseudo_ = false;
 };
 
