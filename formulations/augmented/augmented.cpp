@@ -22,9 +22,10 @@
 //           a (near) rank-deficient S (redundant constraints) falls back to the
 //           minimum-norm solution by a complete orthogonal decomposition, accepted
 //           only if the acceleration constraints are then satisfied.
-//   sparse: CHOLMOD factors W W^T directly (unsymmetric input, stype 0); the
-//           symbolic analysis is done once in bind() on W's fixed pattern (every
-//           row of a joint touches every velocity column of that joint's bodies).
+//   sparse: W W^T formed on its fixed pattern and factored L D L^T (sparse_gram.hpp);
+//           the ordering and symbolic analysis are done once in bind() on W's fixed
+//           pattern (every row of a joint touches every velocity column of that joint's
+//           bodies); a rank-deficient S is damped (W W^T + delta I) and refined.
 // Drift (FormulationOptions::stabilization): projection after each accepted step
 // (Newton on C(q, t) = 0 with steps of minimum kinetic-energy norm,
 // dq = -M^-1 J^T S^-1 C, then v <- v - M^-1 J^T S^-1 (J v + C_t)); Baumgarte
@@ -35,10 +36,11 @@
 #include <mbd/sdk/singularity.hpp>
 #include <mbd/sdk/text.hpp>
 
+#include "sparse_gram.hpp"
+
 #include <Eigen/Dense>
 
 extern "C" {
-#include <cholmod.h>
 }
 
 #include <algorithm>
@@ -56,7 +58,6 @@ namespace {
 class Augmented final : public Formulation {
 public:
     explicit Augmented(const FormulationSpec& spec);
-    ~Augmented() override { release_cholmod(); }
     Augmented(const Augmented&) = delete;
     Augmented& operator=(const Augmented&) = delete;
 
@@ -86,7 +87,6 @@ private:
     void keep_all_rows();
     bool left_out_rows_hold() const;
     void check_finite(double t, const Eigen::VectorXd& x, const char* what) const;
-    void release_cholmod();
 
     // options from the scene's `formulation:` map (override bind()'s options)
     std::optional<Stabilization> stabilization_;
@@ -115,15 +115,8 @@ private:
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
     PseudoInverseSolver pinv_w_, pinv_wt_;
     bool rank_deficient_ = false;
-    // sparse path
-    cholmod_common common_{};
-    bool cholmod_started_ = false;
-    cholmod_sparse* W_ = nullptr;
-    cholmod_factor* L_ = nullptr;
-    cholmod_dense* X_ = nullptr;
-    cholmod_dense* Y_ = nullptr;
-    cholmod_dense* E_ = nullptr;
-    double regularization_ = 0.0;
+    // sparse path: S = W W^T on W's fixed pattern
+    SparseGram gram_;
     // rank drop of J after an accepted step: a singular configuration (sdk singularity.hpp)
     SingularityMonitor singularity_;
     // Structurally redundant rows (dependent at the assembled initial state, e.g. the Bricard's
@@ -169,19 +162,7 @@ Augmented::Augmented(const FormulationSpec& spec) {
                     "singularity_tolerance");
 }
 
-void Augmented::release_cholmod() {
-    if (!cholmod_started_) return;
-    if (W_) cholmod_free_sparse(&W_, &common_);
-    if (L_) cholmod_free_factor(&L_, &common_);
-    if (X_) cholmod_free_dense(&X_, &common_);
-    if (Y_) cholmod_free_dense(&Y_, &common_);
-    if (E_) cholmod_free_dense(&E_, &common_);
-    cholmod_finish(&common_);
-    cholmod_started_ = false;
-}
-
 void Augmented::bind(System& system, const FormulationOptions& options) {
-    release_cholmod();
     system_ = &system;
     options_ = options;
     if (stabilization_) options_.stabilization = *stabilization_;
@@ -275,31 +256,14 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
         const DriverInfo& info = system.driver(d);
         add_rows(system.joint(info.joint).bodies, info.row, 1);
     }
-    size_t nnz = 0;
-    for (auto& rows : rows_of_body) {
+    std::vector<std::vector<int>> rows_of_column(nv_);
+    for (int b = 0; b < nb_; ++b) {
+        auto& rows = rows_of_body[b];
         std::sort(rows.begin(), rows.end());
         rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-        nnz += rows.size() * nvb_;
+        for (int c = 0; c < nvb_; ++c) rows_of_column[b * nvb_ + c] = rows;
     }
-    cholmod_start(&common_);
-    cholmod_started_ = true;
-    common_.print = 0;
-    common_.error_handler = nullptr;
-    common_.supernodal = CHOLMOD_AUTO;
-    W_ = cholmod_allocate_sparse(nc_, nv_, std::max<size_t>(nnz, 1), 1, 1, 0, CHOLMOD_REAL, &common_);
-    if (!W_) throw std::runtime_error("augmented formulation: CHOLMOD could not allocate W");
-    int* p = static_cast<int*>(W_->p);
-    int* ri = static_cast<int*>(W_->i);
-    int k = 0;
-    for (int b = 0; b < nb_; ++b)
-        for (int c = 0; c < nvb_; ++c) {
-            p[b * nvb_ + c] = k;
-            for (int r : rows_of_body[b]) ri[k++] = r;
-        }
-    p[nv_] = k;
-    std::fill_n(static_cast<double*>(W_->x), std::max<size_t>(nnz, 1), 0.0);
-    L_ = cholmod_analyze(W_, &common_);  // orders and analyses W W^T once
-    if (!L_) throw std::runtime_error("augmented formulation: CHOLMOD analysis failed");
+    gram_.analyze(nc_, nv_, rows_of_column);
 }
 
 void Augmented::to_ode(const State& state, Eigen::VectorXd& y) { qv_to_ode(state, nq_, nv_, y); }
@@ -345,10 +309,8 @@ void Augmented::redundant_rows_error(double t, const char* what) const {
         if (!rows.empty())
             rows = "; " + std::to_string(nc_ - rank) + " of " + std::to_string(nc_) +
                    " constraint rows are (nearly) dependent on the others: " + rows;
-    } else if (sparse_ && L_ && L_->minor < static_cast<size_t>(nc_)) {
-        const int* perm = static_cast<const int*>(L_->Perm);
-        const int row = perm ? perm[L_->minor] : static_cast<int>(L_->minor);
-        rows = "; the rows are dependent at " + system_->describe_row(row);
+    } else if (sparse_ && gram_.failed_row() >= 0) {
+        rows = "; the rows are dependent at " + system_->describe_row(gram_.failed_row());
     }
     throw DynamicsError(t, std::string("singular saddle point (") + what +
                                "): the constraint Jacobian has dependent rows" + rows +
@@ -400,10 +362,11 @@ void Augmented::factor(double t, const char* what, bool robust) {
         return;
     }
     // sparse: W = J Lm on W's fixed pattern
-    double* wx = static_cast<double*>(W_->x);
-    const int* wp = static_cast<const int*>(W_->p);
-    const int* wi = static_cast<const int*>(W_->i);
-    std::fill(wx, wx + wp[nv_], 0.0);
+    Eigen::SparseMatrix<double>& W = gram_.W();
+    double* wx = W.valuePtr();
+    const int* wp = W.outerIndexPtr();
+    const int* wi = W.innerIndexPtr();
+    std::fill(wx, wx + W.nonZeros(), 0.0);
     for (int c = 0; c < J.outerSize(); ++c) {
         const int b = c / nvb_, i = c % nvb_;
         for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
@@ -422,22 +385,10 @@ void Augmented::factor(double t, const char* what, bool robust) {
             }
         }
     }
-    regularization_ = 0.0;
-    if (!robust) cholmod_factorize(W_, L_, &common_);
-    if (robust || common_.status == CHOLMOD_NOT_POSDEF || L_->minor < static_cast<size_t>(nc_)) {
-        // rank deficient: damped least squares (W W^T + delta I), refined and checked by the caller
-        r_nc_.setZero();  // diagonal of S = W W^T
-        for (int c = 0; c < nv_; ++c)
-            for (int k = wp[c]; k < wp[c + 1]; ++k) r_nc_[wi[k]] += wx[k] * wx[k];
-        const double max_diagonal = r_nc_.maxCoeff();
-        regularization_ = 1e-12 * std::max(max_diagonal, 1e-300);
-        double beta[2] = {regularization_, 0.0};
-        cholmod_factorize_p(W_, beta, nullptr, 0, L_, &common_);
-        if (common_.status != CHOLMOD_OK || L_->minor < static_cast<size_t>(nc_)) redundant_rows_error(t, what);
-        rank_deficient_ = true;
-    } else if (common_.status != CHOLMOD_OK) {
-        throw DynamicsError(t, std::string("CHOLMOD failed to factor J M^-1 J^T (") + what + ")");
-    }
+    if (!robust && gram_.factor(0.0)) return;
+    // rank deficient: damped least squares (W W^T + delta I), refined and checked by the caller
+    if (!gram_.factor(1e-12 * std::max(gram_.max_diagonal(), 1e-300))) redundant_rows_error(t, what);
+    rank_deficient_ = true;
 }
 
 void Augmented::solve_S(Eigen::VectorXd& x) {
@@ -452,35 +403,7 @@ void Augmented::solve_S(Eigen::VectorXd& x) {
         }
         return;
     }
-    cholmod_dense B;
-    B.nrow = nc_;
-    B.ncol = 1;
-    B.nzmax = nc_;
-    B.d = nc_;
-    B.x = x.data();
-    B.z = nullptr;
-    B.xtype = CHOLMOD_REAL;
-    B.dtype = CHOLMOD_DOUBLE;
-    if (!cholmod_solve2(CHOLMOD_A, L_, &B, nullptr, &X_, nullptr, &Y_, &E_, &common_))
-        throw std::runtime_error("augmented formulation: CHOLMOD solve failed");
-    tmp_nc_ = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(X_->x), nc_);
-    if (rank_deficient_) {
-        // two steps of iterative refinement against the undamped S = W W^T
-        const Eigen::Map<const Eigen::SparseMatrix<double>> W(nc_, nv_, static_cast<int>(static_cast<int*>(W_->p)[nv_]),
-                                                              static_cast<const int*>(W_->p),
-                                                              static_cast<const int*>(W_->i),
-                                                              static_cast<const double*>(W_->x));
-        for (int pass = 0; pass < 2; ++pass) {
-            tmp_nv2_.noalias() = W.transpose() * tmp_nc_;
-            r_nc_.noalias() = W * tmp_nv2_;
-            r_nc_ = x - r_nc_;
-            B.x = r_nc_.data();
-            if (!cholmod_solve2(CHOLMOD_A, L_, &B, nullptr, &X_, nullptr, &Y_, &E_, &common_))
-                throw std::runtime_error("augmented formulation: CHOLMOD solve failed");
-            tmp_nc_ += Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(X_->x), nc_);
-        }
-    }
-    x = tmp_nc_;
+    gram_.solve(x, rank_deficient_ ? 2 : 0);  // two refinements against the undamped S when damped
     for (int r : dropped_) x[r] = 0.0;
 }
 

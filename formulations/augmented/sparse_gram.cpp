@@ -1,0 +1,108 @@
+#include "sparse_gram.hpp"
+
+#include <Eigen/OrderingMethods>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace mbd {
+
+void SparseGram::analyze(int rows, int cols, const std::vector<std::vector<int>>& rows_of_column) {
+    // W's pattern
+    std::vector<Eigen::Triplet<double>> w_entries;
+    for (int c = 0; c < cols; ++c)
+        for (int r : rows_of_column[c]) w_entries.emplace_back(r, c, 1.0);
+    W_.resize(rows, cols);
+    W_.setFromTriplets(w_entries.begin(), w_entries.end());
+    W_.makeCompressed();
+
+    // S's upper pattern: every pair of rows that share a column, and the diagonal
+    std::vector<Eigen::Triplet<double>> s_entries;
+    for (int r = 0; r < rows; ++r) s_entries.emplace_back(r, r, 1.0);
+    for (int c = 0; c < cols; ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator a(W_, c); a; ++a)
+            for (Eigen::SparseMatrix<double>::InnerIterator b(W_, c); b; ++b)
+                if (a.row() <= b.row()) s_entries.emplace_back(a.row(), b.row(), 1.0);
+    Eigen::SparseMatrix<double> S(rows, rows);
+    S.setFromTriplets(s_entries.begin(), s_entries.end());
+    S.makeCompressed();
+    auto slot_of = [&](int i, int j) {  // S(i, j), i <= j, in S's value array
+        const int* begin = S.innerIndexPtr() + S.outerIndexPtr()[j];
+        const int* end = S.innerIndexPtr() + S.outerIndexPtr()[j + 1];
+        return static_cast<int>(std::lower_bound(begin, end, i) - S.innerIndexPtr());
+    };
+
+    // the ordering, and S's entries followed into P S P^T by their numbers
+    Eigen::AMDOrdering<int> amd;
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
+    amd(S.selfadjointView<Eigen::Upper>(), inverse);
+    P_ = inverse.inverse();
+    for (int k = 0; k < S.nonZeros(); ++k) S.valuePtr()[k] = k + 1;
+    S_.resize(rows, rows);
+    S_.selfadjointView<Eigen::Upper>() = S.selfadjointView<Eigen::Upper>().twistedBy(P_);
+    S_.makeCompressed();
+    std::vector<int> moved(S.nonZeros(), -1);
+    for (int k = 0; k < S_.nonZeros(); ++k) moved[static_cast<int>(S_.valuePtr()[k]) - 1] = k;
+
+    products_.clear();
+    for (int c = 0; c < cols; ++c)
+        for (int a = W_.outerIndexPtr()[c]; a < W_.outerIndexPtr()[c + 1]; ++a)
+            for (int b = a; b < W_.outerIndexPtr()[c + 1]; ++b)
+                products_.push_back({a, b, moved[slot_of(W_.innerIndexPtr()[a], W_.innerIndexPtr()[b])]});
+    diagonal_.resize(rows);
+    original_row_.resize(rows);
+    for (int r = 0; r < rows; ++r) {
+        diagonal_[r] = moved[slot_of(r, r)];
+        original_row_[P_.indices()[r]] = r;  // (P x)[indices[r]] = x[r]
+    }
+    for (int k = 0; k < S_.nonZeros(); ++k) S_.valuePtr()[k] = 0.0;
+    for (int r = 0; r < rows; ++r) S_.valuePtr()[diagonal_[r]] = 1.0;
+    ldlt_.analyzePattern(S_);
+    if (ldlt_.info() != Eigen::Success) throw std::runtime_error("augmented formulation: analysis of J M^-1 J^T failed");
+    b_.setZero(rows);
+    y_.setZero(rows);
+    r_.setZero(rows);
+    correction_.setZero(rows);
+    w_.setZero(cols);
+}
+
+bool SparseGram::factor(double delta) {
+    double* s = S_.valuePtr();
+    const double* w = W_.valuePtr();
+    std::fill(s, s + S_.nonZeros(), 0.0);
+    for (const Product& p : products_) s[p.slot] += w[p.a] * w[p.b];
+    max_diagonal_ = 0.0;
+    for (int slot : diagonal_) max_diagonal_ = std::max(max_diagonal_, s[slot]);
+    if (delta != 0.0)
+        for (int slot : diagonal_) s[slot] += delta;
+    ldlt_.factorize_preordered_matrix(S_);
+    failed_row_ = -1;
+    const double smallest = 1e-14 * max_diagonal_;
+    const Eigen::VectorXd& D = ldlt_.diagonal();
+    for (int k = 0; k < D.size(); ++k)
+        if (!(D[k] > smallest)) {
+            failed_row_ = original_row_[k];
+            return false;
+        }
+    return ldlt_.info() == Eigen::Success;
+}
+
+void SparseGram::solve_once(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    b_.noalias() = P_ * b;
+    y_ = ldlt_.solve(b_);
+    x.noalias() = P_.transpose() * y_;
+}
+
+void SparseGram::solve(Eigen::VectorXd& x, int refinements) {
+    r_ = x;  // the right-hand side
+    solve_once(r_, x);
+    for (int pass = 0; pass < refinements; ++pass) {
+        w_.noalias() = W_.transpose() * x;
+        correction_.noalias() = W_ * w_;
+        correction_ = r_ - correction_;
+        solve_once(correction_, correction_);
+        x += correction_;
+    }
+}
+
+}  // namespace mbd

@@ -1,0 +1,66 @@
+// S = W W^T (+ delta I) for a sparse W of fixed pattern (the augmented formulation's
+// J M^-1 J^T with W = J Lm, book Eq. 6.141's coefficient matrix reduced to the multipliers),
+// factored as L D L^T with the symbolic work done once: the fill-reducing ordering (AMD),
+// the pattern of S and of its factor, and where each product W(i,c) W(j,c) lands in S.
+// A factorization then only sums products into place and runs the numeric phase, so the
+// evaluation path allocates nothing (up to Eigen's stack limit for its n-sized workspace,
+// 128 KiB, i.e. 16,000 constraint rows).
+#pragma once
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
+#include <vector>
+
+namespace mbd {
+
+// Eigen's L D L^T, factored straight from a matrix already in its ordering (its public
+// factorize() builds an empty sparse matrix first, which allocates) and read in place.
+class PreorderedLDLT
+    : public Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>> {
+public:
+    void factorize_preordered_matrix(const Eigen::SparseMatrix<double>& upper) {
+        this->template factorize_preordered<true>(upper);
+    }
+    const Eigen::VectorXd& diagonal() const { return this->m_diag; }  // D (vectorD() returns a copy)
+};
+
+class SparseGram {
+public:
+    // W is rows x cols; rows_of_column[c]: the rows column c may hold, sorted and unique.
+    void analyze(int rows, int cols, const std::vector<std::vector<int>>& rows_of_column);
+
+    // W's values in place (column-major, in the pattern's order), for the caller to fill.
+    Eigen::SparseMatrix<double>& W() { return W_; }
+
+    // Factor S = W W^T + delta I. False when S is not numerically positive definite: a
+    // pivot at or below 1e-14 of S's largest diagonal entry (dependent rows).
+    bool factor(double delta);
+    // The constraint row (original numbering) at the first pivot that failed, or -1.
+    int failed_row() const { return failed_row_; }
+    // The largest diagonal entry of the undamped S (after factor()).
+    double max_diagonal() const { return max_diagonal_; }
+    // x <- (W W^T + delta I)^-1 x, with `refinements` steps of iterative refinement
+    // against the undamped W W^T.
+    void solve(Eigen::VectorXd& x, int refinements);
+
+private:
+    void solve_once(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+
+    Eigen::SparseMatrix<double> W_;
+    Eigen::SparseMatrix<double> S_;   // P (W W^T) P^T, upper triangle, on its fixed pattern
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> P_;
+    // per product: W's two entries and the place in S_ where their product adds
+    struct Product {
+        int a, b, slot;
+    };
+    std::vector<Product> products_;
+    std::vector<int> diagonal_;       // S_'s diagonal slot of each original row
+    std::vector<int> original_row_;   // the original row of each row of S_
+    PreorderedLDLT ldlt_;
+    Eigen::VectorXd b_, y_, r_, w_, correction_;
+    int failed_row_ = -1;
+    double max_diagonal_ = 0.0;
+};
+
+}  // namespace mbd
