@@ -33,17 +33,6 @@ std::vector<std::string> allocation_scenes() {
     return scenes;
 }
 
-class BoundProblem final : public mbd::OdeProblem {
-public:
-    explicit BoundProblem(mbd::Formulation& f) : f_(f) {}
-    int size() const override { return f_.ode_size(); }
-    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { f_.rhs(t, y, ydot); }
-    bool project(double t, Eigen::VectorXd& y) override { return f_.project(t, y); }
-
-private:
-    mbd::Formulation& f_;
-};
-
 // A formulation bound to its own System, at the scene's assembled and projected initial state.
 struct Bound {
     std::unique_ptr<mbd::ModelSystem> system;
@@ -80,7 +69,7 @@ void expect_steps_allocate_nothing(const mbd::Model& model, const std::string& p
         s.tolerance = 1e-6;
         auto integrator = mbd::make_integrator(integrator_name, s);
         Bound bound(model, type);
-        BoundProblem problem(*bound.formulation);
+        mbd::FormulationProblem problem(*bound.formulation, *bound.system);
         mbd::IntegratorStats stats;
         const std::vector<double> outputs = {T};
         const mbd::OutputCallback output = [](double, const Eigen::VectorXd&) { return true; };

@@ -499,20 +499,6 @@ private:
     mbd::System* system_ = nullptr;
 };
 
-class SystemProblem : public mbd::OdeProblem {
-public:
-    SystemProblem(mbd::System& system, mbd::Formulation& formulation) : system_(system), formulation_(formulation) {}
-    int size() const override { return formulation_.ode_size(); }
-    void rhs(double t, const VectorXd& y, VectorXd& ydot) override { formulation_.rhs(t, y, ydot); }
-    bool project(double t, VectorXd& y) override { return formulation_.project(t, y); }
-    mbd::System* system() override { return &system_; }
-    mbd::Formulation* formulation() override { return &formulation_; }
-
-private:
-    mbd::System& system_;
-    mbd::Formulation& formulation_;
-};
-
 struct Loaded {
     mbd::Model model;
     std::unique_ptr<mbd::ModelSystem> system;
@@ -554,7 +540,7 @@ TEST(GeneralizedAlpha, RefusesProblemsWithoutAnIndex3Formulation) {
 TEST(StiffSpring, GeneralizedAlphaIsStableAtAMillisecond) {
     auto l = load("dynamics/stiff-spring.yaml");
     ASSERT_EQ(l->system->nv(), 3);
-    SystemProblem problem(*l->system, l->formulation);
+    mbd::FormulationProblem problem(l->formulation, *l->system);
     VectorXd y0;
     l->formulation.to_ode(l->state, y0);
     const double k = 1e8;
@@ -588,7 +574,7 @@ TEST(StiffSpring, GeneralizedAlphaIsStableAtAMillisecond) {
 
 TEST(StiffSpring, Rk4ThroughTheSceneIsAlsoStopped) {
     auto l = load("dynamics/stiff-spring.yaml");
-    SystemProblem problem(*l->system, l->formulation);
+    mbd::FormulationProblem problem(l->formulation, *l->system);
     VectorXd y0;
     l->formulation.to_ode(l->state, y0);
     mbd::IntegratorSettings s;
@@ -650,7 +636,7 @@ TEST(GeneralizedAlpha, PendulumConvergesAtSecondOrderAndHoldsTheConstraint) {
     auto l = load("examples/planar-revolute.yaml");
     ASSERT_EQ(l->system->nv(), 3);
     ASSERT_EQ(l->system->constraint_rows(), 2);
-    SystemProblem problem(*l->system, l->formulation);
+    mbd::FormulationProblem problem(l->formulation, *l->system);
     VectorXd y0;
     l->formulation.to_ode(l->state, y0);
     const double pi = std::acos(-1.0);
@@ -707,7 +693,7 @@ TEST(GeneralizedAlpha, PendulumConvergesAtSecondOrderAndHoldsTheConstraint) {
 
 TEST(GeneralizedAlpha, LargeStepsConvergeOrFailNamingTheJoint) {
     auto l = load("examples/planar-revolute.yaml");
-    SystemProblem problem(*l->system, l->formulation);
+    mbd::FormulationProblem problem(l->formulation, *l->system);
     VectorXd y0;
     l->formulation.to_ode(l->state, y0);
     {

@@ -34,21 +34,6 @@ const char* stabilization_name(Stabilization s) {
     return "projection";
 }
 
-// The OdeProblem the integrators see: the formulation's ODE and projection hook.
-class FormulationProblem final : public OdeProblem {
-public:
-    FormulationProblem(Formulation& formulation, System& system) : formulation_(formulation), system_(system) {}
-    int size() const override { return formulation_.ode_size(); }
-    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { formulation_.rhs(t, y, ydot); }
-    bool project(double t, Eigen::VectorXd& y) override { return formulation_.project(t, y); }
-    System* system() override { return &system_; }
-    Formulation* formulation() override { return &formulation_; }
-
-private:
-    Formulation& formulation_;
-    System& system_;
-};
-
 // The formulation's scene keys, with the command line's overrides written over
 // the keys the scene gives (a key the scene does not give is passed through
 // FormulationOptions instead, so formulations that do not read it never see it).

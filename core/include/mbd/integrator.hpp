@@ -1,7 +1,7 @@
 // Time integrators, shared by all formulations (book Secs. 6.11-6.12 and the
 // multibody literature). They see a formulation only through OdeProblem: its
-// size, y' = f(t, y), the projection hook after accepted steps, and, for the
-// implicit index-3 integrator, the System and the formulation behind it.
+// size, y' = f(t, y), the projection hook after accepted steps and whether it
+// redefined y, and, for the implicit index-3 integrator, the DAE behind y.
 #pragma once
 
 #include <mbd/sdk/formulation.hpp>
@@ -22,9 +22,32 @@ public:
     virtual int size() const = 0;
     virtual void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) = 0;  // throws DynamicsError
     virtual bool project(double t, Eigen::VectorXd& y) = 0;
-    // For integrators that work on the second-order DAE directly (index 3).
-    virtual System* system() { return nullptr; }
-    virtual Formulation* formulation() { return nullptr; }
+    // True once after project() changed the meaning of part of y (the call clears it): a
+    // multistep integrator then discards its history and restarts from the current (t, y).
+    virtual bool state_redefined() { return false; }
+    // The index-3 DAE M vdot + J^T lambda = Q, C(q, t) = 0 behind y, for integrators that
+    // solve it directly (generalized_alpha): its System, or null when y has none; and the
+    // conversions between y and the System's state.
+    virtual System* index3_system() { return nullptr; }
+    virtual void state_from_y(double /*t*/, const Eigen::VectorXd& /*y*/, State& /*state*/) {}
+    virtual void y_from_state(const State& /*state*/, Eigen::VectorXd& /*y*/) {}
+};
+
+// The OdeProblem of a formulation bound to a System.
+class FormulationProblem final : public OdeProblem {
+public:
+    FormulationProblem(Formulation& formulation, System& system) : formulation_(formulation), system_(system) {}
+    int size() const override { return formulation_.ode_size(); }
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { formulation_.rhs(t, y, ydot); }
+    bool project(double t, Eigen::VectorXd& y) override { return formulation_.project(t, y); }
+    bool state_redefined() override { return formulation_.state_redefined(); }
+    System* index3_system() override { return formulation_.supports_index3() ? &system_ : nullptr; }
+    void state_from_y(double t, const Eigen::VectorXd& y, State& state) override { formulation_.from_ode(t, y, state); }
+    void y_from_state(const State& state, Eigen::VectorXd& y) override { formulation_.to_ode(state, y); }
+
+private:
+    Formulation& formulation_;
+    System& system_;
 };
 
 struct IntegratorSettings {

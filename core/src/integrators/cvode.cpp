@@ -174,8 +174,7 @@ void Cvode::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const 
     // CVodeReInit (history discarded, order 1). Steps are taken one at a time
     // (CV_ONE_STEP) to check this after every step, and each output time is a stop
     // time, so no output is interpolated across a restart.
-    Formulation* formulation = problem.formulation();
-    auto redefined = [&]() { return formulation && formulation->state_redefined(); };
+    auto redefined = [&]() { return problem.state_redefined(); };
     redefined();  // a flag left by an earlier run does not concern this one
     long steps_before = 0;  // CVodeReInit zeroes CVODE's counters: the steps of earlier segments
     double t_cur = t0;

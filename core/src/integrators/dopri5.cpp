@@ -200,8 +200,7 @@ void Dopri5::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const
             project_or_throw(problem, t, y);
             stop_if_interrupted(t);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
             // a re-selection (Formulation::state_redefined) always restarts it too
-            Formulation* formulation = problem.formulation();
-            const bool redefined = formulation && formulation->state_redefined();
+            const bool redefined = problem.state_redefined();
             if (redefined || y != unprojected_) {
                 problem.rhs(t, y, k1_);  // restart the FSAL derivative at the projected state
                 ++stats.rhs_evaluations;

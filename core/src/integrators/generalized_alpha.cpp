@@ -195,9 +195,8 @@ void GeneralizedAlpha::initial_accelerations(double t, IntegratorStats& stats) {
 void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y,
                                  const std::vector<double>& output_times, const OutputCallback& output,
                                  IntegratorStats& stats) {
-    System* system = problem.system();
-    Formulation* formulation = problem.formulation();
-    if (!system || !formulation || !formulation->supports_index3())
+    System* system = problem.index3_system();
+    if (!system)
         throw InputError(name(), "generalized_alpha needs a formulation that supports index-3 (augmented)");
     if (!(settings_.step > 0.0) || !std::isfinite(settings_.step))
         throw InputError(name(), "needs a positive fixed step (settings.step), got " + format_time(settings_.step));
@@ -223,7 +222,7 @@ void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd
     a_next_.resize(nv_);
     increment_.resize(nv_);
 
-    formulation->from_ode(t0, y, state_);
+    problem.state_from_y(t0, y, state_);
     state_.t = t0;
     q_n_ = state_.q;
     v_n_ = state_.v;
@@ -335,7 +334,7 @@ void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd
         state_.t = t;
         state_.q = q_n_;
         state_.v = v_n_;
-        formulation->to_ode(state_, y);
+        problem.y_from_state(state_, y);
         if (output && !output(t_out, y)) return;
     }
 }
