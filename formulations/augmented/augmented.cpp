@@ -109,14 +109,12 @@ private:
     Eigen::VectorXd Q_, vdot_, lambda_, b_, tmp_nv_, tmp_nv2_, tmp_nc_, r_nc_, dv_;
     ProjectionScratch projection_;
     // dense path
-    Eigen::MatrixXd Jd_, Wd_, S_;
-    Eigen::LDLT<Eigen::MatrixXd> ldlt_;
-    // near rank-deficient S: pseudo-inverse through W, whose condition is the square root of S's
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
-    PseudoInverseSolver pinv_w_, pinv_wt_;
+    Eigen::MatrixXd Jd_;
+    DenseGram dense_;  // S = W W^T, W = J Lm
+    // near rank-deficient S: the pseudo-inverse (dense) or damped least squares (sparse)
     bool rank_deficient_ = false;
     // sparse path: S = W W^T on W's fixed pattern
-    SparseGram gram_;
+    SparseGram sparse_gram_;
     // rank drop of J after an accepted step: a singular configuration (sdk singularity.hpp)
     SingularityMonitor singularity_;
     // Structurally redundant rows (dependent at the assembled initial state, e.g. the Bricard's
@@ -225,18 +223,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
 
     if (!sparse_) {
         Jd_.setZero(nc_, nv_);
-        Wd_.setZero(nc_, nv_);
-        S_.setZero(nc_, nc_);
-        // size the factorizations' storage once (later computes reuse it); computing on the
-        // zero matrices rather than assigning size-constructed objects, whose status field
-        // Eigen leaves uninitialized (undefined behaviour when copied)
-        if (nc_ > 0) {
-            ldlt_.compute(S_);
-            cod_w_.compute(Wd_);
-            cod_wt_.compute(Wd_.transpose());
-        }
-        pinv_w_.resize(nc_, nv_);
-        pinv_wt_.resize(nv_, nc_);
+        dense_.resize(nc_, nv_);
         return;
     }
 
@@ -263,7 +250,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
         rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
         for (int c = 0; c < nvb_; ++c) rows_of_column[b * nvb_ + c] = rows;
     }
-    gram_.analyze(nc_, nv_, rows_of_column);
+    sparse_gram_.analyze(nc_, nv_, rows_of_column);
 }
 
 void Augmented::to_ode(const State& state, Eigen::VectorXd& y) { qv_to_ode(state, nq_, nv_, y); }
@@ -309,8 +296,8 @@ void Augmented::redundant_rows_error(double t, const char* what) const {
         if (!rows.empty())
             rows = "; " + std::to_string(nc_ - rank) + " of " + std::to_string(nc_) +
                    " constraint rows are (nearly) dependent on the others: " + rows;
-    } else if (sparse_ && gram_.failed_row() >= 0) {
-        rows = "; the rows are dependent at " + system_->describe_row(gram_.failed_row());
+    } else if (sparse_ && sparse_gram_.failed_row() >= 0) {
+        rows = "; the rows are dependent at " + system_->describe_row(sparse_gram_.failed_row());
     }
     throw DynamicsError(t, std::string("singular saddle point (") + what +
                                "): the constraint Jacobian has dependent rows" + rows +
@@ -322,47 +309,32 @@ void Augmented::factor(double t, const char* what, bool robust) {
     rank_deficient_ = false;
     if (nc_ == 0) return;
     if (!sparse_) {
-        Jd_.setZero();
-        for (int c = 0; c < J.outerSize(); ++c)
-            for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) Jd_(it.row(), it.col()) = it.value();
+        Jd_ = J;
+        Eigen::MatrixXd& W = dense_.W();  // J Lm, body by body
         for (int b = 0; b < nb_; ++b) {
             const int o = b * nvb_;
             if (planar_)
-                Wd_.middleCols<3>(o).noalias() = Jd_.middleCols<3>(o) * lm_[b].topLeftCorner<3, 3>();
+                W.middleCols<3>(o).noalias() = Jd_.middleCols<3>(o) * lm_[b].topLeftCorner<3, 3>();
             else
-                Wd_.middleCols<6>(o).noalias() = Jd_.middleCols<6>(o) * lm_[b];
+                W.middleCols<6>(o).noalias() = Jd_.middleCols<6>(o) * lm_[b];
         }
-        for (int r : dropped_) Wd_.row(r).setZero();
-        S_.setZero();
-        S_.selfadjointView<Eigen::Lower>().rankUpdate(Wd_);
-        if (!dropped_.empty()) {
-            const double unit = std::max(S_.diagonal().maxCoeff(), 1e-300);
-            for (int r : dropped_) S_(r, r) = unit;  // a decoupled row: its multiplier is its (zero) right-hand side
-        }
-        ldlt_.compute(S_);
-        const auto& D = ldlt_.vectorD();
-        const double dmax = D.cwiseAbs().maxCoeff();
-        const double dmin = D.minCoeff();
-        if (!dropped_.empty() && !robust && (ldlt_.info() != Eigen::Success || dmin <= 1e-6 * dmax) &&
-            reselect_dropped_rows(t)) {
+        for (int r : dropped_) W.row(r).setZero();
+        // a decoupled (left-out) row: its multiplier is its (zero) right-hand side
+        const double pivot_ratio = dense_.factor_ldlt(dropped_);
+        if (!dropped_.empty() && !robust && pivot_ratio <= 1e-6 && reselect_dropped_rows(t)) {
             factor(t, what, robust);  // with the new selection (it differs, so this recursion ends)
             return;
         }
-        if (robust || ldlt_.info() != Eigen::Success || !(dmax > 0) || dmin <= 1e-8 * dmax) {
-            // (near) rank deficient (redundant constraints, or close to it): S's condition
-            // number is W's squared, so use S^+ = (W^T)^+ W^+ from complete orthogonal
-            // decompositions of W; singular values below 1e-10 of the largest count as
-            // zero (minimum-norm multipliers). The caller checks J vdot = gamma.
-            cod_w_.setThreshold(1e-10);
-            cod_wt_.setThreshold(1e-10);
-            cod_w_.compute(Wd_);
-            cod_wt_.compute(Wd_.transpose());
+        if (robust || pivot_ratio <= 1e-8) {
+            // (near) rank deficient (redundant constraints, or close to it): the minimum-norm
+            // multipliers (dense_gram.hpp); the caller checks J vdot = gamma
+            dense_.factor_pseudo_inverse();
             rank_deficient_ = true;
         }
         return;
     }
     // sparse: W = J Lm on W's fixed pattern
-    Eigen::SparseMatrix<double>& W = gram_.W();
+    Eigen::SparseMatrix<double>& W = sparse_gram_.W();
     double* wx = W.valuePtr();
     const int* wp = W.outerIndexPtr();
     const int* wi = W.innerIndexPtr();
@@ -385,9 +357,9 @@ void Augmented::factor(double t, const char* what, bool robust) {
             }
         }
     }
-    if (!robust && gram_.factor(0.0)) return;
+    if (!robust && sparse_gram_.factor(0.0)) return;
     // rank deficient: damped least squares (W W^T + delta I), refined and checked by the caller
-    if (!gram_.factor(1e-12 * std::max(gram_.max_diagonal(), 1e-300))) redundant_rows_error(t, what);
+    if (!sparse_gram_.factor(1e-12 * std::max(sparse_gram_.max_diagonal(), 1e-300))) redundant_rows_error(t, what);
     rank_deficient_ = true;
 }
 
@@ -395,15 +367,10 @@ void Augmented::solve_S(Eigen::VectorXd& x) {
     if (nc_ == 0) return;
     for (int r : dropped_) x[r] = 0.0;
     if (!sparse_) {
-        if (rank_deficient_) {
-            pinv_w_.solve(cod_w_, x, tmp_nv2_);   // W^+ x
-            pinv_wt_.solve(cod_wt_, tmp_nv2_, x);  // (W^T)^+ W^+ x = S^+ x
-        } else {
-            ldlt_.solveInPlace(x);
-        }
+        dense_.solve(x);
         return;
     }
-    gram_.solve(x, rank_deficient_ ? 2 : 0);  // two refinements against the undamped S when damped
+    sparse_gram_.solve(x, rank_deficient_ ? 2 : 0);  // two refinements against the undamped S when damped
     for (int r : dropped_) x[r] = 0.0;
 }
 

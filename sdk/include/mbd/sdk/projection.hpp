@@ -22,7 +22,7 @@
 // one. DenseMetricSolver below is a ready-made dense implementation.
 #pragma once
 
-#include <mbd/sdk/pseudo_inverse.hpp>
+#include <mbd/sdk/dense_gram.hpp>
 #include <mbd/sdk/system.hpp>
 
 #include <Eigen/Dense>
@@ -95,10 +95,8 @@ bool project_onto_constraints(System& system, double t, ProjectionScratch& work,
     return false;
 }
 
-// A dense S = J M^-1 J^T solver for project_onto_constraints: LDL^T with pivoting, and,
-// for a (near) rank-deficient S (redundant constraints) or when asked to be robust, the
-// minimum-norm solution S^+ = (W^T)^+ W^+ with W = J Lm (M^-1 = Lm Lm^T) from complete
-// orthogonal decompositions (singular values below 1e-10 of the largest are zero).
+// A dense S = J M^-1 J^T solver for project_onto_constraints (dense_gram.hpp), for a
+// mass matrix of any structure: M^-1 = Lm Lm^T by a dense Cholesky factor.
 class DenseMetricSolver {
 public:
     void bind(System& system) {
@@ -106,56 +104,20 @@ public:
         Minv_ = M.inverse();
         Minv_ = 0.5 * (Minv_ + Minv_.transpose());
         Lm_ = Eigen::LLT<Eigen::MatrixXd>(Minv_).matrixL();
-        const int rows = system.constraint_rows(true), nv = system.nv();
-        J_.setZero(rows, nv);
-        W_.setZero(rows, nv);
-        S_.setZero(rows, rows);
-        // size the factorizations' storage once by computing on zeros (a size-constructed
-        // Eigen decomposition leaves its status uninitialized)
-        if (rows > 0) {
-            ldlt_.compute(S_);
-            cod_w_.compute(W_);
-            cod_wt_.compute(W_.transpose());
-        }
-        pinv_w_.resize(rows, nv);
-        pinv_wt_.resize(nv, rows);
-        w_.setZero(nv);
+        J_.setZero(system.constraint_rows(true), system.nv());
+        gram_.resize(system.constraint_rows(true), system.nv());
     }
     void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const { out.noalias() = Minv_ * x; }
     void factor(const Eigen::SparseMatrix<double>& J, bool robust) {
         J_ = J;
-        W_.noalias() = J_ * Lm_;
-        S_.noalias() = W_ * W_.transpose();
-        pseudo_ = false;
-        if (S_.rows() == 0) return;
-        ldlt_.compute(S_);
-        const auto& D = ldlt_.vectorD();
-        const double dmax = D.cwiseAbs().maxCoeff();
-        if (robust || ldlt_.info() != Eigen::Success || !(dmax > 0) || D.minCoeff() <= 1e-8 * dmax) {
-            cod_w_.setThreshold(1e-10);
-            cod_wt_.setThreshold(1e-10);
-            cod_w_.compute(W_);
-            cod_wt_.compute(W_.transpose());
-            pseudo_ = true;
-        }
+        gram_.W().noalias() = J_ * Lm_;
+        if (robust || gram_.factor_ldlt() <= 1e-8) gram_.factor_pseudo_inverse();
     }
-    void solve(Eigen::VectorXd& x) {
-        if (x.size() == 0) return;
-        if (pseudo_) {
-            pinv_w_.solve(cod_w_, x, w_);
-            pinv_wt_.solve(cod_wt_, w_, x);
-        } else {
-            ldlt_.solveInPlace(x);
-        }
-    }
+    void solve(Eigen::VectorXd& x) { gram_.solve(x); }
 
 private:
-    Eigen::MatrixXd Minv_, Lm_, J_, W_, S_;
-    Eigen::VectorXd w_;
-    Eigen::LDLT<Eigen::MatrixXd> ldlt_;
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
-    PseudoInverseSolver pinv_w_, pinv_wt_;
-    bool pseudo_ = false;
+    Eigen::MatrixXd Minv_, Lm_, J_;
+    DenseGram gram_;
 };
 
 }  // namespace mbd
