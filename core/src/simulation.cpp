@@ -100,14 +100,12 @@ void require_positive_masses(const Model& model) {
     }
 }
 
-}  // namespace
-
-SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
-                          const SimulationCallback& callback) {
-    SimulationResult result;
-    // --- the formulation: command line, else the scene's, else augmented
-    const std::string name =
-        !settings.formulation.empty() ? settings.formulation : (!model.formulation.empty() ? model.formulation : "augmented");
+// The run's formulation: the command line's, else the scene's, else augmented; its scene keys
+// must all be known.
+std::shared_ptr<Formulation> make_run_formulation(const Model& model, Registry& registry,
+                                                  const SimulationSettings& settings, std::string& name) {
+    name = !settings.formulation.empty() ? settings.formulation
+                                         : (!model.formulation.empty() ? model.formulation : "augmented");
     const std::string where =
         (!settings.formulation.empty() || model.formulation_where.empty()) ? std::string() : model.formulation_where;
     const Param node = formulation_node(model, name, settings);
@@ -122,9 +120,10 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         const Param& bad = node.fields.at(unread.front());
         throw InputError(bad.location(), "formulation '" + name + "': unknown key '" + unread.front() + "'");
     }
-    result.formulation = name;
+    return formulation;
+}
 
-    // --- integrator (checked before any work)
+void check_integration_settings(const SimulationSettings& settings) {
     if (!(settings.t_end > 0.0) || !std::isfinite(settings.t_end))
         throw InputError("", "the end time must be positive, got " + format_time(settings.t_end));
     const double tolerance = settings.integration.tolerance, step = settings.integration.step;
@@ -132,6 +131,57 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         throw InputError("", "the integration tolerance must be a positive finite number, got " + format_number(tolerance, 9));
     if (!(std::isfinite(step) && step >= 0.0))
         throw InputError("", "the integration step must be a finite number >= 0 (0: none), got " + format_number(step, 9));
+}
+
+// Output times h, 2h, ..., t_end (the start, 0, is written before integrating).
+std::vector<double> output_times_after_start(const SimulationSettings& settings) {
+    double h = settings.output_step;
+    if (h == 0.0) h = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;
+    const long intervals = std::max(1L, output_intervals(settings.t_end, h));
+    std::vector<double> times;
+    times.reserve(intervals);
+    for (long k = 1; k < intervals; ++k) times.push_back(static_cast<double>(k) * h);
+    times.push_back(settings.t_end);
+    return times;
+}
+
+// The reaction columns of one row: each joint's reaction on its second body, world axes, at
+// its joint point (planar fx fy tz; spatial fx fy fz tx ty tz).
+void append_reactions(System& system, const State& state, const Eigen::VectorXd& lambda, std::vector<double>& row) {
+    const bool planar = system.dimension() == Dimension::Planar;
+    for (const JointReaction& r : joint_reactions(system, state, lambda)) {
+        Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+        if (r.on.size() >= 2 && r.on[1].body >= 0) {
+            force = r.on[1].force;
+            torque = r.on[1].torque;
+        } else if (r.on.size() >= 2) {
+            // the second body is the ground: action and reaction (the joint's
+            // constraint forces are self-equilibrated), moved to its point
+            const Vec3 P = r.on[1].point;
+            for (const BodyReaction& b : r.on) {
+                if (b.body < 0) continue;
+                force -= b.force;
+                torque -= b.torque + (b.point - P).cross(b.force);
+            }
+        }
+        if (planar) {
+            row.insert(row.end(), {force.x(), force.y(), torque.z()});
+        } else {
+            row.insert(row.end(), force.data(), force.data() + 3);
+            row.insert(row.end(), torque.data(), torque.data() + 3);
+        }
+    }
+}
+
+}  // namespace
+
+SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
+                          const SimulationCallback& callback) {
+    SimulationResult result;
+    std::string name;
+    std::shared_ptr<Formulation> formulation = make_run_formulation(model, registry, settings, name);
+    result.formulation = name;
+    check_integration_settings(settings);  // before any work
     std::unique_ptr<Integrator> integrator = make_integrator(settings.integrator, settings.integration);
     result.integrator = integrator->name();
     if (integrator->needs_index3() && !formulation->supports_index3())
@@ -160,14 +210,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     if (!formulation->project(0.0, y))
         throw DynamicsError(0.0, "the initial state could not be projected onto the constraints");
 
-    // --- output times 0, h, 2h, ..., t_end
-    double h = settings.output_step;
-    if (h == 0.0) h = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;
-    const long intervals = std::max(1L, output_intervals(settings.t_end, h));
-    std::vector<double> times;
-    times.reserve(intervals);
-    for (long k = 1; k < intervals; ++k) times.push_back(static_cast<double>(k) * h);
-    times.push_back(settings.t_end);
+    const std::vector<double> times = output_times_after_start(settings);
 
     // --- CSV
     std::vector<std::string> columns = motion_columns(model);
@@ -180,7 +223,6 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     std::unique_ptr<CsvWriter> writer;
     if (!settings.output.empty()) writer = std::make_unique<CsvWriter>(settings.output, columns);
 
-    const bool planar = model.dimension == Dimension::Planar;
     ConstraintValues cv;
     Eigen::VectorXd lambda;
     SimulationSample sample;
@@ -206,32 +248,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         if (settings.reactions) {
             formulation->multipliers(sample.state, lambda);
             sample.lambda = &lambda;
-            const std::vector<JointReaction> reactions = joint_reactions(system, sample.state, lambda);
-            for (const JointReaction& r : reactions) {
-                // the reaction on the joint's second body, world axes, at its joint point
-                Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-                if (r.on.size() >= 2 && r.on[1].body >= 0) {
-                    force = r.on[1].force;
-                    torque = r.on[1].torque;
-                } else if (r.on.size() >= 2) {
-                    // the second body is the ground: action and reaction (the joint's
-                    // constraint forces are self-equilibrated), moved to its point
-                    const Vec3 P = r.on[1].point;
-                    for (const BodyReaction& b : r.on) {
-                        if (b.body < 0) continue;
-                        force -= b.force;
-                        torque -= b.torque + (b.point - P).cross(b.force);
-                    }
-                }
-                if (planar) {
-                    row.push_back(force.x());
-                    row.push_back(force.y());
-                    row.push_back(torque.z());
-                } else {
-                    for (int k = 0; k < 3; ++k) row.push_back(force[k]);
-                    for (int k = 0; k < 3; ++k) row.push_back(torque[k]);
-                }
-            }
+            append_reactions(system, sample.state, lambda, row);
         }
         const bool watch_energy = energy.active();
         const double kinetic = settings.diagnostics || watch_energy ? system.kinetic_energy(sample.state) : 0.0;
