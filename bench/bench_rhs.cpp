@@ -1,0 +1,90 @@
+// Cost of one right-hand side y' = f(t, y) of every formulation on given scenes: each
+// formulation bound as `mbd simulate` binds it (dense below 30 velocity coordinates, sparse
+// above), at the scene's assembled initial state; the median over batches of the time per
+// evaluation. The same source builds against older trees, for before/after comparisons
+// (docs/benchmarks.md).
+//   bench_rhs SCENE.yaml... [--formulations a,b,...]
+#include <mbd/model_system.hpp>
+#include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_stats.hpp"
+
+namespace {
+
+// Median time of one rhs, over batches sized to take about a millisecond each.
+double rhs_seconds(mbd::Formulation& f, const Eigen::VectorXd& y) {
+    Eigen::VectorXd ydot;
+    for (int k = 0; k < 5; ++k) f.rhs(0.0, y, ydot);  // warm-up
+    using clock = std::chrono::steady_clock;
+    int batch = 1;
+    for (;;) {
+        const auto t0 = clock::now();
+        for (int k = 0; k < batch; ++k) f.rhs(0.0, y, ydot);
+        if (clock::now() - t0 > std::chrono::microseconds(1000) || batch >= (1 << 20)) break;
+        batch *= 2;
+    }
+    std::vector<double> times;
+    const auto start = clock::now();
+    while (times.size() < 31 && (times.size() < 5 || clock::now() - start < std::chrono::seconds(2))) {
+        const auto t0 = clock::now();
+        for (int k = 0; k < batch; ++k) f.rhs(0.0, y, ydot);
+        times.push_back(std::chrono::duration<double>(clock::now() - t0).count() / batch);
+    }
+    return median(times);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> scenes, formulations = {"augmented", "embedding", "amalgamated", "hamiltonian"};
+    for (int k = 1; k < argc; ++k) {
+        if (std::strcmp(argv[k], "--formulations") == 0 && k + 1 < argc) {
+            formulations.clear();
+            std::stringstream list(argv[++k]);
+            for (std::string name; std::getline(list, name, ',');) formulations.push_back(name);
+        } else {
+            scenes.emplace_back(argv[k]);
+        }
+    }
+    if (scenes.empty()) {
+        std::fprintf(stderr, "usage: bench_rhs SCENE.yaml... [--formulations a,b,...]\n");
+        return 2;
+    }
+    mbd::Registry registry;
+    std::printf("%-24s %-12s %6s %14s\n", "scene", "formulation", "nv", "rhs [us]");
+    for (const std::string& path : scenes) {
+        const mbd::Model model = mbd::load_scene(path, registry);
+        const std::string name = path.substr(path.find_last_of('/') + 1);
+        for (const std::string& type : formulations) {
+            try {
+                mbd::ModelSystem system(model);
+                mbd::FormulationSpec spec{type, type, {}};
+                auto f = registry.create_formulation(spec, "bench");
+                mbd::FormulationOptions options;
+                options.sparse_threshold = 30;  // as mbd simulate
+                f->bind(system, options);
+                mbd::State state = system.initial_state();
+                state.t = 0.0;
+                system.assemble(state, true);
+                system.consistent_velocities(state, true);
+                Eigen::VectorXd y;
+                f->to_ode(state, y);
+                f->project(0.0, y);
+                std::printf("%-24s %-12s %6d %14.3f\n", name.c_str(), type.c_str(), model.nv(), 1e6 * rhs_seconds(*f, y));
+            } catch (const std::exception& e) {
+                std::printf("%-24s %-12s %6d %14s  (%s)\n", name.c_str(), type.c_str(), model.nv(), "failed", e.what());
+            }
+            std::fflush(stdout);
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,236 @@
+// The scene loader's sections for forces, drivers, joint limits, actuators and the gravity
+// force (see scene.cpp and docs/scene-format.md).
+#include "scene_loader.hpp"
+
+namespace mbd::scene_detail {
+
+
+// ---------------------------------------------------------------- forces
+
+void Loader::add_gravity() {
+    ForceInstance force;
+    force.name = "gravity";
+    force.type = "gravity";
+    force.where = key_where(root_, "gravity");
+    ForceSpec spec;
+    spec.name = force.name;
+    spec.type = force.type;
+    spec.dimension = model_.dimension;
+    spec.gravity = model_.gravity;
+    for (int b = 0; b < model_.body_count(); ++b) {
+        force.bodies.push_back(b);
+        force.markers.emplace_back();
+        spec.bodies.push_back(body_info(b));
+    }
+    spec.markers = force.markers;
+    spec.params = Params("force 'gravity'", nullptr);
+    force.force = registry_.create_force(spec, force.where);
+    model_.forces.push_back(std::move(force));
+}
+
+void Loader::load_force(const Param& node, int index) {
+    const std::string fallback = "force #" + std::to_string(index + 1);
+    if (!node.is_map()) node.fail(fallback + " must be a map of keys (type, body or bodies, ...)");
+
+    const Param& type = require(node, "type", fallback, "the force type, e.g. spring_damper");
+    if (!type.is_scalar() || type.text.empty()) type.fail(fallback + ": 'type' must be a single word");
+
+    ForceInstance force;
+    force.type = type.text;
+    force.name = find(node, "name") ? name_of(node, fallback) : force.type + std::to_string(index);
+    const std::string what = "force " + quote(force.name);
+    force.where = where(node);
+    if (force.type == "gravity")
+        type.fail(what + ": gravity is not listed under 'forces'; set the top-level 'gravity: [gx, gy" +
+                  std::string(model_.dimension == Dimension::Spatial ? ", gz" : "") + "]' instead");
+    for (const auto& other : model_.forces)
+        if (other.name == force.name)
+            (find(node, "name") ? *find(node, "name") : node)
+                .fail("duplicate force name " + quote(force.name) + " (first defined at " + other.where +
+                      "); force names must be unique");
+
+    const Param* body = find(node, "body");
+    const Param* bodies = find(node, "bodies");
+    if (body && bodies) body->fail(what + ": give either 'body: NAME' or 'bodies: [a, b]', not both");
+    if (!body && !bodies)
+        throw InputError(where(node), what + " needs 'body: NAME' (one body) or 'bodies: [a, b]' (two bodies)");
+    if (body) {
+        force.bodies.push_back(body_index(*body, what));
+    } else {
+        if (!bodies->is_list() || bodies->items.empty())
+            bodies->fail(what + ": 'bodies' must be a list of body names [a, b]");
+        for (const auto& item : bodies->items) force.bodies.push_back(body_index(item, what));
+    }
+    const Param& body_list = body ? *body : *bodies;
+    if (force.bodies.size() == 1 && force.bodies[0] == kGround)
+        body_list.fail(what + ": a force on the ground alone has no effect; apply it to a moving body");
+    for (size_t a = 0; a < force.bodies.size(); ++a)
+        for (size_t b = a + 1; b < force.bodies.size(); ++b)
+            if (force.bodies[a] == force.bodies[b])
+                body_list.fail(what + ": a body appears twice in 'bodies'; a force connects different bodies");
+
+    const bool planar = model_.dimension == Dimension::Planar;
+    const bool single = force.bodies.size() == 1;
+    Params params(what, &node);
+    for (const auto& k : {"name", "type", "body", "bodies", "point", "points"}) params.mark_read(k);
+
+    const Param* point = find(node, "point");
+    const Param* points = find(node, "points");
+    const Param* axis = find(node, "axis");
+    const Param* x_axis = find(node, "x_axis");
+    if (point && points) point->fail(what + ": give either 'point' or 'points', not both");
+
+    if (single) {
+        // one body: `point` in the body's own frame (default: the mass centre)
+        if (points) {
+            if (!points->is_list() || points->items.size() != 1)
+                points->fail(what + ": 'points' must list one point per body (1 here); or use 'point: [..]'");
+            point = &points->items[0];
+        }
+        Marker m;
+        if (point) m.u_bar = space_vector(*point, "point", what);
+        force.markers.push_back(m);
+    } else if (points) {
+        // one point per body, each in that body's own frame, body-aligned axes
+        if (!points->is_list() || points->items.size() != force.bodies.size())
+            points->fail(what + ": 'points' must list one point per body (" + std::to_string(force.bodies.size()) +
+                         "), each in that body's own frame");
+        for (const auto& p : points->items) {
+            Marker m;
+            m.u_bar = space_vector(p, "points", what);
+            force.markers.push_back(m);
+        }
+        if (axis || x_axis)
+            (axis ? axis : x_axis)
+                ->fail(what + ": 'axis' / 'x_axis' go with a world 'point' (a joint-like frame), not with 'points'");
+    } else if (point || axis) {
+        // a joint-like frame in world at t = 0: markers coincide at the point
+        params.mark_read("axis");
+        if (!planar) params.mark_read("x_axis");
+        const WorldFrame frame = joint_frame(node, what, force.type, force.bodies, false);
+        for (int b : force.bodies) force.markers.push_back(marker_from_world(b, frame.origin, frame.axes));
+    } else {
+        // default: each body's mass centre, body-aligned axes
+        for (size_t k = 0; k < force.bodies.size(); ++k) force.markers.emplace_back();
+    }
+
+    ForceSpec spec;
+    spec.name = force.name;
+    spec.type = force.type;
+    spec.dimension = model_.dimension;
+    for (int b : force.bodies) spec.bodies.push_back(body_info(b));
+    spec.markers = force.markers;
+    spec.gravity = model_.gravity;
+    spec.params = params;
+
+    const std::string at = key_where(node, "type");
+    force.force = create_checked(params, node, what, [&] { return registry_.create_force(spec, at); });
+    if (!force.force) type.fail(what + ": the plugin for type " + quote(force.type) + " created no force");
+    model_.forces.push_back(std::move(force));
+}
+
+// ---------------------------------------------------------------- drivers
+
+void Loader::load_driver(const Param& node, int index) {
+    const std::string fallback = "driver #" + std::to_string(index + 1);
+    if (!node.is_map()) node.fail(fallback + " must be a map of keys (name, joint, motion)");
+
+    Driver driver;
+    driver.name = find(node, "name") ? name_of(node, fallback) : "driver" + std::to_string(index);
+    const std::string what = "driver " + quote(driver.name);
+    driver.where = where(node);
+    check_keys(node, what, {"name", "joint", "motion"});
+    for (const auto& other : model_.drivers)
+        if (other.name == driver.name)
+            (find(node, "name") ? *find(node, "name") : node)
+                .fail("duplicate driver name " + quote(driver.name) + " (first defined at " + other.where +
+                      "); driver names must be unique");
+
+    const Param& joint = require(node, "joint", what, "the name of the joint whose coordinate it prescribes");
+    if (!joint.is_scalar() || joint.text.empty()) joint.fail(what + ": 'joint' must be a joint name");
+    for (int k = 0; k < static_cast<int>(model_.joints.size()); ++k)
+        if (model_.joints[k].name == joint.text) driver.joint = k;
+    if (driver.joint < 0) {
+        std::vector<std::string> names;
+        for (const auto& j : model_.joints) names.push_back(j.name);
+        joint.fail(what + ": undefined joint " + quote(joint.text) + "; defined joints are " +
+                   (names.empty() ? std::string("(none)") : join_quoted(names)));
+    }
+    const JointInstance& target = model_.joints[driver.joint];
+    if (!target.joint->has_coordinate())
+        joint.fail(what + ": joint " + quote(target.name) + " (" + target.type +
+                   ") has no single coordinate to drive; drive a revolute, prismatic or other 1-DOF joint");
+    for (const auto& other : model_.drivers)
+        if (other.joint == driver.joint)
+            joint.fail(what + ": joint " + quote(target.name) + " is already driven by driver " + quote(other.name) +
+                       "; a joint takes one driver");
+
+    const Param& motion = require(node, "motion", what, "a time function, e.g. {type: linear, initial: 0, rate: 1}");
+    driver.motion = make_time_function(motion, what);
+    model_.drivers.push_back(std::move(driver));
+}
+
+// ---------------------------------------------------------------- limits, actuators
+
+// `limits: [lo, hi]` on a 1-DOF joint's coordinate (statics turns them into bounds).
+void Loader::load_joint_limits(const Param& node, JointInstance& joint) const {
+    const Param* limits = find(node, "limits");
+    if (!limits) return;
+    const std::string what = "joint " + quote(joint.name);
+    if (!joint.joint->has_coordinate())
+        limits->fail(what + " (" + joint.type +
+                     ") has no single coordinate to limit; 'limits' go on revolute, prismatic or other 1-DOF joints");
+    const Eigen::VectorXd v = vector(*limits, "limits", what, 2, "[lo, hi] on the joint coordinate");
+    if (!(v[0] <= v[1]))
+        limits->fail(what + ": 'limits' [" + limits->items[0].text + ", " + limits->items[1].text +
+                     "] are infeasible: lo must not exceed hi");
+    joint.has_limits = true;
+    joint.limit_lo = v[0];
+    joint.limit_hi = v[1];
+    joint.limits_where = where(*limits);
+}
+
+// An actuator: {name, joint, bounds: [lo, hi], weight} acting along the joint's coordinate.
+void Loader::load_actuator(const Param& node, int index) {
+    const std::string fallback = "actuator #" + std::to_string(index + 1);
+    if (!node.is_map()) node.fail(fallback + " must be a map of keys (name, joint, bounds, weight)");
+    Actuator actuator;
+    actuator.name = find(node, "name") ? name_of(node, fallback) : "actuator" + std::to_string(index);
+    const std::string what = "actuator " + quote(actuator.name);
+    actuator.where = where(node);
+    check_keys(node, what, {"name", "joint", "bounds", "weight"});
+    for (const auto& other : model_.actuators)
+        if (other.name == actuator.name)
+            (find(node, "name") ? *find(node, "name") : node)
+                .fail("duplicate actuator name " + quote(actuator.name) + " (first defined at " + other.where +
+                      "); actuator names must be unique");
+    const Param& joint = require(node, "joint", what, "the name of the joint along whose coordinate it acts");
+    if (!joint.is_scalar() || joint.text.empty()) joint.fail(what + ": 'joint' must be a joint name");
+    for (int k = 0; k < static_cast<int>(model_.joints.size()); ++k)
+        if (model_.joints[k].name == joint.text) actuator.joint = k;
+    if (actuator.joint < 0) {
+        std::vector<std::string> names;
+        for (const auto& j : model_.joints) names.push_back(j.name);
+        joint.fail(what + ": unknown joint " + quote(joint.text) + "; defined joints are " +
+                   (names.empty() ? std::string("(none)") : join_quoted(names)));
+    }
+    const JointInstance& target = model_.joints[actuator.joint];
+    if (!target.joint->has_coordinate())
+        joint.fail(what + ": joint " + quote(target.name) + " (" + target.type +
+                   ") has no single coordinate to act along; use a revolute, prismatic or other 1-DOF joint");
+    if (const Param* bounds = find(node, "bounds")) {
+        const Eigen::VectorXd v = vector(*bounds, "bounds", what, 2, "[lo, hi] on the effort");
+        if (!(v[0] <= v[1]))
+            bounds->fail(what + ": 'bounds' [" + bounds->items[0].text + ", " + bounds->items[1].text +
+                         "] are infeasible: lo must not exceed hi");
+        actuator.lo = v[0];
+        actuator.hi = v[1];
+    }
+    if (const Param* weight = find(node, "weight")) {
+        actuator.weight = number(*weight, "weight", what);
+        if (!(actuator.weight > 0)) weight->fail(what + ": 'weight' must be positive, got " + weight->text);
+    }
+    model_.actuators.push_back(std::move(actuator));
+}
+
+}  // namespace mbd::scene_detail

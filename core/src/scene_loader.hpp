@@ -1,0 +1,285 @@
+// The scene loader's internals (core/src/scene.cpp: the top level, bodies and joints;
+// core/src/scene_elements.cpp: forces, drivers, joint limits, actuators and gravity).
+// Not installed: the public interface is mbd/scene.hpp.
+#pragma once
+
+#include <mbd/scene.hpp>
+#include <mbd/sdk/suggest.hpp>
+#include <mbd/sdk/text.hpp>
+#include <mbd/visual.hpp>
+
+#include "scene_source.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace mbd::scene_detail {
+
+std::string quote(const std::string& s);
+std::string join(const std::vector<std::string>& items, const std::string& sep = ", ");
+std::string join_quoted(const std::vector<std::string>& items);
+// " did you mean 'x'?" for the nearest accepted key, or the list of accepted keys.
+std::string suggestion(const std::string& key, const std::vector<std::string>& accepted);
+Mat3 rotation_z(double angle);
+bool valid_name(const std::string& name);
+// Principal moments of inertia: >= 0, each at most the sum of the other two (Eq. 7.95).
+void check_principal_moments(const Vec3& moments, const Param& where, const std::string& what,
+                             const std::string& which);
+
+// Line of every map key, recorded once the Param tree is final (addresses are stable).
+using KeyLines = std::map<const Param*, std::map<std::string, int>>;
+
+void index_key_lines(const YAML::Node& node, const Param& p, KeyLines& lines);
+
+// ---------------------------------------------------------------- the loader
+
+class Loader {
+public:
+    Loader(std::string file, Registry& registry) : file_(std::move(file)), registry_(registry) {}
+
+    Model load(const std::string& text) {
+        detail::SceneTreeReader reader;
+        const YAML::Node root = reader.parse(text, file_);
+        root_ = reader.with_base(reader.convert(root, file_), file_);
+        base_files_ = reader.base_files();
+        index_key_lines(root, root_, key_lines_);
+        build();
+        return std::move(model_);
+    }
+
+private:
+    // --- locations and key checks
+    std::string where(const Param& p) const { return p.location(); }
+
+    int key_line(const Param& map, const std::string& key) const {
+        auto it = key_lines_.find(&map);
+        if (it != key_lines_.end()) {
+            auto k = it->second.find(key);
+            if (k != it->second.end()) return k->second;
+        }
+        auto f = map.fields.find(key);
+        return f != map.fields.end() ? f->second.line : map.line;
+    }
+    std::string key_where(const Param& map, const std::string& key) const {
+        return file_ + ":" + std::to_string(key_line(map, key));
+    }
+
+    [[noreturn]] void unknown_key(const Param& map, const std::string& key, const std::string& what,
+                                  const std::vector<std::string>& accepted,
+                                  const std::string& extra = std::string()) const {
+        std::string message = "unknown key " + quote(key) + " in " + what + "; " + suggestion(key, accepted);
+        if (!extra.empty()) message += " " + extra;
+        throw InputError(key_where(map, key), message);
+    }
+
+    void check_keys(const Param& map, const std::string& what, const std::vector<std::string>& accepted,
+                    const std::map<std::string, std::string>& hints = {}) const {
+        for (const auto& kv : map.fields) {
+            if (std::find(accepted.begin(), accepted.end(), kv.first) != accepted.end()) continue;
+            auto hint = hints.find(kv.first);
+            if (hint != hints.end())
+                throw InputError(key_where(map, kv.first),
+                                 "key " + quote(kv.first) + " is not accepted in " + what + ": " + hint->second);
+            unknown_key(map, kv.first, what, accepted);
+        }
+    }
+
+    const Param* find(const Param& map, const std::string& key) const {
+        auto it = map.fields.find(key);
+        return it == map.fields.end() ? nullptr : &it->second;
+    }
+    const Param& require(const Param& map, const std::string& key, const std::string& what,
+                         const std::string& hint) const {
+        const Param* p = find(map, key);
+        if (!p) throw InputError(where(map), what + " needs " + quote(key) + " (" + hint + ")");
+        return *p;
+    }
+
+    // --- values
+    double number(const Param& p, const std::string& key, const std::string& what) const {
+        return p.as_number(key, what);
+    }
+
+    Eigen::VectorXd vector(const Param& p, const std::string& key, const std::string& what, int size,
+                           const std::string& shape) const {
+        if (!p.is_list())
+            p.fail(what + ": " + quote(key) + " must be a list of " + std::to_string(size) + " numbers " + shape);
+        if (static_cast<int>(p.items.size()) != size)
+            p.fail(what + ": " + quote(key) + " must have " + std::to_string(size) + " numbers " + shape +
+                   ", got " + std::to_string(p.items.size()));
+        Eigen::VectorXd v(size);
+        for (int k = 0; k < size; ++k) v[k] = number(p.items[k], key, what);
+        return v;
+    }
+
+    // A point or direction: 2 numbers in a planar scene, 3 in a spatial one (z = 0 when planar).
+    Vec3 space_vector(const Param& p, const std::string& key, const std::string& what) const {
+        const bool planar = model_.dimension == Dimension::Planar;
+        const Eigen::VectorXd v =
+            vector(p, key, what, planar ? 2 : 3, planar ? "[x, y] in a planar scene" : "[x, y, z] in a spatial scene");
+        return planar ? Vec3(v[0], v[1], 0.0) : Vec3(v[0], v[1], v[2]);
+    }
+
+    Mat3 matrix3(const Param& p, const std::string& key, const std::string& what) const {
+        const std::string shape = "[[a11, a12, a13], [a21, a22, a23], [a31, a32, a33]]";
+        if (!p.is_list() || p.items.size() != 3)
+            p.fail(what + ": " + quote(key) + " must be a 3x3 matrix " + shape);
+        Mat3 m;
+        for (int r = 0; r < 3; ++r) {
+            const Param& row = p.items[r];
+            if (!row.is_list() || row.items.size() != 3)
+                row.fail(what + ": row " + std::to_string(r + 1) + " of " + quote(key) + " must have 3 numbers (" +
+                         shape + ")");
+            for (int c = 0; c < 3; ++c) m(r, c) = number(row.items[c], key, what);
+        }
+        return m;
+    }
+
+    std::string name_of(const Param& element, const std::string& kind, const std::string& key = "name") const {
+        const Param* p = find(element, key);
+        if (!p) throw InputError(where(element), kind + " needs a 'name'");
+        if (!p->is_scalar() || p->text.empty()) p->fail(kind + ": 'name' must be a single word");
+        if (!valid_name(p->text))
+            p->fail(kind + " name " + quote(p->text) +
+                    " may only contain letters, digits, '_' and '-' (it becomes a CSV column prefix)");
+        return p->text;
+    }
+
+    const Param& list_section(const std::string& key) const {
+        const Param& p = root_.fields.at(key);
+        if (!p.is_list())
+            throw InputError(key_where(root_, key), quote(key) + " must be a list (items start with '- ')");
+        return p;
+    }
+
+    std::vector<std::string> body_names() const {
+        std::vector<std::string> names{"ground"};
+        for (const auto& b : model_.bodies) names.push_back(b.name);
+        return names;
+    }
+
+    int body_index(const Param& p, const std::string& what) const {
+        if (!p.is_scalar() || p.text.empty()) p.fail(what + ": a body must be given by its name");
+        if (p.text == "ground") return kGround;
+        for (int k = 0; k < model_.body_count(); ++k)
+            if (model_.bodies[k].name == p.text) return k;
+        p.fail(what + ": undefined body " + quote(p.text) + "; defined bodies are " + join_quoted(body_names()));
+    }
+
+    BodyInfo body_info(int index) const {
+        BodyInfo info;
+        if (index == kGround) {
+            info.name = "ground";
+            info.ground = true;
+            return info;
+        }
+        const Body& b = model_.bodies[index];
+        info.name = b.name;
+        info.mass = b.mass;
+        info.inertia = b.inertia;
+        info.position = b.position;
+        info.orientation = initial_rotation(index);
+        info.angle = b.angle;
+        return info;
+    }
+
+    Mat3 initial_rotation(int index) const {
+        if (index == kGround) return Mat3::Identity();
+        const Body& b = model_.bodies[index];
+        return model_.dimension == Dimension::Planar ? rotation_z(b.angle)
+                                                     : rotation_from_euler_parameters(b.euler_parameters);
+    }
+    Vec3 initial_position(int index) const { return index == kGround ? Vec3::Zero() : model_.bodies[index].position; }
+
+    // A world frame (origin, axes as columns) at t = 0 seen from a body: the marker.
+    Marker marker_from_world(int body, const Vec3& origin, const Mat3& axes) const {
+        const Mat3 A = initial_rotation(body);
+        Marker m;
+        m.u_bar = A.transpose() * (origin - initial_position(body));
+        m.A_bar = A.transpose() * axes;
+        if (model_.dimension == Dimension::Planar) {
+            m.u_bar.z() = 0.0;
+            const double body_angle = body == kGround ? 0.0 : model_.bodies[body].angle;
+            m.angle = std::atan2(axes(1, 0), axes(0, 0)) - body_angle;
+            m.A_bar = rotation_z(m.angle);
+        }
+        return m;
+    }
+
+    // --- the sections
+    void build();
+    void load_formulation(const Param& node);
+    void load_body(const Param& node, int index);
+    void load_joint(const Param& node, int index);
+    void load_force(const Param& node, int index);
+    void load_driver(const Param& node, int index);
+    void load_actuator(const Param& node, int index);
+    void load_joint_limits(const Param& node, JointInstance& joint) const;
+    void add_gravity();
+
+    // The joint-style frame of an element (point, axis, x_axis, axes), in world at t = 0.
+    struct WorldFrame {
+        Vec3 origin = Vec3::Zero();
+        Mat3 axes = Mat3::Identity();
+    };
+    WorldFrame joint_frame(const Param& node, const std::string& what, const std::string& type,
+                           const std::vector<int>& bodies, bool allow_axes) const;
+
+    // Create a plugin element, then reject keys neither the core nor the plugin read.
+    template <class Create>
+    auto create_checked(const Params& params, const Param& node, const std::string& what, Create&& create) const;
+
+    std::string file_;
+    std::vector<std::string> base_files_;  // the `base:` files read
+    Registry& registry_;
+    Param root_;
+    KeyLines key_lines_;
+    Model model_;
+};
+
+template <class Create>
+auto Loader::create_checked(const Params& params, const Param& node, const std::string& what, Create&& create) const {
+    auto unknown_note = [&]() -> std::string {
+        const auto unread = params.unread_keys();
+        if (unread.empty()) return {};
+        // only when an unread key looks like a misspelling of a key that was asked for
+        // (the plugin may have failed before asking for the rest)
+        const std::vector<std::string> accepted(params.asked_keys().begin(), params.asked_keys().end());
+        for (const auto& key : unread) {
+            const std::string hint = suggestion(key, accepted);
+            if (hint.rfind("did you mean", 0) == 0)
+                return "unknown key " + quote(key) + " at line " + std::to_string(key_line(node, key)) + ": " + hint;
+        }
+        return {};
+    };
+    try {
+        auto element = create();
+        const auto unread = params.unread_keys();
+        if (!unread.empty()) {
+            const std::vector<std::string> accepted(params.asked_keys().begin(), params.asked_keys().end());
+            // report the first unknown key in file order
+            std::string first = unread.front();
+            for (const auto& k : unread)
+                if (key_line(node, k) < key_line(node, first)) first = k;
+            unknown_key(node, first, what, accepted);
+        }
+        return element;
+    } catch (const InputError& e) {
+        const std::string note = unknown_note();
+        if (note.empty() || e.message().find("unknown key") != std::string::npos) throw;
+        throw InputError(e.where(), e.message() + " (note: " + note + ")");
+    }
+}
+
+}  // namespace mbd::scene_detail
