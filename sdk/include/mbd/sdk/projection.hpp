@@ -30,13 +30,20 @@
 
 namespace mbd {
 
+// Scratch of project_onto_constraints, for a caller that must not allocate per projection.
+struct ProjectionWorkspace {
+    Eigen::VectorXd x, tmp, dv;
+};
+
 // Projects (q0, v0) at time t; on success returns true with the result in state.
-// cv is scratch (left at the projected state).
+// cv is scratch (left at the projected state), and so is ws.
 template <class Factor, class SolveS, class ApplyMinv>
 bool project_onto_constraints(System& system, double t, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                               double tolerance, State& state, ConstraintValues& cv, Factor&& factor, SolveS&& solve_S,
-                              ApplyMinv&& apply_Minv) {
-    Eigen::VectorXd x, tmp(system.nv()), dv(system.nv());
+                              ApplyMinv&& apply_Minv, ProjectionWorkspace& ws) {
+    Eigen::VectorXd &x = ws.x, &tmp = ws.tmp, &dv = ws.dv;
+    tmp.resize(system.nv());
+    dv.resize(system.nv());
     for (int attempt = 0; attempt < 2; ++attempt) {
         const bool robust = attempt > 0;
         state.t = t;
@@ -81,6 +88,14 @@ bool project_onto_constraints(System& system, double t, const Eigen::VectorXd& q
     return false;
 }
 
+template <class Factor, class SolveS, class ApplyMinv>
+bool project_onto_constraints(System& system, double t, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+                              double tolerance, State& state, ConstraintValues& cv, Factor&& factor, SolveS&& solve_S,
+                              ApplyMinv&& apply_Minv) {
+    ProjectionWorkspace ws;
+    return project_onto_constraints(system, t, q0, v0, tolerance, state, cv, factor, solve_S, apply_Minv, ws);
+}
+
 // A dense S = J M^-1 J^T solver for project_onto_constraints: LDL^T with pivoting, and,
 // for a (near) rank-deficient S (redundant constraints) or when asked to be robust, the
 // minimum-norm solution S^+ = (W^T)^+ W^+ with W = J Lm (M^-1 = Lm Lm^T) from complete
@@ -95,11 +110,12 @@ public:
     }
     void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const { out.noalias() = Minv_ * x; }
     void factor(const Eigen::SparseMatrix<double>& J, bool robust) {
-        W_ = Eigen::MatrixXd(J) * Lm_;
-        const Eigen::MatrixXd S = W_ * W_.transpose();
+        Jdense_ = J;  // in place: the factors keep their storage from call to call
+        W_.noalias() = Jdense_ * Lm_;
+        S_.noalias() = W_ * W_.transpose();
         pseudo_ = false;
-        if (S.rows() == 0) return;
-        ldlt_.compute(S);
+        if (S_.rows() == 0) return;
+        ldlt_.compute(S_);
         const auto& D = ldlt_.vectorD();
         const double dmax = D.cwiseAbs().maxCoeff();
         if (robust || ldlt_.info() != Eigen::Success || !(dmax > 0) || D.minCoeff() <= 1e-8 * dmax) {
@@ -121,7 +137,7 @@ public:
     }
 
 private:
-    Eigen::MatrixXd Minv_, Lm_, W_;
+    Eigen::MatrixXd Minv_, Lm_, Jdense_, W_, S_;
     Eigen::LDLT<Eigen::MatrixXd> ldlt_;
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
     bool pseudo_ = false;
