@@ -32,6 +32,16 @@ std::vector<std::string> allocation_scenes() {
     return scenes;
 }
 
+// chain-500 with amalgamated or hamiltonian: their set-up and steps cost O(n^2.4) in the bodies
+// (dense J_d LU and dense partition of J, issue 14), about 25 s per pair in Release, more than
+// every other pair together; the large chain is covered by the linear-cost formulations
+// (augmented, embedding), the same code paths of these two by chain-50.
+const char* exclusion(const std::string& path, const std::string& type) {
+    if (path == "bench/chain-500.yaml" && (type == "amalgamated" || type == "hamiltonian"))
+        return "O(n^2.4) set-up and steps (issue 14); chain-50 covers the same code";
+    return nullptr;
+}
+
 class BoundProblem final : public mbd::OdeProblem {
 public:
     explicit BoundProblem(mbd::Formulation& f) : f_(f) {}
@@ -97,10 +107,15 @@ void expect_steps_allocate_nothing(const mbd::Model& model, const std::string& p
 
 TEST(Allocations, NoneAfterWarmUpPerRhsAndPerStep) {
     const std::vector<std::string> formulations = {"augmented", "embedding", "amalgamated", "hamiltonian"};
-    int pairs = 0;
+    int pairs = 0, excluded = 0;
     for (const std::string& path : allocation_scenes()) {
         const mbd::Model model = mbd::test::load(path);
         for (const std::string& type : formulations) {
+            if (const char* reason = exclusion(path, type)) {
+                std::printf("%-30s %-12s excluded: %s\n", path.c_str(), type.c_str(), reason);
+                ++excluded;
+                continue;
+            }
             SCOPED_TRACE(path + " with " + type);
             try {
                 Bound bound(model, type);
@@ -119,6 +134,7 @@ TEST(Allocations, NoneAfterWarmUpPerRhsAndPerStep) {
             ++pairs;
         }
     }
-    std::printf("%d scene x formulation pairs covered\n", pairs);
-    EXPECT_EQ(pairs, 4 * static_cast<int>(allocation_scenes().size()));
+    std::printf("%d scene x formulation pairs covered, %d excluded\n", pairs, excluded);
+    EXPECT_EQ(pairs + excluded, 4 * static_cast<int>(allocation_scenes().size()));
+    EXPECT_EQ(excluded, 2);
 }

@@ -105,6 +105,8 @@ private:
     std::vector<int> b_slots_;  // per column c of B and dependent row: the value indices of -B in K_ (two)
     FixedPatternLU lu_;
     VelocityTransformWorkspace transform_;
+    PartitionWorkspace elimination_;  // the candidate partition of a re-selection
+    CoordinatePartition fresh_;
     DenseMetricSolver metric_;
     ProjectionWorkspace projection_;
     SingularityMonitor singularity_;  // rank drop of J after an accepted step (singularity.hpp)
@@ -314,9 +316,10 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
         J_ = cv_.J;
         const double ratio = dependent_pivot_ratio(J_, part_, transform_);
         if (ratio < partition_settings_.reselect_ratio) {
-            CoordinatePartition fresh = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
+            CoordinatePartition& fresh = fresh_;
+            partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance, {}, elimination_, fresh);
             if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh, transform_) > ratio) {
-                part_ = std::move(fresh);
+                part_ = fresh;
                 analysed_ = false;
                 if (partition_settings_.log) options_.log("amalgamated: t = " + format_time(t) + ": new coordinate partition");
             }

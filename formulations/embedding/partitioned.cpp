@@ -11,10 +11,12 @@
 namespace mbd::embedding {
 
 namespace {
-bool same_set(std::vector<int> a, std::vector<int> b) {
-    std::sort(a.begin(), a.end());
-    std::sort(b.begin(), b.end());
-    return a == b;
+// the same elements (each list has distinct entries), without sorting copies
+bool same_set(const std::vector<int>& a, const std::vector<int>& b) {
+    if (a.size() != b.size()) return false;
+    for (int x : a)
+        if (std::find(b.begin(), b.end(), x) == b.end()) return false;
+    return true;
 }
 }  // namespace
 
@@ -170,15 +172,16 @@ bool Partitioned::project(double t, Eigen::VectorXd& y) {
     if (t >= last_rhs_t_ && p.rank > 0) {
         const double ratio = jd_pivot_ratio(p);
         if (ratio < settings_.reselect_ratio) {
-            Eigen::VectorXd v;
+            Eigen::VectorXd& v = v_before_;
             vi_ = y.tail(ode_size() - nq_);
             velocities(vi_, v);
-            CoordinatePartition fresh = partition_coordinates(J_, 1.0, settings_.rank_tolerance);
+            CoordinatePartition& fresh = fresh_;
+            partition_coordinates(J_, 1.0, settings_.rank_tolerance, {}, elimination_, fresh);
             if (fresh.rank != p.rank)
                 throw DynamicsError(t, "embedding: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(p.rank));
             if (!same_set(fresh.dependent, p.dependent) && jd_pivot_ratio(fresh) > ratio) {
-                part_ = std::move(fresh);
+                part_ = fresh;
                 ++reselections_;
                 redefined_ = true;
                 if (settings_.log) {

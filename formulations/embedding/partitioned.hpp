@@ -102,6 +102,9 @@ private:
     Eigen::MatrixXd B_, MB_, Mbar_;                  // B, M B, B^T M B (Eq. 6.95)
     Eigen::VectorXd gamma_prime_, Mg_, Qbar_, vi_, vdot_i_, vdot_;
     Eigen::LLT<Eigen::MatrixXd> llt_;                // of B^T M B (Eq. 6.99)
+    PartitionWorkspace elimination_;                 // the candidate partition of a re-selection, and v
+    CoordinatePartition fresh_;
+    Eigen::VectorXd v_before_;
 };
 
 }  // namespace mbd::embedding

@@ -123,6 +123,9 @@ private:
     Eigen::LLT<Eigen::MatrixXd> llt_;                // of Mbar
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_JdT_;    // of J_d^T (mu)
     VelocityTransformWorkspace transform_;
+    PartitionWorkspace elimination_;  // the candidate partition of a re-selection, and its velocities
+    CoordinatePartition fresh_;
+    Eigen::VectorXd v_before_;
 };
 
 Hamiltonian::Hamiltonian(const FormulationSpec& spec) {
@@ -317,14 +320,16 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
         if (ratio < 10.0 * partition_settings_.reselect_ratio) {
             momenta(y, p_);
             kinematics(t, s.q, p_);
-            const Eigen::VectorXd v = state_.v;
-            CoordinatePartition fresh = partition_coordinates(J, 1.0, partition_settings_.rank_tolerance);
+            v_before_ = state_.v;
+            CoordinatePartition& fresh = fresh_;
+            partition_coordinates(J, 1.0, partition_settings_.rank_tolerance, {}, elimination_, fresh);
             if (fresh.rank != part_.rank)
                 throw DynamicsError(t, "hamiltonian: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(part_.rank));
             const double gain = ratio < partition_settings_.reselect_ratio ? 1.0 : 2.0;
             if (dependent_pivot_ratio(J, fresh, transform_) > gain * ratio) {
-                part_ = std::move(fresh);
+                const Eigen::VectorXd& v = v_before_;
+                part_ = fresh;
                 set_momentum_scale(t, s.q);
                 store_momenta(B_.transpose() * (*M_ * v), y);  // the same velocities in the new momenta
                 redefined_ = true;

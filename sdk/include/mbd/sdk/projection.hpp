@@ -27,6 +27,7 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <utility>
 
 namespace mbd {
 
@@ -110,15 +111,17 @@ public:
     }
     void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const { out.noalias() = Minv_ * x; }
     void factor(const Eigen::SparseMatrix<double>& J, bool robust) {
-        Jdense_ = J;  // in place: the factors keep their storage from call to call
-        W_.noalias() = Jdense_ * Lm_;
-        S_.noalias() = W_ * W_.transpose();
+        // S = J M^-1 J^T from the sparse J, into storage kept from call to call (dense
+        // products this size would pack their blocks in fresh heap buffers)
+        JMinv_.noalias() = J * Minv_;
+        S_.noalias() = J * JMinv_.transpose();
         pseudo_ = false;
         if (S_.rows() == 0) return;
         ldlt_.compute(S_);
         const auto& D = ldlt_.vectorD();
         const double dmax = D.cwiseAbs().maxCoeff();
         if (robust || ldlt_.info() != Eigen::Success || !(dmax > 0) || D.minCoeff() <= 1e-8 * dmax) {
+            W_.noalias() = J * Lm_;
             cod_w_.setThreshold(1e-10);
             cod_wt_.setThreshold(1e-10);
             cod_w_.compute(W_);
@@ -126,18 +129,57 @@ public:
             pseudo_ = true;
         }
     }
-    void solve(Eigen::VectorXd& x) const {
+    void solve(Eigen::VectorXd& x) {
         if (x.size() == 0) return;
         if (pseudo_) {
-            const Eigen::VectorXd w = cod_w_.solve(x);
-            x = cod_wt_.solve(w);
+            pseudo_solve(cod_w_, x, w_);
+            pseudo_solve(cod_wt_, w_, x);
         } else {
             x = ldlt_.solve(x);
         }
     }
 
 private:
-    Eigen::MatrixXd Minv_, Lm_, Jdense_, W_, S_;
+    // x = A^+ b from the COD of A, as Eigen's CompleteOrthogonalDecomposition::solve computes
+    // it (A P = Q [T 0; 0 0] Z) but in this solver's storage: Eigen's solve allocates its
+    // temporaries at every call. b and x are distinct.
+    void pseudo_solve(const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>& cod, const Eigen::VectorXd& b,
+                      Eigen::VectorXd& x) {
+        const Eigen::Index rank = cod.rank(), rows = cod.rows(), cols = cod.cols();
+        const Eigen::MatrixXd& QTZ = cod.matrixQTZ();
+        y_.setZero(cols);
+        if (rank > 0) {
+            c_ = b;  // c = Q^T b: the reflectors H_0 ... H_{rank-1}, in that order
+            for (Eigen::Index k = 0; k < rank; ++k)
+                reflect(c_.segment(k, rows - k), QTZ.col(k).tail(rows - k - 1), cod.hCoeffs()(k));
+            y_.head(rank) = c_.head(rank);  // T z = c (upper triangular, rank x rank)
+            QTZ.topLeftCorner(rank, rank).triangularView<Eigen::Upper>().solveInPlace(y_.head(rank));
+            for (Eigen::Index k = 0; k < rank && rank < cols; ++k) {  // y = Z^T [z; 0]
+                if (k != rank - 1) std::swap(y_[k], y_[rank - 1]);
+                reflect(y_.segment(rank - 1, cols - rank + 1), QTZ.row(k).tail(cols - rank).transpose(),
+                        cod.zCoeffs()(k));
+                if (k != rank - 1) std::swap(y_[k], y_[rank - 1]);
+            }
+        }
+        x.noalias() = cod.colsPermutation() * y_;  // undo the column pivoting
+    }
+    // s <- (I - tau v v^T) s with v = [1; essential], in the order of Eigen's
+    // applyHouseholderOnTheLeft
+    template <class Segment, class Essential>
+    static void reflect(Segment&& s, const Essential& essential, double tau) {
+        if (s.size() == 1) {
+            s[0] *= 1.0 - tau;
+            return;
+        }
+        if (tau == 0.0) return;
+        double w = essential.dot(s.tail(s.size() - 1));
+        w += s[0];
+        s[0] -= tau * w;
+        for (Eigen::Index i = 1; i < s.size(); ++i) s[i] -= (tau * essential[i - 1]) * w;
+    }
+
+    Eigen::MatrixXd Minv_, Lm_, JMinv_, W_, S_;
+    Eigen::VectorXd w_, c_, y_;  // pseudo_solve's storage
     Eigen::LDLT<Eigen::MatrixXd> ldlt_;
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
     bool pseudo_ = false;

@@ -88,7 +88,10 @@ inline bool velocity_transform(const Eigen::MatrixXd& J, const Eigen::VectorXd& 
     if (!ws.x.allFinite()) return false;
     if (k > 0) {  // a fully driven (0-DOF) system has no B columns (Eigen may not solve for none)
         gather(J, p.rows, p.independent, ws.Ji);
-        ws.Bd = ws.lu.solve(ws.Ji);  // -B_d
+        // -B_d, one column at a time: a solve with a matrix right-hand side packs its blocks in
+        // heap buffers once they exceed Eigen's stack limit (J_d of a few hundred rows)
+        ws.Bd.resize(p.rank, k);
+        for (int c = 0; c < k; ++c) ws.Bd.col(c) = ws.lu.solve(ws.Ji.col(c));
         if (!ws.Bd.allFinite()) return false;
         for (int c = 0; c < k; ++c)
             for (int i = 0; i < p.rank; ++i) B(p.dependent[i], c) = -ws.Bd(i, c);
