@@ -33,6 +33,16 @@ std::vector<std::string> allocation_scenes() {
     return scenes;
 }
 
+// chain-500 with amalgamated or hamiltonian: their set-up and steps cost O(n^2.4) in the bodies
+// (dense J_d LU and dense partition of J, issue 14), about 25 s per pair in Release, more than
+// every other pair together; the large chain is covered by the linear-cost formulations
+// (augmented, embedding), the same code paths of these two by chain-50.
+const char* exclusion(const std::string& path, const std::string& type) {
+    if (path == "bench/chain-500.yaml" && (type == "amalgamated" || type == "hamiltonian"))
+        return "O(n^2.4) set-up and steps (issue 14); chain-50 covers the same code";
+    return nullptr;
+}
+
 // A formulation bound to its own System, at the scene's assembled and projected initial state.
 struct Bound {
     std::unique_ptr<mbd::ModelSystem> system;
@@ -61,9 +71,9 @@ void expect_steps_allocate_nothing(const mbd::Model& model, const std::string& p
     long counts[2] = {0, 0};
     long steps[2] = {0, 0};
     for (int run = 0; run < 2; ++run) {
-        // rk4: 2 and 4 steps of 0.1 ms; dopri5 at 1e-6 from a first step of 0.1 ms over 0.3 and 1 ms
+        // rk4: 2 and 4 steps of 0.1 ms; dopri5 at 1e-6 from a first step of 0.1 ms over 20 and 60 ms
         const bool rk4 = integrator_name == "rk4";
-        const double T = rk4 ? 2e-4 * (run + 1) : (run == 0 ? 3e-4 : 1e-3);
+        const double T = rk4 ? 2e-4 * (run + 1) : (run == 0 ? 0.02 : 0.06);
         mbd::IntegratorSettings s;
         s.step = 1e-4;
         s.tolerance = 1e-6;
@@ -87,7 +97,7 @@ void expect_steps_allocate_nothing(const mbd::Model& model, const std::string& p
 
 TEST(Allocations, NoneAfterWarmUpPerRhsAndPerStep) {
     const std::vector<std::string> formulations = {"augmented", "embedding", "amalgamated", "hamiltonian"};
-    int pairs = 0;
+    int pairs = 0, excluded = 0;
     // MBD_ALLOCATION_PAIRS=TEXT: only the pairs "SCENE with FORMULATION" containing TEXT (for tracing)
     const char* only = std::getenv("MBD_ALLOCATION_PAIRS");
     int skipped = 0;
@@ -96,6 +106,11 @@ TEST(Allocations, NoneAfterWarmUpPerRhsAndPerStep) {
         for (const std::string& type : formulations) {
             if (only && (path + " with " + type).find(only) == std::string::npos) {
                 ++skipped;
+                continue;
+            }
+            if (const char* reason = exclusion(path, type)) {
+                std::printf("%-30s %-12s excluded: %s\n", path.c_str(), type.c_str(), reason);
+                ++excluded;
                 continue;
             }
             SCOPED_TRACE(path + " with " + type);
@@ -116,7 +131,8 @@ TEST(Allocations, NoneAfterWarmUpPerRhsAndPerStep) {
             ++pairs;
         }
     }
-    std::printf("%d scene x formulation pairs covered\n", pairs);
-    EXPECT_EQ(pairs + skipped, 4 * static_cast<int>(allocation_scenes().size()));
+    std::printf("%d scene x formulation pairs covered, %d excluded\n", pairs, excluded);
+    EXPECT_EQ(pairs + excluded + skipped, 4 * static_cast<int>(allocation_scenes().size()));
+    EXPECT_EQ(excluded, only ? excluded : 2);
     EXPECT_EQ(skipped, 0) << "MBD_ALLOCATION_PAIRS left pairs out";
 }

@@ -10,19 +10,24 @@
 //     [ M     I     0  ] [ vdot   ]   [ Q      ]
 //     [ I     0    -B  ] [ -Q_c   ] = [ gamma' ]
 //     [ 0   -B^T    0  ] [ vdot_i ]   [ 0      ]
-// of size 2 n_v + k and solved by sparse LU with pivoting (UMFPACK through Eigen's
-// UmfPackSupport), never reduced by hand to the embedding equations. B and gamma' come
+// of size 2 n_v + k and solved by sparse LU with pivoting (KLU, fixed_pattern_lu.hpp), never
+// reduced by hand to the embedding equations. B and gamma' come
 // from a coordinate partition of J (partition.hpp, velocity_transform.hpp; book
 // Eqs. 6.80-6.94). The matrix is symmetric but indefinite (its inertia has n_v + k
-// negative eigenvalues), so an LDL^T without pivoting (CHOLMOD) is not valid; UMFPACK's
-// LU with threshold pivoting is. The symbolic analysis is done once per partition (the
-// pattern is fixed: M's body blocks, identities, B's dependent rows x k, explicit zeros
-// kept).
+// negative eigenvalues), so an LDL^T without pivoting (CHOLMOD) is not valid; KLU's LU
+// with threshold pivoting is. The pattern is fixed for a partition (M's body blocks,
+// identities, B's dependent rows x k, explicit zeros kept): it is ordered and factored with
+// pivoting once per partition, and at the following evaluations refactored in place with
+// the same pivots (nothing is allocated), pivoting again only when the solution's backward
+// error shows that those pivots no longer fit.
 //
 // State y = [q; v] as the augmented formulation; drift: the same projection after each
 // accepted step (sdk/include/mbd/sdk/projection.hpp), or Baumgarte terms in gamma, or
 // none. Reactions: lambda from Q_c = -J^T lambda (book Eq. 6.128) on the kept rows,
 // J_d^T lambda = -Q_c,d (redundant rows get zero).
+#include "fixed_pattern_lu.hpp"
+
+#include <mbd/sdk/coordinate_rates.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/ode_state.hpp>
 #include <mbd/sdk/partition.hpp>
@@ -34,7 +39,6 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
-#include <Eigen/UmfPackSupport>
 
 #include <cmath>
 #include <iostream>
@@ -74,6 +78,10 @@ private:
     void solve_dynamics(double t);
     void select(const State& state, bool initial);
     void build_pattern();
+    // B's current entries into K_'s values (the pattern of build_pattern())
+    void fill_B();
+    // the normwise backward error of x as a solution of K_ x = rhs_, with r_ = rhs_ - K_ x
+    double backward_error();
 
     std::optional<Stabilization> stabilization_;
     std::optional<double> alpha_, beta_, projection_tolerance_;
@@ -86,14 +94,21 @@ private:
     CoordinatePartition part_;
     bool analysed_ = false;
 
+    // scratch, sized in bind() or by the first evaluation: rhs() and project() allocate nothing
     State state_;
     ConstraintValues cv_;
     Eigen::MatrixXd J_, B_;
-    Eigen::VectorXd Q_, gamma_s_, gamma_prime_, vdot_, Qc_, rhs_, x_, r_;
+    Eigen::VectorXd Q_, gamma_s_, Jv_, gamma_prime_, vdot_, Qc_, rhs_, x_, r_, dx_;
+    Eigen::VectorXd row_sums_;
     std::vector<Eigen::Triplet<double>> triplets_;
     Eigen::SparseMatrix<double> K_;
-    Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu_;
+    std::vector<int> b_slots_;  // per column c of B and dependent row: the value indices of -B in K_ (two)
+    FixedPatternLU lu_;
+    VelocityTransformWorkspace transform_;
+    PartitionWorkspace elimination_;  // the candidate partition of a re-selection
+    CoordinatePartition fresh_;
     DenseMetricSolver metric_;
+    ProjectionScratch projection_;
     SingularityMonitor singularity_;  // rank drop of J after an accepted step (singularity.hpp)
 };
 
@@ -134,6 +149,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     Q_.setZero(nv_);
     vdot_.setZero(nv_);
     Qc_.setZero(nv_);
+    projection_.resize(nq_, nv_, nc_);
     analysed_ = false;
     // the partition at the assembled initial state (the run assembles the same way)
     select(assembled_initial_state(system), true);
@@ -141,7 +157,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
 
 void Amalgamated::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
-    J_ = Eigen::MatrixXd(cv_.J);
+    J_ = cv_.J;
     part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     analysed_ = false;
     if (initial && !part_.redundant.empty())
@@ -174,39 +190,83 @@ void Amalgamated::build_pattern() {
     }
     K_.resize(2 * n + k, 2 * n + k);
     K_.setFromTriplets(triplets_.begin(), triplets_.end());
+    b_slots_.clear();
+    for (int c = 0; c < k; ++c)
+        for (int row : part_.dependent) {
+            b_slots_.push_back(static_cast<int>(&K_.coeffRef(n + row, 2 * n + c) - K_.valuePtr()));
+            b_slots_.push_back(static_cast<int>(&K_.coeffRef(2 * n + c, n + row) - K_.valuePtr()));
+        }
+}
+
+void Amalgamated::fill_B() {
+    const int k = static_cast<int>(part_.independent.size());
+    double* values = K_.valuePtr();
+    size_t slot = 0;
+    for (int c = 0; c < k; ++c)
+        for (int row : part_.dependent) {
+            values[b_slots_[slot++]] = -B_(row, c);
+            values[b_slots_[slot++]] = -B_(row, c);
+        }
+}
+
+double Amalgamated::backward_error() {
+    row_sums_.setZero(K_.rows());
+    for (int col = 0; col < K_.outerSize(); ++col)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(K_, col); it; ++it) row_sums_[it.row()] += std::abs(it.value());
+    const double scale = row_sums_.maxCoeff() * x_.lpNorm<Eigen::Infinity>() + rhs_.lpNorm<Eigen::Infinity>();
+    return scale > 0.0 ? r_.lpNorm<Eigen::Infinity>() / scale : 0.0;
 }
 
 void Amalgamated::solve_dynamics(double t) {
     System& sys = *system_;
     sys.constraints(state_, cv_, true);
-    J_ = Eigen::MatrixXd(cv_.J);
+    J_ = cv_.J;
     sys.generalized_forces(state_, Q_);
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged (try a smaller tolerance or step)");
     gamma_s_ = cv_.gamma;
     if (options_.stabilization == Stabilization::Baumgarte && nc_ > 0) {
         const double a = options_.baumgarte_alpha, b = options_.baumgarte_beta;
-        gamma_s_ -= 2.0 * a * (cv_.J * state_.v + cv_.C_t);
+        Jv_.noalias() = cv_.J * state_.v;
+        Jv_ += cv_.C_t;
+        gamma_s_ -= 2.0 * a * Jv_;
         gamma_s_ -= b * b * cv_.C;
     }
     // B and gamma' (Eqs. 4.18, 6.80-6.94) from the partition
-    if (!velocity_transform(J_, gamma_s_, part_, B_, gamma_prime_))
+    if (!velocity_transform(J_, gamma_s_, part_, B_, gamma_prime_, transform_))
         throw DynamicsError(t, "amalgamated: the dependent sub-Jacobian J_d is singular");
-    build_pattern();
     const int n = nv_, k = static_cast<int>(part_.independent.size());
-    if (!analysed_) {
-        lu_.analyzePattern(K_);
+    bool pivot = false;
+    if (!analysed_) {  // a new partition: a new pattern
+        build_pattern();
+        if (!lu_.analyze(K_)) throw DynamicsError(t, "amalgamated: the block system of Eq. 4.20 could not be ordered");
         analysed_ = true;
+        pivot = true;
+    } else {
+        fill_B();
     }
-    lu_.factorize(K_);
-    if (lu_.info() != Eigen::Success)
-        throw DynamicsError(t, "amalgamated: the block system of Eq. 4.20 is singular");
     rhs_.setZero(2 * n + k);
     rhs_.head(n) = Q_;
     rhs_.segment(n, n) = gamma_prime_;
-    x_ = lu_.solve(rhs_);
+    for (;;) {
+        if (!lu_.factor(K_, pivot)) {
+            if (!pivot) {
+                pivot = true;
+                continue;
+            }
+            throw DynamicsError(t, "amalgamated: the block system of Eq. 4.20 is singular");
+        }
+        x_ = rhs_;
+        lu_.solve(x_);
+        r_.noalias() = K_ * x_;
+        r_ = rhs_ - r_;
+        // the pivots of the last pivoting factorization still fit (backward error near round-off)
+        if (pivot || backward_error() <= 1e-10) break;
+        pivot = true;
+    }
     // one step of iterative refinement (the identity blocks and M can differ by orders of magnitude)
-    r_ = rhs_ - K_ * x_;
-    x_ += lu_.solve(r_);
+    dx_ = r_;
+    lu_.solve(dx_);
+    x_ += dx_;
     if (!x_.allFinite()) throw DynamicsError(t, "amalgamated: non-finite solution of the block system (Eq. 4.20)");
     vdot_ = x_.head(n);
     Qc_ = -x_.segment(n, n);
@@ -223,7 +283,7 @@ void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
     qv_from_ode(t, y, nq_, nv_, state_);
     solve_dynamics(t);
     ydot.resize(nq_ + nv_);
-    ydot.head(nq_) = system_->coordinate_rates(state_.q, state_.v);
+    write_coordinate_rates(system_->dimension(), state_.q, state_.v, ydot.head(nq_));
     ydot.tail(nv_) = vdot_;
 }
 
@@ -234,12 +294,10 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     const bool projected = options_.stabilization == Stabilization::Projection && nc_ > 0;
     if (projected) {
         // the augmented formulation's projection (projection.hpp), dense S = J M^-1 J^T
-        ProjectionScratch work;
-        work.resize(nq_, nv_, nc_);
-        work.q0 = state_.q;
-        work.v0 = state_.v;
+        projection_.q0 = state_.q;
+        projection_.v0 = state_.v;
         const bool ok = project_onto_constraints(
-            sys, t, work, options_.projection_tolerance, state_, cv_,
+            sys, t, projection_, options_.projection_tolerance, state_, cv_,
             [&](bool robust) { metric_.factor(cv_.J, robust); }, [&](Eigen::VectorXd& x) { metric_.solve(x); },
             [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { metric_.apply_Minv(x, out); });
         if (!ok) return false;
@@ -254,12 +312,13 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     // not depend on the partition, so this can happen at any projection
     if (part_.rank > 0) {
         system_->constraints(state_, cv_, true);
-        J_ = Eigen::MatrixXd(cv_.J);
-        const double ratio = dependent_pivot_ratio(J_, part_);
+        J_ = cv_.J;
+        const double ratio = dependent_pivot_ratio(J_, part_, transform_);
         if (ratio < partition_settings_.reselect_ratio) {
-            CoordinatePartition fresh = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
-            if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh) > ratio) {
-                part_ = std::move(fresh);
+            CoordinatePartition& fresh = fresh_;
+            partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance, {}, elimination_, fresh);
+            if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh, transform_) > ratio) {
+                part_ = fresh;
                 analysed_ = false;
                 if (partition_settings_.log) options_.log("amalgamated: t = " + format_time(t) + ": new coordinate partition");
             }
@@ -278,7 +337,7 @@ void Amalgamated::multipliers(const State& state, Eigen::VectorXd& lambda) {
     state_ = state;
     solve_dynamics(state.t);
     // Q_c = -J^T lambda (book Eq. 6.128): J_d^T lambda_kept = -Q_c,d
-    multipliers_from_dependent_rows(J_, part_, Eigen::VectorXd(-Qc_), lambda);
+    multipliers_from_dependent_rows(J_, part_, Eigen::VectorXd(-Qc_), lambda, transform_);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // The dense path of the embedding formulation: see partitioned.hpp.
 #include "partitioned.hpp"
 
+#include <mbd/sdk/coordinate_rates.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -9,10 +11,12 @@
 namespace mbd::embedding {
 
 namespace {
-bool same_set(std::vector<int> a, std::vector<int> b) {
-    std::sort(a.begin(), a.end());
-    std::sort(b.begin(), b.end());
-    return a == b;
+// the same elements (each list has distinct entries), without sorting copies
+bool same_set(const std::vector<int>& a, const std::vector<int>& b) {
+    if (a.size() != b.size()) return false;
+    for (int x : a)
+        if (std::find(b.begin(), b.end(), x) == b.end()) return false;
+    return true;
 }
 }  // namespace
 
@@ -23,7 +27,7 @@ void Partitioned::bind(System& system, const FormulationOptions& options) {
     nv_ = system.nv();
     nc_ = system.constraint_rows(true);
     names_ = velocity_names(system);
-    M_ = Eigen::MatrixXd(system.mass_matrix());
+    M_ = &system.mass_matrix();
     selected_ = false;
     reselections_ = 0;
     redefined_ = false;
@@ -31,6 +35,7 @@ void Partitioned::bind(System& system, const FormulationOptions& options) {
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
     Q_.setZero(nv_);
+    vdot_.setZero(nv_);
     // The ODE size needs the rank: select at the assembled initial state.
     select(assembled_initial_state(system), true);
 }
@@ -49,7 +54,7 @@ void Partitioned::log_partition(double t, const char* what) const {
 
 void Partitioned::evaluate(const State& state) {
     system_->constraints(state, cv_, true);
-    J_ = Eigen::MatrixXd(cv_.J);
+    J_ = cv_.J;  // in place
 }
 
 void Partitioned::select(const State& state, bool initial) {
@@ -82,12 +87,12 @@ void Partitioned::select(const State& state, bool initial) {
     }
 }
 
-void Partitioned::velocities(const Eigen::VectorXd& vi, Eigen::VectorXd& v) const {
+void Partitioned::velocities(const Eigen::VectorXd& vi, Eigen::VectorXd& v) {
     // J_d v_d = -(J_i v_i + C_t) (book Eq. 6.168; Eq. 6.169), velocity_transform.hpp
-    dependent_velocities(J_, cv_.C_t, part_, vi, v);
+    dependent_velocities(J_, cv_.C_t, part_, vi, v, transform_);
 }
 
-double Partitioned::jd_pivot_ratio(const CoordinatePartition& p) const { return dependent_pivot_ratio(J_, p); }
+double Partitioned::jd_pivot_ratio(const CoordinatePartition& p) { return dependent_pivot_ratio(J_, p, transform_); }
 
 void Partitioned::solve_accelerations(double t, const CoordinatePartition& p, const State& state,
                                       Eigen::VectorXd& vdot) {
@@ -95,25 +100,25 @@ void Partitioned::solve_accelerations(double t, const CoordinatePartition& p, co
     system_->generalized_forces(state, Q_);
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
     // B (Eqs. 6.80-6.85) and gamma' (Eqs. 6.90-6.94), velocity_transform.hpp
-    Eigen::MatrixXd B;
-    Eigen::VectorXd g;
-    if (!velocity_transform(J_, cv_.gamma, p, B, g))
+    if (!velocity_transform(J_, cv_.gamma, p, B_, gamma_prime_, transform_))
         throw DynamicsError(t, "embedding: the dependent sub-Jacobian J_d is singular (independent coordinates " +
                                    independent_names() + ")");
     // B^T M B vdot_i = B^T (Q - M gamma') (book Eq. 6.95), Cholesky (Eq. 6.99)
-    const Eigen::MatrixXd MB = M_ * B;
-    const Eigen::MatrixXd Mbar = B.transpose() * MB;
-    const Eigen::VectorXd Qbar = B.transpose() * (Q_ - M_ * g);
-    Eigen::VectorXd vdot_i;
+    MB_.noalias() = *M_ * B_;
+    Mbar_.noalias() = B_.transpose() * MB_;
+    Mg_.noalias() = *M_ * gamma_prime_;
+    Mg_ = Q_ - Mg_;
+    Qbar_.noalias() = B_.transpose() * Mg_;
     if (k > 0) {
-        const Eigen::LLT<Eigen::MatrixXd> llt(Mbar);
-        if (llt.info() != Eigen::Success)
+        llt_.compute(Mbar_);
+        if (llt_.info() != Eigen::Success)
             throw DynamicsError(t, "embedding: B^T M B is not positive definite");
-        vdot_i = llt.solve(Qbar);
+        vdot_i_ = llt_.solve(Qbar_);
     } else {
-        vdot_i.resize(0);
+        vdot_i_.resize(0);
     }
-    vdot = B * vdot_i + g;
+    vdot.noalias() = B_ * vdot_i_;
+    vdot += gamma_prime_;
     if (!vdot.allFinite()) throw DynamicsError(t, "non-finite accelerations: the motion diverged");
 }
 
@@ -128,9 +133,9 @@ void Partitioned::from_ode(double t, const Eigen::VectorXd& y, State& state) {
     state.t = t;
     state.q = y.head(nq_);
     state.v.setZero(nv_);
-    State s{t, state.q, state.v};
-    evaluate(s);
-    velocities(y.tail(ode_size() - nq_), state.v);
+    evaluate(state);
+    vi_ = y.tail(ode_size() - nq_);
+    velocities(vi_, state.v);
 }
 
 void Partitioned::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
@@ -140,13 +145,13 @@ void Partitioned::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
     state_.q = y.head(nq_);
     state_.v.setZero(nv_);
     evaluate(state_);  // J and C_t do not depend on v
-    velocities(y.tail(ode_size() - nq_), state_.v);
+    vi_ = y.tail(ode_size() - nq_);
+    velocities(vi_, state_.v);
     evaluate(state_);  // gamma does
-    Eigen::VectorXd vdot;
-    solve_accelerations(t, part_, state_, vdot);
+    solve_accelerations(t, part_, state_, vdot_);
     ydot.resize(y.size());
-    ydot.head(nq_) = system_->coordinate_rates(state_.q, state_.v);
-    for (size_t c = 0; c < part_.independent.size(); ++c) ydot[nq_ + c] = vdot[part_.independent[c]];
+    write_coordinate_rates(system_->dimension(), state_.q, state_.v, ydot.head(nq_));
+    for (size_t c = 0; c < part_.independent.size(); ++c) ydot[nq_ + c] = vdot_[part_.independent[c]];
 }
 
 bool Partitioned::project(double t, Eigen::VectorXd& y) {
@@ -160,21 +165,23 @@ bool Partitioned::project(double t, Eigen::VectorXd& y) {
     // J_d dd = -C (kept rows), q <- q (+) P_d dd (book Sec. 6.12 step 3; Ch. 3 Eq. 3.117)
     const double tol = settings_.newton_tolerance * std::max(1.0, state_.q.lpNorm<Eigen::Infinity>());
     const bool converged =
-        correct_dependent_positions(sys, state_, p, tol, settings_.newton_iterations, cv_, J_);  // velocity_transform.hpp
+        correct_dependent_positions(sys, state_, p, tol, settings_.newton_iterations, cv_, J_, transform_);  // velocity_transform.hpp
     if (!converged) return false;
     // re-selection near a singular configuration (book Sec. 6.12), only at the end of an
     // accepted step (see partitioned.hpp)
     if (t >= last_rhs_t_ && p.rank > 0) {
         const double ratio = jd_pivot_ratio(p);
         if (ratio < settings_.reselect_ratio) {
-            Eigen::VectorXd v;
-            velocities(y.tail(ode_size() - nq_), v);
-            CoordinatePartition fresh = partition_coordinates(J_, 1.0, settings_.rank_tolerance);
+            Eigen::VectorXd& v = v_before_;
+            vi_ = y.tail(ode_size() - nq_);
+            velocities(vi_, v);
+            CoordinatePartition& fresh = fresh_;
+            partition_coordinates(J_, 1.0, settings_.rank_tolerance, {}, elimination_, fresh);
             if (fresh.rank != p.rank)
                 throw DynamicsError(t, "embedding: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(p.rank));
             if (!same_set(fresh.dependent, p.dependent) && jd_pivot_ratio(fresh) > ratio) {
-                part_ = std::move(fresh);
+                part_ = fresh;
                 ++reselections_;
                 redefined_ = true;
                 if (settings_.log) {
@@ -206,8 +213,8 @@ void Partitioned::multipliers(const State& state, Eigen::VectorXd& lambda) {
     solve_accelerations(state.t, p, state, vdot);
     // J^T lambda = Q - M vdot (Q_c = -J^T lambda, book Eq. 6.128); its dependent rows
     // J_d^T lambda_r = (Q - M vdot)_d determine lambda; redundant rows get zero
-    const Eigen::VectorXd r = Q_ - M_ * vdot;
-    multipliers_from_dependent_rows(J_, p, r, lambda);
+    const Eigen::VectorXd r = Q_ - *M_ * vdot;
+    multipliers_from_dependent_rows(J_, p, r, lambda, transform_);
 }
 
 }  // namespace mbd::embedding

@@ -73,10 +73,10 @@ private:
     // dense J (n_c x n_v) and C, C_t, gamma at state (gamma with state.v)
     void evaluate(const State& state);
     // full v from q (in state) and the independent components (Eq. 6.169); needs evaluate()
-    void velocities(const Eigen::VectorXd& vi, Eigen::VectorXd& v) const;
+    void velocities(const Eigen::VectorXd& vi, Eigen::VectorXd& v);
     // vdot (and its pieces) at a consistent state, for partition p; needs evaluate()
     void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot);
-    double jd_pivot_ratio(const CoordinatePartition& p) const;
+    double jd_pivot_ratio(const CoordinatePartition& p);
     void log_partition(double t, const char* what) const;
 
     Settings settings_;
@@ -84,7 +84,7 @@ private:
     System* system_ = nullptr;
     int nq_ = 0, nv_ = 0, nc_ = 0;
     std::vector<std::string> names_;
-    Eigen::MatrixXd M_;
+    const Eigen::SparseMatrix<double>* M_ = nullptr;  // the System's M (block diagonal): M B in O(n_v k)
 
     // the partition (mutable: chosen from the first state the formulation sees)
     CoordinatePartition part_;
@@ -93,11 +93,18 @@ private:
     bool redefined_ = false;  // set by a re-selection in project(), cleared by state_redefined()
     double last_rhs_t_ = -std::numeric_limits<double>::infinity();
 
-    // scratch
+    // scratch, sized in bind() or by the first evaluation: the evaluations allocate nothing
     ConstraintValues cv_;
     Eigen::MatrixXd J_;
     State state_;
     Eigen::VectorXd Q_;
+    VelocityTransformWorkspace transform_;
+    Eigen::MatrixXd B_, MB_, Mbar_;                  // B, M B, B^T M B (Eq. 6.95)
+    Eigen::VectorXd gamma_prime_, Mg_, Qbar_, vi_, vdot_i_, vdot_;
+    Eigen::LLT<Eigen::MatrixXd> llt_;                // of B^T M B (Eq. 6.99)
+    PartitionWorkspace elimination_;                 // the candidate partition of a re-selection, and v
+    CoordinatePartition fresh_;
+    Eigen::VectorXd v_before_;
 };
 
 }  // namespace mbd::embedding

@@ -163,6 +163,8 @@ void Recursive::bind(System& system, const FormulationOptions& /*options*/) {
     state_.v.setZero(nv_);
     Q_.setZero(nv_);
     udot_.setZero(nu_);
+    s_.setZero(ns_);
+    u_.setZero(nu_);
 }
 
 void Recursive::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) {
@@ -446,14 +448,18 @@ void Recursive::to_ode(const State& state, Eigen::VectorXd& y) {
 }
 
 void Recursive::from_ode(double t, const Eigen::VectorXd& y, State& state) {
-    kinematics(y.head(ns_), y.tail(nu_));
+    s_ = y.head(ns_);
+    u_ = y.tail(nu_);
+    kinematics(s_, u_);
     write_state(t, state);
 }
 
 void Recursive::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
-    const Eigen::VectorXd u = y.tail(nu_);
-    kinematics(y.head(ns_), u);
+    s_ = y.head(ns_);
+    u_ = y.tail(nu_);
+    const Eigen::VectorXd& u = u_;
+    kinematics(s_, u);
     write_state(t, state_);
     system_->generalized_forces(state_, Q_);
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");

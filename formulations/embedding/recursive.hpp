@@ -128,10 +128,11 @@ private:
     std::vector<double> sign_;
     // H and D^-1 of every edge, packed (a compact working set keeps the O(n) passes in cache)
     std::vector<double> hpool_, dpool_;
-    Eigen::Map<Eigen::Matrix<double, 6, Eigen::Dynamic>> H(const Edge& e) { return {hpool_.data() + e.h0, 6, e.nu}; }
-    Eigen::Map<Eigen::MatrixXd> Dinv(const Edge& e) { return {dpool_.data() + e.d0, e.nu, e.nu}; }  // per body: +-1 so that written Euler parameters continue the state's
+    // (mapped with at most 6 columns: products with them stay in fixed-size storage, off the heap)
+    Eigen::Map<Mat6X> H(const Edge& e) { return {hpool_.data() + e.h0, 6, e.nu}; }
+    Eigen::Map<MatXX6> Dinv(const Edge& e) { return {dpool_.data() + e.d0, e.nu, e.nu}; }  // per body: +-1 so that written Euler parameters continue the state's
     State state_;
-    Eigen::VectorXd Q_, udot_;
+    Eigen::VectorXd Q_, udot_, s_, u_;  // s_, u_: y's two parts (kinematics() takes whole vectors)
 };
 
 }  // namespace mbd::embedding

@@ -37,6 +37,7 @@
 // (as the embedding formulation); the velocity constraints hold by construction. Near a
 // singular J_d the partition is re-selected at the end of an accepted step and p rewritten
 // as B_new^T M v (the same velocities).
+#include <mbd/sdk/coordinate_rates.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/partition.hpp>
 #include <mbd/sdk/partition_settings.hpp>
@@ -82,13 +83,15 @@ private:
     void transform(double t, const Eigen::VectorXd& q);
     // transform(), then v_i and v from p: state_ holds (t, q, v)
     void kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p);
+    // kinematics() at y's q and momenta (copied into q_, p_)
+    void kinematics(double t, const Eigen::VectorXd& y);
     // vdot at a state for partition p (and Q_ there)
     void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot);
     // Jdot w on all rows (polarization of gamma, see the header)
-    void jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out);
+    void jdot_times(const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::VectorXd& out);
     // the momenta p from the state's scaled momenta, and back (see the header)
-    Eigen::VectorXd momenta(const Eigen::VectorXd& y) const {
-        return y.tail(momentum_scale_.size()).cwiseProduct(momentum_scale_);
+    void momenta(const Eigen::VectorXd& y, Eigen::VectorXd& p) const {
+        p = y.tail(momentum_scale_.size()).cwiseProduct(momentum_scale_);
     }
     void store_momenta(const Eigen::VectorXd& p, Eigen::VectorXd& y) const {
         y.tail(momentum_scale_.size()) = p.cwiseQuotient(momentum_scale_);
@@ -104,7 +107,7 @@ private:
     System* system_ = nullptr;
     bool planar_ = true;
     int nq_ = 0, nv_ = 0, nc_ = 0;
-    Eigen::MatrixXd M_;
+    const Eigen::SparseMatrix<double>* M_ = nullptr;  // the System's M (block diagonal): M B in O(n_v k)
     MessageLog log_;  // FormulationOptions::log
     CoordinatePartition part_;
     Eigen::VectorXd momentum_scale_;  // diag(Mbar) at the selection: p = momentum_scale_ .* y_p
@@ -112,11 +115,17 @@ private:
     bool redefined_ = false;  // set by a re-selection in project(), cleared by state_redefined()
     double last_rhs_t_ = -std::numeric_limits<double>::infinity();
 
-    State state_, probe_;
-    ConstraintValues cv_, cv_probe_;
-    Eigen::MatrixXd J_, B_, Mbar_;
-    Eigen::VectorXd c_, vi_, gamma_prime_, Q_;
-    Eigen::LLT<Eigen::MatrixXd> llt_;
+    // scratch, sized in bind() or by the first evaluation: rhs() and project() allocate nothing
+    State state_, probe_, corrected_;
+    ConstraintValues cv_, cv_probe_, cv_corrected_;
+    Eigen::MatrixXd J_, J_corrected_, B_, MB_, Mbar_, JdT_;
+    Eigen::VectorXd c_, vi_, gamma_prime_, Q_, q_, p_, zero_, Mx_, Bx_, pdot_, b_, mu_, jw_, jw_kept_, lambda_, Jl_;
+    Eigen::LLT<Eigen::MatrixXd> llt_;                // of Mbar
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu_JdT_;    // of J_d^T (mu)
+    VelocityTransformWorkspace transform_;
+    PartitionWorkspace elimination_;  // the candidate partition of a re-selection, and its velocities
+    CoordinatePartition fresh_;
+    Eigen::VectorXd v_before_;
 };
 
 Hamiltonian::Hamiltonian(const FormulationSpec& spec) {
@@ -142,7 +151,7 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     nq_ = system.nq();
     nv_ = system.nv();
     nc_ = system.constraint_rows(true);
-    M_ = Eigen::MatrixXd(system.mass_matrix());
+    M_ = &system.mass_matrix();
     selected_ = false;
     redefined_ = false;
     singularity_.reset();
@@ -150,12 +159,17 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
     Q_.setZero(nv_);
+    probe_.q.setZero(nq_);
+    probe_.v.setZero(nv_);
+    corrected_.q.setZero(nq_);
+    corrected_.v.setZero(nv_);
+    lambda_.setZero(nv_);
     select(assembled_initial_state(system), true);
 }
 
 void Hamiltonian::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
-    J_ = Eigen::MatrixXd(cv_.J);
+    J_ = cv_.J;
     part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     selected_ = true;
     set_momentum_scale(state.t, state.q);
@@ -173,12 +187,14 @@ void Hamiltonian::transform(double t, const Eigen::VectorXd& q) {
     state_.q = q;
     state_.v.setZero(nv_);
     system_->constraints(state_, cv_, true);  // J and C_t do not depend on v
-    J_ = Eigen::MatrixXd(cv_.J);
-    if (!velocity_transform(J_, cv_.gamma, part_, B_, gamma_prime_))
+    J_ = cv_.J;
+    if (!velocity_transform(J_, cv_.gamma, part_, B_, gamma_prime_, transform_))
         throw DynamicsError(t, "hamiltonian: the dependent sub-Jacobian J_d is singular");
     const int k = static_cast<int>(part_.independent.size());
-    dependent_velocities(J_, cv_.C_t, part_, Eigen::VectorXd::Zero(k), c_);  // c = v for v_i = 0
-    Mbar_.noalias() = B_.transpose() * M_ * B_;
+    zero_.setZero(k);
+    dependent_velocities(J_, cv_.C_t, part_, zero_, c_, transform_);  // c = v for v_i = 0
+    MB_.noalias() = *M_ * B_;
+    Mbar_.noalias() = B_.transpose() * MB_;
     if (k > 0) {
         llt_.compute(Mbar_);
         if (llt_.info() != Eigen::Success) throw DynamicsError(t, "hamiltonian: B^T M B is not positive definite");
@@ -189,14 +205,25 @@ void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::Ve
     transform(t, q);
     const int k = static_cast<int>(part_.independent.size());
     // qdot_i = dH/dp = Mbar^-1 (p - B^T M c)
-    if (k > 0)
-        vi_ = llt_.solve(p - B_.transpose() * (M_ * c_));
-    else
+    if (k > 0) {
+        Mx_.noalias() = *M_ * c_;
+        Bx_.noalias() = B_.transpose() * Mx_;
+        Bx_ = p - Bx_;
+        vi_ = llt_.solve(Bx_);
+    } else {
         vi_.resize(0);
-    state_.v = B_ * vi_ + c_;
+    }
+    state_.v.noalias() = B_ * vi_;
+    state_.v += c_;
 }
 
-void Hamiltonian::jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out) {
+void Hamiltonian::kinematics(double t, const Eigen::VectorXd& y) {
+    q_ = y.head(nq_);
+    momenta(y, p_);
+    kinematics(t, q_, p_);
+}
+
+void Hamiltonian::jdot_times(const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::VectorXd& out) {
     probe_.t = state_.t;
     probe_.q = state_.q;
     probe_.v = state_.v + w;
@@ -208,12 +235,13 @@ void Hamiltonian::jdot_times(const Eigen::VectorXd& w, Eigen::VectorXd& out) {
     out *= -0.25;
     if (!planar_) {
         // the Lie bracket of the body-axis angular-velocity fields: lambda = omega_v x omega_w
-        Eigen::VectorXd lambda = Eigen::VectorXd::Zero(nv_);
+        lambda_.setZero(nv_);
         for (int b = 0; b < nv_ / 6; ++b) {
             const Vec3 wv = state_.v.segment<3>(6 * b + 3), ww = w.segment<3>(6 * b + 3);
-            lambda.segment<3>(6 * b + 3) = wv.cross(ww);
+            lambda_.segment<3>(6 * b + 3) = wv.cross(ww);
         }
-        out.noalias() += 0.5 * (J_ * lambda);
+        Jl_.noalias() = J_ * lambda_;
+        out += 0.5 * Jl_;
     }
 }
 
@@ -223,60 +251,62 @@ void Hamiltonian::to_ode(const State& state, Eigen::VectorXd& y) {
     const int k = static_cast<int>(part_.independent.size());
     y.resize(nq_ + k);
     y.head(nq_) = state.q;
-    store_momenta(B_.transpose() * (M_ * state.v), y);  // p = B^T M v
+    store_momenta(B_.transpose() * (*M_ * state.v), y);  // p = B^T M v
 }
 
 void Hamiltonian::from_ode(double t, const Eigen::VectorXd& y, State& state) {
-    kinematics(t, y.head(nq_), momenta(y));
+    kinematics(t, y);
     state.t = t;
     state.q = state_.q;
     state.v = state_.v;
 }
 
 double Hamiltonian::hamiltonian(double t, const Eigen::VectorXd& y) {
-    const Eigen::VectorXd p = momenta(y);
-    kinematics(t, y.head(nq_), p);
+    kinematics(t, y);
     // H = p^T qdot_i - L = p^T v_i - T + V (= T + V when scleronomic)
-    return p.dot(vi_) - system_->kinetic_energy(state_) + system_->potential_energy(state_);
+    return p_.dot(vi_) - system_->kinetic_energy(state_) + system_->potential_energy(state_);
 }
 
 void Hamiltonian::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     last_rhs_t_ = t;
     const int k = static_cast<int>(part_.independent.size());
-    kinematics(t, y.head(nq_), momenta(y));
+    kinematics(t, y);
     system_->generalized_forces(state_, Q_);
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
     ydot.resize(nq_ + k);
-    ydot.head(nq_) = system_->coordinate_rates(state_.q, state_.v);  // from qdot_i = dH/dp
+    write_coordinate_rates(system_->dimension(), state_.q, state_.v, ydot.head(nq_));  // from qdot_i = dH/dp
     if (k == 0) return;
     // pdot = -dH/dq_i + Q_nc = B^T Q + Bdot^T M v,  Bdot^T M v = -(Jdot B)^T mu
-    Eigen::VectorXd pdot = B_.transpose() * Q_;
+    pdot_.noalias() = B_.transpose() * Q_;
     if (part_.rank > 0) {
-        const Eigen::VectorXd Mv = M_ * state_.v;
-        const Eigen::MatrixXd JdT = J_(part_.rows, part_.dependent).transpose();
-        const Eigen::VectorXd mu = JdT.partialPivLu().solve(Eigen::VectorXd(Mv(part_.dependent)));
-        Eigen::VectorXd jw;
+        Mx_.noalias() = *M_ * state_.v;
+        gather(J_, part_.rows, part_.dependent, transform_.Jd);
+        JdT_ = transform_.Jd.transpose();
+        lu_JdT_.compute(JdT_);
+        gather(Mx_, part_.dependent, b_);
+        mu_ = lu_JdT_.solve(b_);
         for (int c = 0; c < k; ++c) {
-            jdot_times(B_.col(c), jw);
-            pdot[c] -= mu.dot(jw(part_.rows));
+            jdot_times(B_.col(c), jw_);
+            gather(jw_, part_.rows, jw_kept_);
+            pdot_[c] -= mu_.dot(jw_kept_);
         }
     }
-    if (!pdot.allFinite()) throw DynamicsError(t, "non-finite momentum rates: the motion diverged");
-    ydot.tail(k) = pdot.cwiseQuotient(momentum_scale_);
+    if (!pdot_.allFinite()) throw DynamicsError(t, "non-finite momentum rates: the motion diverged");
+    ydot.tail(k) = pdot_.cwiseQuotient(momentum_scale_);
 }
 
 bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     System& sys = *system_;
-    State s;
+    State& s = corrected_;
+    ConstraintValues& cv = cv_corrected_;
+    Eigen::MatrixXd& J = J_corrected_;
     s.t = t;
     s.q = y.head(nq_);
     s.v.setZero(nv_);
     sys.normalize(s.q);
     const double tol = newton_tolerance_ * std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
-    ConstraintValues cv;
-    Eigen::MatrixXd J;
-    if (!correct_dependent_positions(sys, s, part_, tol, newton_iterations_, cv, J)) return false;
+    if (!correct_dependent_positions(sys, s, part_, tol, newton_iterations_, cv, J, transform_)) return false;
     singularity_.check(sys, t, cv.J);  // cv at the corrected positions
     // re-selection near a singular J_d (book Sec. 6.12), only at the end of an accepted step.
     // B = -J_d^-1 J_i grows as J_d approaches singularity, and with it the local error of a
@@ -286,19 +316,22 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     // as soon as its pivot ratio is twice as good (below reselect_ratio: as soon as it is
     // better); the factor 2 keeps the two selections from alternating.
     if (t >= last_rhs_t_ && part_.rank > 0) {
-        const double ratio = dependent_pivot_ratio(J, part_);
+        const double ratio = dependent_pivot_ratio(J, part_, transform_);
         if (ratio < 10.0 * partition_settings_.reselect_ratio) {
-            kinematics(t, s.q, momenta(y));
-            const Eigen::VectorXd v = state_.v;
-            CoordinatePartition fresh = partition_coordinates(J, 1.0, partition_settings_.rank_tolerance);
+            momenta(y, p_);
+            kinematics(t, s.q, p_);
+            v_before_ = state_.v;
+            CoordinatePartition& fresh = fresh_;
+            partition_coordinates(J, 1.0, partition_settings_.rank_tolerance, {}, elimination_, fresh);
             if (fresh.rank != part_.rank)
                 throw DynamicsError(t, "hamiltonian: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(part_.rank));
             const double gain = ratio < partition_settings_.reselect_ratio ? 1.0 : 2.0;
-            if (dependent_pivot_ratio(J, fresh) > gain * ratio) {
-                part_ = std::move(fresh);
+            if (dependent_pivot_ratio(J, fresh, transform_) > gain * ratio) {
+                const Eigen::VectorXd& v = v_before_;
+                part_ = fresh;
                 set_momentum_scale(t, s.q);
-                store_momenta(B_.transpose() * (M_ * v), y);  // the same velocities in the new momenta
+                store_momenta(B_.transpose() * (*M_ * v), y);  // the same velocities in the new momenta
                 redefined_ = true;
                 if (partition_settings_.log) log_("hamiltonian: t = " + format_time(t) + ": new coordinate partition");
             }
@@ -311,33 +344,35 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
 void Hamiltonian::solve_accelerations(double t, const CoordinatePartition& p, const State& state,
                                       Eigen::VectorXd& vdot) {
     system_->constraints(state, cv_, true);
-    J_ = Eigen::MatrixXd(cv_.J);
+    J_ = cv_.J;
     system_->generalized_forces(state, Q_);
     Eigen::MatrixXd B;
     Eigen::VectorXd g;
-    if (!velocity_transform(J_, cv_.gamma, p, B, g)) throw DynamicsError(t, "hamiltonian: the dependent sub-Jacobian J_d is singular");
-    const Eigen::MatrixXd Mbar = B.transpose() * M_ * B;
+    if (!velocity_transform(J_, cv_.gamma, p, B, g, transform_))
+        throw DynamicsError(t, "hamiltonian: the dependent sub-Jacobian J_d is singular");
+    const Eigen::MatrixXd MB = *M_ * B;
+    const Eigen::MatrixXd Mbar = B.transpose() * MB;
     Eigen::VectorXd vdot_i(B.cols());
-    if (B.cols() > 0) vdot_i = Mbar.llt().solve(B.transpose() * (Q_ - M_ * g));
+    if (B.cols() > 0) vdot_i = Mbar.llt().solve(B.transpose() * (Q_ - *M_ * g));
     vdot = B * vdot_i + g;
 }
 
 void Hamiltonian::accelerations(const State& state, Eigen::VectorXd& vdot) {
     system_->constraints(state, cv_, true);
-    J_ = Eigen::MatrixXd(cv_.J);
+    J_ = cv_.J;
     CoordinatePartition p = part_;
-    if (dependent_pivot_ratio(J_, p) < partition_settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
+    if (dependent_pivot_ratio(J_, p, transform_) < partition_settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
     solve_accelerations(state.t, p, state, vdot);
 }
 
 void Hamiltonian::multipliers(const State& state, Eigen::VectorXd& lambda) {
     system_->constraints(state, cv_, true);
-    J_ = Eigen::MatrixXd(cv_.J);
+    J_ = cv_.J;
     CoordinatePartition p = part_;
-    if (dependent_pivot_ratio(J_, p) < partition_settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
+    if (dependent_pivot_ratio(J_, p, transform_) < partition_settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
     Eigen::VectorXd vdot;
     solve_accelerations(state.t, p, state, vdot);
-    multipliers_from_dependent_rows(J_, p, Eigen::VectorXd(Q_ - M_ * vdot), lambda);
+    multipliers_from_dependent_rows(J_, p, Eigen::VectorXd(Q_ - *M_ * vdot), lambda, transform_);
 }
 
 }  // namespace

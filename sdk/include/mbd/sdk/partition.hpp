@@ -34,27 +34,44 @@ struct CoordinatePartition {
     double pivot_ratio = 1.0;      // smallest / largest pivot magnitude (1 when rank 0)
 };
 
-// `last` (optional): columns to consider only after every other column (e.g. the current
-// independent set, to keep it independent when it is still acceptable).
-inline CoordinatePartition partition_coordinates(const Eigen::MatrixXd& J, double threshold = 0.1,
-                                                 double rank_tolerance = 1e-10,
-                                                 const std::vector<int>& last = {}) {
-    const int m = static_cast<int>(J.rows()), n = static_cast<int>(J.cols());
-    Eigen::MatrixXd a = J;
-    std::vector<char> row_used(m, 0), col_used(n, 0);
+// Scratch of the elimination, reused from call to call: once it has seen matrices of a
+// size, a partition of that size allocates nothing (nor does `out`, whose lists keep their
+// capacity).
+struct PartitionWorkspace {
+    Eigen::MatrixXd a;  // the matrix being eliminated
+    std::vector<char> row_used, col_used, late;
     std::vector<int> order;
-    order.reserve(n);
-    {
-        std::vector<char> late(n, 0);
-        for (int c : last)
-            if (c >= 0 && c < n) late[c] = 1;
-        for (int c = 0; c < n; ++c)
-            if (!late[c]) order.push_back(c);
-        for (int c = 0; c < n; ++c)
-            if (late[c]) order.push_back(c);
-    }
+};
+
+// The elimination of the header comment on ws.a (overwritten), into `out`. `last`: columns
+// to consider only after every other column (e.g. the current independent set, to keep it
+// independent when it is still acceptable).
+inline void partition_workspace_matrix(double threshold, double rank_tolerance, const std::vector<int>& last,
+                                       PartitionWorkspace& ws, CoordinatePartition& out) {
+    Eigen::MatrixXd& a = ws.a;
+    const int m = static_cast<int>(a.rows()), n = static_cast<int>(a.cols());
+    ws.row_used.assign(m, 0);
+    ws.col_used.assign(n, 0);
+    ws.late.assign(n, 0);
+    ws.order.clear();
+    ws.order.reserve(n);
+    for (int c : last)
+        if (c >= 0 && c < n) ws.late[c] = 1;
+    for (int c = 0; c < n; ++c)
+        if (!ws.late[c]) ws.order.push_back(c);
+    for (int c = 0; c < n; ++c)
+        if (ws.late[c]) ws.order.push_back(c);
+    std::vector<char>&row_used = ws.row_used, &col_used = ws.col_used;
     const double scale = m && n ? a.cwiseAbs().maxCoeff() : 0.0;
-    CoordinatePartition out;
+    out.rank = 0;
+    out.dependent.clear();
+    out.independent.clear();
+    out.rows.clear();
+    out.redundant.clear();
+    out.dependent.reserve(std::min(m, n));
+    out.rows.reserve(std::min(m, n));
+    out.independent.reserve(n);
+    out.redundant.reserve(m);
     double pmin = 0.0, pmax = 0.0;
     for (int step = 0; step < std::min(m, n); ++step) {
         double amax = 0.0;
@@ -64,7 +81,7 @@ inline CoordinatePartition partition_coordinates(const Eigen::MatrixXd& J, doubl
                     if (!col_used[c]) amax = std::max(amax, std::abs(a(r, c)));
         if (!(amax > rank_tolerance * scale) || amax == 0.0) break;
         int pr = -1, pc = -1;
-        for (int c : order) {
+        for (int c : ws.order) {
             if (col_used[c]) continue;
             int best = -1;
             double value = 0.0;
@@ -95,6 +112,22 @@ inline CoordinatePartition partition_coordinates(const Eigen::MatrixXd& J, doubl
     for (int r = 0; r < m; ++r)
         if (!row_used[r]) out.redundant.push_back(r);
     out.pivot_ratio = out.rank ? pmin / pmax : 1.0;
+}
+
+// The partition of J into `out`, with caller-provided scratch (see PartitionWorkspace).
+inline void partition_coordinates(const Eigen::MatrixXd& J, double threshold, double rank_tolerance,
+                                  const std::vector<int>& last, PartitionWorkspace& ws, CoordinatePartition& out) {
+    ws.a = J;
+    partition_workspace_matrix(threshold, rank_tolerance, last, ws, out);
+}
+
+// The partition of J, allocating its own scratch (for code off the evaluation path).
+inline CoordinatePartition partition_coordinates(const Eigen::MatrixXd& J, double threshold = 0.1,
+                                                 double rank_tolerance = 1e-10,
+                                                 const std::vector<int>& last = {}) {
+    PartitionWorkspace ws;
+    CoordinatePartition out;
+    partition_coordinates(J, threshold, rank_tolerance, last, ws, out);
     return out;
 }
 

@@ -57,7 +57,7 @@ public:
     // rank; a later call with a lower rank throws DynamicsError naming the dependent rows.
     void check(System& system, double t, const Eigen::SparseMatrix<double>& J) {
         if (!active(system) || J.rows() == 0) return;
-        Jt_ = Eigen::MatrixXd(J).transpose();
+        Jt_ = J.transpose();  // in place: Jt_ and qr_ keep their storage from call to call
         qr_.compute(Jt_);
         qr_.setThreshold(tolerance);
         const int rank = static_cast<int>(qr_.rank());

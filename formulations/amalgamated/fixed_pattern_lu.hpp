@@ -1,0 +1,60 @@
+// Sparse LU of a square matrix whose sparsity pattern is fixed while its values change
+// (the amalgamated formulation's block system, Eq. 4.20), with KLU (SuiteSparse, a
+// third-party library): the pattern is ordered once (klu_analyze), factored with partial
+// pivoting when asked (klu_factor, which allocates the factors), and otherwise refactored
+// in place with the same pivot sequence (klu_refactor), which allocates nothing; solves are
+// in place (klu_solve), also without allocating. A refactorization keeps the pivots of the
+// last pivoting factorization, so the caller checks its solution (a residual) and asks
+// for a pivoting factorization when that pivot sequence has gone bad.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <klu.h>
+
+namespace mbd {
+
+class FixedPatternLU {
+public:
+    FixedPatternLU() { klu_defaults(&common_); }
+    FixedPatternLU(const FixedPatternLU&) = delete;
+    FixedPatternLU& operator=(const FixedPatternLU&) = delete;
+    ~FixedPatternLU() { clear(); }
+
+    // A new pattern (K compressed, column-major): order it; the next factor() pivots.
+    bool analyze(Eigen::SparseMatrix<double>& K) {
+        clear();
+        symbolic_ = klu_analyze(static_cast<int>(K.rows()), K.outerIndexPtr(), K.innerIndexPtr(), &common_);
+        return symbolic_ != nullptr;
+    }
+
+    // K's current values, on the analysed pattern: with partial pivoting (pivot, or when
+    // there is no factorization yet), else with the pivots of the last pivoting one.
+    bool factor(Eigen::SparseMatrix<double>& K, bool pivot) {
+        if (!symbolic_) return false;
+        if (pivot || !numeric_) {
+            if (numeric_) klu_free_numeric(&numeric_, &common_);
+            numeric_ = klu_factor(K.outerIndexPtr(), K.innerIndexPtr(), K.valuePtr(), symbolic_, &common_);
+            return numeric_ != nullptr;
+        }
+        return klu_refactor(K.outerIndexPtr(), K.innerIndexPtr(), K.valuePtr(), symbolic_, numeric_, &common_) != 0;
+    }
+
+    // x <- K^-1 x
+    bool solve(Eigen::VectorXd& x) {
+        return numeric_ && klu_solve(symbolic_, numeric_, static_cast<int>(x.size()), 1, x.data(), &common_) != 0;
+    }
+
+private:
+    void clear() {
+        if (numeric_) klu_free_numeric(&numeric_, &common_);
+        if (symbolic_) klu_free_symbolic(&symbolic_, &common_);
+    }
+
+    klu_common common_;
+    klu_symbolic* symbolic_ = nullptr;
+    klu_numeric* numeric_ = nullptr;
+};
+
+}  // namespace mbd
