@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # CI's bounded fuzzing (.ci/run, after the sanitizer run): each fuzz target for
-# MBD_FUZZ_SECONDS (default 60) seconds, from the committed seeds and dictionaries, with the
-# targets scripts/test-sanitizers.sh built in build-sanitize (clang, ASan + UBSan, coverage).
+# MBD_FUZZ_SECONDS (default 60) seconds, from the committed seeds and dictionaries.
+# scripts/fuzz.sh installs clang and libclang-rt-dev when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-MBD_FUZZ_BUILD=build-sanitize bash scripts/fuzz.sh "${MBD_FUZZ_SECONDS:-60}" scene command_line
+bash scripts/fuzz.sh "${MBD_FUZZ_SECONDS:-60}" scene command_line

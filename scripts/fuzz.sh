@@ -4,9 +4,9 @@
 # SECONDS per target (default 600); TARGETs are scene (the scene loader, from every scene
 # under 16 KiB in scenes/ and sdk/examples plus fuzz/seeds/, with fuzz/yaml.dict) and
 # command_line (the mbd argument parser, from fuzz/seeds-cli/ with fuzz/command_line.dict);
-# default both (scripts/fuzz-ci.sh runs both in CI). The corpus grows in BUILD/corpus/TARGET across runs. Exits non-zero on a
-# finding; the input is left in BUILD/findings/TARGET/ (reproduce it with
-# BUILD/bin/TARGET_fuzzer FILE; BUILD is build-fuzz unless MBD_FUZZ_BUILD says otherwise).
+# default both (scripts/fuzz-ci.sh runs both in CI). The corpus grows in build-fuzz/corpus/TARGET across runs. Exits non-zero on a
+# finding; the input is left in build-fuzz/findings/TARGET/ (reproduce it with
+# build-fuzz/bin/TARGET_fuzzer FILE).
 set -euo pipefail
 seconds=${1:-600}
 shift || true
@@ -14,31 +14,23 @@ targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(scene command_line)
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh >/dev/null  # clang and libclang-rt-dev among them
-# MBD_FUZZ_BUILD: an existing build folder configured with MBD_FUZZ=ON (CI reuses the
-# sanitizer suite's build-sanitize, scripts/test-sanitizers.sh); default build-fuzz, made here.
-build=${MBD_FUZZ_BUILD:-build-fuzz}
-if [ "$build" = build-fuzz ]; then
-  # -O1 and line tables only: the build is most of CI's fuzzing time, and -O1 is what
-  # libFuzzer's documentation suggests for coverage-guided runs
-  cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" \
-    -DCMAKE_CXX_COMPILER=clang++ \
-    -DMBD_SANITIZE=ON -DMBD_FUZZ=ON -DMBD_BUILD_TESTS=OFF -DMBD_BUILD_BENCH=OFF >/dev/null
-elif ! grep -q '^MBD_FUZZ:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null; then
-  echo "fuzz.sh: MBD_FUZZ_BUILD=$build is not a build folder configured with -DMBD_FUZZ=ON" >&2
-  exit 2
-fi
-cmake --build "$build" -j2 --target scene_loader_fuzzer command_line_fuzzer mbd_plugins >/dev/null
+# -O1 and line tables only: the build is most of CI's fuzzing time, and -O1 is what
+# libFuzzer's documentation suggests for coverage-guided runs
+cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" \
+  -DCMAKE_CXX_COMPILER=clang++ \
+  -DMBD_SANITIZE=ON -DMBD_FUZZ=ON -DMBD_BUILD_TESTS=OFF -DMBD_BUILD_BENCH=OFF >/dev/null
+cmake --build build-fuzz -j2 --target scene_loader_fuzzer command_line_fuzzer mbd_plugins >/dev/null
 
 status=0
 for target in "${targets[@]}"; do
-  corpus=$build/corpus/$target findings=$build/findings/$target
+  corpus=build-fuzz/corpus/$target findings=build-fuzz/findings/$target
   mkdir -p "$corpus" "$findings"
   case $target in
     scene)
-      binary=$build/bin/scene_loader_fuzzer dict=fuzz/yaml.dict
+      binary=build-fuzz/bin/scene_loader_fuzzer dict=fuzz/yaml.dict
       find scenes sdk/examples fuzz/seeds -name '*.yaml' -size -16k -exec cp {} "$corpus"/ \; ;;
     command_line)
-      binary=$build/bin/command_line_fuzzer dict=fuzz/command_line.dict
+      binary=build-fuzz/bin/command_line_fuzzer dict=fuzz/command_line.dict
       cp fuzz/seeds-cli/* "$corpus"/ ;;
     *) echo "fuzz.sh: unknown target '$target' (scene, command_line)" >&2; exit 2 ;;
   esac
