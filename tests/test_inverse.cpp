@@ -205,7 +205,7 @@ TEST(InverseErrors, BadActuatorInput) {
             EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
         }
     };
-    expect("  - {name: t, joint: wrist}\n", "arm.yaml:13", "unknown joint 'wrist'");
+    expect("  - {name: t, joint: wrist}\n", "arm.yaml:13", "undefined joint 'wrist'");
     expect("  - {name: t, joint: elbow, bounds: [2, 1]}\n", "arm.yaml:13", "infeasible");
     expect("  - {name: t, joint: elbow, weight: 0}\n", "arm.yaml:13", "'weight' must be positive");
 }

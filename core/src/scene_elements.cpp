@@ -4,6 +4,24 @@
 
 namespace mbd::scene_detail {
 
+int Loader::coordinate_joint(const Param& joint, const std::string& what, const std::string& purpose) const {
+    if (!joint.is_scalar() || joint.text.empty()) joint.fail(what + ": 'joint' must be a joint name");
+    int index = -1;
+    for (int k = 0; k < static_cast<int>(model_.joints.size()); ++k)
+        if (model_.joints[k].name == joint.text) index = k;
+    if (index < 0) {
+        std::vector<std::string> names;
+        for (const auto& j : model_.joints) names.push_back(j.name);
+        joint.fail(what + ": undefined joint " + quote(joint.text) + "; defined joints are " +
+                   (names.empty() ? std::string("(none)") : join_quoted(names)));
+    }
+    const JointInstance& target = model_.joints[index];
+    if (!target.joint->has_coordinate())
+        joint.fail(what + ": joint " + quote(target.name) + " (" + target.type + ") has no single coordinate " +
+                   purpose);
+    return index;
+}
+
 
 // ---------------------------------------------------------------- forces
 
@@ -43,11 +61,7 @@ void Loader::load_force(const Param& node, int index) {
     if (force.type == "gravity")
         type.fail(what + ": gravity is not listed under 'forces'; set the top-level 'gravity: [gx, gy" +
                   std::string(model_.dimension == Dimension::Spatial ? ", gz" : "") + "]' instead");
-    for (const auto& other : model_.forces)
-        if (other.name == force.name)
-            (find(node, "name") ? *find(node, "name") : node)
-                .fail("duplicate force name " + quote(force.name) + " (first defined at " + other.where +
-                      "); force names must be unique");
+    require_unique_name(model_.forces, force.name, node, "force");
 
     const Param* body = find(node, "body");
     const Param* bodies = find(node, "bodies");
@@ -140,26 +154,11 @@ void Loader::load_driver(const Param& node, int index) {
     const std::string what = "driver " + quote(driver.name);
     driver.where = where(node);
     check_keys(node, what, {"name", "joint", "motion"});
-    for (const auto& other : model_.drivers)
-        if (other.name == driver.name)
-            (find(node, "name") ? *find(node, "name") : node)
-                .fail("duplicate driver name " + quote(driver.name) + " (first defined at " + other.where +
-                      "); driver names must be unique");
+    require_unique_name(model_.drivers, driver.name, node, "driver");
 
     const Param& joint = require(node, "joint", what, "the name of the joint whose coordinate it prescribes");
-    if (!joint.is_scalar() || joint.text.empty()) joint.fail(what + ": 'joint' must be a joint name");
-    for (int k = 0; k < static_cast<int>(model_.joints.size()); ++k)
-        if (model_.joints[k].name == joint.text) driver.joint = k;
-    if (driver.joint < 0) {
-        std::vector<std::string> names;
-        for (const auto& j : model_.joints) names.push_back(j.name);
-        joint.fail(what + ": undefined joint " + quote(joint.text) + "; defined joints are " +
-                   (names.empty() ? std::string("(none)") : join_quoted(names)));
-    }
+    driver.joint = coordinate_joint(joint, what, "to drive; drive a revolute, prismatic or other 1-DOF joint");
     const JointInstance& target = model_.joints[driver.joint];
-    if (!target.joint->has_coordinate())
-        joint.fail(what + ": joint " + quote(target.name) + " (" + target.type +
-                   ") has no single coordinate to drive; drive a revolute, prismatic or other 1-DOF joint");
     for (const auto& other : model_.drivers)
         if (other.joint == driver.joint)
             joint.fail(what + ": joint " + quote(target.name) + " is already driven by driver " + quote(other.name) +
@@ -199,25 +198,9 @@ void Loader::load_actuator(const Param& node, int index) {
     const std::string what = "actuator " + quote(actuator.name);
     actuator.where = where(node);
     check_keys(node, what, {"name", "joint", "bounds", "weight"});
-    for (const auto& other : model_.actuators)
-        if (other.name == actuator.name)
-            (find(node, "name") ? *find(node, "name") : node)
-                .fail("duplicate actuator name " + quote(actuator.name) + " (first defined at " + other.where +
-                      "); actuator names must be unique");
+    require_unique_name(model_.actuators, actuator.name, node, "actuator");
     const Param& joint = require(node, "joint", what, "the name of the joint along whose coordinate it acts");
-    if (!joint.is_scalar() || joint.text.empty()) joint.fail(what + ": 'joint' must be a joint name");
-    for (int k = 0; k < static_cast<int>(model_.joints.size()); ++k)
-        if (model_.joints[k].name == joint.text) actuator.joint = k;
-    if (actuator.joint < 0) {
-        std::vector<std::string> names;
-        for (const auto& j : model_.joints) names.push_back(j.name);
-        joint.fail(what + ": unknown joint " + quote(joint.text) + "; defined joints are " +
-                   (names.empty() ? std::string("(none)") : join_quoted(names)));
-    }
-    const JointInstance& target = model_.joints[actuator.joint];
-    if (!target.joint->has_coordinate())
-        joint.fail(what + ": joint " + quote(target.name) + " (" + target.type +
-                   ") has no single coordinate to act along; use a revolute, prismatic or other 1-DOF joint");
+    actuator.joint = coordinate_joint(joint, what, "to act along; use a revolute, prismatic or other 1-DOF joint");
     if (const Param* bounds = find(node, "bounds")) {
         const Eigen::VectorXd v = vector(*bounds, "bounds", what, 2, "[lo, hi] on the effort");
         if (!(v[0] <= v[1]))

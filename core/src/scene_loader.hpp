@@ -226,6 +226,19 @@ private:
     void load_driver(const Param& node, int index);
     void load_actuator(const Param& node, int index);
     void load_joint_limits(const Param& node, JointInstance& joint) const;
+    // A second element of this kind with this name is refused at its 'name' key.
+    template <class Elements>
+    void require_unique_name(const Elements& existing, const std::string& name, const Param& node,
+                             const std::string& kind) const {
+        for (const auto& other : existing)
+            if (other.name == name)
+                (find(node, "name") ? *find(node, "name") : node)
+                    .fail("duplicate " + kind + " name " + quote(name) + " (first defined at " + other.where + "); " +
+                          kind + " names must be unique");
+    }
+    // The joint a driver or actuator names (`joint` key), which must have one coordinate;
+    // `purpose` ends the message when it has none ("to drive; drive a revolute, ...").
+    int coordinate_joint(const Param& joint, const std::string& what, const std::string& purpose) const;
     void add_gravity();
 
     // The joint-style frame of an element (point, axis, x_axis, axes), in world at t = 0.
