@@ -61,6 +61,13 @@ extern "C" void* malloc(std::size_t size) {
 
 namespace mbd::test {
 
+bool allocation_counting_works() {
+    AllocationCount count;
+    void* volatile probe = std::malloc(64);
+    std::free(probe);
+    return count.stop() > 0;
+}
+
 AllocationCount::AllocationCount() {
 #if defined(MBD_TEST_TSAN)
     std::fprintf(stderr, "allocation counting is not available under ThreadSanitizer\n");

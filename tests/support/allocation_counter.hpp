@@ -6,6 +6,8 @@
 
 namespace mbd::test {
 
+// True when a probe allocation is counted (the counter sees this build's allocator).
+bool allocation_counting_works();
 // Allocations made by the calling process while `counting` is on.
 class AllocationCount {
 public:
