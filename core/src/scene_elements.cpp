@@ -146,15 +146,8 @@ void Loader::load_force(const Param& node, int index) {
 // ---------------------------------------------------------------- drivers
 
 void Loader::load_driver(const Param& node, int index) {
-    const std::string fallback = "driver #" + std::to_string(index + 1);
-    if (!node.is_map()) node.fail(fallback + " must be a map of keys (name, joint, motion)");
-
     Driver driver;
-    driver.name = find(node, "name") ? name_of(node, fallback) : "driver" + std::to_string(index);
-    const std::string what = "driver " + quote(driver.name);
-    driver.where = where(node);
-    check_keys(node, what, {"name", "joint", "motion"});
-    require_unique_name(model_.drivers, driver.name, node, "driver");
+    const std::string what = open_element(node, index, "driver", {"name", "joint", "motion"}, model_.drivers, driver);
 
     const Param& joint = require(node, "joint", what, "the name of the joint whose coordinate it prescribes");
     driver.joint = coordinate_joint(joint, what, "to drive; drive a revolute, prismatic or other 1-DOF joint");
@@ -191,14 +184,9 @@ void Loader::load_joint_limits(const Param& node, JointInstance& joint) const {
 
 // An actuator: {name, joint, bounds: [lo, hi], weight} acting along the joint's coordinate.
 void Loader::load_actuator(const Param& node, int index) {
-    const std::string fallback = "actuator #" + std::to_string(index + 1);
-    if (!node.is_map()) node.fail(fallback + " must be a map of keys (name, joint, bounds, weight)");
     Actuator actuator;
-    actuator.name = find(node, "name") ? name_of(node, fallback) : "actuator" + std::to_string(index);
-    const std::string what = "actuator " + quote(actuator.name);
-    actuator.where = where(node);
-    check_keys(node, what, {"name", "joint", "bounds", "weight"});
-    require_unique_name(model_.actuators, actuator.name, node, "actuator");
+    const std::string what =
+        open_element(node, index, "actuator", {"name", "joint", "bounds", "weight"}, model_.actuators, actuator);
     const Param& joint = require(node, "joint", what, "the name of the joint along whose coordinate it acts");
     actuator.joint = coordinate_joint(joint, what, "to act along; use a revolute, prismatic or other 1-DOF joint");
     if (const Param* bounds = find(node, "bounds")) {

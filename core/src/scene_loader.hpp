@@ -236,6 +236,22 @@ private:
                     .fail("duplicate " + kind + " name " + quote(name) + " (first defined at " + other.where + "); " +
                           kind + " names must be unique");
     }
+    // The common start of a list element of this kind: a map of these keys only, its name (or
+    // KIND<index> when it has none), unique among the existing ones, and where it is. Returns
+    // "KIND 'name'" for messages.
+    template <class Element>
+    std::string open_element(const Param& node, int index, const std::string& kind,
+                             const std::vector<std::string>& keys, const std::vector<Element>& existing,
+                             Element& element) const {
+        const std::string fallback = kind + " #" + std::to_string(index + 1);
+        if (!node.is_map()) node.fail(fallback + " must be a map of keys (" + join(keys) + ")");
+        element.name = find(node, "name") ? name_of(node, fallback) : kind + std::to_string(index);
+        const std::string what = kind + " " + quote(element.name);
+        element.where = where(node);
+        check_keys(node, what, keys);
+        require_unique_name(existing, element.name, node, kind);
+        return what;
+    }
     // The joint a driver or actuator names (`joint` key), which must have one coordinate;
     // `purpose` ends the message when it has none ("to drive; drive a revolute, ...").
     int coordinate_joint(const Param& joint, const std::string& what, const std::string& purpose) const;
