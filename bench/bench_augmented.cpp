@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
             mbd::FormulationSpec spec{"augmented", "augmented", {}};
             auto f = registry.create_formulation(spec, "bench");
             mbd::FormulationOptions options;
-            options.algebra = sparse ? "sparse" : "dense";
+            options.algebra = sparse ? mbd::LinearAlgebra::Sparse : mbd::LinearAlgebra::Dense;
             f->bind(system, options);
             Eigen::VectorXd y, ydot;
             f->to_ode(state, y);

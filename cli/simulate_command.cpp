@@ -7,6 +7,7 @@
 
 #include <mbd/app/json_output.hpp>
 #include <mbd/integrator.hpp>
+#include <mbd/linear_algebra.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/output_times.hpp>
@@ -139,7 +140,7 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         if (args->stabilization == "projection") settings.stabilization = Stabilization::Projection;
         if (args->stabilization == "baumgarte") settings.stabilization = Stabilization::Baumgarte;
         if (args->stabilization == "none") settings.stabilization = Stabilization::None;
-        settings.algebra = args->algebra;
+        if (!args->algebra.empty()) settings.algebra = parse_linear_algebra(args->algebra);
         settings.progress = !args->quiet;
         if (args->quiet) settings.messages = MessageLog::silent();
 

@@ -64,7 +64,6 @@ struct Bound {
         formulation = mbd::test::make_formulation(type, node);
         mbd::FormulationOptions options;
         options.log = mbd::MessageLog::silent();
-        options.sparse_threshold = 30;
         formulation->bind(*system, options);
         mbd::State state = system->initial_state();
         state.t = 0.0;

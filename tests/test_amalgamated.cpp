@@ -94,17 +94,6 @@ TEST(Amalgamated, ProjectionKeepsTheLoopClosed) {
     EXPECT_LT(r.final_velocity_violation, 1e-9);
 }
 
-TEST(Amalgamated, UnknownKeyIsAnInputError) {
-    mbd::Param node;
-    node.kind = mbd::Param::Kind::Map;
-    mbd::Param p;
-    p.kind = mbd::Param::Kind::Scalar;
-    p.text = "1";
-    node.fields["warp"] = p;
-    mbd::FormulationSpec spec{"amalgamated", "amalgamated", mbd::Params("formulation 'amalgamated'", &node)};
-    EXPECT_THROW(shared_registry().create_formulation(spec, "test"), mbd::InputError);
-}
-
 // ---- the command line: the same scene with each of the four formulations
 
 std::vector<double> last_row(const fs::path& csv, std::vector<std::string>& header) {

@@ -55,7 +55,7 @@ std::string chain_scene(int links) {
 
 TEST(KinematicsAlgebra, LargeChainUsesTheSparsePathAndMatchesDense) {
     Model model = load_scene_text(chain_scene(150), "chain.yaml", test::shared_registry());
-    ASSERT_GT(model.nv(), kSparseThreshold);
+    ASSERT_GT(model.nv(), kDefaultSparseThreshold);
     MinNormSolver probe(LinearAlgebra::Auto);
     ConstraintSystem system(model);
     ConstraintValues values;

@@ -36,7 +36,7 @@ MinNormSolver::~MinNormSolver() = default;
 
 bool MinNormSolver::factor(const Eigen::SparseMatrix<double>& J) {
     used_ = requested_;
-    if (used_ == LinearAlgebra::Auto) used_ = J.cols() > kSparseThreshold ? LinearAlgebra::Sparse : LinearAlgebra::Dense;
+    if (used_ == LinearAlgebra::Auto) used_ = J.cols() > kDefaultSparseThreshold ? LinearAlgebra::Sparse : LinearAlgebra::Dense;
     if (used_ == LinearAlgebra::Dense) {
         impl_->cod.compute(Eigen::MatrixXd(J));
         return true;

@@ -7,6 +7,8 @@
 // accepted keys are the core's keys plus the keys the plugin asked for.
 #include "scene_loader.hpp"
 
+#include <mbd/formulation_setup.hpp>
+
 namespace mbd {
 namespace scene_detail {
 
@@ -163,7 +165,8 @@ void Loader::build() {
 // ---------------------------------------------------------------- formulation
 
 // `formulation: NAME` or `formulation: {type: NAME, ...keys of that formulation}`.
-// The plugin reads (and checks) its own keys when the analysis creates it.
+// The shared keys are read here (formulation_setup.hpp); the plugin reads its own keys,
+// and every key is checked, when the analysis creates it.
 void Loader::load_formulation(const Param& node) {
     const Param* type = &node;
     if (node.is_map()) {
@@ -174,6 +177,7 @@ void Loader::load_formulation(const Param& node) {
         type->fail("scene: 'formulation' must name a formulation (for example augmented)");
     model_.formulation = type->text;
     model_.formulation_node = std::make_shared<Param>(node);
+    model_.formulation_options = read_formulation_options(node);
     model_.formulation_where = where(node);
 }
 

@@ -2,6 +2,7 @@
 #include <mbd/simulation.hpp>
 
 #include <mbd/csv.hpp>
+#include <mbd/formulation_setup.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/output_times.hpp>
@@ -24,42 +25,6 @@
 namespace mbd {
 
 namespace {
-
-const char* stabilization_name(Stabilization s) {
-    switch (s) {
-        case Stabilization::None: return "none";
-        case Stabilization::Projection: return "projection";
-        case Stabilization::Baumgarte: return "baumgarte";
-    }
-    return "projection";
-}
-
-// The formulation's scene keys, with the command line's overrides written over
-// the keys the scene gives (a key the scene does not give is passed through
-// FormulationOptions instead, so formulations that do not read it never see it).
-Param formulation_node(const Model& model, const std::string& name, const SimulationSettings& settings) {
-    Param node;
-    node.kind = Param::Kind::Map;
-    if (model.formulation_node && model.formulation == name) {
-        node = *model.formulation_node;
-        if (!node.is_map()) {
-            Param type = node;
-            node = Param();
-            node.kind = Param::Kind::Map;
-            node.file = type.file;
-            node.line = type.line;
-            node.fields["type"] = type;
-        }
-    }
-    auto override_key = [&](const std::string& key, const std::string& value) {
-        auto it = node.fields.find(key);
-        if (it != node.fields.end()) it->second.text = value;
-    };
-    if (settings.stabilization) override_key("stabilization", stabilization_name(*settings.stabilization));
-    if (!settings.algebra.empty()) override_key("linear_algebra", settings.algebra);
-    if (settings.sparse_threshold) override_key("sparse_threshold", std::to_string(*settings.sparse_threshold));
-    return node;
-}
 
 double max_abs(const Eigen::VectorXd& x) { return x.size() ? x.lpNorm<Eigen::Infinity>() : 0.0; }
 
@@ -100,26 +65,23 @@ void require_positive_masses(const Model& model) {
     }
 }
 
-// The run's formulation: the command line's, else the scene's, else augmented; its scene keys
-// must all be known.
+// The run's formulation: the command line's, else the scene's, else augmented; with the
+// scene's keys when it is the scene's formulation, and the command line's choices over them.
 std::shared_ptr<Formulation> make_run_formulation(const Model& model, Registry& registry,
-                                                  const SimulationSettings& settings, std::string& name) {
+                                                  const SimulationSettings& settings, std::string& name,
+                                                  FormulationOptions& options) {
     name = !settings.formulation.empty() ? settings.formulation
                                          : (!model.formulation.empty() ? model.formulation : "augmented");
+    const bool scene_keys = model.formulation_node && model.formulation == name;
     const std::string where =
         (!settings.formulation.empty() || model.formulation_where.empty()) ? std::string() : model.formulation_where;
-    const Param node = formulation_node(model, name, settings);
-    FormulationSpec spec;
-    spec.name = name;
-    spec.type = name;
-    spec.params = Params("formulation '" + name + "'", &node);
-    std::shared_ptr<Formulation> formulation = registry.create_formulation(spec, where);
-    spec.params.mark_read("type");
-    const std::vector<std::string> unread = spec.params.unread_keys();
-    if (!unread.empty()) {
-        const Param& bad = node.fields.at(unread.front());
-        throw InputError(bad.location(), "formulation '" + name + "': unknown key '" + unread.front() + "'");
-    }
+    std::shared_ptr<Formulation> formulation =
+        create_formulation(registry, name, scene_keys ? model.formulation_node.get() : nullptr, where);
+    options = scene_keys ? model.formulation_options : FormulationOptions();
+    if (settings.stabilization) options.stabilization = *settings.stabilization;
+    if (settings.algebra) options.algebra = *settings.algebra;
+    if (settings.sparse_threshold) options.sparse_threshold = *settings.sparse_threshold;
+    options.log = settings.messages;
     return formulation;
 }
 
@@ -179,7 +141,8 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
                           const SimulationCallback& callback) {
     SimulationResult result;
     std::string name;
-    std::shared_ptr<Formulation> formulation = make_run_formulation(model, registry, settings, name);
+    FormulationOptions options;
+    std::shared_ptr<Formulation> formulation = make_run_formulation(model, registry, settings, name, options);
     result.formulation = name;
     check_integration_settings(settings);  // before any work
     std::unique_ptr<Integrator> integrator = make_integrator(settings.integrator, settings.integration);
@@ -191,14 +154,6 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     // --- bind and assemble a consistent initial state
     require_positive_masses(model);
     ModelSystem system(model);
-    FormulationOptions options;
-    if (settings.stabilization) options.stabilization = *settings.stabilization;
-    if (!settings.algebra.empty()) options.algebra = settings.algebra;
-    options.log = settings.messages;
-    // Dense below, sparse above this many velocity coordinates: measured with
-    // bench/bench_augmented (docs/benchmarks.md), where the sparse path is as fast as
-    // the dense one at 30 coordinates and faster beyond.
-    options.sparse_threshold = settings.sparse_threshold ? *settings.sparse_threshold : 30;
     formulation->bind(system, options);
 
     State state = settings.initial_state ? *settings.initial_state : system.initial_state();

@@ -31,7 +31,6 @@
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/ode_state.hpp>
 #include <mbd/sdk/partition.hpp>
-#include <mbd/sdk/partition_settings.hpp>
 #include <mbd/sdk/projection.hpp>
 #include <mbd/sdk/singularity.hpp>
 #include <mbd/sdk/text.hpp>
@@ -42,23 +41,15 @@
 
 #include <cmath>
 #include <iostream>
-#include <optional>
 #include <string>
 #include <vector>
 
 namespace mbd {
 namespace {
 
-Stabilization parse_stabilization(const Param& p) {
-    if (p.text == "projection") return Stabilization::Projection;
-    if (p.text == "baumgarte") return Stabilization::Baumgarte;
-    if (p.text == "none") return Stabilization::None;
-    p.fail("'stabilization' must be projection, baumgarte or none, got '" + p.text + "'");
-}
-
 class Amalgamated final : public Formulation {
 public:
-    explicit Amalgamated(const FormulationSpec& spec);
+    Amalgamated() = default;
 
     void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override { return nq_ + nv_; }
@@ -68,6 +59,9 @@ public:
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
     void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+    OptionGroups options_used() const override {
+        return kStabilizationOptions | kPartitionOptions | kSingularityOptions;
+    }
 
     // for tests
     const CoordinatePartition& partition() const { return part_; }
@@ -83,9 +77,7 @@ private:
     // the normwise backward error of x as a solution of K_ x = rhs_, with r_ = rhs_ - K_ x
     double backward_error();
 
-    std::optional<Stabilization> stabilization_;
-    std::optional<double> alpha_, beta_, projection_tolerance_;
-    PartitionSettings partition_settings_;  // log defaults to false
+    bool log_choices_ = false;  // FormulationOptions::log_choices, default false
 
     System* system_ = nullptr;
     FormulationOptions options_;
@@ -112,31 +104,11 @@ private:
     SingularityMonitor singularity_;  // rank drop of J after an accepted step (singularity.hpp)
 };
 
-Amalgamated::Amalgamated(const FormulationSpec& spec) {
-    const Params& params = spec.params;
-    params.mark_read("type");
-    if (params.has("stabilization")) stabilization_ = parse_stabilization(params.at("stabilization"));
-    if (params.has("alpha")) alpha_ = params.non_negative("alpha", 0.0);
-    if (params.has("beta")) beta_ = params.number("beta");
-    if (params.has("projection_tolerance")) projection_tolerance_ = params.positive("projection_tolerance");
-    partition_settings_.read(params);
-    partition_settings_.read_log(params);
-    singularity_.read(params);
-    const std::vector<std::string> unread = params.unread_keys();
-    if (!unread.empty())
-        params.fail("unknown key '" + unread.front() +
-                    "' for the amalgamated formulation; its keys are type, stabilization (projection, baumgarte, none), "
-                    "alpha, beta, projection_tolerance, pivot_threshold, reselect_ratio, rank_tolerance, log, "
-                    "singularity_tolerance");
-}
-
 void Amalgamated::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     options_ = options;
-    if (stabilization_) options_.stabilization = *stabilization_;
-    if (alpha_) options_.baumgarte_alpha = *alpha_;
-    if (beta_) options_.baumgarte_beta = *beta_;
-    if (projection_tolerance_) options_.projection_tolerance = *projection_tolerance_;
+    log_choices_ = options.log_choices.value_or(false);
+    singularity_.tolerance = options.singularity_tolerance;
     nq_ = system.nq();
     nv_ = system.nv();
     nc_ = system.constraint_rows(true);
@@ -158,7 +130,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
 void Amalgamated::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
     J_ = cv_.J;
-    part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
+    part_ = partition_coordinates(J_, initial ? options_.partition.pivot_threshold : 1.0, options_.partition.rank_tolerance);
     analysed_ = false;
     if (initial && !part_.redundant.empty())
         options_.log("amalgamated: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
@@ -314,13 +286,13 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
         system_->constraints(state_, cv_, true);
         J_ = cv_.J;
         const double ratio = dependent_pivot_ratio(J_, part_, transform_);
-        if (ratio < partition_settings_.reselect_ratio) {
+        if (ratio < options_.partition.reselect_ratio) {
             CoordinatePartition& fresh = fresh_;
-            partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance, {}, elimination_, fresh);
+            partition_coordinates(J_, 1.0, options_.partition.rank_tolerance, {}, elimination_, fresh);
             if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh, transform_) > ratio) {
                 part_ = fresh;
                 analysed_ = false;
-                if (partition_settings_.log) options_.log("amalgamated: t = " + format_time(t) + ": new coordinate partition");
+                if (log_choices_) options_.log("amalgamated: t = " + format_time(t) + ": new coordinate partition");
             }
         }
     }
@@ -342,7 +314,7 @@ void Amalgamated::multipliers(const State& state, Eigen::VectorXd& lambda) {
 
 }  // namespace
 
-std::unique_ptr<Formulation> make_amalgamated(const FormulationSpec& spec) { return std::make_unique<Amalgamated>(spec); }
+std::unique_ptr<Formulation> make_amalgamated(const FormulationSpec&) { return std::make_unique<Amalgamated>(); }
 
 }  // namespace mbd
 

@@ -57,7 +57,7 @@ namespace {
 
 class Augmented final : public Formulation {
 public:
-    explicit Augmented(const FormulationSpec& spec);
+    Augmented() = default;
     Augmented(const Augmented&) = delete;
     Augmented& operator=(const Augmented&) = delete;
 
@@ -70,6 +70,9 @@ public:
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
     void accelerations(const State& state, Eigen::VectorXd& vdot) override;
     bool supports_index3() const override { return true; }
+    OptionGroups options_used() const override {
+        return kStabilizationOptions | kLinearAlgebraOptions | kSingularityOptions;
+    }
 
 private:
     // state_ -> cv_, Q_, vdot_, lambda_
@@ -87,12 +90,6 @@ private:
     void keep_all_rows();
     bool left_out_rows_hold() const;
     void check_finite(double t, const Eigen::VectorXd& x, const char* what) const;
-
-    // options from the scene's `formulation:` map (override bind()'s options)
-    std::optional<Stabilization> stabilization_;
-    std::optional<double> alpha_, beta_, projection_tolerance_;
-    std::optional<std::string> algebra_;
-    std::optional<int> sparse_threshold_;
 
     System* system_ = nullptr;
     FormulationOptions options_;
@@ -129,46 +126,10 @@ private:
     bool redundancy_checked_ = false;
 };
 
-Stabilization parse_stabilization(const Param& p) {
-    if (p.text == "projection") return Stabilization::Projection;
-    if (p.text == "baumgarte") return Stabilization::Baumgarte;
-    if (p.text == "none") return Stabilization::None;
-    p.fail("'stabilization' must be projection, baumgarte or none, got '" + p.text + "'");
-}
-
-Augmented::Augmented(const FormulationSpec& spec) {
-    const Params& params = spec.params;
-    params.mark_read("type");
-    if (params.has("stabilization")) stabilization_ = parse_stabilization(params.at("stabilization"));
-    if (params.has("alpha")) alpha_ = params.non_negative("alpha", 0.0);
-    if (params.has("beta")) beta_ = params.number("beta");
-    if (params.has("projection_tolerance")) projection_tolerance_ = params.positive("projection_tolerance");
-    if (params.has("linear_algebra")) {
-        const std::string a = params.string("linear_algebra");
-        if (a != "auto" && a != "dense" && a != "sparse")
-            params.at("linear_algebra").fail("'linear_algebra' must be auto, dense or sparse, got '" + a + "'");
-        algebra_ = a;
-    }
-    if (params.has("sparse_threshold"))
-        sparse_threshold_ = static_cast<int>(params.integer("sparse_threshold", 1, 1000000000));
-    singularity_.read(params);
-    const std::vector<std::string> unread = params.unread_keys();
-    if (!unread.empty())
-        params.fail("unknown key '" + unread.front() +
-                    "' for the augmented formulation; its keys are type, stabilization (projection, baumgarte, none), "
-                    "alpha, beta, projection_tolerance, linear_algebra (auto, dense, sparse), sparse_threshold, "
-                    "singularity_tolerance");
-}
-
 void Augmented::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     options_ = options;
-    if (stabilization_) options_.stabilization = *stabilization_;
-    if (alpha_) options_.baumgarte_alpha = *alpha_;
-    if (beta_) options_.baumgarte_beta = *beta_;
-    if (projection_tolerance_) options_.projection_tolerance = *projection_tolerance_;
-    if (algebra_) options_.algebra = *algebra_;
-    if (sparse_threshold_) options_.sparse_threshold = *sparse_threshold_;
+    singularity_.tolerance = options.singularity_tolerance;
 
     planar_ = system.dimension() == Dimension::Planar;
     nvb_ = velocities_per_body(system.dimension());
@@ -177,12 +138,8 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     nq_ = system.nq();
     nv_ = system.nv();
     nc_ = system.constraint_rows(true);
-    if (options_.algebra == "dense")
-        sparse_ = false;
-    else if (options_.algebra == "sparse")
-        sparse_ = true;
-    else
-        sparse_ = nv_ > options_.sparse_threshold;
+    sparse_ = options_.algebra == LinearAlgebra::Sparse ||
+              (options_.algebra == LinearAlgebra::Auto && nv_ > options_.sparse_threshold);
 
     // M^-1 per body and its Cholesky factor (M is constant: book Eqs. 6.61-6.63)
     const Eigen::SparseMatrix<double>& M = system.mass_matrix();
@@ -569,7 +526,7 @@ void Augmented::accelerations(const State& state, Eigen::VectorXd& vdot) {
 
 }  // namespace
 
-std::unique_ptr<Formulation> make_augmented(const FormulationSpec& spec) { return std::make_unique<Augmented>(spec); }
+std::unique_ptr<Formulation> make_augmented(const FormulationSpec&) { return std::make_unique<Augmented>(); }
 
 }  // namespace mbd
 

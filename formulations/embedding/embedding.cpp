@@ -30,20 +30,22 @@ namespace {
 class Embedding final : public Formulation {
 public:
     explicit Embedding(const FormulationSpec& spec);
+    OptionGroups options_used() const override { return kPartitionOptions | kNewtonOptions | kSingularityOptions; }
 
     void bind(System& system, const FormulationOptions& options) override {
         std::string reason;
         const bool tree = recursive_embedding_possible(system, &reason);
-        bool recursive = settings_.path == "recursive" || (settings_.path == "auto" && tree);
+        bool recursive = path_ == "recursive" || (path_ == "auto" && tree);
         if (recursive)
-            impl_ = std::make_unique<embedding::Recursive>(settings_);
+            impl_ = std::make_unique<embedding::Recursive>();
         else
-            impl_ = std::make_unique<embedding::Partitioned>(settings_);
-        if (settings_.log)
+            impl_ = std::make_unique<embedding::Partitioned>(independent_);
+        if (options.log_choices.value_or(true))
             options.log("embedding: " + std::string(recursive ? "recursive" : "dense") + " path (" + reason +
-                        (settings_.path != "auto" ? "; forced by path: " + settings_.path : std::string()) + ")");
+                        (path_ != "auto" ? "; forced by path: " + path_ : std::string()) + ")");
         impl_->bind(system, options);
         system_ = &system;
+        singularity_.tolerance = options.singularity_tolerance;
         singularity_.reset();
     }
     int ode_size() const override { return impl_->ode_size(); }
@@ -66,7 +68,9 @@ public:
     void accelerations(const State& state, Eigen::VectorXd& vdot) override { impl_->accelerations(state, vdot); }
 
 private:
-    embedding::Settings settings_;
+    // the embedding's own keys
+    std::string path_ = "auto";             // auto | dense | recursive
+    std::vector<std::string> independent_;  // velocity components to prefer as independent ("crank.angle")
     std::unique_ptr<Formulation> impl_;
     System* system_ = nullptr;
     SingularityMonitor singularity_;
@@ -74,35 +78,23 @@ private:
     ConstraintValues check_cv_;
 };
 
+// Reads the embedding's own keys; the host reads the shared ones and refuses any other.
 Embedding::Embedding(const FormulationSpec& spec) {
     const Params& params = spec.params;
-    params.mark_read("type");
     if (params.has("path")) {
-        settings_.path = params.string("path");
-        if (settings_.path != "auto" && settings_.path != "dense" && settings_.path != "recursive")
-            params.at("path").fail("'path' must be auto, dense or recursive, got '" + settings_.path + "'");
+        path_ = params.string("path");
+        if (path_ != "auto" && path_ != "dense" && path_ != "recursive")
+            params.at("path").fail("'path' must be auto, dense or recursive, got '" + path_ + "'");
     }
-    settings_.read(params);  // pivot_threshold, reselect_ratio, rank_tolerance
-    if (params.has("newton_tolerance")) settings_.newton_tolerance = params.positive("newton_tolerance");
-    if (params.has("newton_iterations"))
-        settings_.newton_iterations = static_cast<int>(params.integer("newton_iterations", 1, 1000000));
     if (params.has("independent")) {
         const Param& p = params.at("independent");
         if (p.is_scalar())
-            settings_.independent.push_back(p.text);
+            independent_.push_back(p.text);
         else if (p.is_list())
-            for (const Param& item : p.items) settings_.independent.push_back(item.text);
+            for (const Param& item : p.items) independent_.push_back(item.text);
         else
             p.fail("'independent' must be a velocity component name or a list of them (e.g. [crank.angle])");
     }
-    settings_.read_log(params);
-    singularity_.read(params);
-    const std::vector<std::string> unread = params.unread_keys();
-    if (!unread.empty())
-        params.fail("unknown key '" + unread.front() +
-                    "' for the embedding formulation; its keys are type, path (auto, dense, recursive), "
-                    "pivot_threshold, reselect_ratio, rank_tolerance, newton_tolerance, newton_iterations, "
-                    "independent, log, singularity_tolerance");
 }
 
 }  // namespace

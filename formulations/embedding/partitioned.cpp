@@ -2,6 +2,7 @@
 #include "partitioned.hpp"
 
 #include <mbd/sdk/coordinate_rates.hpp>
+#include <mbd/sdk/text.hpp>  // format_time
 
 #include <algorithm>
 #include <cmath>
@@ -18,11 +19,26 @@ bool same_set(const std::vector<int>& a, const std::vector<int>& b) {
         if (std::find(b.begin(), b.end(), x) == b.end()) return false;
     return true;
 }
+
+// Names of the velocity components: planar body.x, body.y, body.angle; spatial body.x,
+// body.y, body.z (mass-centre velocity, world) and body.wx, body.wy, body.wz (angular
+// velocity in body axes).
+std::vector<std::string> velocity_names(System& system) {
+    static const char* planar[] = {"x", "y", "angle"};
+    static const char* spatial[] = {"x", "y", "z", "wx", "wy", "wz"};
+    const bool is_planar = system.dimension() == Dimension::Planar;
+    std::vector<std::string> names;
+    for (int b = 0; b < system.body_count(); ++b)
+        for (int c = 0; c < (is_planar ? 3 : 6); ++c)
+            names.push_back(system.body(b).name + "." + (is_planar ? planar[c] : spatial[c]));
+    return names;
+}
 }  // namespace
 
 void Partitioned::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     options_ = options;
+    log_choices_ = options.log_choices.value_or(true);
     nq_ = system.nq();
     nv_ = system.nv();
     nc_ = system.constraint_rows(true);
@@ -49,7 +65,7 @@ std::string Partitioned::independent_names() const {
 }
 
 void Partitioned::log_partition(double t, const char* what) const {
-    if (settings_.log) options_.log("embedding: t = " + format_time(t) + ": independent coordinates " + what + independent_names());
+    if (log_choices_) options_.log("embedding: t = " + format_time(t) + ": independent coordinates " + what + independent_names());
 }
 
 void Partitioned::evaluate(const State& state) {
@@ -59,11 +75,11 @@ void Partitioned::evaluate(const State& state) {
 
 void Partitioned::select(const State& state, bool initial) {
     evaluate(state);
-    if (initial && !settings_.independent.empty()) {
+    if (initial && !independent_.empty()) {
         // the requested independent components last, with a tiny threshold: they stay
         // independent whenever the others can form a nonsingular J_d
         std::vector<int> last;
-        for (const std::string& name : settings_.independent) {
+        for (const std::string& name : independent_) {
             const auto it = std::find(names_.begin(), names_.end(), name);
             if (it == names_.end())
                 throw InputError("", "embedding formulation: unknown velocity component '" + name +
@@ -71,16 +87,16 @@ void Partitioned::select(const State& state, bool initial) {
                                          "body.x, body.y, body.z, body.wx, body.wy, body.wz (spatial))");
             last.push_back(static_cast<int>(it - names_.begin()));
         }
-        part_ = partition_coordinates(J_, 1e-3, settings_.rank_tolerance, last);
+        part_ = partition_coordinates(J_, 1e-3, options_.partition.rank_tolerance, last);
         if (!same_set(part_.independent, last))
             throw InputError("", "embedding formulation: the requested independent coordinates (" +
                                      std::to_string(last.size()) + ") are not a valid independent set here; a valid one is " +
                                      independent_names());
     } else {
-        part_ = partition_coordinates(J_, initial ? settings_.pivot_threshold : 1.0, settings_.rank_tolerance);
+        part_ = partition_coordinates(J_, initial ? options_.partition.pivot_threshold : 1.0, options_.partition.rank_tolerance);
     }
     selected_ = true;
-    if (initial && settings_.log) {
+    if (initial && log_choices_) {
         log_partition(state.t, "");
         if (!part_.redundant.empty())
             options_.log("embedding: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
@@ -163,20 +179,20 @@ bool Partitioned::project(double t, Eigen::VectorXd& y) {
     const CoordinatePartition& p = part_;
     // dependent positions by Newton-Raphson holding the independent directions:
     // J_d dd = -C (kept rows), q <- q (+) P_d dd (book Sec. 6.12 step 3; Ch. 3 Eq. 3.117)
-    const double tol = settings_.newton_tolerance * std::max(1.0, state_.q.lpNorm<Eigen::Infinity>());
+    const double tol = options_.newton.tolerance * std::max(1.0, state_.q.lpNorm<Eigen::Infinity>());
     const bool converged =
-        correct_dependent_positions(sys, state_, p, tol, settings_.newton_iterations, cv_, J_, transform_);  // velocity_transform.hpp
+        correct_dependent_positions(sys, state_, p, tol, options_.newton.iterations, cv_, J_, transform_);  // velocity_transform.hpp
     if (!converged) return false;
     // re-selection near a singular configuration (book Sec. 6.12), only at the end of an
     // accepted step (see partitioned.hpp)
     if (t >= last_rhs_t_ && p.rank > 0) {
         const double ratio = jd_pivot_ratio(p);
-        if (ratio < settings_.reselect_ratio) {
+        if (ratio < options_.partition.reselect_ratio) {
             Eigen::VectorXd& v = v_before_;
             vi_ = y.tail(ode_size() - nq_);
             velocities(vi_, v);
             CoordinatePartition& fresh = fresh_;
-            partition_coordinates(J_, 1.0, settings_.rank_tolerance, {}, elimination_, fresh);
+            partition_coordinates(J_, 1.0, options_.partition.rank_tolerance, {}, elimination_, fresh);
             if (fresh.rank != p.rank)
                 throw DynamicsError(t, "embedding: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(p.rank));
@@ -184,7 +200,7 @@ bool Partitioned::project(double t, Eigen::VectorXd& y) {
                 part_ = fresh;
                 ++reselections_;
                 redefined_ = true;
-                if (settings_.log) {
+                if (log_choices_) {
                     char detail[80];
                     std::snprintf(detail, sizeof detail, " (pivot ratio of J_d was %.3g)", ratio);
                     options_.log("embedding: t = " + format_time(t) + ": independent coordinates now " +
@@ -201,14 +217,14 @@ bool Partitioned::project(double t, Eigen::VectorXd& y) {
 void Partitioned::accelerations(const State& state, Eigen::VectorXd& vdot) {
     evaluate(state);
     CoordinatePartition p = part_;
-    if (jd_pivot_ratio(p) < settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, settings_.rank_tolerance);
+    if (jd_pivot_ratio(p) < options_.partition.reselect_ratio) p = partition_coordinates(J_, 1.0, options_.partition.rank_tolerance);
     solve_accelerations(state.t, p, state, vdot);
 }
 
 void Partitioned::multipliers(const State& state, Eigen::VectorXd& lambda) {
     evaluate(state);
     CoordinatePartition p = part_;
-    if (jd_pivot_ratio(p) < settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, settings_.rank_tolerance);
+    if (jd_pivot_ratio(p) < options_.partition.reselect_ratio) p = partition_coordinates(J_, 1.0, options_.partition.rank_tolerance);
     Eigen::VectorXd vdot;
     solve_accelerations(state.t, p, state, vdot);
     // J^T lambda = Q - M vdot (Q_c = -J^T lambda, book Eq. 6.128); its dependent rows

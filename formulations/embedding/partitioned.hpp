@@ -30,7 +30,6 @@
 // across the switch; use one-step integrators near singular configurations.
 #pragma once
 
-#include "settings.hpp"
 
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/partition.hpp>
@@ -46,7 +45,8 @@ namespace mbd::embedding {
 
 class Partitioned final : public Formulation {
 public:
-    explicit Partitioned(Settings settings) : settings_(std::move(settings)) {}
+    // `independent`: the velocity components to prefer as independent ("crank.angle"), if any
+    explicit Partitioned(std::vector<std::string> independent) : independent_(std::move(independent)) {}
 
     void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override;
@@ -79,8 +79,9 @@ private:
     double jd_pivot_ratio(const CoordinatePartition& p);
     void log_partition(double t, const char* what) const;
 
-    Settings settings_;
+    std::vector<std::string> independent_;
     FormulationOptions options_;
+    bool log_choices_ = true;  // FormulationOptions::log_choices, default true
     System* system_ = nullptr;
     int nq_ = 0, nv_ = 0, nc_ = 0;
     std::vector<std::string> names_;

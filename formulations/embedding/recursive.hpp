@@ -39,8 +39,6 @@
 // on the joint's few rows.
 #pragma once
 
-#include "settings.hpp"
-
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/topology.hpp>
 
@@ -58,8 +56,6 @@ using VecX6 = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
 class Recursive final : public Formulation {
 public:
-    explicit Recursive(Settings settings) : settings_(std::move(settings)) {}
-
     void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override { return ns_ + nu_; }
     void to_ode(const State& state, Eigen::VectorXd& y) override;
@@ -119,7 +115,6 @@ private:
     static Vec6 phiT_mul(const Body& c, const Vec6& f);
     static void add_phiT_X_phi(const Body& c, const Mat6& X, Mat6& P);
 
-    Settings settings_;
     System* system_ = nullptr;
     bool planar_ = true;
     int nb_ = 0, nq_ = 0, nv_ = 0, ns_ = 0, nu_ = 0;

@@ -59,7 +59,7 @@ namespace {
 
 class Hamiltonian final : public Formulation {
 public:
-    explicit Hamiltonian(const FormulationSpec& spec);
+    Hamiltonian() = default;
 
     void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override { return nq_ + static_cast<int>(part_.independent.size()); }
@@ -76,6 +76,7 @@ public:
     }
     bool has_hamiltonian() const override { return true; }
     double hamiltonian(double t, const Eigen::VectorXd& y) override;
+    OptionGroups options_used() const override { return kPartitionOptions | kNewtonOptions | kSingularityOptions; }
 
 private:
     void select(const State& state, bool initial);
@@ -99,10 +100,10 @@ private:
     // momentum_scale_ = diag(Mbar) at q, for the current partition
     void set_momentum_scale(double t, const Eigen::VectorXd& q);
 
-    PartitionSettings partition_settings_;  // log defaults to false
+    PartitionSettings partition_settings_;
+    bool log_choices_ = false;              // FormulationOptions::log_choices, default false
     SingularityMonitor singularity_;        // rank drop of J after an accepted step (singularity.hpp)
-    double newton_tolerance_ = 1e-12;
-    int newton_iterations_ = 25;
+    NewtonSettings newton_;
 
     System* system_ = nullptr;
     bool planar_ = true;
@@ -128,25 +129,13 @@ private:
     Eigen::VectorXd v_before_;
 };
 
-Hamiltonian::Hamiltonian(const FormulationSpec& spec) {
-    const Params& params = spec.params;
-    params.mark_read("type");
-    partition_settings_.read(params);
-    if (params.has("newton_tolerance")) newton_tolerance_ = params.positive("newton_tolerance");
-    if (params.has("newton_iterations"))
-        newton_iterations_ = static_cast<int>(params.integer("newton_iterations", 1, 1000000));
-    partition_settings_.read_log(params);
-    singularity_.read(params);
-    const std::vector<std::string> unread = params.unread_keys();
-    if (!unread.empty())
-        params.fail("unknown key '" + unread.front() +
-                    "' for the hamiltonian formulation; its keys are type, pivot_threshold, reselect_ratio, "
-                    "rank_tolerance, newton_tolerance, newton_iterations, log, singularity_tolerance");
-}
-
 void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     log_ = options.log;
+    partition_settings_ = options.partition;
+    log_choices_ = options.log_choices.value_or(false);
+    newton_ = options.newton;
+    singularity_.tolerance = options.singularity_tolerance;
     planar_ = system.dimension() == Dimension::Planar;
     nq_ = system.nq();
     nv_ = system.nv();
@@ -305,8 +294,8 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     s.q = y.head(nq_);
     s.v.setZero(nv_);
     sys.normalize(s.q);
-    const double tol = newton_tolerance_ * std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
-    if (!correct_dependent_positions(sys, s, part_, tol, newton_iterations_, cv, J, transform_)) return false;
+    const double tol = newton_.tolerance * std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
+    if (!correct_dependent_positions(sys, s, part_, tol, newton_.iterations, cv, J, transform_)) return false;
     singularity_.check(sys, t, cv.J);  // cv at the corrected positions
     // re-selection near a singular J_d (book Sec. 6.12), only at the end of an accepted step.
     // B = -J_d^-1 J_i grows as J_d approaches singularity, and with it the local error of a
@@ -333,7 +322,7 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
                 set_momentum_scale(t, s.q);
                 store_momenta(B_.transpose() * (*M_ * v), y);  // the same velocities in the new momenta
                 redefined_ = true;
-                if (partition_settings_.log) log_("hamiltonian: t = " + format_time(t) + ": new coordinate partition");
+                if (log_choices_) log_("hamiltonian: t = " + format_time(t) + ": new coordinate partition");
             }
         }
     }
@@ -377,7 +366,7 @@ void Hamiltonian::multipliers(const State& state, Eigen::VectorXd& lambda) {
 
 }  // namespace
 
-std::unique_ptr<Formulation> make_hamiltonian(const FormulationSpec& spec) { return std::make_unique<Hamiltonian>(spec); }
+std::unique_ptr<Formulation> make_hamiltonian(const FormulationSpec&) { return std::make_unique<Hamiltonian>(); }
 
 }  // namespace mbd
 

@@ -1,9 +1,11 @@
 // Minimum-norm solutions of J x = b for constraint Jacobians, dense (Eigen
 // complete orthogonal decomposition, robust to rank deficiency) or sparse
 // (SuiteSparse CHOLMOD on J J^T, with a tiny regularisation so that consistent
-// redundant constraints still solve). The switch size is LinearAlgebra::Auto's
-// threshold on the number of velocity coordinates.
+// redundant constraints still solve). Auto switches at kDefaultSparseThreshold velocity
+// coordinates, the formulations' default (sdk formulation_options.hpp).
 #pragma once
+
+#include <mbd/sdk/formulation_options.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Sparse>
@@ -13,13 +15,8 @@
 
 namespace mbd {
 
-enum class LinearAlgebra { Auto, Dense, Sparse };
-
 LinearAlgebra parse_linear_algebra(const std::string& name);  // "auto" | "dense" | "sparse"
 const char* to_string(LinearAlgebra algebra);
-
-// Number of velocity coordinates above which Auto picks the sparse path.
-constexpr int kSparseThreshold = 300;
 
 class MinNormSolver {
 public:

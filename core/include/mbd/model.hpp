@@ -4,6 +4,7 @@
 #pragma once
 
 #include <mbd/sdk/force.hpp>
+#include <mbd/sdk/formulation_options.hpp>
 #include <mbd/sdk/joint.hpp>
 #include <mbd/sdk/state.hpp>
 #include <mbd/sdk/time_function.hpp>
@@ -88,6 +89,7 @@ public:
     // The scene's choice of formulation (empty: none chosen; the command line decides).
     std::string formulation;
     std::shared_ptr<const Param> formulation_node;  // the `formulation:` node (name or map)
+    FormulationOptions formulation_options;         // its shared keys, read (formulation_setup.hpp)
     std::string formulation_where;
     // The whole scene as read (every `base:` merged in, each node with its file:line): the
     // application layer reads its own keys (`bench:`) from it and writes results in the

@@ -33,7 +33,7 @@ struct SimulationSettings {
     bool diagnostics = false;         // add energies and constraint violations
     // Overrides of the scene's formulation keys (empty: keep the scene's or the default).
     std::optional<Stabilization> stabilization;
-    std::string algebra;              // "", "auto", "dense", "sparse"
+    std::optional<LinearAlgebra> algebra;
     std::optional<int> sparse_threshold;
     // Start here instead of the scene's initial state (assembled and made consistent the same way).
     std::optional<State> initial_state;

@@ -10,7 +10,7 @@
 // works on the System's M, Q, C and J directly.
 #pragma once
 
-#include <mbd/sdk/message_log.hpp>
+#include <mbd/sdk/formulation_options.hpp>
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/system.hpp>
@@ -33,18 +33,6 @@ public:
 
 private:
     double time_;
-};
-
-enum class Stabilization { None, Projection, Baumgarte };
-
-struct FormulationOptions {
-    std::string algebra = "auto";   // "auto" | "dense" | "sparse"
-    int sparse_threshold = 300;     // Auto: sparse above this many velocity coordinates
-    Stabilization stabilization = Stabilization::Projection;
-    double baumgarte_alpha = 10.0;  // Cddot + 2 alpha Cdot + beta^2 C = 0 (book Sec. 6.12)
-    double baumgarte_beta = 10.0;
-    double projection_tolerance = 1e-12;
-    MessageLog log;                 // where the formulation's messages to the user go (default std::clog)
 };
 
 class MBD_SDK_API Formulation {
@@ -83,12 +71,19 @@ public:
     // True if an implicit integrator may solve this formulation's index-3 DAE
     // M vdot + J^T lambda = Q, C(q, t) = 0 on the System directly.
     virtual bool supports_index3() const { return false; }
+
+    // The groups of shared options (formulation_options.hpp) this formulation honours; the
+    // host refuses a scene key of any other group, naming the formulation.
+    virtual OptionGroups options_used() const { return 0; }
 };
 
 struct FormulationSpec {
     std::string name;   // the formulation's name as selected (same as type)
     std::string type;   // e.g. "augmented"
-    Params params;      // formulation keys from the scene's `formulation:` map, if any
+    // The scene's `formulation:` map, if any. The shared keys are already read into
+    // FormulationOptions (and marked read); the factory reads the keys of its own and
+    // leaves the rest: the host refuses a key nobody read.
+    Params params;
 };
 
 using FormulationFactory = std::unique_ptr<Formulation>(const FormulationSpec& spec);

@@ -13,11 +13,11 @@
 // sparse systems rely on their factorization's own diagnostics (the augmented
 // formulation's CHOLMOD minor / residual check, the partition's pivots).
 //
-// Formulation key: singularity_tolerance (relative, default 1e-5; 0 disables the check).
+// Formulation key: singularity_tolerance (FormulationOptions::singularity_tolerance: relative,
+// default 1e-5; 0 disables the check).
 #pragma once
 
 #include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/params.hpp>
 #include <mbd/sdk/system.hpp>
 #include <mbd/sdk/text.hpp>
 
@@ -32,17 +32,8 @@ namespace mbd {
 
 class SingularityMonitor {
 public:
-    double tolerance = 1e-5;  // relative pivot tolerance of the rank test; 0 disables
+    double tolerance = 1e-5;  // relative pivot tolerance of the rank test; 0 disables (FormulationOptions)
     double max_work = 1e7;    // skip above nc * nv * min(nc, nv)
-
-    // singularity_tolerance (only when present)
-    void read(const Params& params) {
-        if (params.has("singularity_tolerance")) {
-            tolerance = params.non_negative("singularity_tolerance", tolerance);
-            if (tolerance >= 1.0)
-                params.at("singularity_tolerance").fail("'singularity_tolerance' must be in [0, 1) (0: no check)");
-        }
-    }
 
     // forget the reference rank (bind(): the next check sets it)
     void reset() { reference_ = -1; }

@@ -1,0 +1,26 @@
+// A run's formulation from the scene's `formulation:` node: the shared keys read once
+// into the typed FormulationOptions (sdk formulation_options.hpp), the plugin created
+// through the registry, and every key checked: a shared key must belong to a group the
+// formulation honours (Formulation::options_used()), any other key must be one the
+// plugin read itself.
+#pragma once
+
+#include <mbd/registry.hpp>
+#include <mbd/sdk/formulation.hpp>
+
+#include <memory>
+#include <string>
+
+namespace mbd {
+
+// The shared keys of a `formulation:` node (a name, or a map with `type`), each checked at
+// its file:line; absent keys keep their defaults. Throws InputError.
+FormulationOptions read_formulation_options(const Param& node);
+
+// Create the formulation NAME. `node` is the scene's `formulation:` node (null: none);
+// `where` names the place for an unknown-type error. Throws InputError on an unknown
+// type or key.
+std::shared_ptr<Formulation> create_formulation(Registry& registry, const std::string& name, const Param* node,
+                                                const std::string& where);
+
+}  // namespace mbd
