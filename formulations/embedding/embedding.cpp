@@ -5,7 +5,7 @@
 // rows (the System's joints and drivers) eliminated.
 //
 // Two paths, chosen from the scene (path: auto) or forced (path: dense | recursive):
-//   recursive  (recursive.hpp) the joints form a tree, every joint describes its relative
+//   recursive  (formulations/articulated_body/) the joints form a tree, every joint describes its relative
 //              motion and there are no drivers: joint coordinates, O(n) articulated-body
 //              algorithm; no constraint drift by construction.
 //   dense      (partitioned.hpp) anything else (closed loops, drivers, redundant rows):
@@ -15,7 +15,7 @@
 // The choice is logged (FormulationOptions::log) ("embedding: recursive path (...)") and printed by
 // `mbd check` (topology.hpp: recursive_embedding_possible).
 #include "partitioned.hpp"
-#include "recursive.hpp"
+#include "articulated_body.hpp"
 
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/singularity.hpp>
@@ -37,7 +37,7 @@ public:
         const bool tree = recursive_embedding_possible(system, &reason);
         bool recursive = path_ == "recursive" || (path_ == "auto" && tree);
         if (recursive)
-            impl_ = std::make_unique<embedding::Recursive>();
+            impl_ = std::make_unique<articulated::ArticulatedBody>();
         else
             impl_ = std::make_unique<embedding::Partitioned>(independent_);
         if (options.log_choices.value_or(true))

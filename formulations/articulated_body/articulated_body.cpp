@@ -1,11 +1,11 @@
-// The recursive (tree, joint-coordinate) path of the embedding formulation: see recursive.hpp.
-#include "recursive.hpp"
+// The articulated-body formulation of a tree in joint coordinates: see articulated_body.hpp.
+#include "articulated_body.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace mbd::embedding {
+namespace mbd::articulated {
 
 namespace {
 
@@ -35,21 +35,21 @@ Vec4 conjugate(const Vec4& p) { return Vec4(p[0], -p[1], -p[2], -p[3]); }
 }  // namespace
 
 // Phi x, Phi^T f and P += Phi^T X Phi (X symmetric) with Phi = [[I, S], [0, E]], by 3x3 blocks
-Vec6 Recursive::phi_mul(const Body& c, const Vec6& x) {
+Vec6 ArticulatedBody::phi_mul(const Body& c, const Vec6& x) {
     Vec6 out;
     out.head<3>() = x.head<3>() + c.S * x.tail<3>();
     out.tail<3>() = c.E * x.tail<3>();
     return out;
 }
 
-Vec6 Recursive::phiT_mul(const Body& c, const Vec6& f) {
+Vec6 ArticulatedBody::phiT_mul(const Body& c, const Vec6& f) {
     Vec6 out;
     out.head<3>() = f.head<3>();
     out.tail<3>() = c.S.transpose() * f.head<3>() + c.E.transpose() * f.tail<3>();
     return out;
 }
 
-void Recursive::add_phiT_X_phi(const Body& c, const Mat6& X, Mat6& P) {
+void ArticulatedBody::add_phiT_X_phi(const Body& c, const Mat6& X, Mat6& P) {
     const Mat3 X11 = X.topLeftCorner<3, 3>(), X12 = X.topRightCorner<3, 3>(), X21 = X.bottomLeftCorner<3, 3>(),
                X22 = X.bottomRightCorner<3, 3>();
     const Mat3 Y12 = X11 * c.S + X12 * c.E;
@@ -59,7 +59,7 @@ void Recursive::add_phiT_X_phi(const Body& c, const Mat6& X, Mat6& P) {
     P.bottomRightCorner<3, 3>() += c.S.transpose() * Y12 + c.E.transpose() * (X21 * c.S + X22 * c.E);
 }
 
-Vec6 Recursive::to6(const Eigen::VectorXd& x, int body) const {
+Vec6 ArticulatedBody::to6(const Eigen::VectorXd& x, int body) const {
     Vec6 out = Vec6::Zero();
     if (planar_) {
         out[0] = x[3 * body];
@@ -71,7 +71,7 @@ Vec6 Recursive::to6(const Eigen::VectorXd& x, int body) const {
     return out;
 }
 
-void Recursive::bind(System& system, const FormulationOptions& /*options*/) {
+void ArticulatedBody::bind(System& system, const FormulationOptions& /*options*/) {
     system_ = &system;
     planar_ = system.dimension() == Dimension::Planar;
     nb_ = system.body_count();
@@ -167,7 +167,7 @@ void Recursive::bind(System& system, const FormulationOptions& /*options*/) {
     u_.setZero(nu_);
 }
 
-void Recursive::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) {
+void ArticulatedBody::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) {
     struct Column {
         Vec3 g, o, t;  // H column: [g x (R_c - o) + t; A_c^T g]
     };
@@ -280,7 +280,7 @@ void Recursive::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) {
     }
 }
 
-void Recursive::write_state(double t, State& state) {
+void ArticulatedBody::write_state(double t, State& state) {
     state.t = t;
     state.q.resize(nq_);
     state.v.resize(nv_);
@@ -297,7 +297,7 @@ void Recursive::write_state(double t, State& state) {
     }
 }
 
-void Recursive::articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot) {
+void ArticulatedBody::articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot) {
     for (const Edge& e : edges_) {
         Body& b = bodies_[e.body];
         b.P.setZero();
@@ -341,7 +341,7 @@ void Recursive::articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd&
     if (!udot.allFinite()) throw DynamicsError(t, "non-finite accelerations: the motion diverged");
 }
 
-void Recursive::vdot_system(Eigen::VectorXd& vdot) {
+void ArticulatedBody::vdot_system(Eigen::VectorXd& vdot) {
     vdot.resize(nv_);
     for (int b = 0; b < nb_; ++b) {
         const Vec6& a = bodies_[b].vdot;
@@ -352,7 +352,7 @@ void Recursive::vdot_system(Eigen::VectorXd& vdot) {
     }
 }
 
-void Recursive::to_ode(const State& state, Eigen::VectorXd& y) {
+void ArticulatedBody::to_ode(const State& state, Eigen::VectorXd& y) {
     y.setZero(ns_ + nu_);
     Eigen::VectorXd s = Eigen::VectorXd::Zero(ns_);
     // poses from the state
@@ -447,14 +447,14 @@ void Recursive::to_ode(const State& state, Eigen::VectorXd& y) {
     y.tail(nu_) = u;
 }
 
-void Recursive::from_ode(double t, const Eigen::VectorXd& y, State& state) {
+void ArticulatedBody::from_ode(double t, const Eigen::VectorXd& y, State& state) {
     s_ = y.head(ns_);
     u_ = y.tail(nu_);
     kinematics(s_, u_);
     write_state(t, state);
 }
 
-void Recursive::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
+void ArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     s_ = y.head(ns_);
     u_ = y.tail(nu_);
@@ -487,7 +487,7 @@ void Recursive::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     ydot.tail(nu_) = udot_;
 }
 
-bool Recursive::project(double /*t*/, Eigen::VectorXd& y) {
+bool ArticulatedBody::project(double /*t*/, Eigen::VectorXd& y) {
     for (const Edge& e : edges_) {
         if (e.joint < 0 && !planar_) y.segment<4>(e.s0 + 3).normalize();
         for (const Freedom& f : e.freedoms)
@@ -496,7 +496,7 @@ bool Recursive::project(double /*t*/, Eigen::VectorXd& y) {
     return y.allFinite();
 }
 
-void Recursive::accelerations(const State& state, Eigen::VectorXd& vdot) {
+void ArticulatedBody::accelerations(const State& state, Eigen::VectorXd& vdot) {
     Eigen::VectorXd y;
     to_ode(state, y);
     kinematics(y.head(ns_), y.tail(nu_));
@@ -505,7 +505,7 @@ void Recursive::accelerations(const State& state, Eigen::VectorXd& vdot) {
     vdot_system(vdot);
 }
 
-void Recursive::multipliers(const State& state, Eigen::VectorXd& lambda) {
+void ArticulatedBody::multipliers(const State& state, Eigen::VectorXd& lambda) {
     Eigen::VectorXd vdot;
     accelerations(state, vdot);
     ConstraintValues cv;
@@ -539,4 +539,4 @@ void Recursive::multipliers(const State& state, Eigen::VectorXd& lambda) {
     }
 }
 
-}  // namespace mbd::embedding
+}  // namespace mbd::articulated

@@ -1,7 +1,8 @@
-// The recursive path of the embedding formulation: a tree of joints (no loops, no
-// drivers) written in joint coordinates (book Sec. 4.5: the embedding with relative
-// joint coordinates; joint-constraint notes Sec. 5 and digest joints-forces-rotations
-// Sec. 7.6 on RelativeMotion), with an O(n) articulated-body algorithm.
+// The articulated-body formulation of a tree of joints (no loops, no drivers) written in
+// joint coordinates: the recursive path of the embedding formulation (book Sec. 4.5: the
+// embedding with relative joint coordinates; joint-constraint notes Sec. 5 and digest
+// joints-forces-rotations Sec. 7.6 on RelativeMotion), with an O(n) articulated-body
+// algorithm.
 //
 // Tree edges: every joint becomes an edge parent -> child (parent nearer the ground,
 // topology.hpp). Its freedoms (RelativeMotion: revolute, prismatic, helical, ball) act
@@ -46,7 +47,7 @@
 
 #include <vector>
 
-namespace mbd::embedding {
+namespace mbd::articulated {
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
@@ -54,7 +55,7 @@ using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
 using MatXX6 = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using VecX6 = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
-class Recursive final : public Formulation {
+class ArticulatedBody final : public Formulation {
 public:
     void bind(System& system, const FormulationOptions& options) override;
     int ode_size() const override { return ns_ + nu_; }
@@ -130,4 +131,4 @@ private:
     Eigen::VectorXd Q_, udot_, s_, u_;  // s_, u_: y's two parts (kinematics() takes whole vectors)
 };
 
-}  // namespace mbd::embedding
+}  // namespace mbd::articulated
