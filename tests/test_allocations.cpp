@@ -1,9 +1,10 @@
 // Issue 12: after a warm-up, a right-hand side and an accepted step allocate nothing, for
 // every formulation on every scene of scenes/dynamics and scenes/bench (euler, rk4 and dopri5
-// steps). Not built under sanitizers, whose allocators the counter cannot see (tests/CMakeLists.txt). The formulation is
-// bound and driven exactly as the simulation driver does it (bind, assemble, to_ode,
-// project, rhs); the integrators rk4 and dopri5 then run over two horizons and must make the
-// same number of allocations for both (the extra steps allocate nothing).
+// steps), and neither does a re-selection of the coordinate partition. Not built under
+// sanitizers, whose allocators the counter cannot see (tests/CMakeLists.txt). The formulation
+// is bound and driven exactly as the simulation driver does it (bind, assemble, to_ode,
+// project, rhs); the integrators then run over two horizons and must make the same number of
+// allocations for both (the extra steps allocate nothing).
 #include "support/allocation_counter.hpp"
 #include "support/test_support.hpp"
 
@@ -44,15 +45,6 @@ const char* exclusion(const std::string& path, const std::string& type) {
     return nullptr;
 }
 
-// Pairs whose steps still allocate, with the reason; the test fails when one of them stops
-// allocating (then it leaves this list) as when any other pair starts.
-const char* known_to_allocate_per_step(const std::string& path, const std::string& type) {
-    if (type == "amalgamated" && (path == "bench/chain-50.yaml" || path == "bench/a02-four-bar-40.yaml"))
-        return "the coordinate partition is re-selected during these steps, which rebuilds the block "
-               "pattern of Eq. 4.20 and forms B with large dense products (issue 14)";
-    return nullptr;
-}
-
 // A formulation bound to its own System, at the scene's assembled and projected initial state.
 struct Bound {
     std::unique_ptr<mbd::ModelSystem> system;
@@ -60,10 +52,9 @@ struct Bound {
     std::shared_ptr<mbd::Formulation> formulation;
     Eigen::VectorXd y;
 
-    Bound(const mbd::Model& model, const std::string& type) : system(std::make_unique<mbd::ModelSystem>(model)) {
+    Bound(const mbd::Model& model, const std::string& type, const mbd::FormulationOptions& options)
+        : system(std::make_unique<mbd::ModelSystem>(model)) {
         formulation = mbd::test::make_formulation(type, node);
-        mbd::FormulationOptions options;
-        options.log = mbd::MessageLog::silent();
         formulation->bind(*system, options);
         mbd::State state = system->initial_state();
         state.t = 0.0;
@@ -74,45 +65,63 @@ struct Bound {
     }
 };
 
-// Allocations made by `integrator_name` over a short and a twice longer run (fresh bindings).
+mbd::FormulationOptions silent_options() {
+    mbd::FormulationOptions options;
+    options.log = mbd::MessageLog::silent();
+    return options;
+}
+
+// One run to T from a fresh binding: its allocations (binding excluded) and accepted steps.
+void counted_run(const mbd::Model& model, const std::string& type, const std::string& integrator_name, double T,
+                 long& count_out, long& steps_out, const mbd::FormulationOptions& options = silent_options()) {
+    mbd::IntegratorSettings s;
+    s.step = 1e-4;  // rk4's step; dopri5's first step
+    s.tolerance = 1e-6;
+    auto integrator = mbd::make_integrator(integrator_name, s);
+    Bound bound(model, type, options);
+    mbd::FormulationProblem problem(*bound.formulation, *bound.system);
+    mbd::IntegratorStats stats;
+    const std::vector<double> outputs = {T};
+    const mbd::OutputCallback output = [](double, const Eigen::VectorXd&) { return true; };
+    AllocationCount count;
+    integrator->integrate(problem, 0.0, bound.y, outputs, output, stats);
+    count_out = count.stop();
+    steps_out = stats.steps;
+}
+
+// Allocations made by `integrator_name` over a short and a longer run (fresh bindings).
 void expect_steps_allocate_nothing(const mbd::Model& model, const std::string& path, const std::string& type,
                                    const std::string& integrator_name) {
-    // one run to T: its allocations and accepted steps (fresh bindings each time)
-    auto run = [&](double T, long& count_out, long& steps_out) {
-        mbd::IntegratorSettings s;
-        s.step = 1e-4;  // rk4's step; dopri5's first step
-        s.tolerance = 1e-6;
-        auto integrator = mbd::make_integrator(integrator_name, s);
-        Bound bound(model, type);
-        mbd::FormulationProblem problem(*bound.formulation, *bound.system);
-        mbd::IntegratorStats stats;
-        const std::vector<double> outputs = {T};
-        const mbd::OutputCallback output = [](double, const Eigen::VectorXd&) { return true; };
-        AllocationCount count;
-        integrator->integrate(problem, 0.0, bound.y, outputs, output, stats);
-        count_out = count.stop();
-        steps_out = stats.steps;
-    };
     // euler, rk4: 2 and 4 steps; dopri5 (whose steps grow): 20 ms, then a horizon doubled until it takes more steps
     long counts[2] = {0, 0};
     long steps[2] = {0, 0};
     const bool rk4 = integrator_name != "dopri5";
     double T = rk4 ? 2e-4 : 0.02;
-    run(T, counts[0], steps[0]);
+    counted_run(model, type, integrator_name, T, counts[0], steps[0]);
     do {
         T *= 2;
-        run(T, counts[1], steps[1]);
+        counted_run(model, type, integrator_name, T, counts[1], steps[1]);
     } while (!rk4 && steps[1] <= steps[0] && T < 5.0);
     EXPECT_GT(steps[1], steps[0]) << path << " " << type << " " << integrator_name;
-    const std::string counted = path + " with " + type + " + " + integrator_name + ": " + std::to_string(counts[0]) +
-                                " allocations in " + std::to_string(steps[0]) + " steps, " + std::to_string(counts[1]) +
-                                " in " + std::to_string(steps[1]);
-    if (const char* reason = known_to_allocate_per_step(path, type)) {
-        std::printf("known to allocate per step: %s (%s)\n", counted.c_str(), reason);
-        if (integrator_name == "rk4") EXPECT_NE(counts[0], counts[1]) << counted << ": allocation-free now, so leave the list";
-    } else {
-        EXPECT_EQ(counts[0], counts[1]) << counted;
-    }
+    EXPECT_EQ(counts[0], counts[1]) << path << " with " << type << " + " << integrator_name << ": " << counts[0]
+                                    << " allocations in " << steps[0] << " steps, " << counts[1] << " in " << steps[1];
+}
+
+// The times of the re-selections of the coordinate partition in a dopri5 run to T, read
+// from the formulation's messages ("t = 0.318: new coordinate partition").
+std::vector<double> reselection_times(const mbd::Model& model, const std::string& type, double T) {
+    std::vector<double> times;
+    mbd::FormulationOptions options;
+    options.log_choices = true;
+    options.log = mbd::MessageLog([&times](const std::string& line) {
+        const size_t at = line.find(": t = ");
+        if (at != std::string::npos && (line.find("partition") != std::string::npos ||
+                                        line.find("independent coordinates now") != std::string::npos))
+            times.push_back(std::stod(line.substr(at + 6)));
+    });
+    long count = 0, steps = 0;
+    counted_run(model, type, "dopri5", T, count, steps, options);
+    return times;
 }
 
 }  // namespace
@@ -138,7 +147,7 @@ TEST(Allocations, NoneAfterWarmUpPerRhsAndPerStep) {
             }
             SCOPED_TRACE(path + " with " + type);
             try {
-                Bound bound(model, type);
+                Bound bound(model, type, silent_options());
                 Eigen::VectorXd ydot(bound.formulation->ode_size());
                 for (int k = 0; k < 2; ++k) bound.formulation->rhs(0.0, bound.y, ydot);
                 AllocationCount count;
@@ -158,4 +167,30 @@ TEST(Allocations, NoneAfterWarmUpPerRhsAndPerStep) {
     EXPECT_EQ(pairs + excluded + skipped, 4 * static_cast<int>(allocation_scenes().size()));
     EXPECT_EQ(excluded, only ? excluded : 2);
     EXPECT_EQ(skipped, 0) << "MBD_ALLOCATION_PAIRS left pairs out";
+}
+
+// A re-selection of the coordinate partition (book Sec. 6.12) allocates nothing either: for
+// each formulation that partitions, on closed loops that re-select during their motion, a
+// run that stops before the first re-selection and one that goes past it allocate alike.
+TEST(Allocations, NoneWhenThePartitionIsReselected) {
+    ASSERT_TRUE(mbd::test::allocation_counting_works());
+    for (const char* path : {"dynamics/four-bar-conservative.yaml", "dynamics/slider-crank.yaml"}) {
+        const mbd::Model model = mbd::test::load(path);
+        for (const char* type : {"embedding", "amalgamated", "hamiltonian"}) {
+            const char* only = std::getenv("MBD_ALLOCATION_PAIRS");  // as above, for tracing
+            if (only && (std::string(path) + " with " + type).find(only) == std::string::npos) continue;
+            SCOPED_TRACE(std::string(path) + " with " + type);
+            std::vector<double> times = reselection_times(model, type, 1.0);
+            times.erase(std::remove_if(times.begin(), times.end(), [](double t) { return t <= 0.0; }), times.end());
+            ASSERT_FALSE(times.empty()) << "no re-selection within 1 s: the test needs one";
+            const double first = times.front();
+            long before = 0, after = 0, steps_before = 0, steps_after = 0;
+            counted_run(model, type, "dopri5", 0.5 * first, before, steps_before);
+            counted_run(model, type, "dopri5", std::min(1.0, first + 0.1), after, steps_after);
+            std::printf("%s with %s: first re-selection at t = %.4g; %ld allocations in %ld steps, %ld in %ld\n", path,
+                        type, first, before, steps_before, after, steps_after);
+            EXPECT_GT(steps_after, steps_before);
+            EXPECT_EQ(before, after);
+        }
+    }
 }

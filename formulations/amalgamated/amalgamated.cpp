@@ -15,11 +15,13 @@
 // from a coordinate partition of J (partition.hpp, velocity_transform.hpp; book
 // Eqs. 6.80-6.94). The matrix is symmetric but indefinite (its inertia has n_v + k
 // negative eigenvalues), so an LDL^T without pivoting (CHOLMOD) is not valid; KLU's LU
-// with threshold pivoting is. The pattern is fixed for a partition (M's body blocks,
-// identities, B's dependent rows x k, explicit zeros kept): it is ordered and factored with
-// pivoting once per partition, and at the following evaluations refactored in place with
-// the same pivots (nothing is allocated), pivoting again only when the solution's backward
-// error shows that those pivots no longer fit.
+// with threshold pivoting is. The pattern is fixed for the run (M's body blocks, the
+// identities, and B as a dense n_v x k block, explicit zeros kept: a re-selection of the
+// partition moves B's identity and zero rows but never leaves that block): it is ordered
+// once, factored with pivoting once, and at the following evaluations, across
+// re-selections, refactored in place with the same pivots (nothing is allocated),
+// pivoting again only when the solution's backward error shows that those pivots no
+// longer fit.
 //
 // State y = [q; v] as the augmented formulation; drift: the same projection after each
 // accepted step (sdk/include/mbd/sdk/projection.hpp), or Baumgarte terms in gamma, or
@@ -72,7 +74,7 @@ private:
     void solve_dynamics(double t);
     void select(const State& state, bool initial);
     void build_pattern();
-    // B's current entries into K_'s values (the pattern of build_pattern())
+    // B's current entries into K_'s values (the pattern of build_pattern(), all of B)
     void fill_B();
     // the normwise backward error of x as a solution of K_ x = rhs_, with r_ = rhs_ - K_ x
     double backward_error();
@@ -94,7 +96,7 @@ private:
     Eigen::VectorXd row_sums_;
     std::vector<Eigen::Triplet<double>> triplets_;
     Eigen::SparseMatrix<double> K_;
-    std::vector<int> b_slots_;  // per column c of B and dependent row: the value indices of -B in K_ (two)
+    std::vector<int> b_slots_;  // per column c and row of B: the value indices of -B and -B^T in K_
     FixedPatternLU lu_;
     VelocityTransformWorkspace transform_;
     PartitionWorkspace elimination_;  // the candidate partition of a re-selection
@@ -107,7 +109,7 @@ private:
 void Amalgamated::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     options_ = options;
-    log_choices_ = options.log_choices.value_or(false);
+    log_choices_ = options.log_choices.value_or(false) && options.log.enabled();  // no text built for nobody
     singularity_.tolerance = options.singularity_tolerance;
     nq_ = system.nq();
     nv_ = system.nv();
@@ -122,6 +124,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     vdot_.setZero(nv_);
     Qc_.setZero(nv_);
     projection_.resize(nq_, nv_, nc_);
+    reserve_partition(nc_, nv_, elimination_, fresh_);  // a re-selection allocates nothing
     analysed_ = false;
     // the partition at the assembled initial state (the run assembles the same way)
     select(assembled_initial_state(system), true);
@@ -140,7 +143,7 @@ void Amalgamated::select(const State& state, bool initial) {
 void Amalgamated::build_pattern() {
     const int n = nv_, k = static_cast<int>(part_.independent.size());
     triplets_.clear();
-    triplets_.reserve(static_cast<size_t>(n * nvb_ + 2 * n + 2 * (k + part_.rank * k) + 8));
+    triplets_.reserve(static_cast<size_t>(n * nvb_ + 2 * n + 2 * n * k));
     // M (per-body blocks, explicit zeros kept so that the pattern never changes)
     for (int b = 0; b < n / nvb_; ++b)
         for (int i = 0; i < nvb_; ++i)
@@ -150,21 +153,18 @@ void Amalgamated::build_pattern() {
         triplets_.emplace_back(i, n + i, 1.0);
         triplets_.emplace_back(n + i, i, 1.0);
     }
-    // -B and -B^T: the identification rows (independent components) and the dependent rows
-    for (int c = 0; c < k; ++c) {
-        const int row = part_.independent[c];  // identification row: vdot_row - vdot_i,c = 0
-        triplets_.emplace_back(n + row, 2 * n + c, -1.0);
-        triplets_.emplace_back(2 * n + c, n + row, -1.0);
-        for (int row : part_.dependent) {
+    // -B and -B^T, every row: B's rows of the independent components are the identification
+    // rows (vdot_row - vdot_i,c = 0: a 1 in column c, zeros elsewhere), the others dependent
+    for (int c = 0; c < k; ++c)
+        for (int row = 0; row < n; ++row) {
             triplets_.emplace_back(n + row, 2 * n + c, -B_(row, c));
             triplets_.emplace_back(2 * n + c, n + row, -B_(row, c));
         }
-    }
     K_.resize(2 * n + k, 2 * n + k);
     K_.setFromTriplets(triplets_.begin(), triplets_.end());
     b_slots_.clear();
     for (int c = 0; c < k; ++c)
-        for (int row : part_.dependent) {
+        for (int row = 0; row < n; ++row) {
             b_slots_.push_back(static_cast<int>(&K_.coeffRef(n + row, 2 * n + c) - K_.valuePtr()));
             b_slots_.push_back(static_cast<int>(&K_.coeffRef(2 * n + c, n + row) - K_.valuePtr()));
         }
@@ -175,7 +175,7 @@ void Amalgamated::fill_B() {
     double* values = K_.valuePtr();
     size_t slot = 0;
     for (int c = 0; c < k; ++c)
-        for (int row : part_.dependent) {
+        for (int row = 0; row < nv_; ++row) {
             values[b_slots_[slot++]] = -B_(row, c);
             values[b_slots_[slot++]] = -B_(row, c);
         }
@@ -208,7 +208,7 @@ void Amalgamated::solve_dynamics(double t) {
         throw DynamicsError(t, "amalgamated: the dependent sub-Jacobian J_d is singular");
     const int n = nv_, k = static_cast<int>(part_.independent.size());
     bool pivot = false;
-    if (!analysed_) {  // a new partition: a new pattern
+    if (!analysed_) {  // the first evaluation: the pattern
         build_pattern();
         if (!lu_.analyze(K_)) throw DynamicsError(t, "amalgamated: the block system of Eq. 4.20 could not be ordered");
         analysed_ = true;
@@ -290,8 +290,7 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
             CoordinatePartition& fresh = fresh_;
             partition_coordinates(J_, 1.0, options_.partition.rank_tolerance, {}, elimination_, fresh);
             if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh, transform_) > ratio) {
-                part_ = fresh;
-                analysed_ = false;
+                part_ = fresh;  // the same rank: K keeps its pattern and size
                 if (log_choices_) options_.log("amalgamated: t = " + format_time(t) + ": new coordinate partition");
             }
         }

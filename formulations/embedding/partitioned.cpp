@@ -38,7 +38,7 @@ std::vector<std::string> velocity_names(System& system) {
 void Partitioned::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     options_ = options;
-    log_choices_ = options.log_choices.value_or(true);
+    log_choices_ = options.log_choices.value_or(true) && options.log.enabled();  // no text built for nobody
     nq_ = system.nq();
     nv_ = system.nv();
     nc_ = system.constraint_rows(true);
@@ -51,6 +51,8 @@ void Partitioned::bind(System& system, const FormulationOptions& options) {
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
     Q_.setZero(nv_);
+    v_before_.setZero(nv_);
+    reserve_partition(nc_, nv_, elimination_, fresh_);  // a re-selection allocates nothing
     vdot_.setZero(nv_);
     // The ODE size needs the rank: select at the assembled initial state.
     select(assembled_initial_state(system), true);

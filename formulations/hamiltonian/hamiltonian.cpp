@@ -133,7 +133,7 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
     log_ = options.log;
     partition_settings_ = options.partition;
-    log_choices_ = options.log_choices.value_or(false);
+    log_choices_ = options.log_choices.value_or(false) && options.log.enabled();  // no text built for nobody
     newton_ = options.newton;
     singularity_.tolerance = options.singularity_tolerance;
     planar_ = system.dimension() == Dimension::Planar;
@@ -148,6 +148,9 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
     Q_.setZero(nv_);
+    Mx_.setZero(nv_);
+    v_before_.setZero(nv_);
+    reserve_partition(nc_, nv_, elimination_, fresh_);  // a re-selection allocates nothing
     probe_.q.setZero(nq_);
     probe_.v.setZero(nv_);
     corrected_.q.setZero(nq_);
@@ -320,7 +323,9 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
                 const Eigen::VectorXd& v = v_before_;
                 part_ = fresh;
                 set_momentum_scale(t, s.q);
-                store_momenta(B_.transpose() * (*M_ * v), y);  // the same velocities in the new momenta
+                Mx_.noalias() = *M_ * v;  // the same velocities in the new momenta
+                Bx_.noalias() = B_.transpose() * Mx_;
+                store_momenta(Bx_, y);
                 redefined_ = true;
                 if (log_choices_) log_("hamiltonian: t = " + format_time(t) + ": new coordinate partition");
             }

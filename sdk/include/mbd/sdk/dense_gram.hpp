@@ -43,8 +43,9 @@ public:
     double factor_ldlt(const std::vector<int>& decoupled = {}) {
         pseudo_ = false;
         if (S_.rows() == 0) return 1.0;
-        S_.setZero();
-        S_.selfadjointView<Eigen::Lower>().rankUpdate(W_);
+        // the lower triangle of W W^T coefficient by coefficient: a blocked product (rankUpdate)
+        // allocates its packing buffers on the heap once W passes a few hundred entries
+        S_.triangularView<Eigen::Lower>() = W_.lazyProduct(W_.transpose());
         if (!decoupled.empty()) {
             const double unit = std::max(S_.diagonal().maxCoeff(), 1e-300);
             for (int r : decoupled) S_(r, r) = unit;

@@ -43,6 +43,20 @@ struct PartitionWorkspace {
     std::vector<int> order;
 };
 
+// Sizes `ws` and `out` for partitions of m x n matrices up front (in bind()), so that even
+// the first partition made during a run (a re-selection) allocates nothing.
+inline void reserve_partition(int m, int n, PartitionWorkspace& ws, CoordinatePartition& out) {
+    ws.a.resize(m, n);
+    ws.row_used.reserve(m);
+    ws.col_used.reserve(n);
+    ws.late.reserve(n);
+    ws.order.reserve(n);
+    out.dependent.reserve(std::min(m, n));
+    out.rows.reserve(std::min(m, n));
+    out.independent.reserve(n);
+    out.redundant.reserve(m);
+}
+
 // The elimination of the header comment on ws.a (overwritten), into `out`. `last`: columns
 // to consider only after every other column (e.g. the current independent set, to keep it
 // independent when it is still acceptable).
