@@ -19,6 +19,7 @@ class DenseGram {
 public:
     void resize(int rows, int cols) {
         W_.setZero(rows, cols);
+        Wt_.setZero(cols, rows);
         S_.setZero(rows, rows);
         w_.setZero(cols);
         // size the factorizations' storage once by computing on zeros (a size-constructed
@@ -43,9 +44,11 @@ public:
     double factor_ldlt(const std::vector<int>& decoupled = {}) {
         pseudo_ = false;
         if (S_.rows() == 0) return 1.0;
-        // the lower triangle of W W^T coefficient by coefficient: a blocked product (rankUpdate)
-        // allocates its packing buffers on the heap once W passes a few hundred entries
-        S_.triangularView<Eigen::Lower>() = W_.lazyProduct(W_.transpose());
+        // the lower triangle of W W^T as dot products of W's rows, each contiguous in Wt_: a
+        // blocked product (rankUpdate) allocates its packing buffers on the heap once W passes
+        // a few hundred entries
+        Wt_ = W_.transpose();
+        S_.triangularView<Eigen::Lower>() = Wt_.transpose().lazyProduct(Wt_);
         if (!decoupled.empty()) {
             const double unit = std::max(S_.diagonal().maxCoeff(), 1e-300);
             for (int r : decoupled) S_(r, r) = unit;
@@ -78,7 +81,7 @@ public:
     }
 
 private:
-    Eigen::MatrixXd W_, S_;
+    Eigen::MatrixXd W_, Wt_, S_;
     Eigen::VectorXd w_;
     Eigen::LDLT<Eigen::MatrixXd> ldlt_;
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
