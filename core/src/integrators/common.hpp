@@ -98,6 +98,17 @@ void march_fixed_steps(const std::string& integrator, const IntegratorSettings& 
     }
 }
 
+// An adaptive integrator (dopri5, cvode): it chooses its own steps for
+// settings.tolerance; its run opens with open_adaptive_run.
+class AdaptiveIntegrator : public Integrator {
+public:
+    explicit AdaptiveIntegrator(const IntegratorSettings& settings) : settings_(settings) {}
+    bool adaptive() const final { return true; }
+
+protected:
+    IntegratorSettings settings_;
+};
+
 // An explicit one-step method with a fixed step (euler, rk4): the run checks its
 // inputs, then steps of settings.step through the output times, guarding against
 // blow-up and projecting after each step. A method supplies only its step.

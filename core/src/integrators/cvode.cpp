@@ -234,11 +234,10 @@ void CvodeRun::output_state(double t_out, Eigen::VectorXd& yout) {
     if (problem_.state_redefined()) restart(t_out, yout);  // that projection re-selected: go on from it
 }
 
-class Cvode final : public Integrator {
+class Cvode final : public AdaptiveIntegrator {
 public:
-    explicit Cvode(const IntegratorSettings& settings) : settings_(settings) {}
+    using AdaptiveIntegrator::AdaptiveIntegrator;
     std::string name() const override { return "cvode"; }
-    bool adaptive() const override { return true; }
 
     void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
                    const OutputCallback& output, IntegratorStats& stats) override {
@@ -260,9 +259,6 @@ public:
         }
         run.collect();
     }
-
-private:
-    IntegratorSettings settings_;
 };
 
 }  // namespace

@@ -29,11 +29,10 @@ constexpr double d1 = -12715105075.0 / 11282082432, d3 = 87487479700.0 / 3270041
                  d4 = -10690763975.0 / 1880347072, d5 = 701980252875.0 / 199316789632,
                  d6 = -1453857185.0 / 822651844, d7 = 69997945.0 / 29380423;
 
-class Dopri5 final : public Integrator {
+class Dopri5 final : public AdaptiveIntegrator {
 public:
-    explicit Dopri5(const IntegratorSettings& settings) : settings_(settings) {}
+    using AdaptiveIntegrator::AdaptiveIntegrator;
     std::string name() const override { return "dopri5"; }
-    bool adaptive() const override { return true; }
 
     void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
                    const OutputCallback& output, IntegratorStats& stats) override;
@@ -66,7 +65,6 @@ private:
     void accept(OdeProblem& problem, double t_new, Eigen::VectorXd& y, const BlowUpGuard& guard,
                 IntegratorStats& stats);
 
-    IntegratorSettings settings_;
     Eigen::VectorXd k1_, k2_, k3_, k4_, k5_, k6_, k7_, tmp_, y1_, err_, unprojected_;
     Eigen::VectorXd r1_, r2_, r3_, r4_, r5_, yout_;
 };
