@@ -7,7 +7,6 @@
 #include <mbd/csv.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
-#include <mbd/output_times.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/statics_analysis.hpp>
@@ -22,8 +21,7 @@ namespace {
 
 struct InverseArguments {
     std::string scene;
-    double t_end = 0.0;
-    double step = 0.0;
+    TimeGrid grid;
     std::string output;
     bool reactions = false;
     std::string solver = "ipopt";
@@ -36,14 +34,13 @@ void add_inverse_command(CLI::App& app, Commands& commands) {
         "inverse", "Inverse dynamics: actuator efforts for the motion the drivers prescribe, at t = 0, h, ..., t_end");
     auto args = std::make_shared<InverseArguments>();
     sub->add_option("SCENE", args->scene, "Scene file (YAML) with drivers and 'actuators:'")->required();
-    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(non_negative_number());
-    sub->add_option("--step", args->step, "Output step h [s] (at most 1e7 rows)")->required()->check(positive_number());
+    add_time_grid_options(sub, args->grid);
     sub->add_option("-o,--output", args->output, "CSV file: t, one column per actuator (and reactions)");
     sub->add_flag("--reactions", args->reactions, "Add JOINT.fx JOINT.fy JOINT.tz (planar; 6 columns spatial)");
     sub->add_option("--solver", args->solver, "Inverse-dynamics plugin type")->capture_default_str();
 
     commands[sub] = [args] {
-        output_intervals(args->t_end, args->step, "--step", "--t-end");  // the row count, before any work
+        args->grid.intervals();  // the row count, before any work
         Registry registry;
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
@@ -64,7 +61,7 @@ void add_inverse_command(CLI::App& app, Commands& commands) {
             for (const auto& c : columns) std::printf("%s%16s", c == "t" ? "" : " ", c.c_str());
             std::printf("\n");
         }
-        run_inverse(model, registry, args->t_end, args->step, [&](const InverseSample& s, System& system) {
+        run_inverse(model, registry, args->grid.t_end, args->grid.step, [&](const InverseSample& s, System& system) {
             std::vector<double> row{s.state.t};
             for (Eigen::Index a = 0; a < s.efforts.size(); ++a) row.push_back(s.efforts[a]);
             if (args->reactions)

@@ -7,7 +7,6 @@
 #include <mbd/csv.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
-#include <mbd/output_times.hpp>
 #include <mbd/kinematics.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
@@ -25,8 +24,7 @@ namespace {
 
 struct KinematicsArguments {
     std::string scene;
-    double t_end = 0.0;
-    double step = 0.0;
+    TimeGrid grid;
     std::string output;
     double tolerance = 1e-10;
     int max_iterations = 50;
@@ -60,8 +58,7 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
                       "(Newton-Raphson assembly at each time)");
     auto args = std::make_shared<KinematicsArguments>();
     sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
-    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(non_negative_number());
-    sub->add_option("--step", args->step, "Output step h [s] (at most 1e7 rows)")->required()->check(positive_number());
+    add_time_grid_options(sub, args->grid);
     sub->add_option("-o,--output", args->output,
                     "CSV file (columns: t, positions, velocities per body); without it a short table is printed");
     sub->add_option("--tolerance", args->tolerance, "Newton-Raphson tolerance on max |C|")
@@ -78,7 +75,7 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
         ->check(CLI::Range(2, 100000));
 
     commands[sub] = [args] {
-        output_intervals(args->t_end, args->step, "--step", "--t-end");  // the row count, before any work
+        args->grid.intervals();  // the row count, before any work
         KinematicsOptions options;
         options.newton.tolerance = args->tolerance;
         options.newton.max_iterations = args->max_iterations;
@@ -94,7 +91,7 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
             CsvWriter writer(args->output, columns);  // the output contract of output_file.hpp
             long samples = 0;
             run_kinematics(
-                model, args->t_end, args->step,
+                model, args->grid.t_end, args->grid.step,
                 [&](const State& state, const Eigen::VectorXd&) {
                     writer.row(motion_values(model, state));
                     ++samples;
@@ -102,18 +99,19 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
                 },
                 options);
             writer.close();
-            std::cout << "wrote " << samples << " samples (t = 0 to " << args->t_end << ") to " << args->output << '\n';
+            std::cout << "wrote " << samples << " samples (t = 0 to " << args->grid.t_end << ") to " << args->output
+                      << '\n';
             return 0;
         }
 
         // a few evenly spaced samples, always the first and the last
-        const long intervals = output_intervals(args->t_end, args->step, "--step", "--t-end");
+        const long intervals = args->grid.intervals();
         const long stride = std::max(1L, (intervals + args->rows - 2) / (args->rows - 1));
         std::vector<std::vector<double>> rows;
         std::vector<double> last;
         long index = 0;
         run_kinematics(
-            model, args->t_end, args->step,
+            model, args->grid.t_end, args->grid.step,
             [&](const State& state, const Eigen::VectorXd&) {
                 std::vector<double> values = motion_values(model, state);
                 for (double x : values)

@@ -2,6 +2,7 @@
 #include "options.hpp"
 
 #include <mbd/output_file.hpp>
+#include <mbd/output_times.hpp>
 #include <mbd/viewer/animation_export.hpp>
 #include <mbd/sdk/text.hpp>
 
@@ -50,6 +51,13 @@ CLI::Validator number_between(double lo, double hi, const std::string& why) {
     return number_check([lo, hi](double x) { return x >= lo && x <= hi; },
                         "a number from " + format_number(lo) + " to " + format_number(hi) + (why.empty() ? "" : " (" + why + ")"),
                         "[" + format_number(lo) + ", " + format_number(hi) + "]");
+}
+
+long TimeGrid::intervals() const { return output_intervals(t_end, step, "--step", "--t-end"); }
+
+void add_time_grid_options(CLI::App* sub, TimeGrid& grid) {
+    sub->add_option("--t-end", grid.t_end, "End time [s]")->required()->check(non_negative_number());
+    sub->add_option("--step", grid.step, "Output step h [s] (at most 1e7 rows)")->required()->check(positive_number());
 }
 
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model) {

@@ -28,6 +28,16 @@ constexpr double kSmallestTolerance = 1e-14;
 // The scene file and every `base:` file it inherits from.
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model);
 
+// The output times t = 0, h, 2h, ..., t_end of mbd kinematics and mbd inverse
+// (--t-end, --step, both required).
+struct TimeGrid {
+    double t_end = 0.0;
+    double step = 0.0;
+    // The number of intervals; throws InputError (naming --step and --t-end) beyond 1e7 rows.
+    long intervals() const;
+};
+void add_time_grid_options(CLI::App* sub, TimeGrid& grid);
+
 // `--animation FILE` of simulate and statics, checked before the run: a name the viewer writes
 // (.glb or .html) that is none of the run's input files. Empty: no animation, nothing to check.
 void check_animation_output(const std::string& animation, const std::string& scene, const Model& model);

@@ -74,49 +74,166 @@ void check_integrator_options(const SimulateArguments& a) {
     }
 }
 
+// The options of `mbd simulate`; returns --tol and --step (their counts tell whether they were given).
+std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, SimulateArguments& a) {
+    sub->add_option("SCENE", a.scene, "Scene file (YAML)")->required();
+    sub->add_option("--t-end", a.t_end, "End time [s]")->required()->check(positive_number());
+    sub->add_option("-o,--output", a.output, "CSV file: t, positions, velocities (+ reactions, diagnostics)")
+        ->required();
+    sub->add_option("--formulation", a.formulation,
+                    "Formulation plugin (default: the scene's 'formulation', else augmented)");
+    sub->add_option("--integrator", a.integrator, "Integrator: rk4, dopri5, generalized_alpha, cvode")
+        ->capture_default_str();
+    CLI::Option* tol =
+        sub->add_option("--tol", a.tolerance, "Tolerance of an adaptive integrator, dopri5 or cvode (default 1e-6)")
+            ->check(number_between(kSmallestTolerance, 1.0, "below 1e-14 is beneath double-precision round-off"));
+    CLI::Option* step =
+        sub->add_option("--step", a.step, "Fixed step of rk4, euler or generalized_alpha [s]")->check(positive_number());
+    tol->excludes(step);
+    step->excludes(tol);
+    sub->add_option("--output-step", a.output_step,
+                    "Time between CSV rows [s] (default: the fixed step, else t_end / 1000; at most 1e7 rows)")
+        ->check(positive_number());
+    sub->add_flag("--reactions", a.reactions,
+                  "Add the reaction on every joint's second body at the joint point, world axes: JOINT.fx JOINT.fy "
+                  "JOINT.tz (planar) or JOINT.fx JOINT.fy JOINT.fz JOINT.tx JOINT.ty JOINT.tz (spatial)");
+    sub->add_flag("--diagnostics", a.diagnostics,
+                  "Add kinetic_energy potential_energy constraint_position_violation constraint_velocity_violation");
+    sub->add_option("--stabilization", a.stabilization, "Constraint drift control (default: projection)")
+        ->check(CLI::IsMember({"projection", "baumgarte", "none"}));
+    sub->add_option("--linear-algebra", a.algebra, "Linear algebra of the formulation: auto, dense or sparse")
+        ->check(CLI::IsMember({"auto", "dense", "sparse"}));
+    sub->add_flag("-q,--quiet", a.quiet,
+                  "Quiet: no summary, no progress bar and no messages of the formulation (errors are still printed)");
+    sub->add_flag("--error-estimate", a.error_estimate,
+                  "Also run at a ten times tighter tolerance (fixed step: half the step) and end with the CPU time "
+                  "and the estimated global error of the positions at the output times");
+    sub->add_flag("--json", a.json, "Print the summary as one JSON object on stdout");
+    sub->add_option("--animation", a.animation,
+                    "Also write the motion as a glTF 2.0 binary (.glb) or a browser viewer (.html); see mbd animate");
+    return {tol, step};
+}
+
+SimulationSettings simulation_settings(const SimulateArguments& a) {
+    SimulationSettings settings;
+    settings.formulation = a.formulation;
+    settings.integrator = a.integrator;
+    if (a.tolerance > 0.0) settings.integration.tolerance = a.tolerance;
+    settings.integration.step = a.step;
+    settings.t_end = a.t_end;
+    settings.output_step = a.output_step;
+    settings.output = a.output;
+    settings.reactions = a.reactions;
+    settings.diagnostics = a.diagnostics;
+    if (a.stabilization == "projection") settings.stabilization = Stabilization::Projection;
+    if (a.stabilization == "baumgarte") settings.stabilization = Stabilization::Baumgarte;
+    if (a.stabilization == "none") settings.stabilization = Stabilization::None;
+    if (!a.algebra.empty()) settings.algebra = parse_linear_algebra(a.algebra);
+    settings.progress = !a.quiet;
+    if (a.quiet) settings.messages = MessageLog::silent();
+    return settings;
+}
+
+// --error-estimate: the mass-centre positions at the output times of this run and of
+// a tighter one; their largest distance, times the Richardson factor 2^p / (2^p - 1)
+// for a fixed-step integrator of order p (adaptive: the difference itself).
+struct ErrorEstimate {
+    double position_error = NAN;
+    std::string against;  // the tighter run: "step ..." or "tol ..."
+};
+
+// A callback that keeps the mass-centre positions of every sample.
+SimulationCallback collect_positions(const Model& model, std::vector<Eigen::VectorXd>& into) {
+    return [&model, &into](const SimulationSample& s) {
+        const int per = coordinates_per_body(model.dimension), n = model.dimension == Dimension::Planar ? 2 : 3;
+        Eigen::VectorXd p(n * model.body_count());
+        for (int b = 0; b < model.body_count(); ++b) p.segment(n * b, n) = s.state.q.segment(per * b, n);
+        into.push_back(p);
+        return true;
+    };
+}
+
+ErrorEstimate estimate_error(const Model& model, Registry& registry, const SimulationSettings& settings,
+                             const SimulationResult& r, const std::vector<Eigen::VectorXd>& positions) {
+    ErrorEstimate out;
+    SimulationSettings tight = settings;
+    tight.output.clear();
+    tight.progress = false;
+    tight.messages = MessageLog::silent();
+    tight.reactions = tight.diagnostics = false;
+    if (!(tight.output_step > 0.0))
+        tight.output_step = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;
+    double factor = 1.0;
+    if (settings.integration.step > 0.0 &&
+        (r.integrator == "euler" || r.integrator == "rk4" || r.integrator == "generalized_alpha")) {
+        tight.integration.step = 0.5 * settings.integration.step;
+        const double order = r.integrator == "euler" ? 1.0 : r.integrator == "rk4" ? 4.0 : 2.0;
+        factor = std::pow(2.0, order) / (std::pow(2.0, order) - 1.0);
+        out.against = "step " + format_number(tight.integration.step);
+    } else {
+        tight.integration.tolerance = 0.1 * settings.integration.tolerance;
+        out.against = "tol " + format_number(tight.integration.tolerance);
+    }
+    std::vector<Eigen::VectorXd> tight_positions;
+    simulate(model, registry, tight, collect_positions(model, tight_positions));
+    double worst = 0.0;
+    const size_t n = std::min(positions.size(), tight_positions.size());
+    for (size_t k = 0; k < n; ++k) {
+        const Eigen::VectorXd d = positions[k] - tight_positions[k];
+        const int dim = model.dimension == Dimension::Planar ? 2 : 3;
+        for (int b = 0; b < model.body_count(); ++b) worst = std::max(worst, d.segment(dim * b, dim).norm());
+    }
+    out.position_error = factor * worst;
+    return out;
+}
+
+// The summary: one JSON object (keys in docs/user-guide.md; a non-finite value is
+// null, json_output.hpp) or lines of text.
+void print_simulate_summary(const SimulateArguments& a, const SimulationResult& r, const ErrorEstimate* estimate,
+                            size_t estimate_outputs) {
+    if (a.json) {
+        Json summary = {{"scene", a.scene},
+                        {"formulation", r.formulation},
+                        {"integrator", r.integrator},
+                        {"t_end", a.t_end},
+                        {"rows", r.rows},
+                        {"steps", r.stats.steps},
+                        {"rejected_steps", r.stats.rejected_steps},
+                        {"rhs_evaluations", r.stats.rhs_evaluations},
+                        {"cpu_s", r.cpu_seconds},
+                        {"position_violation", r.final_position_violation},
+                        {"velocity_violation", r.final_velocity_violation}};
+        if (estimate)
+            summary["error_estimate"] = {
+                {"position_error", estimate->position_error}, {"cpu_s", r.cpu_seconds}, {"against", estimate->against}};
+        std::cout << json_text(summary) << std::endl;
+        return;
+    }
+    if (!a.quiet) {
+        std::printf("simulated %s: t = 0 to %g s, %ld rows written to %s\n", a.scene.c_str(), a.t_end, r.rows,
+                    a.output.c_str());
+        std::printf("  formulation %s, integrator %s\n", r.formulation.c_str(), r.integrator.c_str());
+        std::printf("  steps %ld, rejected %ld, rhs evaluations %ld, Jacobian evaluations %ld\n", r.stats.steps,
+                    r.stats.rejected_steps, r.stats.rhs_evaluations, r.stats.jacobian_evaluations);
+        std::printf("  CPU time %.3f s\n", r.cpu_seconds);
+        std::printf("  final constraint violation: position %.3g, velocity %.3g\n", r.final_position_violation,
+                    r.final_velocity_violation);
+    }
+    if (estimate)
+        std::printf("error estimate: CPU time %.6g s, estimated global position error %.3g m (max over %zu output "
+                    "times; against a run at %s)\n",
+                    r.cpu_seconds, estimate->position_error, estimate_outputs, estimate->against.c_str());
+}
+
 }  // namespace
 
 void add_simulate_command(CLI::App& app, Commands& commands) {
     CLI::App* sub = app.add_subcommand("simulate", "Forward dynamics: integrate the equations of motion from the scene's "
                                                    "initial state to t_end");
     auto args = std::make_shared<SimulateArguments>();
-    sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
-    sub->add_option("--t-end", args->t_end, "End time [s]")->required()->check(positive_number());
-    sub->add_option("-o,--output", args->output, "CSV file: t, positions, velocities (+ reactions, diagnostics)")
-        ->required();
-    sub->add_option("--formulation", args->formulation,
-                    "Formulation plugin (default: the scene's 'formulation', else augmented)");
-    sub->add_option("--integrator", args->integrator, "Integrator: rk4, dopri5, generalized_alpha, cvode")
-        ->capture_default_str();
-    CLI::Option* tol =
-        sub->add_option("--tol", args->tolerance, "Tolerance of an adaptive integrator, dopri5 or cvode (default 1e-6)")
-            ->check(number_between(kSmallestTolerance, 1.0, "below 1e-14 is beneath double-precision round-off"));
-    CLI::Option* step =
-        sub->add_option("--step", args->step, "Fixed step of rk4, euler or generalized_alpha [s]")->check(positive_number());
-    tol->excludes(step);
-    step->excludes(tol);
-    sub->add_option("--output-step", args->output_step,
-                    "Time between CSV rows [s] (default: the fixed step, else t_end / 1000; at most 1e7 rows)")
-        ->check(positive_number());
-    sub->add_flag("--reactions", args->reactions,
-                  "Add the reaction on every joint's second body at the joint point, world axes: JOINT.fx JOINT.fy "
-                  "JOINT.tz (planar) or JOINT.fx JOINT.fy JOINT.fz JOINT.tx JOINT.ty JOINT.tz (spatial)");
-    sub->add_flag("--diagnostics", args->diagnostics,
-                  "Add kinetic_energy potential_energy constraint_position_violation constraint_velocity_violation");
-    sub->add_option("--stabilization", args->stabilization, "Constraint drift control (default: projection)")
-        ->check(CLI::IsMember({"projection", "baumgarte", "none"}));
-    sub->add_option("--linear-algebra", args->algebra, "Linear algebra of the formulation: auto, dense or sparse")
-        ->check(CLI::IsMember({"auto", "dense", "sparse"}));
-    sub->add_flag("-q,--quiet", args->quiet,
-                  "Quiet: no summary, no progress bar and no messages of the formulation (errors are still printed)");
-    sub->add_flag("--error-estimate", args->error_estimate,
-                  "Also run at a ten times tighter tolerance (fixed step: half the step) and end with the CPU time "
-                  "and the estimated global error of the positions at the output times");
-    sub->add_flag("--json", args->json, "Print the summary as one JSON object on stdout");
-    sub->add_option("--animation", args->animation,
-                    "Also write the motion as a glTF 2.0 binary (.glb) or a browser viewer (.html); see mbd animate");
+    const auto [tol, step] = add_simulate_options(sub, *args);
 
-    commands[sub] = [args, tol, step] {
+    commands[sub] = [args, tol = tol, step = step] {
         args->tolerance_given = tol->count() > 0;
         args->step_given = step->count() > 0;
         check_integrator_options(*args);
@@ -127,103 +244,16 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run at a step boundary
         check_animation_output(args->animation, args->scene, model);
 
-        SimulationSettings settings;
-        settings.formulation = args->formulation;
-        settings.integrator = args->integrator;
-        if (args->tolerance > 0.0) settings.integration.tolerance = args->tolerance;
-        settings.integration.step = args->step;
-        settings.t_end = args->t_end;
-        settings.output_step = args->output_step;
-        settings.output = args->output;
-        settings.reactions = args->reactions;
-        settings.diagnostics = args->diagnostics;
-        if (args->stabilization == "projection") settings.stabilization = Stabilization::Projection;
-        if (args->stabilization == "baumgarte") settings.stabilization = Stabilization::Baumgarte;
-        if (args->stabilization == "none") settings.stabilization = Stabilization::None;
-        if (!args->algebra.empty()) settings.algebra = parse_linear_algebra(args->algebra);
-        settings.progress = !args->quiet;
-        if (args->quiet) settings.messages = MessageLog::silent();
-
-        // --error-estimate: the mass-centre positions at the output times of this run and of
-        // a tighter one; their largest distance, times the Richardson factor 2^p / (2^p - 1)
-        // for a fixed-step integrator of order p (adaptive: the difference itself).
-        std::vector<Eigen::VectorXd> positions, tight_positions;
-        auto collect = [&model](std::vector<Eigen::VectorXd>& into) {
-            return [&model, &into](const SimulationSample& s) {
-                const int per = coordinates_per_body(model.dimension), n = model.dimension == Dimension::Planar ? 2 : 3;
-                Eigen::VectorXd p(n * model.body_count());
-                for (int b = 0; b < model.body_count(); ++b) p.segment(n * b, n) = s.state.q.segment(per * b, n);
-                into.push_back(p);
-                return true;
-            };
-        };
+        const SimulationSettings settings = simulation_settings(*args);
+        std::vector<Eigen::VectorXd> positions;
         SimulationCallback callback;
-        if (args->error_estimate) callback = collect(positions);
+        if (args->error_estimate) callback = collect_positions(model, positions);
         const SimulationResult r = simulate(model, registry, settings, callback);
-        double estimate = NAN;
-        std::string against;
-        if (args->error_estimate) {
-            SimulationSettings tight = settings;
-            tight.output.clear();
-            tight.progress = false;
-            tight.messages = MessageLog::silent();
-            tight.reactions = tight.diagnostics = false;
-            if (!(tight.output_step > 0.0))
-                tight.output_step = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;
-            double factor = 1.0;
-            if (settings.integration.step > 0.0 && (r.integrator == "euler" || r.integrator == "rk4" ||
-                                                   r.integrator == "generalized_alpha")) {
-                tight.integration.step = 0.5 * settings.integration.step;
-                const double order = r.integrator == "euler" ? 1.0 : r.integrator == "rk4" ? 4.0 : 2.0;
-                factor = std::pow(2.0, order) / (std::pow(2.0, order) - 1.0);
-                against = "step " + format_number(tight.integration.step);
-            } else {
-                tight.integration.tolerance = 0.1 * settings.integration.tolerance;
-                against = "tol " + format_number(tight.integration.tolerance);
-            }
-            simulate(model, registry, tight, collect(tight_positions));
-            double worst = 0.0;
-            const size_t n = std::min(positions.size(), tight_positions.size());
-            for (size_t k = 0; k < n; ++k) {
-                const Eigen::VectorXd d = positions[k] - tight_positions[k];
-                const int dim = model.dimension == Dimension::Planar ? 2 : 3;
-                for (int b = 0; b < model.body_count(); ++b) worst = std::max(worst, d.segment(dim * b, dim).norm());
-            }
-            estimate = factor * worst;
-        }
+        ErrorEstimate estimate;
+        if (args->error_estimate) estimate = estimate_error(model, registry, settings, r, positions);
         if (!args->animation.empty())  // from the CSV just written: the viewer shows exactly the result
             viewer::export_animation(model, viewer::read_motion_csv(args->output), args->animation);
-        if (args->json) {  // keys in docs/user-guide.md; a non-finite value is null (json_output.hpp)
-            Json summary = {{"scene", args->scene},
-                            {"formulation", r.formulation},
-                            {"integrator", r.integrator},
-                            {"t_end", args->t_end},
-                            {"rows", r.rows},
-                            {"steps", r.stats.steps},
-                            {"rejected_steps", r.stats.rejected_steps},
-                            {"rhs_evaluations", r.stats.rhs_evaluations},
-                            {"cpu_s", r.cpu_seconds},
-                            {"position_violation", r.final_position_violation},
-                            {"velocity_violation", r.final_velocity_violation}};
-            if (args->error_estimate)
-                summary["error_estimate"] = {{"position_error", estimate}, {"cpu_s", r.cpu_seconds}, {"against", against}};
-            std::cout << json_text(summary) << std::endl;
-            return 0;
-        }
-        if (!args->quiet) {
-            std::printf("simulated %s: t = 0 to %g s, %ld rows written to %s\n", args->scene.c_str(), args->t_end,
-                        r.rows, args->output.c_str());
-            std::printf("  formulation %s, integrator %s\n", r.formulation.c_str(), r.integrator.c_str());
-            std::printf("  steps %ld, rejected %ld, rhs evaluations %ld, Jacobian evaluations %ld\n", r.stats.steps,
-                        r.stats.rejected_steps, r.stats.rhs_evaluations, r.stats.jacobian_evaluations);
-            std::printf("  CPU time %.3f s\n", r.cpu_seconds);
-            std::printf("  final constraint violation: position %.3g, velocity %.3g\n", r.final_position_violation,
-                        r.final_velocity_violation);
-        }
-        if (args->error_estimate)
-            std::printf("error estimate: CPU time %.6g s, estimated global position error %.3g m (max over %zu output "
-                        "times; against a run at %s)\n",
-                        r.cpu_seconds, estimate, positions.size(), against.c_str());
+        print_simulate_summary(*args, r, args->error_estimate ? &estimate : nullptr, positions.size());
         return 0;
     };
 }

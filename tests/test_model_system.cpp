@@ -3,6 +3,7 @@
 // for elements without them), and the energies, against independent sums.
 #include "support/test_support.hpp"
 
+#include <mbd/derivative_check.hpp>
 #include <mbd/model_system.hpp>
 
 #include <gtest/gtest.h>
@@ -34,16 +35,7 @@ struct Fixture {
     ModelSystem system{model};
 };
 
-State random_state(const Model& model, std::mt19937& rng) {
-    std::normal_distribution<double> n(0.0, 0.5);
-    State s = model.initial_state();
-    Eigen::VectorXd dq(model.nv());
-    for (int k = 0; k < dq.size(); ++k) dq[k] = n(rng);
-    advance_positions(model, s.q, dq);
-    for (int k = 0; k < s.v.size(); ++k) s.v[k] = 2 * n(rng);
-    s.t = 0.3;
-    return s;
-}
+State random_state(const Model& model, std::mt19937& rng) { return mbd::random_state(model, rng, 0.5, 2.0, 0.3); }
 
 TEST(ModelSystem, MassMatrixIsBlockDiagonalOfMassesAndBodyInertias) {
     Fixture f;

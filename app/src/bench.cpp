@@ -477,6 +477,84 @@ BenchReferenceData make_bench_reference(const Model& model, Registry& registry, 
     return ref;
 }
 
+namespace {
+
+// Times one grid point of an mbd series: `repeat` runs (slow ones once), the CPU time
+// their median, the error of the first. False when the run failed (row.status says why).
+bool time_mbd_point(const Model& model, Registry& registry, const BenchSpec& spec, const BenchSeries& series,
+                    const Trajectory& reference, double output_step, bool adaptive, double value, int repeat,
+                    BenchRow& row) {
+    SimulationSettings s;
+    s.formulation = series.formulation;
+    s.integrator = series.integrator;
+    if (adaptive) s.integration.tolerance = value;
+    else s.integration.step = value;
+    s.t_end = spec.t_end;
+    s.output_step = output_step;
+    s.progress = false;
+    std::vector<double> cpu;
+    try {
+        for (int k = 0; k < repeat; ++k) {
+            SimulationResult r;
+            const Trajectory tr = sample_trajectory(model, registry, s, spec.measure, r);
+            cpu.push_back(r.cpu_seconds);
+            row.steps = r.stats.steps;
+            if (k == 0) row.error = bench_error(tr, reference, spec.measure);
+            if (r.cpu_seconds > 1.0) break;  // slow points are timed once
+        }
+        row.cpu_s = median(cpu);
+        if (!std::isfinite(row.error)) row.status = "failed: non-finite error";
+    } catch (const std::exception& e) {
+        row.status = std::string("failed: ") + e.what();
+        row.error = std::numeric_limits<double>::quiet_NaN();
+        return false;
+    }
+    return true;
+}
+
+// The same for a peer program `exe`.
+void time_peer_point(const std::string& exe, const BenchSpec& spec, const BenchPeerSeries& series,
+                     const Trajectory& reference, double output_step, bool adaptive, double value, int repeat,
+                     BenchRow& row) {
+    std::vector<double> cpu;
+    for (int k = 0; k < repeat; ++k) {
+        const PeerRun r = run_peer(exe, spec.peer_model + ":" + series.integrator, spec.t_end, output_step, adaptive,
+                                   value, static_cast<int>(spec.measure.bodies.size()));
+        if (!r.ok) {
+            row.status = "failed: " + r.message;
+            row.error = std::numeric_limits<double>::quiet_NaN();
+            break;
+        }
+        cpu.push_back(r.cpu_s);
+        row.steps = r.steps;
+        if (k == 0) {
+            try {
+                row.error = bench_error(r.trajectory, reference, spec.measure);
+            } catch (const std::exception& e) {
+                row.status = std::string("failed: ") + e.what();
+                row.error = std::numeric_limits<double>::quiet_NaN();
+                break;
+            }
+        }
+        if (r.cpu_s > 1.0) break;
+    }
+    row.cpu_s = median(cpu);
+}
+
+// The peer program of a series, or why it is missing (`missing` set, empty result).
+std::string peer_executable(const BenchOptions& options, const BenchPeerSeries& series, std::string& missing) {
+    const std::string exe =
+        options.peers_dir.empty() ? std::string() : options.peers_dir + "/mbd_peer_" + series.engine;
+    if (!exe.empty() && std::filesystem::exists(exe)) return exe;
+    missing = "peer " + series.engine + ": not installed (" +
+              (exe.empty() ? std::string("no --peers directory given")
+                           : "no " + exe + "; install lib" + series.engine + "-dev and rebuild bench/peers") +
+              "); skipped";
+    return std::string();
+}
+
+}  // namespace
+
 BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& registry, const BenchOptions& options,
                                  const std::function<void(const std::string&)>& log) {
     BenchSceneResult out;
@@ -527,77 +605,25 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
             if (failed_before) {
                 row.status = "skipped (a looser point of this series failed)";
                 row.error = std::numeric_limits<double>::quiet_NaN();
-                out.rows.push_back(row);
-                continue;
-            }
-            SimulationSettings s;
-            s.formulation = series.formulation;
-            s.integrator = series.integrator;
-            if (adaptive) s.integration.tolerance = value;
-            else s.integration.step = value;
-            s.t_end = spec.t_end;
-            s.output_step = times.front();
-            s.progress = false;
-            std::vector<double> cpu;
-            try {
-                for (int k = 0; k < repeat; ++k) {
-                    SimulationResult r;
-                    const Trajectory tr = sample_trajectory(model, registry, s, spec.measure, r);
-                    cpu.push_back(r.cpu_seconds);
-                    row.steps = r.stats.steps;
-                    if (k == 0) row.error = bench_error(tr, out.reference.trajectory, spec.measure);
-                    if (r.cpu_seconds > 1.0) break;  // slow points are timed once
-                }
-                row.cpu_s = median(cpu);
-                if (!std::isfinite(row.error)) row.status = "failed: non-finite error";
-            } catch (const std::exception& e) {
-                row.status = std::string("failed: ") + e.what();
-                row.error = std::numeric_limits<double>::quiet_NaN();
+            } else if (!time_mbd_point(model, registry, spec, series, out.reference.trajectory, times.front(),
+                                       adaptive, value, repeat, row)) {
                 failed_before = true;
             }
             out.rows.push_back(row);
         }
     }
 
-    // peers
     for (const auto& series : spec.peers) {
-        const std::string exe =
-            options.peers_dir.empty() ? std::string() : options.peers_dir + "/mbd_peer_" + series.engine;
-        if (exe.empty() || !std::filesystem::exists(exe)) {
+        std::string missing;
+        const std::string exe = peer_executable(options, series, missing);
+        if (exe.empty()) {
             done += static_cast<int>(series.tolerances.size() + series.steps.size());
-            const std::string text = "peer " + series.engine + ": not installed (" +
-                                     (exe.empty() ? std::string("no --peers directory given")
-                                                  : "no " + exe + "; install lib" + series.engine +
-                                                        "-dev and rebuild bench/peers") +
-                                     "); skipped";
-            if (std::find(out.notes.begin(), out.notes.end(), text) == out.notes.end()) note(text);
+            if (std::find(out.notes.begin(), out.notes.end(), missing) == out.notes.end()) note(missing);
             continue;
         }
         for (const auto& [adaptive, value] : grid_points(series.tolerances, series.steps, 0.0)) {
             BenchRow row = grid_row(series.engine, series.engine, series.integrator, adaptive, value);
-            std::vector<double> cpu;
-            for (int k = 0; k < repeat; ++k) {
-                const PeerRun r = run_peer(exe, spec.peer_model + ":" + series.integrator, spec.t_end, times.front(),
-                                           adaptive, value, static_cast<int>(spec.measure.bodies.size()));
-                if (!r.ok) {
-                    row.status = "failed: " + r.message;
-                    row.error = std::numeric_limits<double>::quiet_NaN();
-                    break;
-                }
-                cpu.push_back(r.cpu_s);
-                row.steps = r.steps;
-                if (k == 0) {
-                    try {
-                        row.error = bench_error(r.trajectory, out.reference.trajectory, spec.measure);
-                    } catch (const std::exception& e) {
-                        row.status = std::string("failed: ") + e.what();
-                        row.error = std::numeric_limits<double>::quiet_NaN();
-                        break;
-                    }
-                }
-                if (r.cpu_s > 1.0) break;
-            }
-            row.cpu_s = median(cpu);
+            time_peer_point(exe, spec, series, out.reference.trajectory, times.front(), adaptive, value, repeat, row);
             out.rows.push_back(row);
         }
     }

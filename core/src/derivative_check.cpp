@@ -96,17 +96,8 @@ std::string describe(const Model& model, const State& s) {
     return out.str();
 }
 
-// A random state near the scene's configuration, off any constraint manifold.
-State random_state(const Model& model, std::mt19937& rng) {
-    State base = model.initial_state();
-    std::normal_distribution<double> noise(0.0, 0.3);
-    Eigen::VectorXd jolt(model.nv());
-    for (int k = 0; k < jolt.size(); ++k) jolt[k] = noise(rng);
-    advance_positions(model, base.q, jolt);
-    for (int k = 0; k < base.v.size(); ++k) base.v[k] = 3 * noise(rng);
-    base.t = 0.37;
-    return base;
-}
+// The states of the checks: a random state near the scene's configuration.
+State random_check_state(const Model& model, std::mt19937& rng) { return random_state(model, rng, 0.3, 3.0, 0.37); }
 
 // Relative error of a against b with a floor so that zero entries do not divide by zero.
 double relative(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
@@ -127,6 +118,17 @@ YAML::Node yaml_vector(const Eigen::VectorXd& x) {
 }
 
 }  // namespace
+
+State random_state(const Model& model, std::mt19937& rng, double spread, double velocity_factor, double t) {
+    State base = model.initial_state();
+    std::normal_distribution<double> noise(0.0, spread);
+    Eigen::VectorXd jolt(model.nv());
+    for (int k = 0; k < jolt.size(); ++k) jolt[k] = noise(rng);
+    advance_positions(model, base.q, jolt);
+    for (int k = 0; k < base.v.size(); ++k) base.v[k] = velocity_factor * noise(rng);
+    base.t = t;
+    return base;
+}
 
 std::string with_random_joint_geometry(const std::string& scene_yaml, std::mt19937& rng) {
     YAML::Node root = YAML::Load(scene_yaml);
@@ -175,73 +177,126 @@ std::string with_random_joint_geometry(const std::string& scene_yaml, std::mt199
     return std::string(out.c_str()) + "\n";
 }
 
-DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance& ji, std::mt19937& rng, int trials) {
-    DerivativeErrors worst;
-    const int nvb = velocities_per_body(model.dimension);
-    const int cols = nvb * static_cast<int>(ji.bodies.size());
-    BodyPoses poses(model);
-    ConstraintEval e;
-    CoordinateEval ce;
-    auto eval = [&](const State& s) {
-        poses.update(s);
+namespace {
+
+// One joint of a model evaluated at a state: its constraint rows and coordinate,
+// over the velocity columns of its bodies (ground columns are not compared).
+class JointProbe {
+public:
+    JointProbe(const Model& model, const JointInstance& ji)
+        : model(model), ji(ji), nvb(velocities_per_body(model.dimension)),
+          cols(nvb * static_cast<int>(ji.bodies.size())), poses_(model) {}
+
+    void eval(const State& s) {
+        poses_.update(s);
         e.resize(ji.joint->rows(), cols);
-        ji.joint->evaluate(poses.view(ji.bodies, s.t), e);
+        ji.joint->evaluate(poses_.view(ji.bodies, s.t), e);
         ce = CoordinateEval{};
         ce.J.setZero(cols);
-        if (ji.joint->has_coordinate()) ji.joint->coordinate(poses.view(ji.bodies, s.t), ce);
-    };
-    // the state perturbed along velocity direction dv (exponential map for rotations)
-    auto moved = [&](const State& s, const Eigen::VectorXd& dv) {
+        if (ji.joint->has_coordinate()) ji.joint->coordinate(poses_.view(ji.bodies, s.t), ce);
+    }
+    // The state perturbed along velocity direction dv (exponential map for rotations).
+    State moved(const State& s, const Eigen::VectorXd& dv) const {
         State out = s;
         advance_positions(model, out.q, dv);
         return out;
-    };
-
-    for (int trial = 0; trial < trials; ++trial) {
-        Trajectory path(model, random_state(model, rng), rng);
-        const double t = 0.37 + trial;
-        const State s = path.state(t);
-        eval(s);
-        const Eigen::VectorXd C0 = e.C, gamma = e.gamma, C_t = e.C_t;
-        const Eigen::MatrixXd J = e.J;
-        const double s0 = ce.value, gamma_s = ce.gamma;
-        const Eigen::RowVectorXd J_s = ce.J;
-
-        // Jacobian: central differences of C along each velocity direction of each body
-        const double h = 1e-6;
-        Eigen::MatrixXd J_fd = Eigen::MatrixXd::Zero(J.rows(), J.cols());
-        Eigen::RowVectorXd Js_fd = Eigen::RowVectorXd::Zero(cols);
-        for (size_t b = 0; b < ji.bodies.size(); ++b) {
-            if (ji.bodies[b] == kGround) continue;
-            for (int c = 0; c < nvb; ++c) {
-                Eigen::VectorXd dv = Eigen::VectorXd::Zero(model.nv());
-                dv[model.v_offset(ji.bodies[b]) + c] = h;
-                eval(moved(s, dv));
-                const Eigen::VectorXd Cp = e.C;
-                const double sp = ce.value;
-                eval(moved(s, -dv));
-                Eigen::VectorXd dC = Cp - e.C;
-                for (int r = 0; r < dC.size(); ++r) {
-                    const double period = ji.joint->row_period(r);
-                    if (period > 0) dC[r] -= period * std::round(dC[r] / period);
-                }
-                J_fd.col(nvb * b + c) = dC / (2 * h);
-                Js_fd[nvb * b + c] = ji.joint->has_coordinate() ? wrap_angle(sp - ce.value) / (2 * h) : 0.0;
-            }
-        }
-        // ground columns are ignored: compare only moving-body columns
-        for (size_t b = 0; b < ji.bodies.size(); ++b) {
-            if (ji.bodies[b] != kGround) continue;
-            J_fd.middleCols(nvb * b, nvb).setZero();
-            Js_fd.segment(nvb * b, nvb).setZero();
-        }
-        Eigen::MatrixXd J_cmp = J;
-        Eigen::RowVectorXd Js_cmp = J_s;
+    }
+    // The joint's entries of a model velocity vector (zero for ground).
+    Eigen::VectorXd joint_entries(const Eigen::VectorXd& all) const {
+        Eigen::VectorXd v = Eigen::VectorXd::Zero(cols);
+        for (size_t b = 0; b < ji.bodies.size(); ++b)
+            if (ji.bodies[b] != kGround) v.segment(nvb * b, nvb) = all.segment(model.v_offset(ji.bodies[b]), nvb);
+        return v;
+    }
+    void zero_ground_columns(Eigen::MatrixXd& J, Eigen::RowVectorXd& J_s) const {
         for (size_t b = 0; b < ji.bodies.size(); ++b)
             if (ji.bodies[b] == kGround) {
-                J_cmp.middleCols(nvb * b, nvb).setZero();
-                Js_cmp.segment(nvb * b, nvb).setZero();
+                J.middleCols(nvb * b, nvb).setZero();
+                J_s.segment(nvb * b, nvb).setZero();
             }
+    }
+
+    const Model& model;
+    const JointInstance& ji;
+    const int nvb, cols;
+    ConstraintEval e;
+    CoordinateEval ce;
+
+private:
+    BodyPoses poses_;
+};
+
+// The Jacobians J and J_s by central differences of C and s along each velocity
+// direction of each moving body (periodic rows and angles unwrapped).
+void jacobians_by_differences(JointProbe& p, const State& s, Eigen::MatrixXd& J_fd, Eigen::RowVectorXd& Js_fd) {
+    const double h = 1e-6;
+    J_fd = Eigen::MatrixXd::Zero(p.e.J.rows(), p.e.J.cols());
+    Js_fd = Eigen::RowVectorXd::Zero(p.cols);
+    for (size_t b = 0; b < p.ji.bodies.size(); ++b) {
+        if (p.ji.bodies[b] == kGround) continue;
+        for (int c = 0; c < p.nvb; ++c) {
+            Eigen::VectorXd dv = Eigen::VectorXd::Zero(p.model.nv());
+            dv[p.model.v_offset(p.ji.bodies[b]) + c] = h;
+            p.eval(p.moved(s, dv));
+            const Eigen::VectorXd Cp = p.e.C;
+            const double sp = p.ce.value;
+            p.eval(p.moved(s, -dv));
+            Eigen::VectorXd dC = Cp - p.e.C;
+            for (int r = 0; r < dC.size(); ++r) {
+                const double period = p.ji.joint->row_period(r);
+                if (period > 0) dC[r] -= period * std::round(dC[r] / period);
+            }
+            J_fd.col(p.nvb * b + c) = dC / (2 * h);
+            Js_fd[p.nvb * b + c] = p.ji.joint->has_coordinate() ? wrap_angle(sp - p.ce.value) / (2 * h) : 0.0;
+        }
+    }
+}
+
+// C and s at t - 2 ht, t - ht, t + ht, t + 2 ht along the trajectory, periodic rows
+// (screw helix) unwrapped around C0.
+struct TimeSamples {
+    std::pair<Eigen::VectorXd, double> m2, m1, p1, p2;
+};
+TimeSamples samples_in_time(JointProbe& p, const Trajectory& path, double t, double ht, const Eigen::VectorXd& C0) {
+    auto C_at = [&](double tt) {
+        p.eval(path.state(tt));
+        return std::make_pair(Eigen::VectorXd(p.e.C), p.ce.value);
+    };
+    TimeSamples out{C_at(t - 2 * ht), C_at(t - ht), C_at(t + ht), C_at(t + 2 * ht)};
+    for (int r = 0; r < C0.size(); ++r) {
+        const double period = p.ji.joint->row_period(r);
+        if (period <= 0) continue;
+        for (auto* sample : {&out.m2, &out.m1, &out.p1, &out.p2}) {
+            const double d = sample->first[r] - C0[r];
+            sample->first[r] = C0[r] + d - period * std::round(d / period);
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance& ji, std::mt19937& rng, int trials) {
+    DerivativeErrors worst;
+    JointProbe p(model, ji);
+    for (int trial = 0; trial < trials; ++trial) {
+        Trajectory path(model, random_check_state(model, rng), rng);
+        const double t = 0.37 + trial;
+        const State s = path.state(t);
+        p.eval(s);
+        const Eigen::VectorXd C0 = p.e.C, gamma = p.e.gamma, C_t = p.e.C_t;
+        const Eigen::MatrixXd J = p.e.J;
+        const double s0 = p.ce.value, gamma_s = p.ce.gamma;
+        const Eigen::RowVectorXd J_s = p.ce.J;
+
+        Eigen::MatrixXd J_fd;
+        Eigen::RowVectorXd Js_fd;
+        jacobians_by_differences(p, s, J_fd, Js_fd);
+        // ground columns are ignored: compare only moving-body columns
+        p.zero_ground_columns(J_fd, Js_fd);
+        Eigen::MatrixXd J_cmp = J;
+        Eigen::RowVectorXd Js_cmp = J_s;
+        p.zero_ground_columns(J_cmp, Js_cmp);
         worst.finite = worst.finite && C0.allFinite() && J.allFinite() && gamma.allFinite() && std::isfinite(s0) &&
                        J_s.allFinite() && std::isfinite(gamma_s);
         const double before = worst.worst();
@@ -249,37 +304,16 @@ DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance
 
         // gamma: Cddot along the trajectory by a fourth-order central difference
         const double ht = 1e-3;
-        auto C_at = [&](double tt) {
-            eval(path.state(tt));
-            return std::make_pair(Eigen::VectorXd(e.C), ce.value);
-        };
-        auto m2 = C_at(t - 2 * ht), m1 = C_at(t - ht), p1 = C_at(t + ht), p2 = C_at(t + 2 * ht);
-        // rows with a periodic residual (screw helix) are unwrapped around C0
-        for (int r = 0; r < C0.size(); ++r) {
-            const double period = ji.joint->row_period(r);
-            if (period <= 0) continue;
-            for (auto* sample : {&m2, &m1, &p1, &p2}) {
-                const double d = sample->first[r] - C0[r];
-                sample->first[r] = C0[r] + d - period * std::round(d / period);
-            }
-        }
+        const TimeSamples ts = samples_in_time(p, path, t, ht, C0);
+        const auto &m2 = ts.m2, &m1 = ts.m1, &p1 = ts.p1, &p2 = ts.p2;
         const Eigen::VectorXd Cddot =
             (-m2.first + 16 * m1.first - 30 * C0 + 16 * p1.first - p2.first) / (12 * ht * ht);
-        // select the moving-body velocity entries of the joint's bodies
-        const Eigen::VectorXd vdot_all = path.acceleration(t);
-        Eigen::VectorXd vdot = Eigen::VectorXd::Zero(cols);
-        for (size_t b = 0; b < ji.bodies.size(); ++b)
-            if (ji.bodies[b] != kGround) vdot.segment(nvb * b, nvb) = vdot_all.segment(model.v_offset(ji.bodies[b]), nvb);
+        const Eigen::VectorXd vdot = p.joint_entries(path.acceleration(t));
         const Eigen::VectorXd gamma_fd = J_cmp * vdot - Cddot;
         worst.gamma = std::max(worst.gamma, relative(gamma, gamma_fd));
         // C_t: Cdot = J v + C_t along the trajectory (book Eq. 3.120)
-        {
-            Eigen::VectorXd v = Eigen::VectorXd::Zero(cols);
-            for (size_t b = 0; b < ji.bodies.size(); ++b)
-                if (ji.bodies[b] != kGround) v.segment(nvb * b, nvb) = s.v.segment(model.v_offset(ji.bodies[b]), nvb);
-            const Eigen::VectorXd Cdot = (m2.first - 8 * m1.first + 8 * p1.first - p2.first) / (12 * ht);
-            worst.time_derivative = std::max(worst.time_derivative, relative(C_t, Cdot - J_cmp * v));
-        }
+        const Eigen::VectorXd Cdot = (m2.first - 8 * m1.first + 8 * p1.first - p2.first) / (12 * ht);
+        worst.time_derivative = std::max(worst.time_derivative, relative(C_t, Cdot - J_cmp * p.joint_entries(s.v)));
 
         if (ji.joint->has_coordinate()) {
             worst.coordinate_jacobian = std::max(worst.coordinate_jacobian,
@@ -314,7 +348,7 @@ DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance
         return fi.force->potential_energy(poses.view(fi.bodies, s.t));
     };
     for (int trial = 0; trial < trials; ++trial) {
-        const State s = random_state(model, rng);
+        const State s = random_check_state(model, rng);
         const Eigen::VectorXd Q = Q_at(s);
         worst.finite = worst.finite && Q.allFinite();
         Eigen::MatrixXd Kq = Eigen::MatrixXd::Zero(n, n), Kv = Eigen::MatrixXd::Zero(n, n);

@@ -8,10 +8,9 @@
 
 std::unique_ptr<mbd::Joint> make_cylindrical(const mbd::JointSpec& spec) {
     using namespace mbd::spatial;
-    require_spatial_pair(spec,
-                         "in a planar scene use a 'prismatic' joint (axis in the plane) or a "
-                         "'revolute' joint (axis normal to the plane)");
-    auto joint = std::make_unique<PrimitiveJoint>(spec);
+    auto joint = primitive_joint(spec,
+                                 "in a planar scene use a 'prismatic' joint (axis in the plane) or a "
+                                 "'revolute' joint (axis normal to the plane)");
     joint->add_dot1(X, Z, "z-parallel-1");  // Eq. 7.169, rows 1-2
     joint->add_dot1(Y, Z, "z-parallel-2");
     joint->add_dot2(X, "on-axis-1");        // Eq. 7.169, rows 3-4

@@ -13,9 +13,9 @@
 namespace mbd {
 namespace planar {
 
-class FixedJoint final : public Joint {
+class FixedJoint final : public FramePairJoint {
 public:
-    FixedJoint(const Marker& mi, const Marker& mj, double c) : mi_(mi), mj_(mj), c_(c) {}
+    using FramePairJoint::FramePairJoint;
 
     int rows() const override { return 3; }
 
@@ -30,17 +30,11 @@ public:
     }
 
     std::optional<RelativeMotion> relative_motion() const override { return RelativeMotion{}; }
-
-private:
-    Marker mi_, mj_;
-    double c_;
 };
 
 }  // namespace planar
 }  // namespace mbd
 
 inline std::unique_ptr<mbd::Joint> make_planar_fixed(const mbd::JointSpec& spec) {
-    mbd::planar::check_spec(spec, 2, 2, true);
-    return std::make_unique<mbd::planar::FixedJoint>(spec.markers[0], spec.markers[1],
-                                                     mbd::planar::initial_relative_angle(spec));
+    return mbd::planar::make_frame_pair_joint<mbd::planar::FixedJoint>(spec);
 }

@@ -46,14 +46,8 @@ private:
 };
 
 std::unique_ptr<mbd::Joint> make_gear_pair(const mbd::JointSpec& spec) {
-    const std::string who = "gear_pair '" + spec.name + "'";
-    if (spec.dimension != mbd::Dimension::Planar)
-        throw mbd::InputError(spec.params.location(),
-                              who + " is a planar joint; spatial gears are not supported");
-    mbd::planar::check_spec(spec, 2, 3, false);
-    if (spec.bodies[0].name == spec.bodies[1].name)
-        throw mbd::InputError(spec.params.location(),
-                              who + " meshes body '" + spec.bodies[0].name + "' with itself");
+    const std::string who =
+        mbd::planar::check_contact_spec(spec, 3, false, "spatial gears are not supported", "meshes", "with");
 
     const bool has_radii = spec.params.has("radii");
     const bool has_ratio = spec.params.has("ratio");

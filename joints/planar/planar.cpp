@@ -9,10 +9,9 @@
 
 std::unique_ptr<mbd::Joint> make_planar(const mbd::JointSpec& spec) {
     using namespace mbd::spatial;
-    require_spatial_pair(spec,
-                         "in a planar scene every body already moves in the plane: remove the "
-                         "joint (leave the body free) or use a 'prismatic' or 'revolute' joint");
-    auto joint = std::make_unique<PrimitiveJoint>(spec);
+    auto joint = primitive_joint(spec,
+                                 "in a planar scene every body already moves in the plane: remove the "
+                                 "joint (leave the body free) or use a 'prismatic' or 'revolute' joint");
     joint->add_dot1(Z, X, "z-normal-1");
     joint->add_dot1(Z, Y, "z-normal-2");
     joint->add_dot2(Z, "in-plane");

@@ -15,10 +15,9 @@
 namespace mbd {
 namespace planar {
 
-class PrismaticJoint final : public Joint {
+class PrismaticJoint final : public FramePairJoint {
 public:
-    // c: initial relative angle of the frames (zero when the markers coincide at t = 0).
-    PrismaticJoint(const Marker& mi, const Marker& mj, double c) : mi_(mi), mj_(mj), c_(c) {}
+    using FramePairJoint::FramePairJoint;
 
     int rows() const override { return 2; }
 
@@ -36,21 +35,13 @@ public:
     }
 
     std::optional<RelativeMotion> relative_motion() const override {
-        RelativeMotion m;
-        m.freedoms.push_back({RelativeMotion::Kind::Prismatic, Vec3::UnitX(), 0.0});
-        return m;
+        return RelativeMotion{{prismatic_along(Vec3::UnitX())}};
     }
-
-private:
-    Marker mi_, mj_;
-    double c_;
 };
 
 }  // namespace planar
 }  // namespace mbd
 
 inline std::unique_ptr<mbd::Joint> make_planar_prismatic(const mbd::JointSpec& spec) {
-    mbd::planar::check_spec(spec, 2, 2, true);
-    return std::make_unique<mbd::planar::PrismaticJoint>(spec.markers[0], spec.markers[1],
-                                                         mbd::planar::initial_relative_angle(spec));
+    return mbd::planar::make_frame_pair_joint<mbd::planar::PrismaticJoint>(spec);
 }

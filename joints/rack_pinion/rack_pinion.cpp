@@ -48,14 +48,8 @@ private:
 };
 
 std::unique_ptr<mbd::Joint> make_rack_pinion(const mbd::JointSpec& spec) {
-    const std::string who = "rack_pinion '" + spec.name + "'";
-    if (spec.dimension != mbd::Dimension::Planar)
-        throw mbd::InputError(spec.params.location(),
-                              who + " is a planar joint; spatial racks are not supported");
-    mbd::planar::check_spec(spec, 2, 2, true);
-    if (spec.bodies[0].name == spec.bodies[1].name)
-        throw mbd::InputError(spec.params.location(),
-                              who + " connects body '" + spec.bodies[0].name + "' to itself");
+    const std::string who =
+        mbd::planar::check_contact_spec(spec, 2, true, "spatial racks are not supported", "connects", "to");
     const double a = spec.params.number("radius");
     if (!(a > 0.0 && std::isfinite(a)))
         spec.params.at("radius").fail(who + ": 'radius' (the pinion's pitch radius) must be positive, got " +

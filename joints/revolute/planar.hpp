@@ -31,9 +31,7 @@ public:
     }
 
     std::optional<RelativeMotion> relative_motion() const override {
-        RelativeMotion m;
-        m.freedoms.push_back({RelativeMotion::Kind::Revolute, Vec3::UnitZ(), 0.0});
-        return m;
+        return RelativeMotion{{revolute_about(Vec3::UnitZ())}};
     }
 
 private:

@@ -7,8 +7,7 @@
 
 std::unique_ptr<mbd::Joint> make_spherical(const mbd::JointSpec& spec) {
     using namespace mbd::spatial;
-    require_spatial_pair(spec, "in a planar scene use a 'revolute' joint (a point connection)");
-    auto joint = std::make_unique<PrimitiveJoint>(spec);
+    auto joint = primitive_joint(spec, "in a planar scene use a 'revolute' joint (a point connection)");
     joint->add_sph();
     // A ball has no axis; the axis field is unused (set to z for definiteness).
     joint->set_relative_motion(mbd::RelativeMotion{{{mbd::RelativeMotion::Kind::Ball, mbd::Vec3::UnitZ(), 0.0}}});

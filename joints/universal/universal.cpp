@@ -10,8 +10,7 @@
 
 std::unique_ptr<mbd::Joint> make_universal(const mbd::JointSpec& spec) {
     using namespace mbd::spatial;
-    require_spatial_pair(spec, "in a planar scene use a 'revolute' joint");
-    auto joint = std::make_unique<PrimitiveJoint>(spec);
+    auto joint = primitive_joint(spec, "in a planar scene use a 'revolute' joint");
     joint->add_sph();                          // Eq. 7.182, rows 1-3
     joint->add_dot1(Z, X, "cross-bar-perp");  // Eq. 7.182, row 4 (h_i . h_j)
     joint->set_relative_motion(mbd::RelativeMotion{

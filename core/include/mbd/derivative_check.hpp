@@ -40,6 +40,10 @@ struct DerivativeErrors {
 // joint takes them). Other keys are kept.
 std::string with_random_joint_geometry(const std::string& scene_yaml, std::mt19937& rng);
 
+// A random state near the scene's configuration, off any constraint manifold: position
+// increments from N(0, spread^2), velocities velocity_factor times draws of the same, at time t.
+State random_state(const Model& model, std::mt19937& rng, double spread, double velocity_factor, double t);
+
 DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance& joint, std::mt19937& rng,
                                          int trials = 5);
 DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance& force, std::mt19937& rng,

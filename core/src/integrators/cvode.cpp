@@ -83,161 +83,183 @@ struct Sundials {
     }
 };
 
-class Cvode final : public Integrator {
+// One run of CVODE: its SUNDIALS objects, the callback data, and the bookkeeping
+// across restarts.
+//
+// A formulation that re-selects its independent coordinates in project() changes
+// the meaning of part of y (Formulation::state_redefined): the BDF history then
+// describes another state, so CVODE restarts from the current (t, y) with
+// CVodeReInit (history discarded, order 1). Steps are taken one at a time
+// (CV_ONE_STEP) to check this after every step, and each output time is a stop
+// time, so no output is interpolated across a restart.
+class CvodeRun {
 public:
-    explicit Cvode(const IntegratorSettings& settings) : settings_(settings) {}
-    std::string name() const override { return "cvode"; }
-    bool adaptive() const override { return true; }
+    CvodeRun(OdeProblem& problem, const IntegratorSettings& settings, IntegratorStats& stats, double t0)
+        : problem_(problem), settings_(settings), stats_(stats), t0_(t0), t_cur_(t0) {}
 
-    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
-                   const OutputCallback& output, IntegratorStats& stats) override;
+    // Creates the solver for y at t0, integrating up to t_end.
+    void create(const Eigen::VectorXd& y, double t_end);
+    // The time CVODE has reached.
+    double time() const { return t_cur_; }
+    // Integrates from the current time to the output time t_out.
+    void advance_to(double t_out, double eps, Eigen::VectorXd& yout);
+    // The state at the current output time t_out, pulled onto the manifold as well.
+    void output_state(double t_out, Eigen::VectorXd& yout);
+    // Adds CVODE's counters to the run's statistics.
+    void collect();
 
 private:
-    IntegratorSettings settings_;
+    Eigen::Map<Eigen::VectorXd> state() {
+        return Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(s_.y), problem_.size());
+    }
+    // Throws for a failed SUNDIALS call (the callbacks' own exception first).
+    void check(int flag, const char* call) const;
+    void restart(double t, const Eigen::VectorXd& y);
+    [[noreturn]] void fail(int flag, double t_reached);
+
+    OdeProblem& problem_;
+    const IntegratorSettings& settings_;
+    IntegratorStats& stats_;
+    double t0_;
+    Callback cb_;
+    Sundials s_;
+    long steps_before_ = 0;  // CVodeReInit zeroes CVODE's counters: the steps of earlier segments
+    double t_cur_;
 };
 
-void Cvode::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
-                      const OutputCallback& output, IntegratorStats& stats) {
-    check_output_times(name(), t0, output_times);
-    if (!(settings_.tolerance > 0.0)) throw InputError(name(), "needs a positive tolerance");
-    const int n = problem.size();
-    if (y.size() != n)
-        throw InputError(name(), "state size " + std::to_string(y.size()) + " does not match the problem size " +
-                                     std::to_string(n));
-    if (output_times.empty()) return;
-    const double t_end = output_times.back();
-    const double eps = time_epsilon(t0, t_end);
-
-    size_t next = 0;
-    while (next < output_times.size() && output_times[next] <= t0 + eps) {
-        if (output && !output(output_times[next], y)) return;
-        ++next;
+void CvodeRun::check(int flag, const char* call) const {
+    if (flag < 0) {
+        if (cb_.error) std::rethrow_exception(cb_.error);
+        throw DynamicsError(t0_, std::string("cvode: ") + call + " failed: " + CVodeGetReturnFlagName(flag) +
+                                     (cb_.message.empty() ? "" : " (" + cb_.message + ")"));
     }
-    if (next == output_times.size()) return;
-
-    Callback cb;
-    cb.problem = &problem;
-    cb.y.resize(n);
-    cb.ydot.resize(n);
-    cb.projected.resize(n);
-
-    Sundials s;
-    auto check = [&](int flag, const char* call) {
-        if (flag < 0) {
-            if (cb.error) std::rethrow_exception(cb.error);
-            throw DynamicsError(t0, std::string("cvode: ") + call + " failed: " + CVodeGetReturnFlagName(flag) +
-                                        (cb.message.empty() ? "" : " (" + cb.message + ")"));
-        }
-    };
-    if (SUNContext_Create(nullptr, &s.context) != 0) throw DynamicsError(t0, "cvode: cannot create a SUNDIALS context");
-    s.y = N_VNew_Serial(n, s.context);
-    if (!s.y) throw DynamicsError(t0, "cvode: cannot allocate the state vector");
-    Eigen::Map<Eigen::VectorXd> ymap(N_VGetArrayPointer(s.y), n);
-    ymap = y;
-    s.cvode = CVodeCreate(CV_BDF, s.context);
-    if (!s.cvode) throw DynamicsError(t0, "cvode: CVodeCreate failed");
-    check(CVodeSetErrHandlerFn(s.cvode, &error_handler, &cb), "CVodeSetErrHandlerFn");
-    check(CVodeInit(s.cvode, &rhs_callback, t0, s.y), "CVodeInit");
-    check(CVodeSetUserData(s.cvode, &cb), "CVodeSetUserData");
-    check(CVodeSStolerances(s.cvode, settings_.tolerance, settings_.tolerance), "CVodeSStolerances");
-    s.A = SUNDenseMatrix(n, n, s.context);
-    s.solver = SUNLinSol_Dense(s.y, s.A, s.context);
-    if (!s.A || !s.solver) throw DynamicsError(t0, "cvode: cannot create the dense linear solver");
-    check(CVodeSetLinearSolver(s.cvode, s.solver, s.A), "CVodeSetLinearSolver");  // no Jacobian fn: internal DQ
-    check(CVodeSetProjFn(s.cvode, &projection_callback), "CVodeSetProjFn");
-    check(CVodeSetProjErrEst(s.cvode, SUNFALSE), "CVodeSetProjErrEst");
-    check(CVodeSetStopTime(s.cvode, t_end), "CVodeSetStopTime");
-    const double scale = std::max({std::abs(t0), std::abs(t_end), t_end - t0});
-    check(CVodeSetMinStep(s.cvode, settings_.min_step * scale), "CVodeSetMinStep");
-    check(CVodeSetMaxStep(s.cvode, t_end - t0), "CVodeSetMaxStep");
-    if (settings_.step > 0.0) check(CVodeSetInitStep(s.cvode, settings_.step), "CVodeSetInitStep");
-
-    auto collect = [&]() {
-        long nst = 0, netf = 0, nfe = 0, nfeLS = 0, nje = 0, nni = 0, ncfn = 0;
-        CVodeGetNumSteps(s.cvode, &nst);
-        CVodeGetNumErrTestFails(s.cvode, &netf);
-        CVodeGetNumNonlinSolvConvFails(s.cvode, &ncfn);
-        CVodeGetNumRhsEvals(s.cvode, &nfe);
-        CVodeGetNumLinRhsEvals(s.cvode, &nfeLS);
-        CVodeGetNumJacEvals(s.cvode, &nje);
-        CVodeGetNumNonlinSolvIters(s.cvode, &nni);
-        stats.steps += nst;
-        stats.rejected_steps += netf + ncfn;
-        stats.rhs_evaluations += nfe + nfeLS;
-        stats.jacobian_evaluations += nje;
-        stats.newton_iterations += nni;
-    };
-
-    // A formulation that re-selects its independent coordinates in project() changes
-    // the meaning of part of y (Formulation::state_redefined): the BDF history then
-    // describes another state, so CVODE restarts from the current (t, y) with
-    // CVodeReInit (history discarded, order 1). Steps are taken one at a time
-    // (CV_ONE_STEP) to check this after every step, and each output time is a stop
-    // time, so no output is interpolated across a restart.
-    auto redefined = [&]() { return problem.state_redefined(); };
-    redefined();  // a flag left by an earlier run does not concern this one
-    long steps_before = 0;  // CVodeReInit zeroes CVODE's counters: the steps of earlier segments
-    double t_cur = t0;
-    auto restart = [&](double t, const Eigen::VectorXd& ynew) {
-        long nst = 0;
-        CVodeGetNumSteps(s.cvode, &nst);
-        steps_before += nst;
-        collect();
-        ymap = ynew;
-        check(CVodeReInit(s.cvode, t, s.y), "CVodeReInit");
-        t_cur = t;
-    };
-    auto fail = [&](int flag, double t_reached) {
-        collect();
-        if (cb.error) std::rethrow_exception(cb.error);
-        double t_fail = t_reached;
-        CVodeGetCurrentTime(s.cvode, &t_fail);
-        std::string hint;
-        if (flag == CV_TOO_MUCH_WORK) hint = " (the maximum number of steps was exceeded)";
-        throw DynamicsError(t_fail, "cvode failed at t = " + format_time(t_fail) + ": " + CVodeGetReturnFlagName(flag) +
-                                        hint + (cb.message.empty() ? "" : ": " + cb.message));
-    };
-
-    Eigen::VectorXd yout(n);
-    while (next < output_times.size()) {
-        const double t_out = output_times[next];
-        if (t_out > t_cur + eps) {
-            check(CVodeSetStopTime(s.cvode, t_out), "CVodeSetStopTime");
-            for (;;) {
-                long taken = 0;
-                CVodeGetNumSteps(s.cvode, &taken);
-                if (steps_before + taken >= settings_.max_steps) fail(CV_TOO_MUCH_WORK, t_cur);
-                double t_reached = t_cur;
-                const int flag = CVode(s.cvode, t_out, s.y, &t_reached, CV_ONE_STEP);
-                if (flag < 0) fail(flag, t_reached);
-                t_cur = t_reached;
-                const bool at_output = flag == CV_TSTOP_RETURN || t_reached >= t_out - eps;
-                // the accepted step: the formulation may re-select its coordinates here
-                yout = ymap;
-                project_or_throw(problem, t_reached, yout);
-                if (redefined()) {
-                    restart(t_reached, yout);
-                    if (!at_output) check(CVodeSetStopTime(s.cvode, t_out), "CVodeSetStopTime");
-                }
-                if (at_output) break;
-                stop_if_interrupted(t_reached);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
-            }
-            t_cur = t_out;
-        }
-        yout = ymap;
-        // the output is pulled onto the manifold as well
-        project_or_throw(problem, t_out, yout);
-        if (redefined()) restart(t_out, yout);  // that projection re-selected: go on from it
-        ++next;
-        if (output && !output(t_out, yout)) {
-            y = yout;
-            collect();
-            return;
-        }
-        y = yout;
-    }
-    collect();
 }
+
+void CvodeRun::create(const Eigen::VectorXd& y, double t_end) {
+    const int n = problem_.size();
+    cb_.problem = &problem_;
+    cb_.y.resize(n);
+    cb_.ydot.resize(n);
+    cb_.projected.resize(n);
+    const double t0 = t0_;
+    if (SUNContext_Create(nullptr, &s_.context) != 0)
+        throw DynamicsError(t0, "cvode: cannot create a SUNDIALS context");
+    s_.y = N_VNew_Serial(n, s_.context);
+    if (!s_.y) throw DynamicsError(t0, "cvode: cannot allocate the state vector");
+    state() = y;
+    s_.cvode = CVodeCreate(CV_BDF, s_.context);
+    if (!s_.cvode) throw DynamicsError(t0, "cvode: CVodeCreate failed");
+    check(CVodeSetErrHandlerFn(s_.cvode, &error_handler, &cb_), "CVodeSetErrHandlerFn");
+    check(CVodeInit(s_.cvode, &rhs_callback, t0, s_.y), "CVodeInit");
+    check(CVodeSetUserData(s_.cvode, &cb_), "CVodeSetUserData");
+    check(CVodeSStolerances(s_.cvode, settings_.tolerance, settings_.tolerance), "CVodeSStolerances");
+    s_.A = SUNDenseMatrix(n, n, s_.context);
+    s_.solver = SUNLinSol_Dense(s_.y, s_.A, s_.context);
+    if (!s_.A || !s_.solver) throw DynamicsError(t0, "cvode: cannot create the dense linear solver");
+    check(CVodeSetLinearSolver(s_.cvode, s_.solver, s_.A), "CVodeSetLinearSolver");  // no Jacobian fn: internal DQ
+    check(CVodeSetProjFn(s_.cvode, &projection_callback), "CVodeSetProjFn");
+    check(CVodeSetProjErrEst(s_.cvode, SUNFALSE), "CVodeSetProjErrEst");
+    check(CVodeSetStopTime(s_.cvode, t_end), "CVodeSetStopTime");
+    const double scale = std::max({std::abs(t0), std::abs(t_end), t_end - t0});
+    check(CVodeSetMinStep(s_.cvode, settings_.min_step * scale), "CVodeSetMinStep");
+    check(CVodeSetMaxStep(s_.cvode, t_end - t0), "CVodeSetMaxStep");
+    if (settings_.step > 0.0) check(CVodeSetInitStep(s_.cvode, settings_.step), "CVodeSetInitStep");
+    problem_.state_redefined();  // a flag left by an earlier run does not concern this one
+}
+
+void CvodeRun::collect() {
+    long nst = 0, netf = 0, nfe = 0, nfeLS = 0, nje = 0, nni = 0, ncfn = 0;
+    CVodeGetNumSteps(s_.cvode, &nst);
+    CVodeGetNumErrTestFails(s_.cvode, &netf);
+    CVodeGetNumNonlinSolvConvFails(s_.cvode, &ncfn);
+    CVodeGetNumRhsEvals(s_.cvode, &nfe);
+    CVodeGetNumLinRhsEvals(s_.cvode, &nfeLS);
+    CVodeGetNumJacEvals(s_.cvode, &nje);
+    CVodeGetNumNonlinSolvIters(s_.cvode, &nni);
+    stats_.steps += nst;
+    stats_.rejected_steps += netf + ncfn;
+    stats_.rhs_evaluations += nfe + nfeLS;
+    stats_.jacobian_evaluations += nje;
+    stats_.newton_iterations += nni;
+}
+
+void CvodeRun::restart(double t, const Eigen::VectorXd& y) {
+    long nst = 0;
+    CVodeGetNumSteps(s_.cvode, &nst);
+    steps_before_ += nst;
+    collect();
+    state() = y;
+    check(CVodeReInit(s_.cvode, t, s_.y), "CVodeReInit");
+    t_cur_ = t;
+}
+
+void CvodeRun::fail(int flag, double t_reached) {
+    collect();
+    if (cb_.error) std::rethrow_exception(cb_.error);
+    double t_fail = t_reached;
+    CVodeGetCurrentTime(s_.cvode, &t_fail);
+    std::string hint;
+    if (flag == CV_TOO_MUCH_WORK) hint = " (the maximum number of steps was exceeded)";
+    throw DynamicsError(t_fail, "cvode failed at t = " + format_time(t_fail) + ": " + CVodeGetReturnFlagName(flag) +
+                                    hint + (cb_.message.empty() ? "" : ": " + cb_.message));
+}
+
+void CvodeRun::advance_to(double t_out, double eps, Eigen::VectorXd& yout) {
+    check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
+    for (;;) {
+        long taken = 0;
+        CVodeGetNumSteps(s_.cvode, &taken);
+        if (steps_before_ + taken >= settings_.max_steps) fail(CV_TOO_MUCH_WORK, t_cur_);
+        double t_reached = t_cur_;
+        const int flag = CVode(s_.cvode, t_out, s_.y, &t_reached, CV_ONE_STEP);
+        if (flag < 0) fail(flag, t_reached);
+        t_cur_ = t_reached;
+        const bool at_output = flag == CV_TSTOP_RETURN || t_reached >= t_out - eps;
+        // the accepted step: the formulation may re-select its coordinates here
+        yout = state();
+        project_or_throw(problem_, t_reached, yout);
+        if (problem_.state_redefined()) {
+            restart(t_reached, yout);
+            if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
+        }
+        if (at_output) break;
+        stop_if_interrupted(t_reached);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
+    }
+    t_cur_ = t_out;
+}
+
+void CvodeRun::output_state(double t_out, Eigen::VectorXd& yout) {
+    yout = state();
+    project_or_throw(problem_, t_out, yout);
+    if (problem_.state_redefined()) restart(t_out, yout);  // that projection re-selected: go on from it
+}
+
+class Cvode final : public AdaptiveIntegrator {
+public:
+    using AdaptiveIntegrator::AdaptiveIntegrator;
+    std::string name() const override { return "cvode"; }
+
+    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
+                   const OutputCallback& output, IntegratorStats& stats) override {
+        size_t next = open_adaptive_run(name(), settings_, problem, t0, y, output_times, output);
+        if (next == output_times.size()) return;
+        const double t_end = output_times.back();
+        const double eps = time_epsilon(t0, t_end);
+        CvodeRun run(problem, settings_, stats, t0);
+        run.create(y, t_end);
+        Eigen::VectorXd yout(problem.size());
+        while (next < output_times.size()) {
+            const double t_out = output_times[next];
+            if (t_out > run.time() + eps) run.advance_to(t_out, eps, yout);
+            run.output_state(t_out, yout);
+            ++next;
+            const bool go_on = !output || output(t_out, yout);
+            y = yout;
+            if (!go_on) break;
+        }
+        run.collect();
+    }
+};
 
 }  // namespace
 

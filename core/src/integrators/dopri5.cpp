@@ -29,11 +29,10 @@ constexpr double d1 = -12715105075.0 / 11282082432, d3 = 87487479700.0 / 3270041
                  d4 = -10690763975.0 / 1880347072, d5 = 701980252875.0 / 199316789632,
                  d6 = -1453857185.0 / 822651844, d7 = 69997945.0 / 29380423;
 
-class Dopri5 final : public Integrator {
+class Dopri5 final : public AdaptiveIntegrator {
 public:
-    explicit Dopri5(const IntegratorSettings& settings) : settings_(settings) {}
+    using AdaptiveIntegrator::AdaptiveIntegrator;
     std::string name() const override { return "dopri5"; }
-    bool adaptive() const override { return true; }
 
     void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
                    const OutputCallback& output, IntegratorStats& stats) override;
@@ -50,8 +49,22 @@ private:
         return y0.size() ? std::sqrt(sum / static_cast<double>(y0.size())) : 0.0;
     }
     double initial_step(OdeProblem& problem, double t, const Eigen::VectorXd& y, double hmax, IntegratorStats& stats);
+    // Stops the run when the step has collapsed or the attempts exceed settings.max_steps.
+    void check_progress(double t, double h, double span, long attempts) const;
+    // The stages of a step of size h from (t, y) ending at t_new: the 5th-order
+    // solution in y1_, the stage derivatives in k1_..k7_. Returns the norm of the
+    // embedded error estimate (1e10 when it is not finite).
+    double attempt(OdeProblem& problem, double t, double h, double t_new, const Eigen::VectorXd& y,
+                   IntegratorStats& stats);
+    // Output at the output times inside (t, t_new) from the continuous extension of
+    // the accepted step; false when the callback stopped the run (y is then that output).
+    bool emit_inside_step(OdeProblem& problem, double t, double h, double t_new, double eps,
+                          const std::vector<double>& output_times, size_t& next, const OutputCallback& output,
+                          Eigen::VectorXd& y);
+    // Takes the accepted step: y <- y1_, FSAL, blow-up guard, projection.
+    void accept(OdeProblem& problem, double t_new, Eigen::VectorXd& y, const BlowUpGuard& guard,
+                IntegratorStats& stats);
 
-    IntegratorSettings settings_;
     Eigen::VectorXd k1_, k2_, k3_, k4_, k5_, k6_, k7_, tmp_, y1_, err_, unprojected_;
     Eigen::VectorXd r1_, r2_, r3_, r4_, r5_, yout_;
 };
@@ -87,18 +100,86 @@ double Dopri5::initial_step(OdeProblem& problem, double t, const Eigen::VectorXd
     return std::min({100.0 * h, h1, hmax});
 }
 
+void Dopri5::check_progress(double t, double h, double span, long attempts) const {
+    const double scale = std::max(std::abs(t), span);
+    if (h < settings_.min_step * scale)
+        throw DynamicsError(t, "step size collapse at t = " + format_time(t) + " (h = " + format_time(h) +
+                                   "): the problem is too stiff for an explicit integrator or the motion is "
+                                   "singular; try --integrator generalized_alpha or cvode");
+    if (attempts > settings_.max_steps)
+        throw DynamicsError(t, "dopri5: the maximum number of steps (" + std::to_string(settings_.max_steps) +
+                                   ") was exceeded at t = " + format_time(t) +
+                                   "; the problem may be stiff (try --integrator cvode or generalized_alpha)");
+}
+
+double Dopri5::attempt(OdeProblem& problem, double t, double h, double t_new, const Eigen::VectorXd& y,
+                       IntegratorStats& stats) {
+    tmp_ = y + h * a21 * k1_;
+    problem.rhs(t + c2 * h, tmp_, k2_);
+    tmp_ = y + h * (a31 * k1_ + a32 * k2_);
+    problem.rhs(t + c3 * h, tmp_, k3_);
+    tmp_ = y + h * (a41 * k1_ + a42 * k2_ + a43 * k3_);
+    problem.rhs(t + c4 * h, tmp_, k4_);
+    tmp_ = y + h * (a51 * k1_ + a52 * k2_ + a53 * k3_ + a54 * k4_);
+    problem.rhs(t + c5 * h, tmp_, k5_);
+    tmp_ = y + h * (a61 * k1_ + a62 * k2_ + a63 * k3_ + a64 * k4_ + a65 * k5_);
+    problem.rhs(t_new, tmp_, k6_);
+    y1_ = y + h * (a71 * k1_ + a73 * k3_ + a74 * k4_ + a75 * k5_ + a76 * k6_);
+    problem.rhs(t_new, y1_, k7_);
+    stats.rhs_evaluations += 6;
+    err_ = h * (e1 * k1_ + e3 * k3_ + e4 * k4_ + e5 * k5_ + e6 * k6_ + e7 * k7_);
+    const double err = error_norm(y, y1_, err_);
+    return std::isfinite(err) ? err : 1e10;
+}
+
+bool Dopri5::emit_inside_step(OdeProblem& problem, double t, double h, double t_new, double eps,
+                              const std::vector<double>& output_times, size_t& next, const OutputCallback& output,
+                              Eigen::VectorXd& y) {
+    bool have_dense = false;
+    while (next < output_times.size() && output_times[next] < t_new - eps) {
+        if (!have_dense) {
+            r1_ = y;
+            r2_ = y1_ - y;
+            r3_ = h * k1_ - r2_;
+            r4_ = r2_ - h * k7_ - r3_;
+            r5_ = h * (d1 * k1_ + d3 * k3_ + d4 * k4_ + d5 * k5_ + d6 * k6_ + d7 * k7_);
+            have_dense = true;
+        }
+        const double theta = (output_times[next] - t) / h, theta1 = 1.0 - theta;
+        yout_ = r1_ + theta * (r2_ + theta1 * (r3_ + theta * (r4_ + theta1 * r5_)));
+        project_or_throw(problem, output_times[next], yout_);
+        if (output && !output(output_times[next], yout_)) {
+            y = yout_;
+            return false;
+        }
+        ++next;
+    }
+    return true;
+}
+
+void Dopri5::accept(OdeProblem& problem, double t_new, Eigen::VectorXd& y, const BlowUpGuard& guard,
+                    IntegratorStats& stats) {
+    y.swap(y1_);
+    k1_.swap(k7_);  // FSAL
+    guard.check(t_new, y);
+    unprojected_ = y;
+    project_or_throw(problem, t_new, y);
+    stop_if_interrupted(t_new);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
+    // a re-selection (Formulation::state_redefined) always restarts it too
+    const bool redefined = problem.state_redefined();
+    if (redefined || y != unprojected_) {
+        problem.rhs(t_new, y, k1_);  // restart the FSAL derivative at the projected state
+        ++stats.rhs_evaluations;
+    }
+}
+
 void Dopri5::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
                        const OutputCallback& output, IntegratorStats& stats) {
-    check_output_times(name(), t0, output_times);
-    if (!(settings_.tolerance > 0.0)) throw InputError(name(), "needs a positive tolerance");
-    const int n = problem.size();
-    if (y.size() != n)
-        throw InputError(name(), "state size " + std::to_string(y.size()) + " does not match the problem size " +
-                                     std::to_string(n));
-    if (output_times.empty()) return;
+    size_t next = open_adaptive_run(name(), settings_, problem, t0, y, output_times, output);
+    if (next == output_times.size()) return;
     for (Eigen::VectorXd* v : {&k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_, &tmp_, &y1_, &err_, &unprojected_, &r1_,
                                &r2_, &r3_, &r4_, &r5_, &yout_})
-        v->resize(n);
+        v->resize(problem.size());
 
     const double t_end = output_times.back();
     const double eps = time_epsilon(t0, t_end);
@@ -106,14 +187,6 @@ void Dopri5::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const
     const double hmax = std::max(span, eps);
     BlowUpGuard guard;
     guard.reset(y);
-
-    size_t next = 0;
-    // outputs at the start time
-    while (next < output_times.size() && output_times[next] <= t0 + eps) {
-        if (output && !output(output_times[next], y)) return;
-        ++next;
-    }
-    if (next == output_times.size()) return;
 
     double t = t0;
     problem.rhs(t, y, k1_);
@@ -128,96 +201,34 @@ void Dopri5::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const
     long attempts = 0;
 
     while (next < output_times.size()) {
-        const double scale = std::max(std::abs(t), span);
-        if (h < settings_.min_step * scale)
-            throw DynamicsError(t, "step size collapse at t = " + format_time(t) + " (h = " + format_time(h) +
-                                       "): the problem is too stiff for an explicit integrator or the motion is "
-                                       "singular; try --integrator generalized_alpha or cvode");
-        if (++attempts > settings_.max_steps)
-            throw DynamicsError(t, "dopri5: the maximum number of steps (" + std::to_string(settings_.max_steps) +
-                                       ") was exceeded at t = " + format_time(t) +
-                                       "; the problem may be stiff (try --integrator cvode or generalized_alpha)");
+        check_progress(t, h, span, ++attempts);
         // do not step past the end time
         bool last = false;
         if (t + h >= t_end - eps) {
             h = t_end - t;
             last = true;
         }
-
-        tmp_ = y + h * a21 * k1_;
-        problem.rhs(t + c2 * h, tmp_, k2_);
-        tmp_ = y + h * (a31 * k1_ + a32 * k2_);
-        problem.rhs(t + c3 * h, tmp_, k3_);
-        tmp_ = y + h * (a41 * k1_ + a42 * k2_ + a43 * k3_);
-        problem.rhs(t + c4 * h, tmp_, k4_);
-        tmp_ = y + h * (a51 * k1_ + a52 * k2_ + a53 * k3_ + a54 * k4_);
-        problem.rhs(t + c5 * h, tmp_, k5_);
-        tmp_ = y + h * (a61 * k1_ + a62 * k2_ + a63 * k3_ + a64 * k4_ + a65 * k5_);
         const double t_new = last ? t_end : t + h;
-        problem.rhs(t_new, tmp_, k6_);
-        y1_ = y + h * (a71 * k1_ + a73 * k3_ + a74 * k4_ + a75 * k5_ + a76 * k6_);
-        problem.rhs(t_new, y1_, k7_);
-        stats.rhs_evaluations += 6;
-        err_ = h * (e1 * k1_ + e3 * k3_ + e4 * k4_ + e5 * k5_ + e6 * k6_ + e7 * k7_);
-        double err = error_norm(y, y1_, err_);
-        if (!std::isfinite(err)) err = 1e10;
-
+        const double err = attempt(problem, t, h, t_new, y, stats);
         const double fac11 = std::pow(std::max(err, 1e-300), expo1);
-        if (err <= 1.0) {
-            // accepted
-            double fac = fac11 / std::pow(facold, beta);
-            fac = std::max(facc2, std::min(facc1, fac / safe));
-            double h_new = h / fac;
-            facold = std::max(err, 1e-4);
-            ++stats.steps;
-
-            // dense output for the output times inside (t, t_new)
-            bool have_dense = false;
-            while (next < output_times.size() && output_times[next] < t_new - eps) {
-                if (!have_dense) {
-                    r1_ = y;
-                    r2_ = y1_ - y;
-                    r3_ = h * k1_ - r2_;
-                    r4_ = r2_ - h * k7_ - r3_;
-                    r5_ = h * (d1 * k1_ + d3 * k3_ + d4 * k4_ + d5 * k5_ + d6 * k6_ + d7 * k7_);
-                    have_dense = true;
-                }
-                const double theta = (output_times[next] - t) / h, theta1 = 1.0 - theta;
-                yout_ = r1_ + theta * (r2_ + theta1 * (r3_ + theta * (r4_ + theta1 * r5_)));
-                project_or_throw(problem, output_times[next], yout_);
-                if (output && !output(output_times[next], yout_)) {
-                    y = yout_;
-                    return;
-                }
-                ++next;
-            }
-
-            y.swap(y1_);
-            k1_.swap(k7_);  // FSAL
-            t = t_new;
-            guard.check(t, y);
-            unprojected_ = y;
-            project_or_throw(problem, t, y);
-            stop_if_interrupted(t);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
-            // a re-selection (Formulation::state_redefined) always restarts it too
-            const bool redefined = problem.state_redefined();
-            if (redefined || y != unprojected_) {
-                problem.rhs(t, y, k1_);  // restart the FSAL derivative at the projected state
-                ++stats.rhs_evaluations;
-            }
-
-            while (next < output_times.size() && output_times[next] <= t + eps) {
-                if (output && !output(output_times[next], y)) return;
-                ++next;
-            }
-            if (reject) h_new = std::min(h_new, h);
-            reject = false;
-            h = std::min(h_new, hmax);
-        } else {
+        if (err > 1.0) {
             ++stats.rejected_steps;
             h = h / std::min(facc1, fac11 / safe);
             reject = true;
+            continue;
         }
+        double fac = fac11 / std::pow(facold, beta);
+        fac = std::max(facc2, std::min(facc1, fac / safe));
+        double h_new = h / fac;
+        facold = std::max(err, 1e-4);
+        ++stats.steps;
+        if (!emit_inside_step(problem, t, h, t_new, eps, output_times, next, output, y)) return;
+        accept(problem, t_new, y, guard, stats);
+        t = t_new;
+        if (!emit_outputs_up_to(t + eps, y, output_times, next, output)) return;
+        if (reject) h_new = std::min(h_new, h);
+        reject = false;
+        h = std::min(h_new, hmax);
     }
 }
 

@@ -5,25 +5,19 @@
 namespace mbd::integrators {
 namespace {
 
-class Euler final : public Integrator {
+class Euler final : public FixedStepIntegrator {
 public:
-    explicit Euler(const IntegratorSettings& settings) : settings_(settings) {}
+    using FixedStepIntegrator::FixedStepIntegrator;
     std::string name() const override { return "euler"; }
-    bool adaptive() const override { return false; }
-
-    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
-                   const OutputCallback& output, IntegratorStats& stats) override {
-        f_.resize(problem.size());
-        fixed_step_run(name(), settings_, problem, t0, y, output_times, output, stats,
-                       [&](double t, double h, Eigen::VectorXd& state) {
-                           problem.rhs(t, state, f_);
-                           ++stats.rhs_evaluations;
-                           state += h * f_;
-                       });
-    }
 
 private:
-    IntegratorSettings settings_;
+    void prepare(int n) override { f_.resize(n); }
+    void step(OdeProblem& problem, double t, double h, Eigen::VectorXd& y, IntegratorStats& stats) override {
+        problem.rhs(t, y, f_);
+        ++stats.rhs_evaluations;
+        y += h * f_;
+    }
+
     Eigen::VectorXd f_;
 };
 

@@ -1,4 +1,4 @@
-// make_integrator / integrator_names, and the helpers shared by the integrators.
+// make_integrator / integrator_names: the integrators by name.
 #include "common.hpp"
 
 #include <mbd/sdk/formulation.hpp>
@@ -36,32 +36,4 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, const Integ
     throw InputError("integrator", "unknown integrator '" + name + "' (known: " + known + ")");
 }
 
-namespace integrators {
-
-void check_output_times(const std::string& integrator, double t0, const std::vector<double>& output_times) {
-    double previous = t0;
-    for (double t : output_times) {
-        if (!std::isfinite(t) || t < previous)
-            throw InputError(integrator, "output times must be finite and must not decrease from the start time " +
-                                             format_time(t0) + " (got " + format_time(t) + " after " +
-                                             format_time(previous) + ")");
-        previous = t;
-    }
-}
-
-void BlowUpGuard::check(double t, const Eigen::VectorXd& y) const {
-    const bool finite = y.allFinite();
-    if (!finite || y.lpNorm<Eigen::Infinity>() > limit_)
-        throw DynamicsError(t, std::string("state ") + (finite ? "grew without bound" : "became non-finite") +
-                                   " at t = " + format_time(t) +
-                                   ": step too large for this stiff problem (use a smaller step, or "
-                                   "--integrator generalized_alpha or cvode)");
-}
-
-void project_or_throw(OdeProblem& problem, double t, Eigen::VectorXd& y) {
-    if (!problem.project(t, y))
-        throw DynamicsError(t, "projection onto the constraint manifold failed at t = " + format_time(t));
-}
-
-}  // namespace integrators
 }  // namespace mbd

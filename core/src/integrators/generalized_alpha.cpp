@@ -58,6 +58,13 @@ public:
                    const OutputCallback& output, IntegratorStats& stats) override;
 
 private:
+    // Takes the system, sizes the work vectors, and sets the regularisation and the
+    // method's coefficients.
+    void prepare(System& system);
+    // One step from t to t + h: Newton on (vdot_{n+1}, lambda_{n+1}), then the update.
+    void step(double t, double h, IntegratorStats& stats);
+    // q, v and a at t_next from the current iterate x_ of vdot_{n+1}.
+    void update_kinematics(double h, double t_next);
     // Build the iteration matrix at `state_` and factor it.
     void factor(double beta_p, double gamma_p, IntegratorStats& stats, bool geometric = false);
     // Geometric stiffness d(J^T lambda)/dq by forward differences (dense path only).
@@ -70,8 +77,11 @@ private:
 
     IntegratorSettings settings_;
     System* system_ = nullptr;
+    const Eigen::SparseMatrix<double>* mass_ = nullptr;
     int nv_ = 0, nc_ = 0;
     double regularization_ = 0.0;
+    double alpha_m_ = 0.0, alpha_f_ = 0.0, gamma_ = 0.0, beta_ = 0.0;
+    double newton_tol_ = 0.0;
 
     State state_;
     ConstraintValues cv_;
@@ -192,18 +202,10 @@ void GeneralizedAlpha::initial_accelerations(double t, IntegratorStats& stats) {
     lambda_n_ = sol_.tail(nc_);
 }
 
-void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y,
-                                 const std::vector<double>& output_times, const OutputCallback& output,
-                                 IntegratorStats& stats) {
-    System* system = problem.index3_system();
-    if (!system)
-        throw InputError(name(), "generalized_alpha needs a formulation that supports index-3 (augmented)");
-    if (!(settings_.step > 0.0) || !std::isfinite(settings_.step))
-        throw InputError(name(), "needs a positive fixed step (settings.step), got " + format_time(settings_.step));
-    check_output_times(name(), t0, output_times);
-    system_ = system;
-    nv_ = system->nv();
-    nc_ = system->constraint_rows(true);
+void GeneralizedAlpha::prepare(System& system) {
+    system_ = &system;
+    nv_ = system.nv();
+    nc_ = system.constraint_rows(true);
     const int n = nv_ + nc_;
     use_dense_ = n <= kDenseLimit;
     if (use_dense_) {
@@ -222,121 +224,116 @@ void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd
     a_next_.resize(nv_);
     increment_.resize(nv_);
 
-    problem.state_from_y(t0, y, state_);
-    state_.t = t0;
-    q_n_ = state_.q;
-    v_n_ = state_.v;
-
     // regularisation of the zero block: keeps consistent redundant constraints solvable
-    const Eigen::SparseMatrix<double>& M = system->mass_matrix();
+    mass_ = &system.mass_matrix();
+    const Eigen::SparseMatrix<double>& M = *mass_;
     double m_max = 0.0;
     for (int k = 0; k < M.outerSize(); ++k)
         for (Eigen::SparseMatrix<double>::InnerIterator it(M, k); it; ++it) m_max = std::max(m_max, std::abs(it.value()));
     regularization_ = m_max > 0.0 ? 1e-12 / m_max : 1e-12;
 
     const double rho = std::clamp(settings_.rho_infinity, 0.0, 1.0);
-    const double alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
-    const double alpha_f = rho / (rho + 1.0);
-    const double gamma = 0.5 + alpha_f - alpha_m;
-    const double beta = 0.25 * (gamma + 0.5) * (gamma + 0.5);
+    alpha_m_ = (2.0 * rho - 1.0) / (rho + 1.0);
+    alpha_f_ = rho / (rho + 1.0);
+    gamma_ = 0.5 + alpha_f_ - alpha_m_;
+    beta_ = 0.25 * (gamma_ + 0.5) * (gamma_ + 0.5);
+    // Newton tolerance on position-level corrections (beta' |dvdot|) and on |C|.
+    newton_tol_ = std::max(1e-3 * settings_.tolerance, 1e-14);
+}
+
+void GeneralizedAlpha::update_kinematics(double h, double t_next) {
+    a_next_ = (alpha_f_ * vdot_n_ - alpha_m_ * a_n_ + (1.0 - alpha_f_) * x_) / (1.0 - alpha_m_);
+    state_.v = v_n_ + (h * (1.0 - gamma_)) * a_n_ + (h * gamma_) * a_next_;
+    increment_ = h * v_n_ + (h * h * (0.5 - beta_)) * a_n_ + (h * h * beta_) * a_next_;
+    state_.q = q_n_;
+    system_->advance_positions(state_.q, increment_);
+    state_.t = t_next;
+}
+
+void GeneralizedAlpha::step(double t, double h, IntegratorStats& stats) {
+    const Eigen::SparseMatrix<double>& M = *mass_;
+    const double t_next = t + h;
+    const double beta_p = h * h * beta_ * (1.0 - alpha_f_) / (1.0 - alpha_m_);
+    const double gamma_p = h * gamma_ * (1.0 - alpha_f_) / (1.0 - alpha_m_);
+    // predictor: accelerations and multipliers of the last step
+    x_ = vdot_n_;
+    lambda_ = lambda_n_;
+    bool converged = false;
+    bool geometric = false;  // switched on when the iteration contracts slowly
+    double first = 0.0, previous = 0.0;
+    for (int it = 0; it < kMaxNewton; ++it) {
+        update_kinematics(h, t_next);
+        system_->generalized_forces(state_, Q_);
+        system_->constraints(state_, cv_, true);
+        ++stats.rhs_evaluations;
+        ++stats.newton_iterations;
+        r_.noalias() = M * x_;
+        r_ -= Q_;
+        if (nc_ > 0) r_.noalias() += cv_.J.transpose() * lambda_;
+        rhs_.head(nv_) = -r_;
+        if (nc_ > 0) rhs_.tail(nc_) = -cv_.C / beta_p;
+        if (!rhs_.allFinite()) newton_failure(t_next, "the residual became non-finite");
+        factor(beta_p, gamma_p, stats, geometric);
+        solve();
+        if (!sol_.allFinite()) newton_failure(t_next, "singular iteration matrix");
+        x_ += sol_.head(nv_);
+        if (nc_ > 0) lambda_ += sol_.tail(nc_);
+        const double dq = beta_p * sol_.head(nv_).lpNorm<Eigen::Infinity>();
+        const double c = nc_ > 0 ? cv_.C.lpNorm<Eigen::Infinity>() : 0.0;
+        const double scale = std::max(1.0, q_n_.lpNorm<Eigen::Infinity>());
+        if (it == 0) first = dq;
+        if (it >= 1 && dq > 0.25 * previous) geometric = true;
+        previous = dq;
+        if (dq <= newton_tol_ * scale && c <= newton_tol_ * scale) {
+            // the correction just applied is negligible: accept
+            converged = true;
+            break;
+        }
+        if (it > 2 && dq > 1e3 * std::max(first, newton_tol_)) newton_failure(t_next, "diverging corrections");
+    }
+    if (!converged) newton_failure(t_next, std::to_string(kMaxNewton) + " iterations");
+    update_kinematics(h, t_next);
+    a_n_ = a_next_;
+    vdot_n_ = x_;
+    lambda_n_ = lambda_;
+    q_n_ = state_.q;
+    v_n_ = state_.v;
+    system_->normalize(q_n_);
+    state_.q = q_n_;
+}
+
+void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y,
+                                 const std::vector<double>& output_times, const OutputCallback& output,
+                                 IntegratorStats& stats) {
+    System* system = problem.index3_system();
+    if (!system)
+        throw InputError(name(), "generalized_alpha needs a formulation that supports index-3 (augmented)");
+    require_fixed_step(name(), settings_);
+    check_output_times(name(), t0, output_times);
+    prepare(*system);
+    problem.state_from_y(t0, y, state_);
+    state_.t = t0;
+    q_n_ = state_.q;
+    v_n_ = state_.v;
 
     if (output_times.empty()) return;
     initial_accelerations(t0, stats);
     a_n_ = vdot_n_;
     x_ = vdot_n_;
     lambda_ = lambda_n_;
-
-    // Newton tolerance on position-level corrections (beta' |dvdot|) and on |C|.
-    const double newton_tol = std::max(1e-3 * settings_.tolerance, 1e-14);
-
-    auto update_kinematics = [&](double h, double t_next) {
-        a_next_ = (alpha_f * vdot_n_ - alpha_m * a_n_ + (1.0 - alpha_f) * x_) / (1.0 - alpha_m);
-        state_.v = v_n_ + (h * (1.0 - gamma)) * a_n_ + (h * gamma) * a_next_;
-        increment_ = h * v_n_ + (h * h * (0.5 - beta)) * a_n_ + (h * h * beta) * a_next_;
-        state_.q = q_n_;
-        system_->advance_positions(state_.q, increment_);
-        state_.t = t_next;
-    };
-
-    auto step = [&](double t, double h) {
-        const double t_next = t + h;
-        const double beta_p = h * h * beta * (1.0 - alpha_f) / (1.0 - alpha_m);
-        const double gamma_p = h * gamma * (1.0 - alpha_f) / (1.0 - alpha_m);
-        // predictor: accelerations and multipliers of the last step
-        x_ = vdot_n_;
-        lambda_ = lambda_n_;
-        bool converged = false;
-        bool geometric = false;  // switched on when the iteration contracts slowly
-        double first = 0.0, previous = 0.0;
-        for (int it = 0; it < kMaxNewton; ++it) {
-            update_kinematics(h, t_next);
-            system_->generalized_forces(state_, Q_);
-            system_->constraints(state_, cv_, true);
-            ++stats.rhs_evaluations;
-            ++stats.newton_iterations;
-            r_.noalias() = M * x_;
-            r_ -= Q_;
-            if (nc_ > 0) r_.noalias() += cv_.J.transpose() * lambda_;
-            rhs_.head(nv_) = -r_;
-            if (nc_ > 0) rhs_.tail(nc_) = -cv_.C / beta_p;
-            if (!rhs_.allFinite()) newton_failure(t_next, "the residual became non-finite");
-            factor(beta_p, gamma_p, stats, geometric);
-            solve();
-            if (!sol_.allFinite()) newton_failure(t_next, "singular iteration matrix");
-            x_ += sol_.head(nv_);
-            if (nc_ > 0) lambda_ += sol_.tail(nc_);
-            const double dq = beta_p * sol_.head(nv_).lpNorm<Eigen::Infinity>();
-            const double c = nc_ > 0 ? cv_.C.lpNorm<Eigen::Infinity>() : 0.0;
-            const double scale = std::max(1.0, q_n_.lpNorm<Eigen::Infinity>());
-            if (it == 0) first = dq;
-            if (it >= 1 && dq > 0.25 * previous) geometric = true;
-            previous = dq;
-            if (dq <= newton_tol * scale && c <= newton_tol * scale) {
-                // the correction just applied is negligible: accept
-                converged = true;
-                break;
-            }
-            if (it > 2 && dq > 1e3 * std::max(first, newton_tol)) newton_failure(t_next, "diverging corrections");
-        }
-        if (!converged) newton_failure(t_next, std::to_string(kMaxNewton) + " iterations");
-        update_kinematics(h, t_next);
-        a_n_ = a_next_;
-        vdot_n_ = x_;
-        lambda_n_ = lambda_;
-        q_n_ = state_.q;
-        v_n_ = state_.v;
-        system_->normalize(q_n_);
-        state_.q = q_n_;
-    };
-
-    double t = t0;
-    const double h = settings_.step;
-    const double eps = time_epsilon(t0, output_times.back());
-    for (double t_out : output_times) {
-        const double span = t_out - t;
-        if (span > eps) {
-            long steps = static_cast<long>(std::ceil(span / h - 1e-6));
-            if (steps < 1) steps = 1;
-            const double t_start = t;
-            for (long k = 1; k <= steps; ++k) {
-                if (stats.steps >= settings_.max_steps)
-                    throw DynamicsError(t, "generalized_alpha: the maximum number of steps (" +
-                                               std::to_string(settings_.max_steps) + ") was reached at t = " +
-                                               format_time(t));
-                const double t_next = (k == steps) ? t_out : t_start + static_cast<double>(k) * h;
-                step(t, t_next - t);
-                ++stats.steps;
-                t = t_next;
-                stop_if_interrupted(t);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
-            }
-        }
-        t = std::max(t, t_out);
-        state_.t = t;
-        state_.q = q_n_;
-        state_.v = v_n_;
-        problem.y_from_state(state_, y);
-        if (output && !output(t_out, y)) return;
-    }
+    march_fixed_steps(
+        name(), settings_, t0, output_times, stats,
+        [&](double t, double t_next) {
+            step(t, t_next - t, stats);
+            ++stats.steps;
+        },
+        [&](double t, double t_out) {
+            state_.t = t;
+            state_.q = q_n_;
+            state_.v = v_n_;
+            problem.y_from_state(state_, y);
+            return !output || output(t_out, y);
+        });
 }
 
 }  // namespace

@@ -6,36 +6,27 @@
 namespace mbd::integrators {
 namespace {
 
-class Rk4 final : public Integrator {
+class Rk4 final : public FixedStepIntegrator {
 public:
-    explicit Rk4(const IntegratorSettings& settings) : settings_(settings) {}
+    using FixedStepIntegrator::FixedStepIntegrator;
     std::string name() const override { return "rk4"; }
-    bool adaptive() const override { return false; }
-
-    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
-                   const OutputCallback& output, IntegratorStats& stats) override {
-        const int n = problem.size();
-        k1_.resize(n);
-        k2_.resize(n);
-        k3_.resize(n);
-        k4_.resize(n);
-        tmp_.resize(n);
-        fixed_step_run(name(), settings_, problem, t0, y, output_times, output, stats,
-                       [&](double t, double h, Eigen::VectorXd& state) {
-                           problem.rhs(t, state, k1_);
-                           tmp_ = state + (0.5 * h) * k1_;
-                           problem.rhs(t + 0.5 * h, tmp_, k2_);
-                           tmp_ = state + (0.5 * h) * k2_;
-                           problem.rhs(t + 0.5 * h, tmp_, k3_);
-                           tmp_ = state + h * k3_;
-                           problem.rhs(t + h, tmp_, k4_);
-                           stats.rhs_evaluations += 4;
-                           state += (h / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_);
-                       });
-    }
 
 private:
-    IntegratorSettings settings_;
+    void prepare(int n) override {
+        for (Eigen::VectorXd* v : {&k1_, &k2_, &k3_, &k4_, &tmp_}) v->resize(n);
+    }
+    void step(OdeProblem& problem, double t, double h, Eigen::VectorXd& y, IntegratorStats& stats) override {
+        problem.rhs(t, y, k1_);
+        tmp_ = y + (0.5 * h) * k1_;
+        problem.rhs(t + 0.5 * h, tmp_, k2_);
+        tmp_ = y + (0.5 * h) * k2_;
+        problem.rhs(t + 0.5 * h, tmp_, k3_);
+        tmp_ = y + h * k3_;
+        problem.rhs(t + h, tmp_, k4_);
+        stats.rhs_evaluations += 4;
+        y += (h / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_);
+    }
+
     Eigen::VectorXd k1_, k2_, k3_, k4_, tmp_;
 };
 

@@ -19,11 +19,10 @@ namespace {
 using namespace mbd;
 using namespace mbd::force_support;
 
-class PointForce final : public Force {
+class PointForce final : public LoadedForce<PointForce, 1> {
 public:
-    explicit PointForce(const ForceSpec& spec) : dim_(spec.dimension) {
-        expect_bodies(spec, 1, "one body");
-        u_ = spec.markers.empty() ? Vec3::Zero() : spec.markers[0].u_bar;
+    explicit PointForce(const ForceSpec& spec) : LoadedForce(spec, "one body") {
+        u_ = marker_or_centre(spec, 0).u_bar;
         const int n = dim_ == Dimension::Planar ? 2 : 3;
         if (dim_ == Dimension::Planar) u_.z() = 0.0;
         if (!spec.params.has("force")) fail(spec, "missing key 'force' (e.g. force: [0, -9.81] (planar) or [0, 0, -9.81] (spatial))");
@@ -35,28 +34,11 @@ public:
         for (int k = 0; k < n; ++k)
             components_.push_back(make_time_function(
                 f.items[k], "force '" + spec.name + "' force[" + std::to_string(k) + "]"));
-        const std::string frame = spec.params.has("frame") ? spec.params.string("frame") : "world";
-        if (frame != "world" && frame != "body")
-            fail(spec, "'frame' must be 'world' or 'body', got '" + frame + "'", &spec.params.at("frame"));
-        body_frame_ = frame == "body";
+        body_frame_ = body_frame(spec);
     }
 
-    void evaluate(const BodyStates& b, Eigen::Ref<Eigen::VectorXd> Q) const override {
-        const Vec3 F = components(b.t);
-        add_value(b, [&](const auto& s) { return this->generalized(s, F); }, Q);
-    }
-    bool has_jacobians() const override { return true; }
-    void jacobians(const BodyStates& b, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
-                   Eigen::Ref<Eigen::MatrixXd> dQ_dv) const override {
-        const Vec3 F = components(b.t);
-        add_jacobians<1>(b, [&](const auto& s) { return this->generalized(s, F); }, dQ_dq, dQ_dv);
-    }
-
-    Vec3 components(double t) const {
-        Vec3 F = Vec3::Zero();
-        for (size_t k = 0; k < components_.size(); ++k) F[k] = components_[k]->evaluate(t).f;
-        return F;
-    }
+    // the applied force F(t), world or body components
+    Vec3 load(double t) const { return components_at(components_, t); }
     template <class S>
     VX<S> generalized(const PlanarStates<S>& s, const Vec3& F) const {
         const V2<S> Fw = body_frame_ ? V2<S>(s[0].A * F.head<2>().cast<S>()) : V2<S>(F.head<2>().cast<S>());
@@ -74,10 +56,9 @@ public:
     }
 
 private:
-    Dimension dim_;
     Vec3 u_;
     bool body_frame_ = false;
-    std::vector<std::shared_ptr<const TimeFunction>> components_;
+    TimeComponents components_;
 };
 
 std::unique_ptr<Force> make_point_force(const ForceSpec& spec) { return std::make_unique<PointForce>(spec); }

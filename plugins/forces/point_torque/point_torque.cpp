@@ -18,10 +18,9 @@ namespace {
 using namespace mbd;
 using namespace mbd::force_support;
 
-class PointTorque final : public Force {
+class PointTorque final : public LoadedForce<PointTorque, 1> {
 public:
-    explicit PointTorque(const ForceSpec& spec) : dim_(spec.dimension) {
-        expect_bodies(spec, 1, "one body");
+    explicit PointTorque(const ForceSpec& spec) : LoadedForce(spec, "one body") {
         if (!spec.params.has("torque")) fail(spec, "missing key 'torque' (e.g. torque: 2.5 (planar) or [0, 0, 2.5] (spatial))");
         const Param& p = spec.params.at("torque");
         const std::string what = "force '" + spec.name + "' torque";
@@ -42,28 +41,11 @@ public:
             for (int k = 0; k < 3; ++k)
                 components_.push_back(make_time_function(p.items[k], what + "[" + std::to_string(k) + "]"));
         }
-        const std::string frame = spec.params.has("frame") ? spec.params.string("frame") : "world";
-        if (frame != "world" && frame != "body")
-            fail(spec, "'frame' must be 'world' or 'body', got '" + frame + "'", &spec.params.at("frame"));
-        body_frame_ = frame == "body";
+        body_frame_ = body_frame(spec);
     }
 
-    void evaluate(const BodyStates& b, Eigen::Ref<Eigen::VectorXd> Q) const override {
-        const Vec3 T = components(b.t);
-        add_value(b, [&](const auto& s) { return this->generalized(s, T); }, Q);
-    }
-    bool has_jacobians() const override { return true; }
-    void jacobians(const BodyStates& b, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
-                   Eigen::Ref<Eigen::MatrixXd> dQ_dv) const override {
-        const Vec3 T = components(b.t);
-        add_jacobians<1>(b, [&](const auto& s) { return this->generalized(s, T); }, dQ_dq, dQ_dv);
-    }
-
-    Vec3 components(double t) const {
-        Vec3 T = Vec3::Zero();
-        for (size_t k = 0; k < components_.size(); ++k) T[k] = components_[k]->evaluate(t).f;
-        return T;
-    }
+    // the applied torque T(t) (planar: its one component first)
+    Vec3 load(double t) const { return components_at(components_, t); }
     template <class S>
     VX<S> generalized(const PlanarStates<S>&, const Vec3& T) const {
         VX<S> Q = VX<S>::Zero(3);
@@ -81,9 +63,8 @@ public:
     }
 
 private:
-    Dimension dim_;
     bool body_frame_ = false;
-    std::vector<std::shared_ptr<const TimeFunction>> components_;
+    TimeComponents components_;
 };
 
 std::unique_ptr<Force> make_point_torque(const ForceSpec& spec) { return std::make_unique<PointTorque>(spec); }

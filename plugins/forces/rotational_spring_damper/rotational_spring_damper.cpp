@@ -33,17 +33,11 @@ namespace {
 using namespace mbd;
 using namespace mbd::force_support;
 
-class RotationalSpringDamper final : public Force {
+class RotationalSpringDamper final : public LoadedForce<RotationalSpringDamper, 2> {
 public:
-    explicit RotationalSpringDamper(const ForceSpec& spec) : dim_(spec.dimension) {
-        expect_bodies(spec, 2, "two bodies [i, j]");
-        for (int k = 0; k < 2; ++k)
-            frame_[k] = k < static_cast<int>(spec.markers.size()) ? spec.markers[k].A_bar : Mat3::Identity();
-        k_ = non_negative(spec, "stiffness");
-        const double zero = 0.0;
-        c_ = non_negative(spec, "damping", &zero);
-        if (spec.params.has("torque"))
-            actuator_ = make_time_function(spec.params.at("torque"), "force '" + spec.name + "' torque");
+    explicit RotationalSpringDamper(const ForceSpec& spec) : LoadedForce(spec, "two bodies [i, j]") {
+        for (int k = 0; k < 2; ++k) frame_[k] = marker_or_centre(spec, k).A_bar;
+        sda_ = SpringDamperActuator(spec, "torque");
         double initial;
         if (dim_ == Dimension::Planar) {
             initial = spec.bodies[1].angle - spec.bodies[0].angle;
@@ -54,16 +48,8 @@ public:
         rest_ = number(spec, "rest_angle", &initial);
     }
 
-    void evaluate(const BodyStates& b, Eigen::Ref<Eigen::VectorXd> Q) const override {
-        const double ta = actuator_ ? actuator_->evaluate(b.t).f : 0.0;
-        add_value(b, [&](const auto& s) { return this->generalized(s, ta); }, Q);
-    }
-    bool has_jacobians() const override { return true; }
-    void jacobians(const BodyStates& b, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
-                   Eigen::Ref<Eigen::MatrixXd> dQ_dv) const override {
-        const double ta = actuator_ ? actuator_->evaluate(b.t).f : 0.0;
-        add_jacobians<2>(b, [&](const auto& s) { return this->generalized(s, ta); }, dQ_dq, dQ_dv);
-    }
+    // the actuator torque T_a(t)
+    double load(double t) const { return sda_.actuator_at(t); }
     double potential_energy(const BodyStates& b) const override {
         double angle;
         if (!b.planar_bodies.empty()) {
@@ -72,9 +58,9 @@ public:
             V3<double> h;
             angle = spatial_angle(spatial_states<double>(b), h);
         }
-        return 0.5 * k_ * angle * angle;
+        return 0.5 * sda_.k * angle * angle;
     }
-    bool is_conservative() const override { return c_ == 0.0 && !actuator_; }
+    bool is_conservative() const override { return sda_.conservative(); }
 
     template <class S>
     S planar_angle(const PlanarStates<S>& s) const {
@@ -82,7 +68,7 @@ public:
     }
     template <class S>
     VX<S> generalized(const PlanarStates<S>& s, double ta) const {
-        const S T = k_ * planar_angle(s) + c_ * (s[1].omega - s[0].omega) + ta;  // (5.73), c_r thetadot
+        const S T = sda_.k * planar_angle(s) + sda_.c * (s[1].omega - s[0].omega) + ta;  // (5.73), c_r thetadot
         VX<S> Q = VX<S>::Zero(6);
         Q[2] = T;
         Q[5] = -T;
@@ -112,7 +98,7 @@ public:
         V3<S> h;
         const S angle = spatial_angle(s, h);
         const S rate = h.dot(s[1].omega() - s[0].omega());
-        const S T = k_ * angle + c_ * rate + ta;  // (7.129-7.132) with a rest angle
+        const S T = sda_.k * angle + sda_.c * rate + ta;  // (7.129-7.132) with a rest angle
         VX<S> Q = VX<S>::Zero(12);
         Q.template segment<3>(3) = (s[0].A.transpose() * h) * T;
         Q.template segment<3>(9) = -(s[1].A.transpose() * h) * T;
@@ -120,10 +106,9 @@ public:
     }
 
 private:
-    Dimension dim_;
     Mat3 frame_[2];
-    double k_ = 0, c_ = 0, rest_ = 0;
-    std::shared_ptr<const TimeFunction> actuator_;
+    SpringDamperActuator sda_;
+    double rest_ = 0;
 };
 
 std::unique_ptr<Force> make_rotational_spring_damper(const ForceSpec& spec) {

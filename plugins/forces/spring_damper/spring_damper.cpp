@@ -28,17 +28,12 @@ namespace {
 using namespace mbd;
 using namespace mbd::force_support;
 
-class SpringDamper final : public Force {
+class SpringDamper final : public LoadedForce<SpringDamper, 2> {
 public:
-    explicit SpringDamper(const ForceSpec& spec) : dim_(spec.dimension) {
-        expect_bodies(spec, 2, "two bodies [i, j]");
-        for (int k = 0; k < 2; ++k)
-            u_[k] = k < static_cast<int>(spec.markers.size()) ? spec.markers[k].u_bar : Vec3::Zero();
+    explicit SpringDamper(const ForceSpec& spec) : LoadedForce(spec, "two bodies [i, j]") {
+        for (int k = 0; k < 2; ++k) u_[k] = marker_or_centre(spec, k).u_bar;
         if (dim_ == Dimension::Planar) u_[0].z() = u_[1].z() = 0.0;
-        k_ = non_negative(spec, "stiffness");
-        const double zero = 0.0;
-        c_ = non_negative(spec, "damping", &zero);
-        if (spec.params.has("force")) actuator_ = make_time_function(spec.params.at("force"), "force '" + spec.name + "' force");
+        sda_ = SpringDamperActuator(spec, "force");
         const double l_initial =
             (initial_point(spec.bodies[0], u_[0]) - initial_point(spec.bodies[1], u_[1])).norm();
         if (spec.params.has("rest_length")) {
@@ -52,25 +47,17 @@ public:
         }
     }
 
-    void evaluate(const BodyStates& b, Eigen::Ref<Eigen::VectorXd> Q) const override {
-        const double fa = actuator_ ? actuator_->evaluate(b.t).f : 0.0;
-        add_value(b, [&](const auto& s) { return this->generalized(s, fa); }, Q);
-    }
-    bool has_jacobians() const override { return true; }
-    void jacobians(const BodyStates& b, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
-                   Eigen::Ref<Eigen::MatrixXd> dQ_dv) const override {
-        const double fa = actuator_ ? actuator_->evaluate(b.t).f : 0.0;
-        add_jacobians<2>(b, [&](const auto& s) { return this->generalized(s, fa); }, dQ_dq, dQ_dv);
-    }
+    // the actuator force f_a(t)
+    double load(double t) const { return sda_.actuator_at(t); }
     double potential_energy(const BodyStates& b) const override {
         double l;
         if (!b.planar_bodies.empty())
             l = (b.planar(0).point(u_[0].head<2>()) - b.planar(1).point(u_[1].head<2>())).norm();
         else
             l = (b.spatial(0).point(u_[0]) - b.spatial(1).point(u_[1])).norm();
-        return 0.5 * k_ * (l - l0_) * (l - l0_);
+        return 0.5 * sda_.k * (l - l0_) * (l - l0_);
     }
-    bool is_conservative() const override { return c_ == 0.0 && !actuator_; }
+    bool is_conservative() const override { return sda_.conservative(); }
 
     template <class S>
     VX<S> generalized(const PlanarStates<S>& s, double fa) const {
@@ -84,7 +71,7 @@ public:
         const V2<S> lhat = r / l;
         const V2<S> rdot = s[0].point_velocity(ui) - s[1].point_velocity(uj);
         const S ldot = lhat.dot(rdot);                         // (5.71)
-        const S f = k_ * (l - l0_) + c_ * ldot + fa;            // (5.61)
+        const S f = sda_.k * (l - l0_) + sda_.c * ldot + fa;            // (5.61)
         Q.template segment<2>(0) = -f * lhat;                   // (5.70a)
         Q[2] = -f * s[0].A_theta_u(ui).dot(lhat);
         Q.template segment<2>(3) = f * lhat;                    // (5.70b)
@@ -102,7 +89,7 @@ public:
         const V3<S> lhat = r / l;
         const V3<S> rdot = s[0].point_velocity(u_[0]) - s[1].point_velocity(u_[1]);
         const S ldot = lhat.dot(rdot);
-        const S f = k_ * (l - l0_) + c_ * ldot + fa;                     // (7.116)
+        const S f = sda_.k * (l - l0_) + sda_.c * ldot + fa;                     // (7.116)
         Q.template segment<3>(0) = -f * lhat;                            // (7.121-7.124), moments
         Q.template segment<3>(3) = -f * u_[0].cast<S>().cross(s[0].A.transpose() * lhat);  // in body axes
         Q.template segment<3>(6) = f * lhat;
@@ -111,10 +98,9 @@ public:
     }
 
 private:
-    Dimension dim_;
     Vec3 u_[2];
-    double k_ = 0, c_ = 0, l0_ = 0;
-    std::shared_ptr<const TimeFunction> actuator_;
+    SpringDamperActuator sda_;
+    double l0_ = 0;
 };
 
 std::unique_ptr<Force> make_spring_damper(const ForceSpec& spec) { return std::make_unique<SpringDamper>(spec); }

@@ -127,133 +127,173 @@ public:
     }
 
     InverseSample solve(const State& state, const Eigen::VectorXd& acceleration) override {
-        System& sys = *sys_;
-        const int nv = sys.nv(), mj = sys.constraint_rows(false), na = static_cast<int>(opt_.actuators.size());
         const double t = state.t;
         InverseSample out;
         out.state = state;
         out.acceleration = acceleration;
-
-        // the drivers must prescribe the motion
         ConstraintValues all;
-        sys.constraints(state, all, true);
-        {
-            int rank = 0;
-            null_space(Eigen::MatrixXd(all.J), nv, rank);
-            if (rank < nv) {
-                throw DynamicsError(t, "the drivers do not prescribe the motion at t = " + format_time(t) + ": " +
-                                           std::to_string(nv - rank) +
-                                           " degree(s) of freedom are free; add drivers so that the motion is "
-                                           "fully prescribed (kinematically driven)");
-            }
-            const Eigen::VectorXd ra = Eigen::MatrixXd(all.J) * acceleration - all.gamma;
-            if (ra.size() && ra.cwiseAbs().maxCoeff() > 1e-6 * (1.0 + all.gamma.cwiseAbs().maxCoeff()))
-                throw DynamicsError(t, "the prescribed acceleration is inconsistent with the drivers at t = " + format_time(t));
+        sys_->constraints(state, all, true);
+        require_prescribed_motion(all, acceleration, t);
+        EffortEquations eq = effort_equations(state, acceleration, all);
+        int rank_g = 0;
+        Eigen::VectorXd tau = minimum_effort(eq, t, rank_g);
+        const bool unique = rank_g == static_cast<int>(opt_.actuators.size());
+        out.method = unique ? "exact" : "pseudo-inverse";
+        if (respect_bounds(eq, rank_g, unique, t, tau)) {
+            out.method = "qp";
+            out.bounds_active = true;
         }
+        out.efforts = tau;
+        out.lambda = joint_multipliers(eq, tau, t);
+        return out;
+    }
 
+private:
+    // The equations of the efforts, B tau - J_j^T lambda = r, and their reduction to the
+    // motion the joints allow, G0 tau = h0 (G0 = Z^T B, h0 = Z^T r, Z a basis of ker J_j).
+    struct EffortEquations {
+        Eigen::MatrixXd B, Jj, G0;
+        Eigen::VectorXd r, h0;
+        Eigen::VectorXd w, lo, hi;  // actuator weights and bounds
+        double scale = 1.0;         // 1 + max |r| + max |B| |tau| once tau is known
+    };
+
+    // The drivers must prescribe the motion, and the acceleration must satisfy them.
+    void require_prescribed_motion(const ConstraintValues& all, const Eigen::VectorXd& acceleration, double t) const {
+        const int nv = sys_->nv();
+        int rank = 0;
+        null_space(Eigen::MatrixXd(all.J), nv, rank);
+        if (rank < nv) {
+            throw DynamicsError(t, "the drivers do not prescribe the motion at t = " + format_time(t) + ": " +
+                                       std::to_string(nv - rank) +
+                                       " degree(s) of freedom are free; add drivers so that the motion is "
+                                       "fully prescribed (kinematically driven)");
+        }
+        const Eigen::VectorXd ra = Eigen::MatrixXd(all.J) * acceleration - all.gamma;
+        if (ra.size() && ra.cwiseAbs().maxCoeff() > 1e-6 * (1.0 + all.gamma.cwiseAbs().maxCoeff()))
+            throw DynamicsError(t, "the prescribed acceleration is inconsistent with the drivers at t = " +
+                                       format_time(t));
+    }
+
+    EffortEquations effort_equations(const State& state, const Eigen::VectorXd& acceleration,
+                                     const ConstraintValues& all) {
+        System& sys = *sys_;
+        const int nv = sys.nv(), mj = sys.constraint_rows(false), na = static_cast<int>(opt_.actuators.size());
+        EffortEquations eq;
         Eigen::VectorXd Q;
         sys.generalized_forces(state, Q);
-        const Eigen::VectorXd r = sys.mass_matrix() * acceleration - Q;
-        Eigen::MatrixXd Jj = Eigen::MatrixXd(all.J).topRows(mj);
-        Eigen::MatrixXd B = Eigen::MatrixXd::Zero(nv, na);
+        eq.r = sys.mass_matrix() * acceleration - Q;
+        eq.Jj = Eigen::MatrixXd(all.J).topRows(mj);
+        eq.B = Eigen::MatrixXd::Zero(nv, na);
         for (int a = 0; a < na; ++a) {
             const Coordinate c = ev_->coordinate(opt_.actuators[a].joint, state.q);
-            for (const auto& e : c.grad) B(e.first, a) += e.second;
+            for (const auto& e : c.grad) eq.B(e.first, a) += e.second;
         }
         int rank_j = 0;
-        const Eigen::MatrixXd Z = null_space(Jj, nv, rank_j);
-        const Eigen::MatrixXd G0 = Z.transpose() * B;
-        const Eigen::VectorXd h0 = Z.transpose() * r;
-        // independent equations only (rows of G0 may be dependent)
-        Eigen::VectorXd w(na), lo(na), hi(na);
+        const Eigen::MatrixXd Z = null_space(eq.Jj, nv, rank_j);
+        eq.G0 = Z.transpose() * eq.B;
+        eq.h0 = Z.transpose() * eq.r;
+        eq.w.resize(na);
+        eq.lo.resize(na);
+        eq.hi.resize(na);
         for (int a = 0; a < na; ++a) {
-            w[a] = opt_.actuators[a].weight;
-            lo[a] = opt_.actuators[a].lo;
-            hi[a] = opt_.actuators[a].hi;
+            eq.w[a] = opt_.actuators[a].weight;
+            eq.lo[a] = opt_.actuators[a].lo;
+            eq.hi[a] = opt_.actuators[a].hi;
         }
-        const Eigen::VectorXd winv_sqrt = w.cwiseSqrt().cwiseInverse();
-        const Eigen::MatrixXd Gw = G0 * winv_sqrt.asDiagonal();
+        return eq;
+    }
+
+    // Minimum sum w tau^2 subject to G0 tau = h0 (the weighted pseudo-inverse; rows of
+    // G0 may be dependent); throws when the actuators cannot produce the motion.
+    Eigen::VectorXd minimum_effort(EffortEquations& eq, double t, int& rank_g) const {
+        const int na = static_cast<int>(eq.w.size());
+        const Eigen::VectorXd winv_sqrt = eq.w.cwiseSqrt().cwiseInverse();
+        const Eigen::MatrixXd Gw = eq.G0 * winv_sqrt.asDiagonal();
         Eigen::VectorXd tau = Eigen::VectorXd::Zero(na);
-        int rank_g = 0;
-        if (G0.rows() > 0) {
+        rank_g = 0;
+        if (eq.G0.rows() > 0) {
             Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Gw);
             cod.setThreshold(1e-10);
-            tau = winv_sqrt.asDiagonal() * cod.solve(h0);
+            tau = winv_sqrt.asDiagonal() * cod.solve(eq.h0);
             rank_g = static_cast<int>(cod.rank());
         }
-        const double scale = 1.0 + r.cwiseAbs().maxCoeff() + (B.cwiseAbs() * tau.cwiseAbs()).maxCoeff();
-        const double consistency = G0.rows() ? (G0 * tau - h0).cwiseAbs().maxCoeff() : 0.0;
-        if (consistency > 1e-8 * scale)
+        eq.scale = 1.0 + eq.r.cwiseAbs().maxCoeff() + (eq.B.cwiseAbs() * tau.cwiseAbs()).maxCoeff();
+        const double consistency = eq.G0.rows() ? (eq.G0 * tau - eq.h0).cwiseAbs().maxCoeff() : 0.0;
+        if (consistency > 1e-8 * eq.scale)
             throw DynamicsError(t, "the actuators cannot produce the prescribed motion at t = " + format_time(t) + ": " +
-                                       std::to_string(G0.rows()) + " degree(s) of freedom but the actuators span " +
-                                       std::to_string(rank_g) + " (under-actuated; residual " + format_number(consistency) + ")");
-        const bool unique = rank_g == na;
-        out.method = unique ? "exact" : "pseudo-inverse";
+                                       std::to_string(eq.G0.rows()) + " degree(s) of freedom but the actuators span " +
+                                       std::to_string(rank_g) + " (under-actuated; residual " +
+                                       format_number(consistency) + ")");
+        return tau;
+    }
 
-        // bounds
+    // When tau violates an actuator bound: the bounded QP on the independent rows of
+    // G0 (true), or an error when the efforts are unique or the bounds cannot be met.
+    bool respect_bounds(const EffortEquations& eq, int rank_g, bool unique, double t, Eigen::VectorXd& tau) const {
+        const int na = static_cast<int>(tau.size());
         int worst = -1;
         double excess = 0.0;
         for (int a = 0; a < na; ++a) {
-            const double e = std::max(lo[a] - tau[a], tau[a] - hi[a]);
+            const double e = std::max(eq.lo[a] - tau[a], tau[a] - eq.hi[a]);
             if (e > excess + 1e-12 * (1.0 + std::abs(tau[a]))) {
                 excess = e;
                 worst = a;
             }
         }
-        if (worst >= 0) {
-            const auto& act = opt_.actuators[worst];
-            if (unique)
-                throw DynamicsError(t, "actuator '" + act.name + "' needs an effort of " + format_number(tau[worst]) + " at t = " +
-                                           format_time(t) + ", outside its bounds [" + format_number(act.lo) + ", " + format_number(act.hi) +
-                                           "] (the efforts are unique: fully actuated)");
-            // reduce to independent rows, then the bounded QP
-            Eigen::JacobiSVD<Eigen::MatrixXd> svd(G0, Eigen::ComputeThinU);
-            const Eigen::MatrixXd U = svd.matrixU().leftCols(rank_g);
-            const Eigen::MatrixXd G = U.transpose() * G0;
-            const Eigen::VectorXd h = U.transpose() * h0;
-            Ipopt::SmartPtr<EffortQP> qp = new EffortQP(G, h, w, lo, hi, tau.cwiseMax(lo).cwiseMin(hi));
-            Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-            app->Options()->SetIntegerValue("print_level", opt_.print_level);
-            app->Options()->SetStringValue("sb", "yes");
-            app->Options()->SetNumericValue("tol", 1e-12);
-            app->Options()->SetNumericValue("constr_viol_tol", 1e-10 * scale);
-            app->Options()->SetStringValue("mehrotra_algorithm", "yes");
-            app->Options()->SetStringValue("hessian_constant", "yes");
-            app->Options()->SetStringValue("jac_c_constant", "yes");
-            app->Initialize();
-            const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(qp);
-            if (!succeeded(status) || !qp->done) {
-                std::string names;
-                for (int a = 0; a < na; ++a)
-                    names += (a ? ", " : "") + opt_.actuators[a].name + " [" + format_number(lo[a]) + ", " + format_number(hi[a]) + "]";
-                throw DynamicsError(t, "the actuator bounds cannot be met at t = " + format_time(t) + " (Ipopt: " +
-                                           status_name(status) + "); the minimum-effort solution needs '" +
-                                           act.name + "' = " + format_number(tau[worst]) + "; bounds: " + names);
-            }
-            tau = qp->tau;
-            out.method = "qp";
-            out.bounds_active = true;
+        if (worst < 0) return false;
+        const auto& act = opt_.actuators[worst];
+        if (unique)
+            throw DynamicsError(t, "actuator '" + act.name + "' needs an effort of " + format_number(tau[worst]) +
+                                       " at t = " + format_time(t) + ", outside its bounds [" + format_number(act.lo) +
+                                       ", " + format_number(act.hi) + "] (the efforts are unique: fully actuated)");
+        // reduce to independent rows, then the bounded QP
+        Eigen::JacobiSVD<Eigen::MatrixXd> svd(eq.G0, Eigen::ComputeThinU);
+        const Eigen::MatrixXd U = svd.matrixU().leftCols(rank_g);
+        const Eigen::MatrixXd G = U.transpose() * eq.G0;
+        const Eigen::VectorXd h = U.transpose() * eq.h0;
+        Ipopt::SmartPtr<EffortQP> qp = new EffortQP(G, h, eq.w, eq.lo, eq.hi, tau.cwiseMax(eq.lo).cwiseMin(eq.hi));
+        Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+        app->Options()->SetIntegerValue("print_level", opt_.print_level);
+        app->Options()->SetStringValue("sb", "yes");
+        app->Options()->SetNumericValue("tol", 1e-12);
+        app->Options()->SetNumericValue("constr_viol_tol", 1e-10 * eq.scale);
+        app->Options()->SetStringValue("mehrotra_algorithm", "yes");
+        app->Options()->SetStringValue("hessian_constant", "yes");
+        app->Options()->SetStringValue("jac_c_constant", "yes");
+        app->Initialize();
+        const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(qp);
+        if (!succeeded(status) || !qp->done) {
+            std::string names;
+            for (int a = 0; a < na; ++a)
+                names += (a ? ", " : "") + opt_.actuators[a].name + " [" + format_number(eq.lo[a]) + ", " +
+                         format_number(eq.hi[a]) + "]";
+            throw DynamicsError(t, "the actuator bounds cannot be met at t = " + format_time(t) + " (Ipopt: " +
+                                       status_name(status) + "); the minimum-effort solution needs '" + act.name +
+                                       "' = " + format_number(tau[worst]) + "; bounds: " + names);
         }
-        out.efforts = tau;
-
-        // joint multipliers: J_j^T lambda = B tau - r
-        const Eigen::VectorXd rhs = B * tau - r;
-        if (mj > 0) {
-            Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Jj.transpose());
-            out.lambda = cod.solve(rhs);
-            const double res = (Jj.transpose() * out.lambda - rhs).cwiseAbs().maxCoeff();
-            if (res > 1e-7 * scale)
-                throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " + format_time(t) +
-                                           " (residual " + format_number(res) + ")");
-        } else {
-            out.lambda.resize(0);
-            if (rhs.cwiseAbs().maxCoeff() > 1e-7 * scale)
-                throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " + format_time(t));
-        }
-        return out;
+        tau = qp->tau;
+        return true;
     }
 
-private:
+    // Joint multipliers from J_j^T lambda = B tau - r (least squares, exact when consistent).
+    Eigen::VectorXd joint_multipliers(const EffortEquations& eq, const Eigen::VectorXd& tau, double t) const {
+        const Eigen::VectorXd rhs = eq.B * tau - eq.r;
+        if (eq.Jj.rows() > 0) {
+            Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(eq.Jj.transpose());
+            const Eigen::VectorXd lambda = cod.solve(rhs);
+            const double res = (eq.Jj.transpose() * lambda - rhs).cwiseAbs().maxCoeff();
+            if (res > 1e-7 * eq.scale)
+                throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " +
+                                           format_time(t) + " (residual " + format_number(res) + ")");
+            return lambda;
+        }
+        if (rhs.cwiseAbs().maxCoeff() > 1e-7 * eq.scale)
+            throw DynamicsError(t, "inverse dynamics: the equations of motion are not satisfied at t = " +
+                                       format_time(t));
+        return Eigen::VectorXd();
+    }
+
     System* sys_ = nullptr;
     InverseOptions opt_;
     std::unique_ptr<Evaluator> ev_;

@@ -102,10 +102,14 @@ using SpatialStates = boost::container::static_vector<SpatialT<S>, kMaxForceBodi
 
 // States of all bodies; body k's position increments are variables 3k.. (planar) or
 // 6k.. (spatial), its velocities follow after all the increments.
+// The number of bodies of an element (at most kMaxForceBodies).
+inline int element_bodies(const BodyStates& b) {
+    if (b.size() > kMaxForceBodies) throw std::logic_error("force_support: an element of more than two bodies");
+    return b.size();
+}
 template <class S>
 PlanarStates<S> planar_states(const BodyStates& b) {
-    const int nb = b.size(), n = 3 * nb;
-    if (nb > kMaxForceBodies) throw std::logic_error("force_support: an element of more than two bodies");
+    const int nb = element_bodies(b), n = 3 * nb;
     PlanarStates<S> out(nb);
     for (int k = 0; k < nb; ++k) {
         const PlanarBody& s = b.planar(k);
@@ -120,8 +124,7 @@ PlanarStates<S> planar_states(const BodyStates& b) {
 }
 template <class S>
 SpatialStates<S> spatial_states(const BodyStates& b) {
-    const int nb = b.size(), n = 6 * nb;
-    if (nb > kMaxForceBodies) throw std::logic_error("force_support: an element of more than two bodies");
+    const int nb = element_bodies(b), n = 6 * nb;
     SpatialStates<S> out(nb);
     for (int k = 0; k < nb; ++k) {
         const SpatialBody& s = b.spatial(k);
@@ -175,6 +178,7 @@ void add_jacobians(const BodyStates& b, const F& f, Eigen::Ref<Eigen::MatrixXd> 
         add_jacobians_impl<6, NB>(b, f, dQ_dq, dQ_dv);
 }
 
+
 // Errors name the force and say what to do.
 [[noreturn]] inline void fail(const ForceSpec& spec, const std::string& message,
                               const Param* where = nullptr) {
@@ -201,6 +205,9 @@ inline double non_negative(const ForceSpec& spec, const std::string& key, const 
              spec.params.has(key) ? &spec.params.at(key) : nullptr);
     return v;
 }
+inline double non_negative_or(const ForceSpec& spec, const std::string& key, double fallback) {
+    return non_negative(spec, key, &fallback);
+}
 // A list of exactly `size` numbers (all >= 0 when non_negative).
 inline Eigen::VectorXd number_list(const ForceSpec& spec, const std::string& key, int size, bool non_neg) {
     const Param& p = spec.params.at(key);
@@ -220,6 +227,79 @@ inline void expect_bodies(const ForceSpec& spec, int count, const std::string& w
     if (static_cast<int>(spec.bodies.size()) != count)
         fail(spec, "a " + spec.type + " connects " + what + ", got " + std::to_string(spec.bodies.size()) +
                        " bodies");
+}
+// The optional time function under `key` (a number or {type: ...}); null without the key.
+inline std::shared_ptr<const TimeFunction> optional_time_function(const ForceSpec& spec, const std::string& key) {
+    if (!spec.params.has(key)) return nullptr;
+    return make_time_function(spec.params.at(key), "force '" + spec.name + "' " + key);
+}
+// Its value at t; 0 without one.
+inline double value_or_zero(const std::shared_ptr<const TimeFunction>& f, double t) {
+    return f ? f->evaluate(t).f : 0.0;
+}
+// Components given each as a number or a time function, at t (the rest zero).
+using TimeComponents = std::vector<std::shared_ptr<const TimeFunction>>;
+inline Vec3 components_at(const TimeComponents& components, double t) {
+    Vec3 v = Vec3::Zero();
+    for (size_t k = 0; k < components.size(); ++k) v[k] = components[k]->evaluate(t).f;
+    return v;
+}
+// The key 'frame': world (default) or body; true for body (components turn with the body).
+inline bool body_frame(const ForceSpec& spec) {
+    const std::string frame = spec.params.has("frame") ? spec.params.string("frame") : "world";
+    if (frame != "world" && frame != "body")
+        fail(spec, "'frame' must be 'world' or 'body', got '" + frame + "'", &spec.params.at("frame"));
+    return frame == "body";
+}
+// The parameters of a spring-damper-actuator (book Secs. 5.4-5.5): stiffness k
+// (>= 0, required), damping c (>= 0, default 0) and an optional actuator time
+// function under `actuator_key`; its scalar is k x + c xdot + actuator(t).
+struct SpringDamperActuator {
+    double k = 0.0, c = 0.0;
+    std::shared_ptr<const TimeFunction> actuator;
+
+    SpringDamperActuator() = default;
+    SpringDamperActuator(const ForceSpec& spec, const std::string& actuator_key)
+        : k(non_negative(spec, "stiffness")), c(non_negative_or(spec, "damping", 0.0)),
+          actuator(optional_time_function(spec, actuator_key)) {}
+    double actuator_at(double t) const { return value_or_zero(actuator, t); }
+    // Conservative (potential 1/2 k x^2) without damping and actuator.
+    bool conservative() const { return c == 0.0 && !actuator; }
+};
+// A force element of NB bodies written once: Derived provides `load(t)`, its
+// time-dependent input (applied components, an actuator value), and
+// `generalized(states, load)`, templated on the scalar type. Q comes from doubles,
+// the exact Jacobians dQ/dq and dQ/dv from automatic differentiation of the same
+// expression.
+template <class Derived, int NB>
+class LoadedForce : public Force {
+public:
+    // bodies: what the element connects, for the error on a wrong body count ("one body").
+    LoadedForce(const ForceSpec& spec, const std::string& bodies) : dim_(spec.dimension) {
+        expect_bodies(spec, NB, bodies);
+    }
+    void evaluate(const BodyStates& b, Eigen::Ref<Eigen::VectorXd> Q) const override {
+        const auto load = self().load(b.t);
+        add_value(b, [&](const auto& s) { return self().generalized(s, load); }, Q);
+    }
+    bool has_jacobians() const override { return true; }
+    void jacobians(const BodyStates& b, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
+                   Eigen::Ref<Eigen::MatrixXd> dQ_dv) const override {
+        const auto load = self().load(b.t);
+        add_jacobians<NB>(b, [&](const auto& s) { return self().generalized(s, load); }, dQ_dq, dQ_dv);
+    }
+
+protected:
+    Dimension dim_;
+
+private:
+    const Derived& self() const { return static_cast<const Derived&>(*this); }
+};
+
+// The application frame on body k: the marker the core built from the scene's
+// points (and axes), or without one the body frame at the mass centre.
+inline Marker marker_or_centre(const ForceSpec& spec, int k) {
+    return k < static_cast<int>(spec.markers.size()) ? spec.markers[k] : Marker{};
 }
 // World position of a marker origin at t = 0.
 inline Vec3 initial_point(const BodyInfo& body, const Vec3& u_bar) {

@@ -61,6 +61,12 @@ struct RelativeMotion {
     };
     std::vector<Freedom> freedoms;
 };
+inline RelativeMotion::Freedom revolute_about(const Vec3& axis) {
+    return {RelativeMotion::Kind::Revolute, axis, 0.0};
+}
+inline RelativeMotion::Freedom prismatic_along(const Vec3& axis) {
+    return {RelativeMotion::Kind::Prismatic, axis, 0.0};
+}
 
 // What the core hands a joint factory.
 struct JointSpec {

@@ -21,6 +21,7 @@
 
 #include <cassert>
 #include <cmath>
+#include <memory>
 #include <string>
 
 namespace mbd {
@@ -123,11 +124,44 @@ inline void check_spec(const JointSpec& spec, int min_bodies, int max_bodies, bo
                                                      std::to_string(spec.markers.size()));
 }
 
+// Factory-side validation of a planar contact element (gear_pair, rack_pinion): a
+// planar scene (`spatial_note` says what a spatial one lacks), check_spec with 2 to
+// `max_bodies` bodies, and two different bodies in contact (the error: "TYPE 'NAME'
+// <verb> body 'B' <preposition> itself"). Returns "TYPE 'NAME'" for the caller's errors.
+inline std::string check_contact_spec(const JointSpec& spec, int max_bodies, bool markers,
+                                      const std::string& spatial_note, const std::string& verb,
+                                      const std::string& preposition) {
+    const std::string who = spec.type + " '" + spec.name + "'";
+    if (spec.dimension != Dimension::Planar)
+        throw InputError(spec.params.location(), who + " is a planar joint; " + spatial_note);
+    check_spec(spec, 2, max_bodies, markers);
+    if (spec.bodies[0].name == spec.bodies[1].name)
+        throw InputError(spec.params.location(),
+                         who + " " + verb + " body '" + spec.bodies[0].name + "' " + preposition + " itself");
+    return who;
+}
+
 // Initial relative angle of the joint frames on bodies i and j (spec order), from the initial
 // body angles and the marker angles: (theta0^j + phi_j) - (theta0^i + phi_i). Not wrapped, so a
 // relative_angle row with this c is exactly zero in the initial configuration.
 inline double initial_relative_angle(const JointSpec& spec, int i = 0, int j = 1) {
     return (spec.bodies[j].angle + spec.markers[j].angle) - (spec.bodies[i].angle + spec.markers[i].angle);
+}
+
+// A two-body planar joint between the joint frames mi, mj that holds their relative
+// angle at c, its initial value (fixed, prismatic); make_frame_pair_joint builds one.
+class FramePairJoint : public Joint {
+public:
+    FramePairJoint(const Marker& mi, const Marker& mj, double c) : mi_(mi), mj_(mj), c_(c) {}
+
+protected:
+    Marker mi_, mj_;
+    double c_;
+};
+template <class J>
+std::unique_ptr<Joint> make_frame_pair_joint(const JointSpec& spec) {
+    check_spec(spec, 2, 2, true);
+    return std::make_unique<J>(spec.markers[0], spec.markers[1], initial_relative_angle(spec));
 }
 
 // ---------------------------------------------------------------------------

@@ -28,6 +28,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -287,12 +288,15 @@ private:
 };
 
 // Relative motions (axes in the joint frame of body i).
-inline RelativeMotion::Freedom revolute_about(const Vec3& axis) {
-    return {RelativeMotion::Kind::Revolute, axis, 0.0};
+// A joint of primitives between the two markers of a spatial pair (checked as by
+// require_spatial_pair); the caller adds its rows and relative motion.
+inline std::unique_ptr<PrimitiveJoint> primitive_joint(const JointSpec& spec, const std::string& planar_hint) {
+    require_spatial_pair(spec, planar_hint);
+    return std::make_unique<PrimitiveJoint>(spec);
 }
-inline RelativeMotion::Freedom prismatic_along(const Vec3& axis) {
-    return {RelativeMotion::Kind::Prismatic, axis, 0.0};
-}
+
+using mbd::prismatic_along;  // (joint.hpp) for the joints that use this namespace
+using mbd::revolute_about;
 
 }  // namespace spatial
 }  // namespace mbd
