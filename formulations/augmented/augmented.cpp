@@ -77,6 +77,8 @@ public:
 private:
     // state_ -> cv_, Q_, vdot_, lambda_
     void solve_dynamics(double t);
+    // solve_dynamics() at a given state (copied into state_ without reallocating)
+    void solve_at(const State& state);
     // factor S = J M^-1 J^T from cv_.J (dense or sparse); throws DynamicsError if singular
     void factor(double t, const char* what, bool robust = false);
     // x <- S^-1 x (after factor())
@@ -508,19 +510,20 @@ bool Augmented::project(double t, Eigen::VectorXd& y) {
     return true;
 }
 
-void Augmented::multipliers(const State& state, Eigen::VectorXd& lambda) {
+void Augmented::solve_at(const State& state) {
     state_.t = state.t;
     state_.q = state.q;
     state_.v = state.v;
     solve_dynamics(state.t);
+}
+
+void Augmented::multipliers(const State& state, Eigen::VectorXd& lambda) {
+    solve_at(state);
     lambda = lambda_;
 }
 
 void Augmented::accelerations(const State& state, Eigen::VectorXd& vdot) {
-    state_.t = state.t;
-    state_.q = state.q;
-    state_.v = state.v;
-    solve_dynamics(state.t);
+    solve_at(state);
     vdot = vdot_;
 }
 
