@@ -96,8 +96,7 @@ bool project_onto_constraints(System& system, double t, ProjectionScratch& work,
     return false;
 }
 
-// A dense S = J M^-1 J^T solver for project_onto_constraints (dense_gram.hpp), for a
-// mass matrix of any structure: M^-1 = Lm Lm^T by a dense Cholesky factor.
+// A dense S = J M^-1 J^T solver for project_onto_constraints (dense_gram.hpp).
 // M is block diagonal (one block per body), so M^-1 and its Cholesky factor Lm are too:
 // W = J Lm is formed from J's nonzeros block by block, and M^-1 x body by body, in
 // O(nnz(J) n_b) and O(n_v n_b) with n_b velocities per body, without a dense product that
