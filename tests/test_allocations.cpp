@@ -35,13 +35,15 @@ std::vector<std::string> allocation_scenes() {
     return scenes;
 }
 
-// chain-500 with amalgamated or hamiltonian: their set-up and steps cost O(n^2.4) in the bodies
-// (dense J_d LU and dense partition of J, issue 14), about 25 s per pair in Release, more than
-// every other pair together; the large chain is covered by the linear-cost formulations
-// (augmented, embedding), the same code paths of these two by chain-50.
+// chain-500 with amalgamated or hamiltonian is left out, the one gap in this test: there the
+// partitioned formulations factor J_d (1000 x 1000) by Eigen's dense blocked LU, whose matrix
+// products take their blocking buffers from the heap at that size (20 and 71 allocations per
+// rhs, measured on 2026-12-02), and their set-up and steps cost O(n^2.4) in the bodies, about
+// 150 s per pair. The sparse J_d of issue 14 removes both; the same code at small sizes is
+// covered (chain-50).
 const char* exclusion(const std::string& path, const std::string& type) {
     if (path == "bench/chain-500.yaml" && (type == "amalgamated" || type == "hamiltonian"))
-        return "O(n^2.4) set-up and steps (issue 14); chain-50 covers the same code";
+        return "dense blocked LU of J_d allocates at this size (issue 14)";
     return nullptr;
 }
 
@@ -124,48 +126,56 @@ std::vector<double> reselection_times(const mbd::Model& model, const std::string
     return times;
 }
 
+
+// No allocation in 3 rhs after 2 warm-up calls, nor in the steps of euler, rk4 and dopri5.
+void expect_pair_allocates_nothing(const mbd::Model& model, const std::string& path, const std::string& type) {
+    SCOPED_TRACE(path + " with " + type);
+    try {
+        Bound bound(model, type, silent_options());
+        Eigen::VectorXd ydot(bound.formulation->ode_size());
+        for (int k = 0; k < 2; ++k) bound.formulation->rhs(0.0, bound.y, ydot);
+        AllocationCount count;
+        for (int k = 0; k < 3; ++k) bound.formulation->rhs(1e-3 * k, bound.y, ydot);
+        const long rhs_allocations = count.stop();
+        EXPECT_EQ(rhs_allocations, 0) << rhs_allocations << " allocations in 3 rhs";
+        for (const char* integrator_name : {"euler", "rk4", "dopri5"})
+            expect_steps_allocate_nothing(model, path, type, integrator_name);
+        std::printf("%-30s %-12s covered\n", path.c_str(), type.c_str());
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << e.what();
+    }
+}
+
+// MBD_ALLOCATION_PAIRS=TEXT: only the pairs "SCENE with FORMULATION" containing TEXT (for tracing)
+bool selected(const std::string& path, const std::string& type) {
+    const char* only = std::getenv("MBD_ALLOCATION_PAIRS");
+    return !only || (path + " with " + type).find(only) != std::string::npos;
+}
+
+const std::vector<std::string> kFormulations = {"augmented", "embedding", "amalgamated", "hamiltonian"};
+
 }  // namespace
 
 TEST(Allocations, NoneAfterWarmUpPerRhsAndPerStep) {
     ASSERT_TRUE(mbd::test::allocation_counting_works()) << "the allocation counter sees no allocation at all";
-    const std::vector<std::string> formulations = {"augmented", "embedding", "amalgamated", "hamiltonian"};
-    int pairs = 0, excluded = 0;
-    // MBD_ALLOCATION_PAIRS=TEXT: only the pairs "SCENE with FORMULATION" containing TEXT (for tracing)
-    const char* only = std::getenv("MBD_ALLOCATION_PAIRS");
-    int skipped = 0;
+    int pairs = 0, excluded = 0, skipped = 0;
     for (const std::string& path : allocation_scenes()) {
         const mbd::Model model = mbd::test::load(path);
-        for (const std::string& type : formulations) {
-            if (only && (path + " with " + type).find(only) == std::string::npos) {
+        for (const std::string& type : kFormulations) {
+            if (!selected(path, type)) {
                 ++skipped;
-                continue;
-            }
-            if (const char* reason = exclusion(path, type)) {
+            } else if (const char* reason = exclusion(path, type)) {
                 std::printf("%-30s %-12s excluded: %s\n", path.c_str(), type.c_str(), reason);
                 ++excluded;
-                continue;
+            } else {
+                expect_pair_allocates_nothing(model, path, type);
+                ++pairs;
             }
-            SCOPED_TRACE(path + " with " + type);
-            try {
-                Bound bound(model, type, silent_options());
-                Eigen::VectorXd ydot(bound.formulation->ode_size());
-                for (int k = 0; k < 2; ++k) bound.formulation->rhs(0.0, bound.y, ydot);
-                AllocationCount count;
-                for (int k = 0; k < 3; ++k) bound.formulation->rhs(1e-3 * k, bound.y, ydot);
-                const long rhs_allocations = count.stop();
-                EXPECT_EQ(rhs_allocations, 0) << rhs_allocations << " allocations in 3 rhs";
-                for (const char* integrator_name : {"euler", "rk4", "dopri5"})
-                    expect_steps_allocate_nothing(model, path, type, integrator_name);
-                std::printf("%-30s %-12s covered\n", path.c_str(), type.c_str());
-            } catch (const std::exception& e) {
-                ADD_FAILURE() << e.what();
-            }
-            ++pairs;
         }
     }
     std::printf("%d scene x formulation pairs covered, %d excluded\n", pairs, excluded);
     EXPECT_EQ(pairs + excluded + skipped, 4 * static_cast<int>(allocation_scenes().size()));
-    EXPECT_EQ(excluded, only ? excluded : 2);
+    EXPECT_EQ(excluded, skipped ? excluded : 2);
     EXPECT_EQ(skipped, 0) << "MBD_ALLOCATION_PAIRS left pairs out";
 }
 
@@ -177,8 +187,7 @@ TEST(Allocations, NoneWhenThePartitionIsReselected) {
     for (const char* path : {"dynamics/four-bar-conservative.yaml", "dynamics/slider-crank.yaml"}) {
         const mbd::Model model = mbd::test::load(path);
         for (const char* type : {"embedding", "amalgamated", "hamiltonian"}) {
-            const char* only = std::getenv("MBD_ALLOCATION_PAIRS");  // as above, for tracing
-            if (only && (std::string(path) + " with " + type).find(only) == std::string::npos) continue;
+            if (!selected(path, type)) continue;
             SCOPED_TRACE(std::string(path) + " with " + type);
             std::vector<double> times = reselection_times(model, type, 1.0);
             times.erase(std::remove_if(times.begin(), times.end(), [](double t) { return t <= 0.0; }), times.end());

@@ -18,7 +18,8 @@
 // inverse of Eqs. 6.142-6.145):
 //     S = J M^-1 J^T,   S lambda = J M^-1 Q - gamma,   vdot = M^-1 (Q - J^T lambda).
 // With M^-1 = Lm Lm^T (per-body Cholesky factors) S = W W^T, W = J Lm.
-//   dense : S by a rank update of W, LDL^T with symmetric pivoting (Eigen LDLT);
+//   dense : S summed body block by body block and factored L L^T, or L D L^T with
+//           symmetric pivoting when ill-conditioned (sdk dense_gram.hpp);
 //           a (near) rank-deficient S (redundant constraints) falls back to the
 //           minimum-norm solution by a complete orthogonal decomposition, accepted
 //           only if the acceleration constraints are then satisfied.
@@ -30,6 +31,8 @@
 // (Newton on C(q, t) = 0 with steps of minimum kinetic-energy norm,
 // dq = -M^-1 J^T S^-1 C, then v <- v - M^-1 J^T S^-1 (J v + C_t)); Baumgarte
 // (book Sec. 6.12, L9420-9442: gamma - 2 alpha (J v + C_t) - beta^2 C); or none.
+#include <mbd/sdk/block_mass_inverse.hpp>
+#include <mbd/sdk/dense_gram.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/ode_state.hpp>
 #include <mbd/sdk/projection.hpp>
@@ -39,9 +42,6 @@
 #include "sparse_gram.hpp"
 
 #include <Eigen/Dense>
-
-extern "C" {
-}
 
 #include <algorithm>
 #include <cmath>
@@ -84,7 +84,7 @@ private:
     // x <- S^-1 x (after factor())
     void solve_S(Eigen::VectorXd& x);
     // out = M^-1 x
-    void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const;
+    void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const { mass_inverse_.apply(x, out); }
     void redundant_rows_error(double t, const char* what) const;
     // rows dependent at the first evaluated (assembled) state: see dropped_
     void find_structural_redundancy(double t);
@@ -100,16 +100,14 @@ private:
     int nb_ = 0, nq_ = 0, nv_ = 0, nc_ = 0, nvb_ = 3, nqb_ = 3;
 
     // per body: M^-1 block and its lower Cholesky factor Lm (M^-1 = Lm Lm^T)
-    std::vector<Eigen::Matrix<double, 6, 6>> minv_, lm_;
+    BlockMassInverse mass_inverse_;
 
     // scratch (allocated in bind)
     State state_;
     ConstraintValues cv_;
     Eigen::VectorXd Q_, vdot_, lambda_, b_, tmp_nv_, tmp_nv2_, tmp_nc_, r_nc_, dv_;
     ProjectionScratch projection_;
-    // dense path
-    Eigen::MatrixXd Jd_;
-    DenseGram dense_;  // S = W W^T, W = J Lm
+    DenseGram dense_;  // dense path: S formed by body blocks
     // near rank-deficient S: the pseudo-inverse (dense) or damped least squares (sparse)
     bool rank_deficient_ = false;
     // sparse path: S = W W^T on W's fixed pattern
@@ -144,20 +142,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
               (options_.algebra == LinearAlgebra::Auto && nv_ > options_.sparse_threshold);
 
     // M^-1 per body and its Cholesky factor (M is constant: book Eqs. 6.61-6.63)
-    const Eigen::SparseMatrix<double>& M = system.mass_matrix();
-    minv_.assign(nb_, Eigen::Matrix<double, 6, 6>::Zero());
-    lm_.assign(nb_, Eigen::Matrix<double, 6, 6>::Zero());
-    for (int b = 0; b < nb_; ++b) {
-        const int o = b * nvb_;
-        const Eigen::MatrixXd block = Eigen::MatrixXd(M.block(o, o, nvb_, nvb_));
-        const Eigen::MatrixXd inv = block.inverse();
-        Eigen::LLT<Eigen::MatrixXd> llt(inv);
-        if (llt.info() != Eigen::Success)
-            throw InputError("", "augmented formulation: the mass matrix of body '" + system.body(b).name +
-                                     "' is not positive definite");
-        minv_[b].topLeftCorner(nvb_, nvb_) = inv;
-        lm_[b].topLeftCorner(nvb_, nvb_) = llt.matrixL();
-    }
+    mass_inverse_.bind(system, "augmented formulation");
 
     state_.t = 0.0;
     state_.q.setZero(nq_);
@@ -181,7 +166,6 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     redundancy_checked_ = false;
 
     if (!sparse_) {
-        Jd_.setZero(nc_, nv_);
         dense_.resize(nc_, nv_);
         return;
     }
@@ -216,15 +200,6 @@ void Augmented::to_ode(const State& state, Eigen::VectorXd& y) { qv_to_ode(state
 
 void Augmented::from_ode(double t, const Eigen::VectorXd& y, State& state) {
     qv_from_ode(t, y, nq_, nv_, state);
-}
-
-void Augmented::apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const {
-    if (planar_) {
-        for (int b = 0; b < nb_; ++b)
-            out.segment<3>(3 * b).noalias() = minv_[b].topLeftCorner<3, 3>() * x.segment<3>(3 * b);
-    } else {
-        for (int b = 0; b < nb_; ++b) out.segment<6>(6 * b).noalias() = minv_[b] * x.segment<6>(6 * b);
-    }
 }
 
 void Augmented::check_finite(double t, const Eigen::VectorXd& x, const char* what) const {
@@ -268,18 +243,8 @@ void Augmented::factor(double t, const char* what, bool robust) {
     rank_deficient_ = false;
     if (nc_ == 0) return;
     if (!sparse_) {
-        Jd_ = J;
-        Eigen::MatrixXd& W = dense_.W();  // J Lm, body by body
-        for (int b = 0; b < nb_; ++b) {
-            const int o = b * nvb_;
-            if (planar_)
-                W.middleCols<3>(o).noalias() = Jd_.middleCols<3>(o) * lm_[b].topLeftCorner<3, 3>();
-            else
-                W.middleCols<6>(o).noalias() = Jd_.middleCols<6>(o) * lm_[b];
-        }
-        for (int r : dropped_) W.row(r).setZero();
         // a decoupled (left-out) row: its multiplier is its (zero) right-hand side
-        const double pivot_ratio = dense_.factor_ldlt(dropped_);
+        const double pivot_ratio = dense_.factor(J, mass_inverse_, dropped_);
         if (!dropped_.empty() && !robust && pivot_ratio <= 1e-6 && reselect_dropped_rows(t)) {
             factor(t, what, robust);  // with the new selection (it differs, so this recursion ends)
             return;
@@ -287,7 +252,7 @@ void Augmented::factor(double t, const char* what, bool robust) {
         if (robust || pivot_ratio <= 1e-8) {
             // (near) rank deficient (redundant constraints, or close to it): the minimum-norm
             // multipliers (dense_gram.hpp); the caller checks J vdot = gamma
-            dense_.factor_pseudo_inverse();
+            dense_.factor_pseudo_inverse(J, mass_inverse_, dropped_);
             rank_deficient_ = true;
         }
         return;
@@ -303,7 +268,7 @@ void Augmented::factor(double t, const char* what, bool robust) {
         for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
             if (is_dropped_[it.row()]) continue;
             for (int j = 0; j <= i; ++j) {
-                const double l = lm_[b](i, j);
+                const double l = mass_inverse_.factor(b)(i, j);
                 if (l == 0.0) continue;
                 const int col = b * nvb_ + j;
                 const int* begin = wi + wp[col];
@@ -365,11 +330,7 @@ void Augmented::find_structural_redundancy(double t) {
 // allows. Their number is fixed at the first selection (the rank deficiency of the assembled
 // state). Returns whether the selection changed.
 bool Augmented::reselect_dropped_rows(double t) {
-    Eigen::MatrixXd W(nc_, nv_);
-    for (int b = 0; b < nb_; ++b) {
-        const int o = b * nvb_;
-        W.middleCols(o, nvb_).noalias() = Jd_.middleCols(o, nvb_) * lm_[b].topLeftCorner(nvb_, nvb_);
-    }
+    const Eigen::MatrixXd& W = dense_.form_W(cv_.J, mass_inverse_);
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.transpose());
     qr.setThreshold(1e-8);
     const int count = dropped_.empty() ? nc_ - static_cast<int>(qr.rank()) : static_cast<int>(dropped_.size());
@@ -429,6 +390,8 @@ void Augmented::solve_dynamics(double t) {
         tmp_nv2_.noalias() = cv_.J.transpose() * lambda_;
         tmp_nv2_ = Q_ - tmp_nv2_;
         apply_Minv(tmp_nv2_, vdot_);
+        // J vdot - gamma_s = b - S lambda: round-off after a well-conditioned Cholesky
+        if (!sparse_ && dense_.well_conditioned() && vdot_.allFinite() && lambda_.allFinite()) return;
         // the acceleration constraints must hold (J vdot = gamma_s, Eq. 6.139): this
         // catches a singular saddle point that the factorization did not flag
         if (vdot_.allFinite() && lambda_.allFinite()) {

@@ -1,6 +1,7 @@
 // The statics result: polish, angle wrapping, residual, diagnosis and stability (equilibrium.hpp).
 #include "equilibrium.hpp"
 
+#include "dense_decompositions.hpp"
 #include "ipopt_common.hpp"
 
 #include <Eigen/Dense>
@@ -38,17 +39,8 @@ void dense_stability(const Eigen::MatrixXd& K_blocks, const Eigen::MatrixXd& A, 
                      StaticsResult& res) {
     const Eigen::Index nv = K_blocks.rows();
     const Eigen::MatrixXd K = 0.5 * (K_blocks + K_blocks.transpose());
-    Eigen::MatrixXd Z;
-    if (A.rows() == 0) {
-        Z = Eigen::MatrixXd::Identity(nv, nv);
-    } else {
-        Eigen::BDCSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
-        const Eigen::VectorXd& s = svd.singularValues();
-        int rank = 0;
-        for (int i = 0; i < s.size(); ++i)
-            if (s[i] > 1e-9 * std::max(1.0, s[0])) ++rank;
-        Z = svd.matrixV().rightCols(nv - rank);
-    }
+    int rank = 0;
+    const Eigen::MatrixXd Z = null_space(A, static_cast<int>(nv), rank, 1e-9);
     res.tangent_dimension = static_cast<int>(Z.cols());
     if (Z.cols() == 0) {
         res.stability = "stable";  // fully constrained: no motion possible
@@ -56,8 +48,7 @@ void dense_stability(const Eigen::MatrixXd& K_blocks, const Eigen::MatrixXd& A, 
         return;
     }
     const Eigen::MatrixXd H = Z.transpose() * K * Z;
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (H + H.transpose()));
-    res.tangent_eigenvalues = eig.eigenvalues();
+    symmetric_eigen(H, res.tangent_eigenvalues);
     const double scale = std::max(1.0, K.cwiseAbs().maxCoeff());
     res.stability = classify(res.tangent_eigenvalues.minCoeff(), stability_tolerance * scale);
 }

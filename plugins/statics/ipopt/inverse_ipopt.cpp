@@ -8,6 +8,7 @@
 // Redundant: minimum sum w tau^2, the weighted pseudo-inverse solution; when it
 // violates a bound, an Ipopt QP (min 1/2 tau^T W tau, G tau = h, lo <= tau <= hi).
 // Then lambda from J_j^T lambda = B tau - r (least squares, exact when consistent).
+#include "dense_decompositions.hpp"
 #include "evaluator.hpp"
 #include "ipopt_common.hpp"
 
@@ -100,20 +101,6 @@ private:
     Eigen::VectorXd h_, w_, lo_, hi_, start_;
 };
 
-// Orthonormal basis of the null space of A (rows x n), and the rank.
-Eigen::MatrixXd null_space(const Eigen::MatrixXd& A, int n, int& rank) {
-    if (A.rows() == 0) {
-        rank = 0;
-        return Eigen::MatrixXd::Identity(n, n);
-    }
-    Eigen::BDCSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
-    const Eigen::VectorXd& s = svd.singularValues();
-    rank = 0;
-    for (int i = 0; i < s.size(); ++i)
-        if (s[i] > 1e-10 * std::max(1.0, s[0])) ++rank;
-    return svd.matrixV().rightCols(n - rank);
-}
-
 class IpoptInverse final : public InverseSolver {
 public:
     void bind(System& system, const InverseOptions& options) override {
@@ -162,7 +149,7 @@ private:
     void require_prescribed_motion(const ConstraintValues& all, const Eigen::VectorXd& acceleration, double t) const {
         const int nv = sys_->nv();
         int rank = 0;
-        null_space(Eigen::MatrixXd(all.J), nv, rank);
+        null_space(Eigen::MatrixXd(all.J), nv, rank, 1e-10);
         if (rank < nv) {
             throw DynamicsError(t, "the drivers do not prescribe the motion at t = " + format_time(t) + ": " +
                                        std::to_string(nv - rank) +
@@ -190,7 +177,7 @@ private:
             for (const auto& e : c.grad) eq.B(e.first, a) += e.second;
         }
         int rank_j = 0;
-        const Eigen::MatrixXd Z = null_space(eq.Jj, nv, rank_j);
+        const Eigen::MatrixXd Z = null_space(eq.Jj, nv, rank_j, 1e-10);
         eq.G0 = Z.transpose() * eq.B;
         eq.h0 = Z.transpose() * eq.r;
         eq.w.resize(na);
@@ -248,8 +235,7 @@ private:
                                        " at t = " + format_time(t) + ", outside its bounds [" + format_number(act.lo) +
                                        ", " + format_number(act.hi) + "] (the efforts are unique: fully actuated)");
         // reduce to independent rows, then the bounded QP
-        Eigen::JacobiSVD<Eigen::MatrixXd> svd(eq.G0, Eigen::ComputeThinU);
-        const Eigen::MatrixXd U = svd.matrixU().leftCols(rank_g);
+        const Eigen::MatrixXd U = singular_value_decomposition(eq.G0, false, 1e-10).U.leftCols(rank_g);
         const Eigen::MatrixXd G = U.transpose() * eq.G0;
         const Eigen::VectorXd h = U.transpose() * eq.h0;
         Ipopt::SmartPtr<EffortQP> qp = new EffortQP(G, h, eq.w, eq.lo, eq.hi, tau.cwiseMax(eq.lo).cwiseMin(eq.hi));

@@ -20,6 +20,7 @@
 // Z an orthonormal basis of ker J (SVD). Dense: meant for nv <= 600.
 #pragma once
 
+#include "dense_decompositions.hpp"
 #include "evaluator.hpp"
 
 #include <Eigen/Dense>
@@ -118,15 +119,12 @@ private:
         sys_.constraints(s, cv, true);
         C_ = cv.C;
         J_ = Eigen::MatrixXd(cv.J);
-        svd_.compute(J_, Eigen::ComputeFullU | Eigen::ComputeFullV);
-        const Eigen::VectorXd& sv = svd_.singularValues();
-        rank_ = 0;
-        for (int i = 0; i < sv.size(); ++i)
-            if (sv[i] > 1e-10 * std::max(1.0, sv[0])) ++rank_;
-        Z_ = svd_.matrixV().rightCols(nv_ - rank_);
+        svd_ = singular_value_decomposition(J_, true, 1e-10);
+        rank_ = svd_.rank;
+        Z_ = svd_.V.rightCols(nv_ - rank_);
         // lambda = (J^T)^+ Q = U_r S_r^-1 V_r^T Q
-        const Eigen::VectorXd w = svd_.matrixV().leftCols(rank_).transpose() * Q_;
-        lambda_ = svd_.matrixU().leftCols(rank_) * w.cwiseQuotient(sv.head(rank_));
+        const Eigen::VectorXd w = svd_.V.leftCols(rank_).transpose() * Q_;
+        lambda_ = svd_.U.leftCols(rank_) * w.cwiseQuotient(svd_.values.head(rank_));
         R_ = Q_ - J_.transpose() * lambda_;
     }
 
@@ -143,10 +141,11 @@ private:
     bool unstable_direction(Eigen::VectorXd& direction) const {
         if (Z_.cols() == 0) return false;
         const Eigen::MatrixXd H = Z_.transpose() * K_ * Z_;
-        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (H + H.transpose()));
+        Eigen::VectorXd values;
+        Eigen::MatrixXd vectors;
         const double tol = stability_tolerance_ * std::max(1.0, K_.cwiseAbs().maxCoeff());
-        if (eig.info() != Eigen::Success || eig.eigenvalues()[0] >= -tol) return false;
-        direction = Z_ * eig.eigenvectors().col(0);
+        if (!symmetric_eigen(H, values, &vectors) || values[0] >= -tol) return false;
+        direction = Z_ * vectors.col(0);
         return true;
     }
 
@@ -156,8 +155,8 @@ private:
         for (int i = 0; i < nv_; ++i) A(i, i) += d0 / (unit_[i] * unit_[i] * dtau);
         Eigen::VectorXd dx_p = Eigen::VectorXd::Zero(nv_);
         if (mc_ > 0 && rank_ > 0) {
-            const Eigen::VectorXd w = svd_.matrixU().leftCols(rank_).transpose() * C_;
-            dx_p = -svd_.matrixV().leftCols(rank_) * w.cwiseQuotient(svd_.singularValues().head(rank_));
+            const Eigen::VectorXd w = svd_.U.leftCols(rank_).transpose() * C_;
+            dx_p = -svd_.V.leftCols(rank_) * w.cwiseQuotient(svd_.values.head(rank_));
         }
         dx = dx_p;
         if (Z_.cols() > 0) {
@@ -176,7 +175,7 @@ private:
     int nv_, mc_, rank_ = 0;
     Eigen::VectorXd C_, Q_, lambda_, R_;
     Eigen::MatrixXd J_, Z_, K_;
-    Eigen::BDCSVD<Eigen::MatrixXd> svd_;
+    SingularValueDecomposition svd_;
 };
 
 }  // namespace mbd::ipopt_plugin

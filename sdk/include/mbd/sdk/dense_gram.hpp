@@ -1,16 +1,35 @@
-// S = W W^T for a dense W: the constraint rows' matrix in the kinetic-energy metric,
-// S = J M^-1 J^T with W = J Lm (M^-1 = Lm Lm^T), of the augmented formulation (book
-// Eq. 6.141) and of the coordinate projection (projection.hpp). Factored L D L^T with
-// symmetric pivoting; (nearly) rank deficient, solved through the minimum-norm
-// S^+ = (W^T)^+ W^+ from complete orthogonal decompositions of W, whose condition is the
-// square root of S's (singular values below 1e-10 of the largest count as zero). All
-// storage is sized by resize(): factoring and solving allocate nothing.
+// S = J M^-1 J^T, dense, for small systems: the constraint rows' matrix in the
+// kinetic-energy metric, of the augmented formulation (book Eq. 6.141) and of the
+// coordinate projection (projection.hpp).
+//
+// Formed by body blocks: M is block diagonal, so S = sum_b J_b M_b^-1 J_b^T over the
+// bodies, where J_b holds the rows of the joints and drivers that touch body b (a row
+// touches at most two bodies). The rows of each body are read once from J's sparsity
+// pattern, which is fixed for the life of a System; a product then costs
+// sum_b k_b^2 n_b instead of the n_c^2 n_v of a dense W W^T.
+//
+// Factored by an unpivoted Cholesky L L^T, the cheapest factorization of a well-conditioned
+// S; when a pivot, relative to its diagonal entry, falls to 1e-7 or below (or the
+// factorization fails), by L D L^T with symmetric pivoting, whose pivot ratio tells the
+// caller how near to rank deficient S is. A (nearly)
+// rank deficient S is solved through the minimum-norm S^+ = (W^T)^+ W^+ with W = J Lm
+// (M^-1 = Lm Lm^T), from complete orthogonal decompositions of W, whose condition is the
+// square root of S's (singular values below 1e-10 of the largest count as zero).
+//
+// Rows in `decoupled` are left out: their entries of S are zero but for a unit diagonal
+// scaled to S, so that their solution is their right-hand side over that scale (the caller
+// zeroes it). All storage is sized by resize() and the first factorization: factoring and
+// solving allocate nothing after that.
 #pragma once
 
+#include <mbd/sdk/block_mass_inverse.hpp>
 #include <mbd/sdk/pseudo_inverse.hpp>
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace mbd {
@@ -19,74 +38,228 @@ class DenseGram {
 public:
     void resize(int rows, int cols) {
         W_.setZero(rows, cols);
-        Wt_.setZero(cols, rows);
         S_.setZero(rows, rows);
         w_.setZero(cols);
+        skip_.assign(rows, 0);
         // size the factorizations' storage once by computing on zeros (a size-constructed
         // Eigen decomposition leaves its status uninitialized: undefined behaviour when copied)
         if (rows > 0) {
+            L_.setZero(rows, rows);
+            inverse_diagonal_.setZero(rows);
             ldlt_.compute(S_);
             cod_w_.compute(W_);
             cod_wt_.compute(W_.transpose());
         }
         pinv_w_.resize(rows, cols);
         pinv_wt_.resize(cols, rows);
-        pseudo_ = false;
+        rows_of_body_.clear();
+        slot_.clear();
+        method_ = Method::Cholesky;
     }
 
-    // W, filled by the caller before factoring.
-    Eigen::MatrixXd& W() { return W_; }
-
-    // S = W W^T, with the decoupled rows (their rows of W zero) given a unit diagonal scaled
-    // to S, so that their solution is their right-hand side over that scale (the caller zeroes
-    // it); then L D L^T. Returns min D / max |D|, or 0 when the factorization failed: at or
-    // below about 1e-8, S is (nearly) rank deficient.
-    double factor_ldlt(const std::vector<int>& decoupled = {}) {
-        pseudo_ = false;
+    // Forms S = J M^-1 J^T and factors it. Returns how far S is from rank deficient: the
+    // Cholesky path's least relative pivot (above 1e-7), else the pivoted L D L^T's
+    // min D / max |D|, or 0 when that failed. At or below about 1e-8, S is (nearly) rank
+    // deficient.
+    double factor(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& m,
+                  const std::vector<int>& decoupled = {}) {
+        method_ = Method::Cholesky;
         if (S_.rows() == 0) return 1.0;
-        // the lower triangle of W W^T as dot products of W's rows, each contiguous in Wt_: a
-        // blocked product (rankUpdate) allocates its packing buffers on the heap once W passes
-        // a few hundred entries
-        Wt_ = W_.transpose();
-        S_.triangularView<Eigen::Lower>() = Wt_.transpose().lazyProduct(Wt_);
-        if (!decoupled.empty()) {
-            const double unit = std::max(S_.diagonal().maxCoeff(), 1e-300);
-            for (int r : decoupled) S_(r, r) = unit;
+        form_S(J, m, decoupled);
+        // Each pivot relative to its row's diagonal entry is the squared sine of the angle
+        // between that row of W = J Lm and the rows before it, blind to the rows' units and
+        // scales (unlike the pivots' own ratio). Above 1e-7, S is well-conditioned up to a
+        // diagonal scaling, where Cholesky is accurate. With decoupled rows the caller
+        // re-selects them at a pivoted ratio of 1e-6: that needs the pivoted factorization.
+        if (decoupled.empty()) {
+            const double ratio = cholesky();
+            if (ratio > 1e-7) return ratio;
         }
+        method_ = Method::PivotedLDLT;
         ldlt_.compute(S_);
         const auto D = ldlt_.vectorD();
         const double dmax = D.cwiseAbs().maxCoeff();
         if (ldlt_.info() != Eigen::Success || !(dmax > 0)) return 0.0;
         return D.minCoeff() / dmax;
     }
-    // The minimum-norm path instead (after factor_ldlt() or on its own).
-    void factor_pseudo_inverse() {
+
+    // The minimum-norm path instead (after factor() or on its own).
+    void factor_pseudo_inverse(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& m,
+                               const std::vector<int>& decoupled = {}) {
+        form_W(J, m, decoupled);
         cod_w_.setThreshold(1e-10);
         cod_wt_.setThreshold(1e-10);
         cod_w_.compute(W_);
         cod_wt_.compute(W_.transpose());
-        pseudo_ = true;
+        method_ = Method::PseudoInverse;
     }
-    bool pseudo_inverse() const { return pseudo_; }
+    bool pseudo_inverse() const { return method_ == Method::PseudoInverse; }
+    // The Cholesky path was taken: S is well-conditioned up to a diagonal scaling, so S x = b
+    // is solved to round-off (no residual check needed).
+    bool well_conditioned() const { return method_ == Method::Cholesky; }
+
+    // W = J Lm, its decoupled rows zero.
+    const Eigen::MatrixXd& form_W(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& m,
+                                  const std::vector<int>& decoupled = {}) {
+        const int nvb = m.velocities_per_body();
+        W_.setZero();
+        for (int col = 0; col < J.outerSize(); ++col) {
+            const int b = col / nvb, k = col % nvb;
+            for (Eigen::SparseMatrix<double>::InnerIterator it(J, col); it; ++it)
+                W_.row(it.row()).segment(b * nvb, nvb) += it.value() * m.factor(b).row(k).head(nvb);
+        }
+        for (int r : decoupled) W_.row(r).setZero();
+        return W_;
+    }
 
     // x <- S^-1 x, or S^+ x after factor_pseudo_inverse().
     void solve(Eigen::VectorXd& x) {
         if (x.size() == 0) return;
-        if (pseudo_) {
+        switch (method_) {
+        case Method::Cholesky:
+            cholesky_solve(x);
+            break;
+        case Method::PivotedLDLT:
+            ldlt_.solveInPlace(x);
+            break;
+        case Method::PseudoInverse:
             pinv_w_.solve(cod_w_, x, w_);   // W^+ x
             pinv_wt_.solve(cod_wt_, w_, x);  // (W^T)^+ W^+ x
-        } else {
-            ldlt_.solveInPlace(x);
+            break;
         }
     }
 
 private:
-    Eigen::MatrixXd W_, Wt_, S_;
+    enum class Method { Cholesky, PivotedLDLT, PseudoInverse };
+
+    // The rows of each body, and where each of J's entries lands in its body's block, from
+    // J's pattern (once: the pattern is fixed).
+    void analyze(const Eigen::SparseMatrix<double>& J, int nvb) {
+        const int bodies = static_cast<int>(J.cols()) / nvb;
+        rows_of_body_.assign(bodies, {});
+        for (int col = 0; col < J.outerSize(); ++col)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(J, col); it; ++it)
+                rows_of_body_[col / nvb].push_back(static_cast<int>(it.row()));
+        int most = 0;
+        for (auto& rows : rows_of_body_) {
+            std::sort(rows.begin(), rows.end());
+            rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+            most = std::max(most, static_cast<int>(rows.size()));
+        }
+        slot_.assign(J.nonZeros(), 0);
+        for (int col = 0; col < J.outerSize(); ++col) {
+            const auto& rows = rows_of_body_[col / nvb];
+            for (Eigen::Index p = J.outerIndexPtr()[col]; p < J.outerIndexPtr()[col + 1]; ++p)
+                slot_[p] = static_cast<int>(std::lower_bound(rows.begin(), rows.end(), J.innerIndexPtr()[p]) -
+                                            rows.begin());
+        }
+        body_rows_.assign(6 * most, 0.0);
+        analyzed_nonzeros_ = J.nonZeros();
+    }
+
+    // The lower triangle of S, body block by body block (the header's sum).
+    void form_S(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& m, const std::vector<int>& decoupled) {
+        const int nvb = m.velocities_per_body();
+        if (rows_of_body_.empty() || analyzed_nonzeros_ != J.nonZeros()) analyze(J, nvb);
+        for (int r : decoupled) skip_[r] = 1;
+        S_.triangularView<Eigen::Lower>().setZero();
+        for (int b = 0; b < static_cast<int>(rows_of_body_.size()); ++b) {
+            if (nvb == 3)
+                add_body<3>(J, m, b);
+            else
+                add_body<6>(J, m, b);
+        }
+        if (!decoupled.empty()) {
+            const double unit = std::max(S_.diagonal().maxCoeff(), 1e-300);
+            for (int r : decoupled) {
+                S_(r, r) = unit;
+                skip_[r] = 0;
+            }
+        }
+    }
+
+    // S = L L^T, unpivoted, into L_'s lower triangle (right-looking: each update is a
+    // contiguous column operation, independent of the others). Returns the least pivot relative
+    // to its diagonal entry of S, 0 on failure. Written out rather than Eigen's LLT, whose
+    // blocked path costs several times more on the few dozen rows of the dense path.
+    double cholesky() {
+        const Eigen::Index n = S_.rows();
+        L_.triangularView<Eigen::Lower>() = S_.triangularView<Eigen::Lower>();
+        double* l = L_.data();
+        double least = 1.0;
+        for (Eigen::Index k = 0; k < n; ++k) {
+            double* column_k = l + k * n;
+            const double pivot = column_k[k];
+            if (!(pivot > 0.0) || !(S_(k, k) > 0.0)) return 0.0;
+            least = std::min(least, pivot / S_(k, k));
+            const double root = std::sqrt(pivot), inverse = 1.0 / root;
+            column_k[k] = root;
+            inverse_diagonal_[k] = inverse;
+            for (Eigen::Index i = k + 1; i < n; ++i) column_k[i] *= inverse;
+            for (Eigen::Index j = k + 1; j < n; ++j) {
+                double* column_j = l + j * n;
+                const double factor = column_k[j];
+                for (Eigen::Index i = j; i < n; ++i) column_j[i] -= factor * column_k[i];
+            }
+        }
+        return least;
+    }
+    // x <- (L L^T)^-1 x
+    void cholesky_solve(Eigen::VectorXd& x) const {
+        const Eigen::Index n = L_.rows();
+        const double* l = L_.data();
+        double* y = x.data();
+        for (Eigen::Index k = 0; k < n; ++k) {  // L y = x, column by column
+            const double* column_k = l + k * n;
+            y[k] *= inverse_diagonal_[k];
+            for (Eigen::Index i = k + 1; i < n; ++i) y[i] -= y[k] * column_k[i];
+        }
+        for (Eigen::Index k = n - 1; k >= 0; --k) {  // L^T x = y, row k of L^T is column k of L
+            const double* column_k = l + k * n;
+            double sum = y[k];
+            for (Eigen::Index i = k + 1; i < n; ++i) sum -= column_k[i] * y[i];
+            y[k] = sum * inverse_diagonal_[k];
+        }
+    }
+
+    // S += J_b M_b^-1 J_b^T on body b's rows (N velocities per body); the rows of J_b and of
+    // J_b M_b^-1 contiguous, so that each entry of S is one N-long dot product
+    template <int N>
+    void add_body(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& m, int b) {
+        using Row = Eigen::Matrix<double, 1, N>;
+        const auto& rows = rows_of_body_[b];
+        const int k = static_cast<int>(rows.size());
+        if (k == 0) return;
+        double* jb = body_rows_.data();
+        std::fill(jb, jb + k * N, 0.0);
+        for (int c = 0; c < N; ++c) {
+            const int col = b * N + c;
+            for (Eigen::Index p = J.outerIndexPtr()[col]; p < J.outerIndexPtr()[col + 1]; ++p)
+                if (!skip_[J.innerIndexPtr()[p]]) jb[slot_[p] * N + c] = J.valuePtr()[p];
+        }
+        const Eigen::Matrix<double, N, N> minv = m.inverse(b).template topLeftCorner<N, N>();
+        const Eigen::Index n = S_.rows();
+        double* s = S_.data();
+        for (int i = 0; i < k; ++i) {
+            const Row x = Eigen::Map<const Row>(jb + i * N) * minv;  // a local: S's stores cannot alias it
+            double* row_i = s + rows[i];
+            for (int j = 0; j <= i; ++j) row_i[rows[j] * n] += x.dot(Eigen::Map<const Row>(jb + j * N));
+        }
+    }
+
+    Eigen::MatrixXd W_, S_;
     Eigen::VectorXd w_;
+    std::vector<char> skip_;
+    std::vector<std::vector<int>> rows_of_body_;
+    std::vector<int> slot_;  // per entry of J: its row's place in its body's rows
+    Eigen::Index analyzed_nonzeros_ = -1;
+    std::vector<double> body_rows_;  // J_b, row by row
+    Eigen::MatrixXd L_;  // the Cholesky factor, lower
+    Eigen::VectorXd inverse_diagonal_;  // 1 / L(i, i)
     Eigen::LDLT<Eigen::MatrixXd> ldlt_;
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
     PseudoInverseSolver pinv_w_, pinv_wt_;
-    bool pseudo_ = false;
+    Method method_ = Method::Cholesky;
 };
 
 }  // namespace mbd

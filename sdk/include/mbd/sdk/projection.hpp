@@ -96,50 +96,22 @@ bool project_onto_constraints(System& system, double t, ProjectionScratch& work,
     return false;
 }
 
-// A dense S = J M^-1 J^T solver for project_onto_constraints (dense_gram.hpp).
-// M is block diagonal (one block per body), so M^-1 and its Cholesky factor Lm are too:
-// W = J Lm is formed from J's nonzeros block by block, and M^-1 x body by body, in
-// O(nnz(J) n_b) and O(n_v n_b) with n_b velocities per body, without a dense product that
-// would allocate its blocking buffers on large systems.
+// A dense S = J M^-1 J^T solver for project_onto_constraints (dense_gram.hpp: S formed by
+// body blocks; M^-1 applied body by body).
 class DenseMetricSolver {
 public:
     void bind(System& system) {
-        nvb_ = velocities_per_body(system.dimension());
-        const int bodies = system.body_count();
-        const Eigen::SparseMatrix<double>& M = system.mass_matrix();
-        minv_.assign(bodies, Block::Zero());
-        lm_.assign(bodies, Block::Zero());
-        for (int b = 0; b < bodies; ++b) {
-            const int o = b * nvb_;
-            const Eigen::MatrixXd block = Eigen::MatrixXd(M.block(o, o, nvb_, nvb_));
-            Eigen::MatrixXd inv = block.inverse();
-            inv = 0.5 * (inv + inv.transpose());
-            minv_[b].topLeftCorner(nvb_, nvb_) = inv;
-            lm_[b].topLeftCorner(nvb_, nvb_) = Eigen::LLT<Eigen::MatrixXd>(inv).matrixL();
-        }
+        mass_inverse_.bind(system, "coordinate projection");
         gram_.resize(system.constraint_rows(true), system.nv());
     }
-    void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const {
-        for (size_t b = 0; b < minv_.size(); ++b)
-            out.segment(b * nvb_, nvb_).noalias() =
-                minv_[b].topLeftCorner(nvb_, nvb_) * x.segment(b * nvb_, nvb_);
-    }
+    void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const { mass_inverse_.apply(x, out); }
     void factor(const Eigen::SparseMatrix<double>& J, bool robust) {
-        Eigen::MatrixXd& W = gram_.W();
-        W.setZero();
-        for (int col = 0; col < J.outerSize(); ++col) {
-            const int b = col / nvb_, k = col % nvb_;
-            for (Eigen::SparseMatrix<double>::InnerIterator it(J, col); it; ++it)
-                W.row(it.row()).segment(b * nvb_, nvb_) += it.value() * lm_[b].row(k).head(nvb_);
-        }
-        if (robust || gram_.factor_ldlt() <= 1e-8) gram_.factor_pseudo_inverse();
+        if (robust || gram_.factor(J, mass_inverse_) <= 1e-8) gram_.factor_pseudo_inverse(J, mass_inverse_);
     }
     void solve(Eigen::VectorXd& x) { gram_.solve(x); }
 
 private:
-    using Block = Eigen::Matrix<double, 6, 6>;
-    int nvb_ = 3;
-    std::vector<Block> minv_, lm_;  // per body: M^-1 and its lower Cholesky factor
+    BlockMassInverse mass_inverse_;
     DenseGram gram_;
 };
 
