@@ -117,6 +117,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     nvb_ = velocities_per_body(system.dimension());
     Mdense_ = Eigen::MatrixXd(system.mass_matrix());
     metric_.bind(system);
+    singularity_.metric_distortion = metric_.metric_distortion();
     singularity_.reset();
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
@@ -276,7 +277,8 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     }
     if (singularity_.active(sys)) {
         if (!projected) sys.constraints(state_, cv_, true);
-        singularity_.check(sys, t, cv_.J);  // cv_ at the (projected) positions
+        // cv_ at the (projected) positions, where the velocity projection last factored S
+        singularity_.check(sys, t, cv_.J, projected ? metric_.least_relative_pivot() : 0.0);
     }
     y.head(nq_) = state_.q;
     y.tail(nv_) = state_.v;

@@ -86,6 +86,11 @@ private:
     // out = M^-1 x
     void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const { mass_inverse_.apply(x, out); }
     void redundant_rows_error(double t, const char* what) const;
+    // the last factorization's least relative pivot (singularity.hpp's screen), 0 if robust
+    double last_relative_pivot() const {
+        if (rank_deficient_ || !dropped_.empty()) return 0.0;
+        return sparse_ ? sparse_gram_.least_relative_pivot() : dense_.least_relative_pivot();
+    }
     // rows dependent at the first evaluated (assembled) state: see dropped_
     void find_structural_redundancy(double t);
     bool reselect_dropped_rows(double t);
@@ -143,6 +148,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
 
     // M^-1 per body and its Cholesky factor (M is constant: book Eqs. 6.61-6.63)
     mass_inverse_.bind(system, "augmented formulation");
+    singularity_.metric_distortion = mass_inverse_.distortion();
 
     state_.t = 0.0;
     state_.q.setZero(nq_);
@@ -467,7 +473,8 @@ bool Augmented::project(double t, Eigen::VectorXd& y) {
         keep_all_rows();
         return project(t, y);
     }
-    singularity_.check(sys, t, cv_.J);  // cv_ is at the projected positions
+    // cv_ is at the projected positions, where the velocity projection last factored S
+    singularity_.check(sys, t, cv_.J, last_relative_pivot());
     y.head(nq_) = state_.q;
     y.tail(nv_) = state_.v;
     return true;

@@ -79,11 +79,15 @@ bool SparseGram::factor(double delta) {
     failed_row_ = -1;
     const double smallest = 1e-14 * max_diagonal_;
     const Eigen::VectorXd& D = ldlt_.diagonal();
-    for (int k = 0; k < D.size(); ++k)
+    least_relative_pivot_ = 1.0;
+    for (int k = 0; k < D.size(); ++k) {
         if (!(D[k] > smallest)) {
             failed_row_ = original_row_[k];
+            least_relative_pivot_ = 0.0;
             return false;
         }
+        least_relative_pivot_ = std::min(least_relative_pivot_, D[k] / s[diagonal_[original_row_[k]]]);
+    }
     return ldlt_.info() == Eigen::Success;
 }
 

@@ -40,6 +40,10 @@ public:
     int failed_row() const { return failed_row_; }
     // The largest diagonal entry of the undamped S (after factor()).
     double max_diagonal() const { return max_diagonal_; }
+    // The least pivot of the last factorization relative to its diagonal entry of S (damped,
+    // when delta > 0): the squared sine of the angle between a row of W and the rows before it
+    // in the ordering, near 0 when the rows are nearly dependent; 0 after a failure.
+    double least_relative_pivot() const { return least_relative_pivot_; }
     // x <- (W W^T + delta I)^-1 x, with `refinements` steps of iterative refinement
     // against the undamped W W^T.
     void solve(Eigen::VectorXd& x, int refinements);
@@ -61,6 +65,7 @@ private:
     Eigen::VectorXd b_, y_, r_, w_, correction_;
     int failed_row_ = -1;
     double max_diagonal_ = 0.0;
+    double least_relative_pivot_ = 0.0;
 };
 
 }  // namespace mbd

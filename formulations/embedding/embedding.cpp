@@ -35,7 +35,8 @@ public:
     void bind(System& system, const FormulationOptions& options) override {
         std::string reason;
         const bool tree = recursive_embedding_possible(system, &reason);
-        bool recursive = path_ == "recursive" || (path_ == "auto" && tree);
+        const bool recursive = path_ == "recursive" || (path_ == "auto" && tree);
+        recursive_ = recursive;
         if (recursive)
             impl_ = std::make_unique<articulated::ArticulatedBody>();
         else
@@ -55,8 +56,9 @@ public:
     bool project(double t, Eigen::VectorXd& y) override {
         if (!impl_->project(t, y)) return false;
         // a rank drop of J (joints + drivers) at the accepted state is a singular configuration
-        // (singularity.hpp): checked here for both paths, once per accepted step
-        if (singularity_.active(*system_)) {
+        // (singularity.hpp), checked once per accepted step; not on the recursive path, where
+        // the rows of a tree are independent by construction
+        if (!recursive_ && singularity_.active(*system_)) {
             impl_->from_ode(t, y, check_state_);
             system_->constraints(check_state_, check_cv_, true);
             singularity_.check(*system_, t, check_cv_.J);
@@ -72,6 +74,7 @@ private:
     std::string path_ = "auto";             // auto | dense | recursive
     std::vector<std::string> independent_;  // velocity components to prefer as independent ("crank.angle")
     std::unique_ptr<Formulation> impl_;
+    bool recursive_ = false;
     System* system_ = nullptr;
     SingularityMonitor singularity_;
     State check_state_;

@@ -11,6 +11,9 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,6 +31,7 @@ public:
         const Eigen::SparseMatrix<double>& M = system.mass_matrix();
         inverse_.assign(bodies, Block::Zero());
         factor_.assign(bodies, Block::Zero());
+        double least = std::numeric_limits<double>::infinity(), largest = 0.0;
         for (int b = 0; b < bodies; ++b) {
             const int o = b * nvb_;
             const Eigen::MatrixXd block = Eigen::MatrixXd(M.block(o, o, nvb_, nvb_));
@@ -39,8 +43,15 @@ public:
                                          "' is not positive definite");
             inverse_[b].topLeftCorner(nvb_, nvb_) = inv;
             factor_[b].topLeftCorner(nvb_, nvb_) = llt.matrixL();
+            const Eigen::VectorXd eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(inv).eigenvalues();
+            least = std::min(least, eigenvalues.minCoeff());
+            largest = std::max(largest, eigenvalues.maxCoeff());
         }
+        distortion_ = bodies > 0 ? std::sqrt(largest / least) : 1.0;
     }
+    // sqrt(cond M): the most that the kinetic-energy metric stretches one direction of
+    // velocity space against another
+    double distortion() const { return distortion_; }
 
     int bodies() const { return static_cast<int>(inverse_.size()); }
     int velocities_per_body() const { return nvb_; }
@@ -61,6 +72,7 @@ public:
 private:
     int nvb_ = 3;
     std::vector<Block> inverse_, factor_;
+    double distortion_ = 1.0;
 };
 
 }  // namespace mbd

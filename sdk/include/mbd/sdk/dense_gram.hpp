@@ -71,9 +71,10 @@ public:
         // scales (unlike the pivots' own ratio). Above 1e-7, S is well-conditioned up to a
         // diagonal scaling, where Cholesky is accurate. With decoupled rows the caller
         // re-selects them at a pivoted ratio of 1e-6: that needs the pivoted factorization.
+        least_relative_pivot_ = 0.0;
         if (decoupled.empty()) {
             const double ratio = cholesky();
-            if (ratio > 1e-7) return ratio;
+            if (ratio > 1e-7) return least_relative_pivot_ = ratio;
         }
         method_ = Method::PivotedLDLT;
         ldlt_.compute(S_);
@@ -97,6 +98,9 @@ public:
     // The Cholesky path was taken: S is well-conditioned up to a diagonal scaling, so S x = b
     // is solved to round-off (no residual check needed).
     bool well_conditioned() const { return method_ == Method::Cholesky; }
+    // After the Cholesky path, its least pivot relative to the diagonal entry of S (the
+    // squared sine of the angle between a row of W = J Lm and the rows before it); else 0.
+    double least_relative_pivot() const { return method_ == Method::Cholesky ? least_relative_pivot_ : 0.0; }
 
     // W = J Lm, its decoupled rows zero.
     const Eigen::MatrixXd& form_W(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& m,
@@ -260,6 +264,7 @@ private:
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
     PseudoInverseSolver pinv_w_, pinv_wt_;
     Method method_ = Method::Cholesky;
+    double least_relative_pivot_ = 0.0;
 };
 
 }  // namespace mbd

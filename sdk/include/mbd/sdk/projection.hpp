@@ -109,6 +109,10 @@ public:
         if (robust || gram_.factor(J, mass_inverse_) <= 1e-8) gram_.factor_pseudo_inverse(J, mass_inverse_);
     }
     void solve(Eigen::VectorXd& x) { gram_.solve(x); }
+    // for the singular-configuration screen (singularity.hpp): the last factorization's least
+    // relative pivot (0 after the robust path) and the metric's distortion sqrt(cond M)
+    double least_relative_pivot() const { return gram_.least_relative_pivot(); }
+    double metric_distortion() const { return mass_inverse_.distortion(); }
 
 private:
     BlockMassInverse mass_inverse_;

@@ -13,6 +13,19 @@
 // sparse systems rely on their factorization's own diagnostics (the augmented
 // formulation's CHOLMOD minor / residual check, the partition's pivots).
 //
+// A screen spares the QR on most steps. A formulation that has just factored
+// S = J M^-1 J^T at the accepted state passes the least pivot of that factorization relative
+// to its diagonal entry, rho: the squared sine of the angle between a row of J and the rows
+// before it, in the kinetic-energy metric. That metric distorts angles by at most
+// metric_distortion = sqrt(cond M) (set by the formulation), and the QR's |R_kk| / |R_00|
+// also scales with the rows' norms; so when the reference rank is full and
+//     sqrt(rho) / metric_distortion * (least row norm / largest row norm) >= 10 tolerance,
+// no pivot of the QR can fall below the tolerance, and the QR is skipped. Otherwise (or
+// without a factorization) the QR decides as before. Augmented and amalgamated pass the
+// velocity projection's factorization; hamiltonian and the dense embedding pass none. The
+// recursive embedding does not call the check: on a tree the rows are independent by
+// construction.
+//
 // Formulation key: singularity_tolerance (FormulationOptions::singularity_tolerance: relative,
 // default 1e-5; 0 disables the check).
 #pragma once
@@ -25,6 +38,7 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -34,10 +48,12 @@ class SingularityMonitor {
 public:
     double tolerance = 1e-5;  // relative pivot tolerance of the rank test; 0 disables (FormulationOptions)
     double max_work = 1e7;    // skip above nc * nv * min(nc, nv)
+    double metric_distortion = 1.0;  // sqrt(cond M) of the caller's metric (see the header)
 
     // forget the reference rank (bind(): the next check sets it)
     void reset() { reference_ = -1; }
     int reference_rank() const { return reference_; }
+    int qr_count() const { return qr_count_; }  // how many checks needed the QR (diagnostics)
 
     bool active(System& system) const {
         const double nc = system.constraint_rows(true), nv = system.nv();
@@ -46,8 +62,12 @@ public:
 
     // J at an accepted (projected) state at time t. The first call sets the reference
     // rank; a later call with a lower rank throws DynamicsError naming the dependent rows.
-    void check(System& system, double t, const Eigen::SparseMatrix<double>& J) {
+    // least_relative_pivot: of the caller's factorization of J M^-1 J^T at this state, or
+    // 0 when it has none (see the header).
+    void check(System& system, double t, const Eigen::SparseMatrix<double>& J, double least_relative_pivot = 0.0) {
         if (!active(system) || J.rows() == 0) return;
+        if (reference_ == J.rows() && screened_full_rank(J, least_relative_pivot)) return;
+        ++qr_count_;
         Jt_ = J.transpose();  // in place: Jt_ and qr_ keep their storage from call to call
         qr_.compute(Jt_);
         qr_.setThreshold(tolerance);
@@ -73,7 +93,21 @@ public:
     }
 
 private:
+    // the header's screen
+    bool screened_full_rank(const Eigen::SparseMatrix<double>& J, double least_relative_pivot) {
+        if (!(least_relative_pivot > 0.0)) return false;
+        row_norms_.setZero(J.rows());
+        for (int c = 0; c < J.outerSize(); ++c)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it)
+                row_norms_[it.row()] += it.value() * it.value();
+        const double largest = row_norms_.maxCoeff(), least = row_norms_.minCoeff();
+        if (!(largest > 0.0) || !(least > 0.0)) return false;
+        return std::sqrt(least_relative_pivot * least / largest) / metric_distortion >= 10.0 * tolerance;
+    }
+
     int reference_ = -1;
+    int qr_count_ = 0;
+    Eigen::VectorXd row_norms_;  // squared
     Eigen::MatrixXd Jt_;
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr_;
 };
