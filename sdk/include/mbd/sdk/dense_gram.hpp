@@ -8,10 +8,11 @@
 // pattern, which is fixed for the life of a System; a product then costs
 // sum_b k_b^2 n_b instead of the n_c^2 n_v of a dense W W^T.
 //
-// Factored by an unpivoted Cholesky L L^T, the cheapest factorization of a well-conditioned
-// S; when a pivot, relative to its diagonal entry, falls to 1e-7 or below (or the
-// factorization fails), by L D L^T with symmetric pivoting, whose pivot ratio tells the
-// caller how near to rank deficient S is. A (nearly)
+// Factored by Cholesky with symmetric (diagonal) pivoting, P S P^T = L L^T: at each step the
+// largest remaining diagonal entry is the pivot, the order of Eigen's L D L^T, so the ratio of
+// the least to the largest pivot tells the caller, as that factorization's did, how near to
+// rank deficient S is; written out because Eigen's costs several times more on the few dozen
+// rows of the dense path. A (nearly)
 // rank deficient S is solved through the minimum-norm S^+ = (W^T)^+ W^+ with W = J Lm
 // (M^-1 = Lm Lm^T), from complete orthogonal decompositions of W, whose condition is the
 // square root of S's (singular values below 1e-10 of the largest count as zero).
@@ -30,6 +31,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace mbd {
@@ -46,7 +48,8 @@ public:
         if (rows > 0) {
             L_.setZero(rows, rows);
             inverse_diagonal_.setZero(rows);
-            ldlt_.compute(S_);
+            permuted_.setZero(rows);
+            order_.assign(rows, 0);
             cod_w_.compute(W_);
             cod_wt_.compute(W_.transpose());
         }
@@ -57,31 +60,15 @@ public:
         method_ = Method::Cholesky;
     }
 
-    // Forms S = J M^-1 J^T and factors it. Returns how far S is from rank deficient: the
-    // Cholesky path's least relative pivot (above 1e-7), else the pivoted L D L^T's
-    // min D / max |D|, or 0 when that failed. At or below about 1e-8, S is (nearly) rank
-    // deficient.
+    // Forms S = J M^-1 J^T and factors it. Returns the least pivot over the largest (the
+    // largest diagonal entry of S), or 0 when a pivot is not positive: at or below about 1e-8,
+    // S is (nearly) rank deficient.
     double factor(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& m,
                   const std::vector<int>& decoupled = {}) {
         method_ = Method::Cholesky;
         if (S_.rows() == 0) return 1.0;
         form_S(J, m, decoupled);
-        // Each pivot relative to its row's diagonal entry is the squared sine of the angle
-        // between that row of W = J Lm and the rows before it, blind to the rows' units and
-        // scales (unlike the pivots' own ratio). Above 1e-7, S is well-conditioned up to a
-        // diagonal scaling, where Cholesky is accurate. With decoupled rows the caller
-        // re-selects them at a pivoted ratio of 1e-6: that needs the pivoted factorization.
-        least_relative_pivot_ = 0.0;
-        if (decoupled.empty()) {
-            const double ratio = cholesky();
-            if (ratio > 1e-7) return least_relative_pivot_ = ratio;
-        }
-        method_ = Method::PivotedLDLT;
-        ldlt_.compute(S_);
-        const auto D = ldlt_.vectorD();
-        const double dmax = D.cwiseAbs().maxCoeff();
-        if (ldlt_.info() != Eigen::Success || !(dmax > 0)) return 0.0;
-        return D.minCoeff() / dmax;
+        return cholesky();
     }
 
     // The minimum-norm path instead (after factor() or on its own).
@@ -95,11 +82,12 @@ public:
         method_ = Method::PseudoInverse;
     }
     bool pseudo_inverse() const { return method_ == Method::PseudoInverse; }
-    // The Cholesky path was taken: S is well-conditioned up to a diagonal scaling, so S x = b
-    // is solved to round-off (no residual check needed).
+    // The Cholesky path was taken (not the minimum-norm one): S x = b is solved by a backward
+    // stable factorization, to a residual of round-off.
     bool well_conditioned() const { return method_ == Method::Cholesky; }
     // After the Cholesky path, its least pivot relative to the diagonal entry of S (the
-    // squared sine of the angle between a row of W = J Lm and the rows before it); else 0.
+    // squared sine of the angle between a row of W = J Lm and the rows eliminated before it);
+    // else 0.
     double least_relative_pivot() const { return method_ == Method::Cholesky ? least_relative_pivot_ : 0.0; }
 
     // W = J Lm, its decoupled rows zero.
@@ -123,9 +111,6 @@ public:
         case Method::Cholesky:
             cholesky_solve(x);
             break;
-        case Method::PivotedLDLT:
-            ldlt_.solveInPlace(x);
-            break;
         case Method::PseudoInverse:
             pinv_w_.solve(cod_w_, x, w_);   // W^+ x
             pinv_wt_.solve(cod_wt_, w_, x);  // (W^T)^+ W^+ x
@@ -134,7 +119,7 @@ public:
     }
 
 private:
-    enum class Method { Cholesky, PivotedLDLT, PseudoInverse };
+    enum class Method { Cholesky, PseudoInverse };
 
     // The rows of each body, and where each of J's entries lands in its body's block, from
     // J's pattern (once: the pattern is fixed).
@@ -182,20 +167,31 @@ private:
         }
     }
 
-    // S = L L^T, unpivoted, into L_'s lower triangle (right-looking: each update is a
-    // contiguous column operation, independent of the others). Returns the least pivot relative
-    // to its diagonal entry of S, 0 on failure. Written out rather than Eigen's LLT, whose
-    // blocked path costs several times more on the few dozen rows of the dense path.
+    // P S P^T = L L^T into L_'s lower triangle, pivoting on the largest remaining diagonal
+    // entry (right-looking: each update is a contiguous column operation). Returns the least
+    // pivot over the largest, 0 when a pivot is not positive; sets least_relative_pivot_.
     double cholesky() {
         const Eigen::Index n = S_.rows();
         L_.triangularView<Eigen::Lower>() = S_.triangularView<Eigen::Lower>();
+        for (Eigen::Index k = 0; k < n; ++k) order_[k] = static_cast<int>(k);
         double* l = L_.data();
-        double least = 1.0;
+        double largest = 0.0, least = std::numeric_limits<double>::infinity();
+        least_relative_pivot_ = 1.0;
         for (Eigen::Index k = 0; k < n; ++k) {
+            Eigen::Index p = k;
+            for (Eigen::Index i = k + 1; i < n; ++i)
+                if (l[i * n + i] > l[p * n + p]) p = i;
+            if (p != k) swap_symmetric(k, p);
             double* column_k = l + k * n;
             const double pivot = column_k[k];
-            if (!(pivot > 0.0) || !(S_(k, k) > 0.0)) return 0.0;
-            least = std::min(least, pivot / S_(k, k));
+            const double diagonal = S_(order_[k], order_[k]);
+            if (!(pivot > 0.0) || !(diagonal > 0.0)) {
+                least_relative_pivot_ = 0.0;
+                return 0.0;
+            }
+            largest = std::max(largest, pivot);
+            least = std::min(least, pivot);
+            least_relative_pivot_ = std::min(least_relative_pivot_, pivot / diagonal);
             const double root = std::sqrt(pivot), inverse = 1.0 / root;
             column_k[k] = root;
             inverse_diagonal_[k] = inverse;
@@ -206,24 +202,36 @@ private:
                 for (Eigen::Index i = j; i < n; ++i) column_j[i] -= factor * column_k[i];
             }
         }
-        return least;
+        return least / largest;
     }
-    // x <- (L L^T)^-1 x
-    void cholesky_solve(Eigen::VectorXd& x) const {
+    // Exchanges rows and columns k < p of the symmetric matrix whose lower triangle L_ holds
+    // (columns before k already hold factor entries: their rows k and p trade places).
+    void swap_symmetric(Eigen::Index k, Eigen::Index p) {
+        const Eigen::Index n = L_.rows();
+        for (Eigen::Index j = 0; j < k; ++j) std::swap(L_(k, j), L_(p, j));
+        std::swap(L_(k, k), L_(p, p));
+        for (Eigen::Index i = k + 1; i < p; ++i) std::swap(L_(i, k), L_(p, i));
+        for (Eigen::Index i = p + 1; i < n; ++i) std::swap(L_(i, k), L_(i, p));
+        std::swap(order_[k], order_[p]);
+    }
+    // x <- S^-1 x = P^T (L L^T)^-1 P x
+    void cholesky_solve(Eigen::VectorXd& x) {
         const Eigen::Index n = L_.rows();
         const double* l = L_.data();
-        double* y = x.data();
-        for (Eigen::Index k = 0; k < n; ++k) {  // L y = x, column by column
+        double* y = permuted_.data();
+        for (Eigen::Index k = 0; k < n; ++k) y[k] = x[order_[k]];
+        for (Eigen::Index k = 0; k < n; ++k) {  // L y = P x, column by column
             const double* column_k = l + k * n;
             y[k] *= inverse_diagonal_[k];
             for (Eigen::Index i = k + 1; i < n; ++i) y[i] -= y[k] * column_k[i];
         }
-        for (Eigen::Index k = n - 1; k >= 0; --k) {  // L^T x = y, row k of L^T is column k of L
+        for (Eigen::Index k = n - 1; k >= 0; --k) {  // L^T z = y; row k of L^T is column k of L
             const double* column_k = l + k * n;
             double sum = y[k];
             for (Eigen::Index i = k + 1; i < n; ++i) sum -= column_k[i] * y[i];
             y[k] = sum * inverse_diagonal_[k];
         }
+        for (Eigen::Index k = 0; k < n; ++k) x[order_[k]] = y[k];
     }
 
     // S += J_b M_b^-1 J_b^T on body b's rows (N velocities per body); the rows of J_b and of
@@ -260,7 +268,8 @@ private:
     std::vector<double> body_rows_;  // J_b, row by row
     Eigen::MatrixXd L_;  // the Cholesky factor, lower
     Eigen::VectorXd inverse_diagonal_;  // 1 / L(i, i)
-    Eigen::LDLT<Eigen::MatrixXd> ldlt_;
+    Eigen::VectorXd permuted_;          // P x
+    std::vector<int> order_;            // row k of P S P^T is row order_[k] of S
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
     PseudoInverseSolver pinv_w_, pinv_wt_;
     Method method_ = Method::Cholesky;
