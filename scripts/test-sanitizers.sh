@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # The whole test suite built with AddressSanitizer and UndefinedBehaviorSanitizer (issue 8),
-# in its own folder build-sanitize (-O1, no benchmarks). A sanitizer report fails its test:
-# ASan aborts on the first error and UBSan does not recover (-fno-sanitize-recover=all).
-# CI runs it after scripts/test.sh.
+# in its own folder build-sanitize (clang, -O1, no benchmarks). A sanitizer report fails its
+# test: ASan aborts on the first error and UBSan does not recover (-fno-sanitize-recover=all).
+# The same build holds the libFuzzer targets (MBD_FUZZ: the code is instrumented for coverage),
+# so that CI's bounded fuzzing (scripts/fuzz-ci.sh) reuses it instead of building everything a
+# third time. CI runs it after scripts/test.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh  # clang and libclang-rt-dev among them
 cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
-  -DMBD_SANITIZE=ON -DMBD_BUILD_BENCH=OFF ${MBD_CMAKE_ARGS:-}
+  -DCMAKE_CXX_COMPILER=clang++ -DMBD_SANITIZE=ON -DMBD_FUZZ=ON -DMBD_BUILD_BENCH=OFF ${MBD_CMAKE_ARGS:-}
 cmake --build build-sanitize -j2
 cd build-sanitize
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:check_initialization_order=1}

@@ -18,8 +18,8 @@
 // inverse of Eqs. 6.142-6.145):
 //     S = J M^-1 J^T,   S lambda = J M^-1 Q - gamma,   vdot = M^-1 (Q - J^T lambda).
 // With M^-1 = Lm Lm^T (per-body Cholesky factors) S = W W^T, W = J Lm.
-//   dense : S summed body block by body block and factored L L^T, or L D L^T with
-//           symmetric pivoting when ill-conditioned (sdk dense_gram.hpp);
+//   dense : S summed body block by body block and factored by Cholesky with symmetric
+//           pivoting (sdk dense_gram.hpp);
 //           a (near) rank-deficient S (redundant constraints) falls back to the
 //           minimum-norm solution by a complete orthogonal decomposition, accepted
 //           only if the acceleration constraints are then satisfied.
