@@ -8,11 +8,13 @@
 // pattern, which is fixed for the life of a System; a product then costs
 // sum_b k_b^2 n_b instead of the n_c^2 n_v of a dense W W^T.
 //
-// Factored by Cholesky with symmetric (diagonal) pivoting, P S P^T = L L^T: at each step the
-// largest remaining diagonal entry is the pivot, the order of Eigen's L D L^T, so the ratio of
-// the least to the largest pivot tells the caller, as that factorization's did, how near to
-// rank deficient S is; written out because Eigen's costs several times more on the few dozen
-// rows of the dense path. A (nearly)
+// Factored by Cholesky with symmetric pivoting on the equilibrated matrix: each pivot is
+// measured against its row's diagonal entry of S (so the rows' units and scales do not count),
+// the largest such relative pivot is taken next, and the least one tells the caller how near
+// to rank deficient S is: about the inverse of the condition of D S D, D = diag(S)^-1/2 (for a
+// chain with mass ratios 1e12, 1e-12; for the car axis, whose unequilibrated pivots span 1e9,
+// 1e-6). Written out because Eigen's LDL^T costs several times more on the few dozen rows of the
+// dense path. A (nearly)
 // rank deficient S is solved through the minimum-norm S^+ = (W^T)^+ W^+ with W = J Lm
 // (M^-1 = Lm Lm^T), from complete orthogonal decompositions of W, whose condition is the
 // square root of S's (singular values below 1e-10 of the largest count as zero).
@@ -49,6 +51,7 @@ public:
             L_.setZero(rows, rows);
             inverse_diagonal_.setZero(rows);
             permuted_.setZero(rows);
+            inverse_scale_.setZero(rows);
             order_.assign(rows, 0);
             cod_w_.compute(W_);
             cod_wt_.compute(W_.transpose());
@@ -60,9 +63,9 @@ public:
         method_ = Method::Cholesky;
     }
 
-    // Forms S = J M^-1 J^T and factors it. Returns the least pivot over the largest (the
-    // largest diagonal entry of S), or 0 when a pivot is not positive: at or below about 1e-8,
-    // S is (nearly) rank deficient.
+    // Forms S = J M^-1 J^T and factors it. Returns the least relative pivot (see the header),
+    // or 0 when a pivot is not positive: at or below about 1e-8, S is (nearly) rank deficient
+    // or too ill-conditioned for the Cholesky solve.
     double factor(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& m,
                   const std::vector<int>& decoupled = {}) {
         method_ = Method::Cholesky;
@@ -86,8 +89,8 @@ public:
     // stable factorization, to a residual of round-off.
     bool well_conditioned() const { return method_ == Method::Cholesky; }
     // After the Cholesky path, its least pivot relative to the diagonal entry of S (the
-    // squared sine of the angle between a row of W = J Lm and the rows eliminated before it);
-    // else 0.
+    // squared sine of the angle between a row of W = J Lm and the rows eliminated before it,
+    // about the inverse condition of the equilibrated S); else 0.
     double least_relative_pivot() const { return method_ == Method::Cholesky ? least_relative_pivot_ : 0.0; }
 
     // W = J Lm, its decoupled rows zero.
@@ -167,31 +170,28 @@ private:
         }
     }
 
-    // P S P^T = L L^T into L_'s lower triangle, pivoting on the largest remaining diagonal
-    // entry (right-looking: each update is a contiguous column operation). Returns the least
-    // pivot over the largest, 0 when a pivot is not positive; sets least_relative_pivot_.
+    // P S P^T = L L^T into L_'s lower triangle, taking next the largest pivot relative to its
+    // row's diagonal entry of S (right-looking: each update is a contiguous column operation).
+    // Returns the least relative pivot, 0 when a pivot is not positive.
     double cholesky() {
         const Eigen::Index n = S_.rows();
         L_.triangularView<Eigen::Lower>() = S_.triangularView<Eigen::Lower>();
-        for (Eigen::Index k = 0; k < n; ++k) order_[k] = static_cast<int>(k);
+        for (Eigen::Index k = 0; k < n; ++k) {
+            order_[k] = static_cast<int>(k);
+            if (!(S_(k, k) > 0.0)) return least_relative_pivot_ = 0.0;
+            inverse_scale_[k] = 1.0 / S_(k, k);
+        }
         double* l = L_.data();
-        double largest = 0.0, least = std::numeric_limits<double>::infinity();
         least_relative_pivot_ = 1.0;
         for (Eigen::Index k = 0; k < n; ++k) {
             Eigen::Index p = k;
             for (Eigen::Index i = k + 1; i < n; ++i)
-                if (l[i * n + i] > l[p * n + p]) p = i;
+                if (l[i * n + i] * inverse_scale_[order_[i]] > l[p * n + p] * inverse_scale_[order_[p]]) p = i;
             if (p != k) swap_symmetric(k, p);
             double* column_k = l + k * n;
             const double pivot = column_k[k];
-            const double diagonal = S_(order_[k], order_[k]);
-            if (!(pivot > 0.0) || !(diagonal > 0.0)) {
-                least_relative_pivot_ = 0.0;
-                return 0.0;
-            }
-            largest = std::max(largest, pivot);
-            least = std::min(least, pivot);
-            least_relative_pivot_ = std::min(least_relative_pivot_, pivot / diagonal);
+            if (!(pivot > 0.0)) return least_relative_pivot_ = 0.0;
+            least_relative_pivot_ = std::min(least_relative_pivot_, pivot * inverse_scale_[order_[k]]);
             const double root = std::sqrt(pivot), inverse = 1.0 / root;
             column_k[k] = root;
             inverse_diagonal_[k] = inverse;
@@ -202,7 +202,7 @@ private:
                 for (Eigen::Index i = j; i < n; ++i) column_j[i] -= factor * column_k[i];
             }
         }
-        return least / largest;
+        return least_relative_pivot_;
     }
     // Exchanges rows and columns k < p of the symmetric matrix whose lower triangle L_ holds
     // (columns before k already hold factor entries: their rows k and p trade places).
@@ -269,6 +269,7 @@ private:
     Eigen::MatrixXd L_;  // the Cholesky factor, lower
     Eigen::VectorXd inverse_diagonal_;  // 1 / L(i, i)
     Eigen::VectorXd permuted_;          // P x
+    Eigen::VectorXd inverse_scale_;     // 1 / S(i, i)
     std::vector<int> order_;            // row k of P S P^T is row order_[k] of S
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
     PseudoInverseSolver pinv_w_, pinv_wt_;
