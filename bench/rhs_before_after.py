@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 # Per-rhs cost of every formulation in two builds, side by side (docs/benchmarks.md):
 #   bench/rhs_before_after.py OLD_BUILD/bin/bench_rhs NEW_BUILD/bin/bench_rhs [SCENE.yaml...]
-# Runs the two bench_rhs programs interleaved, three times each, on the same scene files
-# (default: chain-5, chain-50, car-axis and a05-flyball of scenes/bench) and prints the median
-# of the three medians per scene and formulation, and their ratio, as a markdown table.
+# Runs the two bench_rhs programs interleaved, MBD_RHS_ROUNDS times each (default 7), on the same
+# scene files (default: chain-5, chain-50, car-axis and a05-flyball of scenes/bench) and prints,
+# per scene and formulation, the median over the rounds of each program's time and the median
+# over the rounds of the ratio old / new within a round: the two runs of a round are seconds
+# apart, so a shared machine's slow and fast spells cancel in the ratio.
 import collections
 import os
 import statistics
@@ -19,7 +21,8 @@ env = dict(os.environ)
 env.pop("MBD_PLUGIN_PATH", None)  # each build loads its own plugins
 times = {"old": collections.defaultdict(list), "new": collections.defaultdict(list)}
 sizes, order = {}, []
-for _ in range(3):
+rounds = int(os.environ.get("MBD_RHS_ROUNDS", "7"))
+for _ in range(rounds):
     for tree, program in (("old", sys.argv[1]), ("new", sys.argv[2])):
         out = subprocess.run([program] + scenes, capture_output=True, text=True, env=env, check=True).stdout
         for line in out.splitlines():
@@ -34,4 +37,5 @@ print("| scene | n_v | formulation | before [us] | after [us] | speed-up |")
 print("| --- | --- | --- | --- | --- | --- |")
 for key in order:
     before, after = statistics.median(times["old"][key]), statistics.median(times["new"][key])
-    print("| %s | %s | %s | %.2f | %.2f | %.2fx |" % (key[0], sizes[key[0]], key[1], before, after, before / after))
+    ratio = statistics.median(o / n for o, n in zip(times["old"][key], times["new"][key]))
+    print("| %s | %s | %s | %.2f | %.2f | %.2fx |" % (key[0], sizes[key[0]], key[1], before, after, ratio))
