@@ -87,7 +87,7 @@ public:
     bool pseudo_inverse() const { return method_ == Method::PseudoInverse; }
     // The Cholesky path was taken (not the minimum-norm one): S x = b is solved by a backward
     // stable factorization, to a residual of round-off.
-    bool well_conditioned() const { return method_ == Method::Cholesky; }
+    bool well_conditioned() const { return method_ == Method::Cholesky && least_relative_pivot_ > 0.0; }
     // After the Cholesky path, its least pivot relative to the diagonal entry of S (the
     // squared sine of the angle between a row of W = J Lm and the rows eliminated before it,
     // about the inverse condition of the equilibrated S); else 0.
