@@ -57,6 +57,13 @@ public:
         build();
         return std::move(model_);
     }
+    // A scene already read into a Param tree (`base:` merged): its keys' lines are the
+    // lines of their values.
+    Model load_document(Param root) {
+        root_ = std::move(root);
+        build();
+        return std::move(model_);
+    }
 
 private:
     // --- locations and key checks
