@@ -17,6 +17,8 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 namespace {
 
@@ -590,6 +592,26 @@ TEST(StaticsInput, LimitsOnAJointWithoutCoordinateAndInfeasibleLimits) {
     expect_input_error("dimension: planar\nbodies:\n  - {name: rod, mass: 1, inertia: 1}\njoints:\n"
                        "  - name: pin\n    type: revolute\n    bodies: [ground, rod]\n    limits: [1, 0]\n",
                        "bad.yaml:8", "infeasible");
+}
+
+// Statics in several threads at once (Python's thread pools do this): Ipopt's sequential MUMPS
+// keeps global state, so the plugin lets one Ipopt solve run at a time; every thread gets the
+// equilibrium of the same solve made alone.
+TEST(Statics, ThreadsAtOnceGiveTheSerialEquilibria) {
+    const mbd::Model four_bar = mbd::test::load("four-bar.yaml");
+    const mbd::Model pendulum = mbd::test::load("statics/pendulum-torque.yaml");
+    const mbd::Model* models[] = {&four_bar, &pendulum};
+    std::vector<mbd::StaticsReport> serial, parallel(8);
+    for (int k = 0; k < 8; ++k) serial.push_back(statics(*models[k % 2]));
+    std::vector<std::thread> threads;
+    for (int k = 0; k < 8; ++k) threads.emplace_back([&, k] { parallel[k] = statics(*models[k % 2]); });
+    for (std::thread& t : threads) t.join();
+    for (int k = 0; k < 8; ++k) {
+        SCOPED_TRACE(k);
+        ASSERT_TRUE(serial[k].result.converged && parallel[k].result.converged);
+        EXPECT_EQ(parallel[k].result.state.q, serial[k].result.state.q);
+        EXPECT_EQ(parallel[k].result.lambda, serial[k].result.lambda);
+    }
 }
 
 }  // namespace

@@ -49,8 +49,9 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 std::vector<fs::path> Registry::default_search_path() {
     std::vector<fs::path> path;
     // lib/mbd/plugins beside the folder holding libmbd_core (build and install trees alike)
+    // (normalised: a library found through an RPATH of $ORIGIN/../.. is named through it)
     const fs::path core = boost::dll::this_line_location();
-    path.push_back(core.parent_path() / MBD_PLUGIN_SUBDIR);
+    path.push_back((core.parent_path() / MBD_PLUGIN_SUBDIR).lexically_normal());
     if (const char* extra = std::getenv("MBD_PLUGIN_PATH")) {
         std::stringstream in(extra);
         std::string item;

@@ -137,6 +137,10 @@ void append_reactions(System& system, const State& state, const Eigen::VectorXd&
 
 }  // namespace
 
+long simulation_rows(const SimulationSettings& settings) {
+    return static_cast<long>(output_times_after_start(settings).size()) + 1;
+}
+
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
                           const SimulationCallback& callback) {
     SimulationResult result;
@@ -225,7 +229,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         sample.row = &row;
         ++result.rows;
         result.final_state = sample.state;
-        progress.update(t / settings.t_end, "t = " + format_time(t) + end_text);
+        if (progress.due()) progress.update(t / settings.t_end, "t = " + format_time(t) + end_text);  // text only when shown
         stop_if_interrupted(t);  // the row is complete: a stop signal ends the run here
         return callback ? callback(sample) : true;
     };

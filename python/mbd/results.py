@@ -81,9 +81,11 @@ def _reactions(table, how):
 @dataclasses.dataclass(frozen=True)
 class RunStats:
     """How a simulation went: the formulation and integrator used, output rows, accepted and
-    rejected steps, right-hand side, Jacobian and Newton evaluations, process CPU time of the
-    integration (all threads of the process), wall time of the run, and the constraint
-    violation (max |C|, max |J v + C_t|) at the last row."""
+    rejected steps, right-hand side, Jacobian and Newton evaluations, the process CPU time of
+    the integration (``cpu_s``: all threads of the process, as ``mbd simulate`` reports it),
+    the wall time and the CPU time of the calling thread for the whole run (``wall_s``,
+    ``thread_cpu_s``: the run's own cost also when other threads run at once), and the
+    constraint violation (max |C|, max |J v + C_t|) at the last row."""
 
     formulation: str
     integrator: str
@@ -95,6 +97,7 @@ class RunStats:
     newton_iterations: int
     cpu_s: float
     wall_s: float
+    thread_cpu_s: float
     position_violation: float
     velocity_violation: float
 

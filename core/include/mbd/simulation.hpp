@@ -64,6 +64,10 @@ struct SimulationResult {
 std::vector<std::string> reaction_columns(const Model& model);
 std::vector<std::string> diagnostic_columns();  // kinetic_energy potential_energy constraint_position_violation constraint_velocity_violation
 
+// The output rows of a complete run: t = 0, then every output step to t_end (the last
+// interval may be shorter).
+long simulation_rows(const SimulationSettings& settings);
+
 // Returns false to stop the run early.
 using SimulationCallback = std::function<bool(const SimulationSample& sample)>;
 
