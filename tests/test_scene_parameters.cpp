@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 
@@ -159,10 +161,13 @@ TEST(SceneParameters, TheKeyAtALineIsThePathOfItsNode) {
     // every key found is a path that resolves to a number written at that line
     EXPECT_EQ(mbd::scene_parameter(read, mbd::scene_key_at(read, file, 43)), 100.0);
     EXPECT_EQ(mbd::scene_parameter(read, mbd::scene_key_at(read, file, 30)), 0.0005);
-    // an unnamed element is addressed by its position
-    const mbd::Model unnamed = mbd::test::scene("dimension: planar\nbodies:\n  - mass: 1\n    inertia: 2\n", "u.yaml");
-    EXPECT_EQ(mbd::scene_key_at(*unnamed.document, "u.yaml", 4), "bodies.0.inertia");
-    EXPECT_EQ(mbd::scene_parameter(*unnamed.document, "bodies.0.inertia"), 2.0);
+    // an element without a name (a scene the loader refuses, with the key named) by its position
+    const std::filesystem::path unnamed = mbd::test::scratch("key-at") / "u.yaml";
+    std::ofstream(unnamed) << "dimension: planar\nbodies:\n  - mass: 1\n    inertia: 2\n";
+    const mbd::Param document = mbd::read_scene_document(unnamed);
+    EXPECT_EQ(mbd::scene_key_at(document, unnamed.string(), 3), "bodies.0");
+    EXPECT_EQ(mbd::scene_key_at(document, unnamed.string(), 4), "bodies.0.inertia");
+    EXPECT_EQ(mbd::scene_parameter(document, "bodies.0.inertia"), 2.0);
 }
 
 }  // namespace

@@ -14,8 +14,8 @@ threads run models in parallel.
 import collections
 
 from . import _mbd
-from .errors import (DynamicsError, Error, InputError, KinematicsError, OutputError, PluginError,
-                     SceneError, StaticsError)
+from .errors import (DynamicsError, Error, InputError, KinematicsError, OutputError, PlacedError,
+                     PluginError, SceneError, StaticsError)
 from .model import Model, load
 from .results import CheckReport, InverseResult, RunStats, SimulationResult, StaticsResult, Table
 
@@ -57,5 +57,5 @@ def plugin_problems():
 
 __all__ = ["load", "Model", "plugins", "plugin_path", "default_plugin_path", "set_plugin_path", "plugin_problems",
            "PluginType", "Table", "SimulationResult", "InverseResult", "StaticsResult", "CheckReport", "RunStats",
-           "Error", "InputError", "SceneError", "PluginError", "OutputError", "KinematicsError", "DynamicsError",
-           "StaticsError"]
+           "Error", "InputError", "PlacedError", "SceneError", "PluginError", "OutputError", "KinematicsError",
+           "DynamicsError", "StaticsError"]

@@ -19,8 +19,8 @@ class InputError(Error, ValueError):
         self.where = where
 
 
-class SceneError(InputError):
-    """A scene that cannot be read or built: ``file`` (for Model.from_dict its label),
+class PlacedError(InputError):
+    """An input error at a place of a scene: ``file`` (for Model.from_dict its label),
     ``line`` (None when there is none: a dict has no lines) and ``key``, the path of the key
     at fault in the syntax of Model.with_params (``bodies.crank.mass``), or None."""
 
@@ -31,16 +31,14 @@ class SceneError(InputError):
         self.key = key
 
 
-class PluginError(InputError):
+class SceneError(PlacedError):
+    """A scene that cannot be read or built, or a key path that does not resolve."""
+
+
+class PluginError(PlacedError):
     """A plugin that cannot serve: an unknown type, one built for another plugin ABI, a
     library that does not load, a plugin folder that does not exist. ``file``, ``line`` and
-    ``key`` say where a scene asked for it, as for SceneError (None when no scene did)."""
-
-    def __init__(self, message, file=None, line=None, key=None):
-        super().__init__(message, where=file if line is None else f"{file}:{line}")
-        self.file = file
-        self.line = line
-        self.key = key
+    ``key`` say where a scene asked for it (None when no scene did)."""
 
 
 class OutputError(InputError):

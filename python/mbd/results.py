@@ -57,6 +57,19 @@ class Table:
             raise AttributeError(f"this result has no {what}: {how}")
         return self.data[:, [self._index[n] for n in names]]
 
+    _reactions_how = "ask for reactions=True"
+
+    @property
+    def reactions(self):
+        """rows x joints x 3 (planar fx, fy, tz) or 6 (spatial fx, fy, fz, tx, ty, tz): the
+        reaction on each joint's second body at the joint point, world axes."""
+        return _reactions(self, self._reactions_how)[0]
+
+    @property
+    def reaction_joints(self):
+        """The joints of ``reactions``, in its order."""
+        return _reactions(self, self._reactions_how)[1]
+
     def to_csv(self, path):
         """Write the table as ``mbd`` writes its CSV files: the same columns and numbers (17
         significant digits), to PATH.partial and renamed to PATH once complete. A path that is
@@ -115,20 +128,14 @@ class SimulationResult(Table):
     - ``energies`` (with diagnostics=True): rows x 2, kinetic and potential energy;
     - ``stats``: a RunStats; ``messages``: the engine's messages during the run."""
 
+    _reactions_how = "simulate(..., reactions=True)"
+
     def __init__(self, raw, inputs):
         super().__init__(raw["columns"], raw["data"], inputs)
         self.q = _read_only(raw["q"])
         self.v = _read_only(raw["v"])
         self.stats = RunStats(**raw["stats"])
         self.messages = list(raw["messages"])
-
-    @property
-    def reactions(self):
-        return _reactions(self, "simulate(..., reactions=True)")[0]
-
-    @property
-    def reaction_joints(self):
-        return _reactions(self, "simulate(..., reactions=True)")[1]
 
     @property
     def energies(self):
@@ -140,6 +147,8 @@ class InverseResult(Table):
     """Inverse dynamics: the columns of ``mbd inverse``'s CSV; ``efforts`` (rows x actuators,
     named by ``actuators``) and, with reactions=True, ``reactions`` as in SimulationResult."""
 
+    _reactions_how = "inverse(..., reactions=True)"
+
     def __init__(self, raw, actuators, inputs):
         super().__init__(raw["columns"], raw["data"], inputs)
         self.actuators = list(actuators)
@@ -147,14 +156,6 @@ class InverseResult(Table):
     @property
     def efforts(self):
         return self._block(self.actuators, "actuators", "add 'actuators:' to the scene")
-
-    @property
-    def reactions(self):
-        return _reactions(self, "inverse(..., reactions=True)")[0]
-
-    @property
-    def reaction_joints(self):
-        return _reactions(self, "inverse(..., reactions=True)")[1]
 
 
 class StaticsResult:
