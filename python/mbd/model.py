@@ -22,12 +22,16 @@ def load(path):
     return Model(_mbd.load(os.fspath(path)))
 
 
-def _plain(value):
-    """Mappings as dicts, all the way down (from_dict reads dicts, lists and scalars)."""
+def _plain(value, depth=0):
+    """Mappings as dicts, all the way down (from_dict reads dicts, lists and scalars). Deeper
+    than any scene nests, values are left as they are: the reader refuses them by name (a dict
+    that contains itself, say)."""
+    if depth > 80:
+        return value
     if isinstance(value, collections.abc.Mapping):
-        return {key: _plain(item) for key, item in value.items()}
+        return {key: _plain(item, depth + 1) for key, item in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_plain(item) for item in value]
+        return [_plain(item, depth + 1) for item in value]
     return value
 
 

@@ -33,7 +33,8 @@ struct ModelHandle {
 std::shared_ptr<Registry> current_registry();
 
 // `error` as the Python exception it becomes: PluginError; SceneError when it is about a
-// scene (`reading_scene`, a location with a line, or a ParameterError, whose path is its key),
+// scene (`reading_scene`, a location with a line or that is the scene's file, or a
+// ParameterError, whose path is its key),
 // with its file, line and the key at that location in `document` (when null, the scene file is
 // read again for it); otherwise InputError (an option of a run). In a document from a dict
 // (`from_dict`), node numbers stand for lines: the message names keys instead.

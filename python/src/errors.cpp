@@ -73,7 +73,7 @@ void rethrow_scene_error(const InputError& error, const Param* document, bool fr
     const Location at = parse_location(error.where());
     Failure f{"InputError", error.what(), at.file, "", at.line};
     if (dynamic_cast<const PluginError*>(&error)) f.kind = "PluginError";
-    else if (reading_scene || at.line > 0) f.kind = "SceneError";
+    else if (reading_scene || at.line > 0 || (document && at.file == document->file)) f.kind = "SceneError";
     if (const auto* parameter = dynamic_cast<const ParameterError*>(&error)) {
         f.kind = "SceneError";
         f.key = parameter->path();

@@ -39,6 +39,10 @@ def test_a_misspelt_key_of_a_dict_scene_names_the_key():
     with pytest.raises(mbd.SceneError) as error:  # a value no scene file can hold
         mbd.Model.from_dict({"dimension": "planar", "bodies": [{"name": "b", "mass": {1, 2}}]})
     assert error.value.key == "bodies[0].mass" and "got set" in str(error.value)
+    looped = {"dimension": "planar"}
+    looped["bodies"] = [looped]  # a dict that contains itself
+    with pytest.raises(mbd.SceneError, match="nested more than 64 levels"):
+        mbd.Model.from_dict(looped)
 
 
 def test_a_parameter_that_does_not_resolve_names_the_path_and_near_names():
@@ -151,3 +155,9 @@ def test_results_are_read_only():
     with pytest.raises(ValueError):
         result.q[0, 0] = 1.0
     assert isinstance(result.q, np.ndarray)
+
+
+def test_inverse_dynamics_without_actuators_is_a_scene_error():
+    with pytest.raises(mbd.SceneError, match="needs actuators") as error:
+        mbd.load(SLIDER_CRANK).inverse(0.1, 0.01)
+    assert error.value.file == SLIDER_CRANK
