@@ -601,17 +601,24 @@ TEST(Statics, ThreadsAtOnceGiveTheSerialEquilibria) {
     const mbd::Model four_bar = mbd::test::load("four-bar.yaml");
     const mbd::Model pendulum = mbd::test::load("statics/pendulum-torque.yaml");
     const mbd::Model* models[] = {&four_bar, &pendulum};
-    std::vector<mbd::StaticsReport> serial, parallel(8);
-    for (int k = 0; k < 8; ++k) serial.push_back(statics(*models[k % 2]));
+    const mbd::StaticsReport serial[] = {statics(four_bar), statics(pendulum)};
+    // each thread solves again and again, so that solves overlap however the threads start
+    constexpr int kThreads = 4, kSolves = 12;
+    std::vector<std::vector<mbd::StaticsReport>> parallel(kThreads);
     std::vector<std::thread> threads;
-    for (int k = 0; k < 8; ++k) threads.emplace_back([&, k] { parallel[k] = statics(*models[k % 2]); });
+    for (int k = 0; k < kThreads; ++k)
+        threads.emplace_back([&, k] {
+            for (int s = 0; s < kSolves; ++s) parallel[k].push_back(statics(*models[(k + s) % 2]));
+        });
     for (std::thread& t : threads) t.join();
-    for (int k = 0; k < 8; ++k) {
-        SCOPED_TRACE(k);
-        ASSERT_TRUE(serial[k].result.converged && parallel[k].result.converged);
-        EXPECT_EQ(parallel[k].result.state.q, serial[k].result.state.q);
-        EXPECT_EQ(parallel[k].result.lambda, serial[k].result.lambda);
-    }
+    for (int k = 0; k < kThreads; ++k)
+        for (int s = 0; s < kSolves; ++s) {
+            SCOPED_TRACE("thread " + std::to_string(k) + ", solve " + std::to_string(s));
+            const mbd::StaticsReport& alone = serial[(k + s) % 2];
+            ASSERT_TRUE(alone.result.converged && parallel[k][s].result.converged);
+            EXPECT_EQ(parallel[k][s].result.state.q, alone.result.state.q);
+            EXPECT_EQ(parallel[k][s].result.lambda, alone.result.lambda);
+        }
 }
 
 }  // namespace
