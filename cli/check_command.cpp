@@ -2,15 +2,10 @@
 #include "commands.hpp"
 #include "options.hpp"
 
-#include <mbd/kinematics.hpp>
-#include <mbd/mobility.hpp>
-#include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
-#include <mbd/sdk/topology.hpp>
+#include <mbd/scene_check.hpp>
 #include <mbd/sdk/text.hpp>
-
-#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cstdio>
@@ -73,16 +68,11 @@ void add_check_command(CLI::App& app, Commands& commands) {
             std::cout << "  " << std::left << std::setw(w) << d.name << "drives joint '" << model.joints[d.joint].name
                       << "' (" << model.joints[d.joint].type << ")\n";
 
-        // assemble with the drivers at t = 0
-        const ConstraintSystem system(model, true);
-        Data data(model);
-        State state = model.initial_state();
-        state.t = 0.0;
-        const AssemblyReport assembly = assemble_positions(system, data, state);
-        std::cout << "\nassembled at t = 0 in " << plural(assembly.iterations, "Newton iteration") << " (max |C| = "
-                  << format_number(assembly.residual) << ")\n";
+        const SceneCheck check = check_scene(model, *tolerance);
+        std::cout << "\nassembled at t = 0 in " << plural(check.assembly.iterations, "Newton iteration") << " (max |C| = "
+                  << format_number(check.assembly.residual) << ")\n";
 
-        const MobilityReport mobility = analyse_mobility(model, state, *tolerance);
+        const MobilityReport& mobility = check.mobility;
         std::cout << "coordinates: " << mobility.coordinates << " velocities, " << mobility.constraint_rows
                   << " joint equations, " << mobility.driver_rows << " driver equations\n";
         std::cout << "degrees of freedom (Gruebler count): " << mobility.gruebler_dof << '\n';
@@ -93,32 +83,24 @@ void add_check_command(CLI::App& app, Commands& commands) {
         }
 
         if (!model.drivers.empty()) {
-            ConstraintValues values;
-            system.evaluate(state, data, values);
-            Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr{Eigen::MatrixXd(values.J)};
-            qr.setThreshold(*tolerance);
-            const int full_rank = static_cast<int>(qr.rank());
             const int drivers = static_cast<int>(model.drivers.size());
-            const int free_dof = model.nv() - full_rank;
-            if (full_rank < mobility.rank + drivers)
+            if (check.dependent_driver_rows > 0)
                 std::cout << "warning: the drivers are not independent of each other and the joints ("
-                          << plural(mobility.rank + drivers - full_rank, "redundant driver equation") << ")\n";
-            if (free_dof == 0)
+                          << plural(check.dependent_driver_rows, "redundant driver equation") << ")\n";
+            if (check.kinematically_driven)
                 std::cout << "kinematically driven: yes (" << plural(drivers, "driver") << (drivers == 1 ? " fixes" : " fix")
                           << " the remaining "
                           << plural(mobility.rank_dof, "degree") << " of freedom)\n";
             else
-                std::cout << "kinematically driven: no (" << plural(free_dof, "degree")
-                          << " of freedom left free; kinematics carries " << (free_dof == 1 ? "it" : "them")
+                std::cout << "kinematically driven: no (" << plural(check.free_dof, "degree")
+                          << " of freedom left free; kinematics carries " << (check.free_dof == 1 ? "it" : "them")
                           << " along with minimum-norm steps)\n";
         } else {
             std::cout << "kinematically driven: no (no drivers)\n";
         }
-        {  // the embedding formulation's path (sdk/include/mbd/sdk/topology.hpp)
-            std::string reason;
-            const bool recursive = recursive_embedding_possible(ModelSystem(model), &reason);
-            std::cout << "embedding: " << (recursive ? "recursive" : "dense") << " path (" << reason << ")\n";
-        }
+        // the embedding formulation's path (sdk/include/mbd/sdk/topology.hpp)
+        std::cout << "embedding: " << (check.recursive_embedding ? "recursive" : "dense") << " path ("
+                  << check.embedding_reason << ")\n";
         return 0;
     };
 }

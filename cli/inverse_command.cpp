@@ -45,15 +45,7 @@ void add_inverse_command(CLI::App& app, Commands& commands) {
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run after a complete row
-        std::vector<std::string> columns{"t"};
-        for (const Actuator& a : model.actuators) columns.push_back(a.name);
-        const bool planar = model.dimension == Dimension::Planar;
-        if (args->reactions)
-            for (const JointInstance& j : model.joints)
-                for (const char* s : planar ? std::vector<const char*>{".fx", ".fy", ".tz"}
-                                            : std::vector<const char*>{".fx", ".fy", ".fz", ".tx", ".ty", ".tz"})
-                    columns.push_back(j.name + s);
-
+        const std::vector<std::string> columns = inverse_columns(model, args->reactions);
         std::unique_ptr<CsvWriter> writer;
         if (!args->output.empty()) writer = std::make_unique<CsvWriter>(args->output, columns);
         long samples = 0;
@@ -62,16 +54,7 @@ void add_inverse_command(CLI::App& app, Commands& commands) {
             std::printf("\n");
         }
         run_inverse(model, registry, args->grid.t_end, args->grid.step, [&](const InverseSample& s, System& system) {
-            std::vector<double> row{s.state.t};
-            for (Eigen::Index a = 0; a < s.efforts.size(); ++a) row.push_back(s.efforts[a]);
-            if (args->reactions)
-                for (const JointLoad& l : joint_loads(system, s.state, s.lambda)) {
-                    if (planar) {
-                        row.insert(row.end(), {l.force.x(), l.force.y(), l.torque.z()});
-                    } else {
-                        row.insert(row.end(), {l.force.x(), l.force.y(), l.force.z(), l.torque.x(), l.torque.y(), l.torque.z()});
-                    }
-                }
+            const std::vector<double> row = inverse_row(s, system, args->reactions);
             if (writer) {
                 writer->row(row);
             } else {

@@ -3,6 +3,7 @@
 // run reads, which an output must never overwrite (mbd/output_file.hpp).
 #pragma once
 
+#include <mbd/integrator.hpp>  // kSmallestTolerance
 #include <mbd/model.hpp>
 
 #include <CLI/CLI.hpp>
@@ -22,8 +23,6 @@ CLI::Validator finite_number();
 // A finite number in [lo, hi]; `why` (may be empty) explains the range in the error.
 CLI::Validator number_between(double lo, double hi, const std::string& why = "");
 
-// Tolerances below this are beneath the round-off of double precision.
-constexpr double kSmallestTolerance = 1e-14;
 
 // The scene file and every `base:` file it inherits from.
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model);

@@ -47,33 +47,6 @@ struct SimulateArguments {
     std::string animation;  // --animation out.glb | out.html
 };
 
-// --tol belongs to the adaptive integrators, --step to the fixed-step ones (docs/integrators.md);
-// an option that does not apply is an error rather than quietly taking another meaning.
-void check_integrator_options(const SimulateArguments& a) {
-    const bool adaptive = make_integrator(a.integrator, IntegratorSettings{})->adaptive();
-    if (adaptive && a.step_given)
-        throw InputError("--step", "applies to the fixed-step integrators (rk4, euler, generalized_alpha); " +
-                                       a.integrator +
-                                       " chooses its own steps: set its accuracy with --tol and the time between "
-                                       "rows with --output-step");
-    if (!adaptive && a.tolerance_given)
-        throw InputError("--tol", "applies to the adaptive integrators (dopri5, cvode); " + a.integrator +
-                                      " takes fixed steps: set them with --step");
-    if (!adaptive && !a.step_given)
-        throw InputError("--step", a.integrator + " takes fixed steps: give their size with --step (e.g. --step " +
-                                       "1e-3), or choose an adaptive integrator (--integrator dopri5 or cvode)");
-    if (a.step_given) {
-        const double steps = a.t_end / a.step;
-        const long limit = IntegratorSettings{}.max_steps;
-        if (!(steps <= static_cast<double>(limit))) {
-            char text[200];
-            std::snprintf(text, sizeof text, "%g needs %.3g steps to reach --t-end %g; at most %ld are taken: use a "
-                          "larger step", a.step, steps, a.t_end, limit);
-            throw InputError("--step", text);
-        }
-    }
-}
-
 // The options of `mbd simulate`; returns --tol and --step (their counts tell whether they were given).
 std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, SimulateArguments& a) {
     sub->add_option("SCENE", a.scene, "Scene file (YAML)")->required();
@@ -236,7 +209,8 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
     commands[sub] = [args, tol = tol, step = step] {
         args->tolerance_given = tol->count() > 0;
         args->step_given = step->count() > 0;
-        check_integrator_options(*args);
+        check_integrator_options(args->integrator, args->tolerance_given, args->tolerance, args->step_given, args->step,
+                                 args->t_end, command_line_spelling);
         if (args->output_step > 0.0) output_intervals(args->t_end, args->output_step, "--output-step", "--t-end");
         Registry registry;
         const Model model = load_scene(args->scene, registry);

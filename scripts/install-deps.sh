@@ -9,6 +9,7 @@ packages=(
   coinor-libipopt-dev libsundials-dev
   libgtest-dev
   python3 python3-numpy
+  python3-dev pybind11-dev python3-pytest  # the Python module (python/, docs/python.md) and its tests
   python3-matplotlib
   libsimbody-dev libmujoco-dev  # the bench peers (bench/peers/, docs/benchmarks.md)
   clang libclang-rt-dev  # libFuzzer (scripts/fuzz.sh, run by CI through scripts/fuzz-ci.sh)

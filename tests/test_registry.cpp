@@ -61,7 +61,7 @@ TEST(Registry, UnknownTypeListsTheKnownOnes) {
     try {
         registry.create_joint(spec, "scene.yaml:12");
         FAIL() << "expected an error";
-    } catch (const InputError& e) {
+    } catch (const PluginError& e) {  // an InputError (bad input) of its own class, for Python's mbd.PluginError
         const std::string what = e.what();
         EXPECT_NE(what.find("scene.yaml:12"), std::string::npos) << what;
         EXPECT_NE(what.find("unknown joint type 'revolut'"), std::string::npos) << what;
@@ -90,7 +90,7 @@ TEST(Registry, PluginOfAnotherAbiIsListedAndRefusedWithoutLoading) {
     try {
         registry.create_joint(spec, "scene.yaml:3");
         FAIL() << "expected an ABI error";
-    } catch (const InputError& e) {
+    } catch (const PluginError& e) {
         const std::string what = e.what();
         EXPECT_NE(what.find("ABI 999"), std::string::npos) << what;
         EXPECT_NE(what.find("rebuild"), std::string::npos) << what;

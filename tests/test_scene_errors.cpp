@@ -598,6 +598,11 @@ TEST_F(SceneBase, MissingBaseAndErrorsInsideTheBaseNameTheirFile) {
     const std::string inside = error_of(write("uses-bad.yaml", "base: sub/bad.yaml\n"));
     EXPECT_CONTAINS(inside, "bad.yaml:10");
     EXPECT_CONTAINS(inside, "body 'rod'");
+    // a misspelt key of the base is at its line in the base file, not in the scene that uses it
+    write("sub/typo.yaml", replace(kPlanar, "    inertia: 0.05", "    inertia: 0.05\n    masss: 1"));
+    const std::string typo = error_of(write("uses-typo.yaml", "name: typo\nbase: sub/typo.yaml\n"));
+    EXPECT_CONTAINS(typo, "typo.yaml:12: unknown key 'masss'");
+    EXPECT_EQ(typo.find("uses-typo.yaml"), std::string::npos) << typo;
     const std::string cycle = error_of(write("loop.yaml", "base: loop.yaml\n"));
     EXPECT_CONTAINS(cycle, "cycle");
     // found by the fuzzer (scripts/fuzz.sh): a name too long for the file system is bad input too

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 
@@ -127,6 +129,45 @@ TEST(SceneParameters, APathThatDoesNotResolveNamesTheSegmentAndNearMatches) {
     e = parameter_error(model, "bodies.crank.mass", -1.0);
     EXPECT_CONTAINS(e, "slider-crank.yaml:");
     EXPECT_CONTAINS(e, "(with bodies.crank.mass = -1)");
+}
+
+// A refused path is a ParameterError that names it (Python's SceneError.key).
+TEST(SceneParameters, ARefusedPathIsAParameterErrorNamingIt) {
+    const mbd::Model model = mbd::test::load(kSliderCrank);
+    try {
+        mbd::with_scene_parameters(model, {{"bodies.crnak.mass", 1.0}}, shared_registry());
+        FAIL() << "expected a ParameterError";
+    } catch (const mbd::ParameterError& e) {
+        EXPECT_EQ(e.path(), "bodies.crnak.mass");
+    }
+}
+
+// The key at a file:line of scenes/dynamics/slider-crank.yaml, read back from the document
+// that load_scene keeps and from read_scene_document: each resolves to the node at that line.
+TEST(SceneParameters, TheKeyAtALineIsThePathOfItsNode) {
+    const mbd::Model model = mbd::test::load(kSliderCrank);
+    const std::string file = mbd::test::scene_path(kSliderCrank).string();
+    const mbd::Param read = mbd::read_scene_document(file);
+    for (const mbd::Param* document : {model.document.get(), &read}) {
+        EXPECT_EQ(mbd::scene_key_at(*document, file, 15), "gravity");
+        EXPECT_EQ(mbd::scene_key_at(*document, file, 17), "bodies.crank");  // "- name: crank": the element
+        EXPECT_EQ(mbd::scene_key_at(*document, file, 18), "bodies.crank.mass");
+        EXPECT_EQ(mbd::scene_key_at(*document, file, 30), "bodies.slider.inertia");
+        EXPECT_EQ(mbd::scene_key_at(*document, file, 37), "joints.guide");  // a one-line element
+        EXPECT_EQ(mbd::scene_key_at(*document, file, 43), "forces.spring.stiffness");
+        EXPECT_EQ(mbd::scene_key_at(*document, file, 12), "");  // a comment
+        EXPECT_EQ(mbd::scene_key_at(*document, "other.yaml", 18), "");
+    }
+    // every key found is a path that resolves to a number written at that line
+    EXPECT_EQ(mbd::scene_parameter(read, mbd::scene_key_at(read, file, 43)), 100.0);
+    EXPECT_EQ(mbd::scene_parameter(read, mbd::scene_key_at(read, file, 30)), 0.0005);
+    // an element without a name (a scene the loader refuses, with the key named) by its position
+    const std::filesystem::path unnamed = mbd::test::scratch("key-at") / "u.yaml";
+    std::ofstream(unnamed) << "dimension: planar\nbodies:\n  - mass: 1\n    inertia: 2\n";
+    const mbd::Param document = mbd::read_scene_document(unnamed);
+    EXPECT_EQ(mbd::scene_key_at(document, unnamed.string(), 3), "bodies.0");
+    EXPECT_EQ(mbd::scene_key_at(document, unnamed.string(), 4), "bodies.0.inertia");
+    EXPECT_EQ(mbd::scene_parameter(document, "bodies.0.inertia"), 2.0);
 }
 
 }  // namespace

@@ -17,6 +17,8 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 namespace {
 
@@ -590,6 +592,33 @@ TEST(StaticsInput, LimitsOnAJointWithoutCoordinateAndInfeasibleLimits) {
     expect_input_error("dimension: planar\nbodies:\n  - {name: rod, mass: 1, inertia: 1}\njoints:\n"
                        "  - name: pin\n    type: revolute\n    bodies: [ground, rod]\n    limits: [1, 0]\n",
                        "bad.yaml:8", "infeasible");
+}
+
+// Statics in several threads at once (Python's thread pools do this): Ipopt's sequential MUMPS
+// keeps global state, so the plugin lets one Ipopt solve run at a time; every thread gets the
+// equilibrium of the same solve made alone.
+TEST(Statics, ThreadsAtOnceGiveTheSerialEquilibria) {
+    const mbd::Model four_bar = mbd::test::load("four-bar.yaml");
+    const mbd::Model pendulum = mbd::test::load("statics/pendulum-torque.yaml");
+    const mbd::Model* models[] = {&four_bar, &pendulum};
+    const mbd::StaticsReport serial[] = {statics(four_bar), statics(pendulum)};
+    // each thread solves again and again, so that solves overlap however the threads start
+    constexpr int kThreads = 4, kSolves = 12;
+    std::vector<std::vector<mbd::StaticsReport>> parallel(kThreads);
+    std::vector<std::thread> threads;
+    for (int k = 0; k < kThreads; ++k)
+        threads.emplace_back([&, k] {
+            for (int s = 0; s < kSolves; ++s) parallel[k].push_back(statics(*models[(k + s) % 2]));
+        });
+    for (std::thread& t : threads) t.join();
+    for (int k = 0; k < kThreads; ++k)
+        for (int s = 0; s < kSolves; ++s) {
+            SCOPED_TRACE("thread " + std::to_string(k) + ", solve " + std::to_string(s));
+            const mbd::StaticsReport& alone = serial[(k + s) % 2];
+            ASSERT_TRUE(alone.result.converged && parallel[k][s].result.converged);
+            EXPECT_EQ(parallel[k][s].result.state.q, alone.result.state.q);
+            EXPECT_EQ(parallel[k][s].result.lambda, alone.result.lambda);
+        }
 }
 
 }  // namespace

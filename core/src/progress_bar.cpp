@@ -54,11 +54,15 @@ ProgressBar::ProgressBar(bool enabled)
 
 ProgressBar::~ProgressBar() { finish(); }
 
-void ProgressBar::update(double fraction, const std::string& detail) {
-    if (!enabled_) return;
+bool ProgressBar::due() const {
+    if (!enabled_) return false;
     const auto now = std::chrono::steady_clock::now();
-    if (now - start_ < std::chrono::seconds(1)) return;
-    if (shown_ && now - last_ < std::chrono::milliseconds(100)) return;
+    return now - start_ >= std::chrono::seconds(1) && !(shown_ && now - last_ < std::chrono::milliseconds(100));
+}
+
+void ProgressBar::update(double fraction, const std::string& detail) {
+    if (!due()) return;
+    const auto now = std::chrono::steady_clock::now();
     last_ = now;
     shown_ = true;
     const double elapsed = std::chrono::duration<double>(now - start_).count();

@@ -15,6 +15,11 @@ namespace mbd {
 
 namespace fs = std::filesystem;
 
+void rethrow_input_error(const InputError& e, const std::string& message) {
+    if (dynamic_cast<const PluginError*>(&e)) throw PluginError(e.where(), message);
+    throw InputError(e.where(), message);
+}
+
 // An opened plugin library. Every object a plugin creates keeps a reference to
 // it, so the code of the object's virtual functions cannot be unloaded under it.
 struct Registry::Library {
@@ -44,8 +49,9 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 std::vector<fs::path> Registry::default_search_path() {
     std::vector<fs::path> path;
     // lib/mbd/plugins beside the folder holding libmbd_core (build and install trees alike)
+    // (normalised: a library found through an RPATH of $ORIGIN/../.. is named through it)
     const fs::path core = boost::dll::this_line_location();
-    path.push_back(core.parent_path() / MBD_PLUGIN_SUBDIR);
+    path.push_back((core.parent_path() / MBD_PLUGIN_SUBDIR).lexically_normal());
     if (const char* extra = std::getenv("MBD_PLUGIN_PATH")) {
         std::stringstream in(extra);
         std::string item;
@@ -126,7 +132,7 @@ const PluginType& Registry::find(const std::string& kind, const std::string& typ
         wrong_abi = &t;
     }
     if (wrong_abi)
-        throw InputError(where, owner + ": " + kind + " type '" + type + "' is provided by " +
+        throw PluginError(where, owner + ": " + kind + " type '" + type + "' is provided by " +
                                     wrong_abi->library.string() + ", built for plugin ABI " +
                                     std::to_string(wrong_abi->abi) + " but this mbd uses ABI " +
                                     std::to_string(MBD_ABI_VERSION) + "; rebuild the plugin against this SDK");
@@ -134,7 +140,7 @@ const PluginType& Registry::find(const std::string& kind, const std::string& typ
     const std::string best = nearest_name(type, known);
     std::string folders;
     for (const fs::path& p : search_path_) folders += (folders.empty() ? "" : ", ") + p.string();
-    throw InputError(where, owner + ": unknown " + kind + " type '" + type + "'; " +
+    throw PluginError(where, owner + ": unknown " + kind + " type '" + type + "'; " +
                                 (best.empty() ? std::string() : "did you mean '" + best + "'? ") + "known " + kind +
                                 " types: " + (known.empty() ? std::string("(none)") : join(known, ", ")) +
                                 " (plugin folders searched: " + folders +
@@ -162,7 +168,7 @@ std::shared_ptr<Product> Registry::create(const std::string& kind, const Spec& s
     try {
         lib = open(t.library);
     } catch (const std::exception& e) {
-        throw InputError(where, owner + ": cannot load plugin " + t.library.string() + ": " + e.what());
+        throw PluginError(where, owner + ": cannot load plugin " + t.library.string() + ": " + e.what());
     }
     const std::string symbol = "mbd_abi" + std::to_string(MBD_ABI_VERSION) + "__" + kind + "__" + spec.type;
     auto& factory = lib->handle.get_alias<Factory>(symbol);
@@ -176,13 +182,13 @@ std::shared_ptr<Product> Registry::create(const std::string& kind, const Spec& s
         if (!e.where().empty()) throw;
         throw InputError(where, owner + ": " + e.message() + plugin);
     } catch (const std::exception& e) {
-        throw InputError(where, owner + ": the " + kind + " type '" + spec.type + "' could not be created: " + e.what() +
+        throw PluginError(where, owner + ": the " + kind + " type '" + spec.type + "' could not be created: " + e.what() +
                                     plugin);
     } catch (...) {
-        throw InputError(where, owner + ": the " + kind + " type '" + spec.type +
+        throw PluginError(where, owner + ": the " + kind + " type '" + spec.type +
                                     "' could not be created (the plugin threw an unknown exception)" + plugin);
     }
-    if (!made) throw InputError(where, owner + ": plugin " + t.library.string() + " returned nothing");
+    if (!made) throw PluginError(where, owner + ": plugin " + t.library.string() + " returned nothing");
     // the deleter runs the plugin's destructor, then lets go of the library
     std::shared_ptr<void> keep_alive = lib;
     return std::shared_ptr<Product>(made.release(), [keep_alive](const Product* p) { delete p; });

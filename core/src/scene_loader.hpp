@@ -78,8 +78,9 @@ private:
         auto f = map.fields.find(key);
         return f != map.fields.end() ? f->second.line : map.line;
     }
+    // The map's own file: a key inherited through `base:` is in the base file.
     std::string key_where(const Param& map, const std::string& key) const {
-        return file_ + ":" + std::to_string(key_line(map, key));
+        return (map.file.empty() ? file_ : map.file) + ":" + std::to_string(key_line(map, key));
     }
 
     [[noreturn]] void unknown_key(const Param& map, const std::string& key, const std::string& what,
@@ -314,7 +315,7 @@ auto Loader::create_checked(const Params& params, const Param& node, const std::
     } catch (const InputError& e) {
         const std::string note = unknown_note();
         if (note.empty() || e.message().find("unknown key") != std::string::npos) throw;
-        throw InputError(e.where(), e.message() + " (note: " + note + ")");
+        rethrow_input_error(e, e.message() + " (note: " + note + ")");
     }
 }
 

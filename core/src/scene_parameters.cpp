@@ -4,6 +4,7 @@
 #include <mbd/sdk/suggest.hpp>
 
 #include "scene_loader.hpp"
+#include "scene_source.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -19,7 +20,7 @@ struct Segment {
 };
 
 [[noreturn]] void path_error(const Param& at, const std::string& path, const std::string& message) {
-    throw InputError(at.location(), "parameter '" + path + "': " + message);
+    throw ParameterError(at.location(), "parameter '" + path + "': " + message, path);
 }
 
 bool whole_number(const std::string& text) {
@@ -166,6 +167,55 @@ void set_scene_parameter(Param& document, const std::string& path, double value)
     node->text = text;
 }
 
+Param read_scene_document(const std::filesystem::path& file) {
+    detail::SceneTreeReader reader;
+    const std::string label = file.string();
+    return reader.with_base(reader.convert(reader.parse(detail::read_scene_file(file), label), label), label);
+}
+
+namespace {
+
+// A path segment for `item` of a list: its name when it has one that resolves to it (the
+// first item of that name), else its position.
+std::string item_segment(const Param& list, size_t index) {
+    const std::string name = element_name(list.items[index]);
+    if (!name.empty() && !whole_number(name))
+        for (size_t k = 0; k < list.items.size(); ++k)
+            if (element_name(list.items[k]) == name) return k == index ? name : std::to_string(index);
+    return std::to_string(index);
+}
+
+// Depth-first, keys in their (alphabetical) map order; `path` is the node's path. Items of a
+// list are written `key.name` (or `key.i`) when they are maps (elements), `key[i]` otherwise.
+bool find_key_at(const Param& node, const std::string& file, int line, const std::string& path, std::string& found) {
+    // a list of elements starts where its first element does: the element is the more precise
+    const bool list_of_elements = node.is_list() && !node.items.empty() && node.items[0].is_map();
+    if (!path.empty() && node.line == line && node.file == file && !list_of_elements) {
+        found = path;
+        return true;
+    }
+    if (node.is_map()) {
+        for (const auto& [key, child] : node.fields)
+            if (find_key_at(child, file, line, path.empty() ? key : path + "." + key, found)) return true;
+    } else if (node.is_list()) {
+        for (size_t k = 0; k < node.items.size(); ++k) {
+            const Param& item = node.items[k];
+            const std::string segment =
+                item.is_map() ? "." + item_segment(node, k) : "[" + std::to_string(k) + "]";
+            if (find_key_at(item, file, line, path + segment, found)) return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace
+
+std::string scene_key_at(const Param& document, const std::string& file, int line) {
+    std::string found;
+    find_key_at(document, file, line, "", found);
+    return found;
+}
+
 Model load_scene_document(const Param& document, const std::string& label, Registry& registry) {
     scene_detail::Loader loader(label, registry);
     return loader.load_document(document);
@@ -185,7 +235,7 @@ Model with_scene_parameters(const Model& model, const SceneParameterValues& valu
         return changed;
     } catch (const InputError& e) {
         // the scene is valid as written, so the parameters made it invalid: say which
-        throw InputError(e.where(), e.message() + " (with " + changes + ")");
+        rethrow_input_error(e, e.message() + " (with " + changes + ")");
     }
 }
 

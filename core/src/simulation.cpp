@@ -137,6 +137,10 @@ void append_reactions(System& system, const State& state, const Eigen::VectorXd&
 
 }  // namespace
 
+long simulation_rows(const SimulationSettings& settings) {
+    return static_cast<long>(output_times_after_start(settings).size()) + 1;
+}
+
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
                           const SimulationCallback& callback) {
     SimulationResult result;
@@ -175,6 +179,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         for (auto& c : diagnostic_columns()) columns.push_back(c);
     const bool write_H = settings.diagnostics && formulation->has_hamiltonian();  // the formulation's H (e.g. hamiltonian)
     if (write_H) columns.push_back("H");
+    result.columns = columns;
     std::unique_ptr<CsvWriter> writer;
     if (!settings.output.empty()) writer = std::make_unique<CsvWriter>(settings.output, columns);
 
@@ -221,9 +226,10 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
                 throw DynamicsError(t, "non-finite value in output column '" + columns[k] +
                                            "': the motion diverged (try a smaller tolerance or step)");
         if (writer) writer->row(row);
+        sample.row = &row;
         ++result.rows;
         result.final_state = sample.state;
-        progress.update(t / settings.t_end, "t = " + format_time(t) + end_text);
+        if (progress.due()) progress.update(t / settings.t_end, "t = " + format_time(t) + end_text);  // text only when shown
         stop_if_interrupted(t);  // the row is complete: a stop signal ends the run here
         return callback ? callback(sample) : true;
     };

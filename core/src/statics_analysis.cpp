@@ -1,9 +1,12 @@
 // Statics and inverse dynamics over a Model (see statics_analysis.hpp).
 #include <mbd/statics_analysis.hpp>
 
+#include <mbd/integrator.hpp>
 #include <mbd/kinematics.hpp>
+#include <mbd/simulation.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/reactions.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <Eigen/Geometry>
 
@@ -70,7 +73,26 @@ std::vector<JointLoad> joint_loads(System& system, const State& state, const Eig
     return out;
 }
 
+namespace {
+
+// The options as docs/statics.md gives them; `mbd statics` checks them as it parses.
+void check_statics_options(const StaticsOptions& o) {
+    if (!std::isfinite(o.time)) throw InputError("time", "expected a finite number, got " + format_number(o.time));
+    if (o.objective != "auto" && o.objective != "potential" && o.objective != "virtual-work")
+        throw InputError("objective", "expected 'auto', 'potential' or 'virtual-work', got '" + o.objective + "'");
+    if (o.hessian != "exact" && o.hessian != "limited-memory")
+        throw InputError("hessian", "expected 'exact' or 'limited-memory', got '" + o.hessian + "'");
+    if (!(o.tolerance >= kSmallestTolerance && o.tolerance <= 1.0))
+        throw InputError("tolerance", "expected a number from 1e-14 to 1 (below 1e-14 is beneath double-precision "
+                                      "round-off), got " + format_number(o.tolerance));
+    if (o.max_iterations <= 0)
+        throw InputError("max_iterations", "expected a positive number, got " + std::to_string(o.max_iterations));
+}
+
+}  // namespace
+
 StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions options, const std::string& solver) {
+    check_statics_options(options);
     StaticsReport report;
     ModelSystem system(model);
     State start = system.initial_state();
@@ -165,6 +187,28 @@ void run_inverse(const Model& model, Registry& registry, double t_end, double st
         m << "the prescribed motion is unreachable after t = " << last_t << ": " << e.what();
         throw DynamicsError(last_t, m.str());
     }
+}
+
+std::vector<std::string> inverse_columns(const Model& model, bool reactions) {
+    std::vector<std::string> columns{"t"};
+    for (const Actuator& a : model.actuators) columns.push_back(a.name);
+    if (reactions)
+        for (std::string& c : reaction_columns(model)) columns.push_back(std::move(c));
+    return columns;
+}
+
+std::vector<double> inverse_row(const InverseSample& sample, System& system, bool reactions) {
+    std::vector<double> row{sample.state.t};
+    row.insert(row.end(), sample.efforts.data(), sample.efforts.data() + sample.efforts.size());
+    if (reactions)
+        for (const JointLoad& l : joint_loads(system, sample.state, sample.lambda)) {
+            if (system.dimension() == Dimension::Planar) {
+                row.insert(row.end(), {l.force.x(), l.force.y(), l.torque.z()});
+            } else {
+                row.insert(row.end(), {l.force.x(), l.force.y(), l.force.z(), l.torque.x(), l.torque.y(), l.torque.z()});
+            }
+        }
+    return row;
 }
 
 }  // namespace mbd

@@ -87,4 +87,21 @@ public:
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const IntegratorSettings& settings);
 std::vector<std::string> integrator_names();
 
+// Tolerances below this are beneath the round-off of double precision.
+constexpr double kSmallestTolerance = 1e-14;
+
+// How an interface writes one of its options in a message: the command line "--step 1e-3",
+// Python "step=1e-3". `option` is the option's name with dashes ("output-step"); `value`, as
+// the user would type it on the command line, may be empty (the option alone).
+using OptionSpelling = std::function<std::string(const std::string& option, const std::string& value)>;
+std::string command_line_spelling(const std::string& option, const std::string& value);
+
+// The integrator options of a run, refused where they do not apply (InputError naming the
+// option as `spell` writes it, docs/integrators.md): a tolerance for a fixed-step integrator
+// or outside [kSmallestTolerance, 1], a step for an adaptive one, a fixed-step integrator
+// without a step, or a step that needs more than IntegratorSettings::max_steps steps to t_end.
+// An unknown integrator is refused as make_integrator does.
+void check_integrator_options(const std::string& integrator, bool tolerance_given, double tolerance, bool step_given,
+                              double step, double t_end, const OptionSpelling& spell);
+
 }  // namespace mbd

@@ -26,6 +26,8 @@ public:
 
     // fraction in [0, 1]; redrawn at most ten times a second.
     void update(double fraction, const std::string& detail);
+    // Whether update() would redraw now: a caller with a costly detail builds it only then.
+    bool due() const;
     // Clear the line (before a message or the summary).
     void finish();
 

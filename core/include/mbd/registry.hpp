@@ -18,6 +18,18 @@
 
 namespace mbd {
 
+// A plugin that cannot serve a request: an unknown type, one built for another ABI, a
+// library that does not load, a factory that fails or returns nothing. Bad input like any
+// InputError (`mbd` exits with status 2); Python raises it as mbd.PluginError.
+class PluginError : public InputError {
+public:
+    using InputError::InputError;
+};
+
+// Throws `e` again with `message` in place of its own, keeping its class (a PluginError
+// stays one), for code that adds context to an error on its way out.
+[[noreturn]] void rethrow_input_error(const InputError& e, const std::string& message);
+
 struct PluginType {
     std::string kind;       // "joint", "force", "formulation", ...
     std::string type;       // e.g. "revolute"

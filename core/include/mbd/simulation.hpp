@@ -45,6 +45,7 @@ struct SimulationSettings {
 struct SimulationSample {
     State state;
     const Eigen::VectorXd* lambda = nullptr;   // multipliers when reactions were asked for, else null
+    const std::vector<double>* row = nullptr;  // the output row, in SimulationResult::columns (as the CSV has it)
 };
 
 struct SimulationResult {
@@ -53,6 +54,7 @@ struct SimulationResult {
     IntegratorStats stats;
     double cpu_seconds = 0.0;
     long rows = 0;                    // output samples
+    std::vector<std::string> columns; // of every output row: motion_columns (csv.hpp), then reactions, diagnostics, H
     State final_state;
     double final_position_violation = 0.0;   // max |C| at the last sample
     double final_velocity_violation = 0.0;   // max |J v + C_t| at the last sample
@@ -61,6 +63,10 @@ struct SimulationResult {
 // Column names of the extra CSV columns.
 std::vector<std::string> reaction_columns(const Model& model);
 std::vector<std::string> diagnostic_columns();  // kinetic_energy potential_energy constraint_position_violation constraint_velocity_violation
+
+// The output rows of a complete run: t = 0, then every output step to t_end (the last
+// interval may be shorter).
+long simulation_rows(const SimulationSettings& settings);
 
 // Returns false to stop the run early.
 using SimulationCallback = std::function<bool(const SimulationSample& sample)>;

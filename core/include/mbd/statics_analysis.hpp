@@ -39,7 +39,9 @@ std::vector<ActuatorInfo> scene_actuators(const Model& model);
 
 // Equilibrium from the scene's configuration assembled at options.time.
 // Throws KinematicsError when the start cannot be assembled, InputError for an
-// unknown solver type; a solver failure is reported in result.converged/message.
+// unknown solver type or an option out of its range (naming it: "objective",
+// "hessian", "tolerance", "max_iterations", "time"); a solver failure is reported
+// in result.converged/message.
 StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions options,
                           const std::string& solver = "ipopt");
 
@@ -52,5 +54,11 @@ std::vector<JointLoad> joint_loads(System& system, const State& state, const Eig
 using InverseCallback = std::function<bool(const InverseSample& sample, System& system)>;
 void run_inverse(const Model& model, Registry& registry, double t_end, double step, const InverseCallback& callback,
                  InverseOptions options = {}, const std::string& solver = "ipopt");
+
+// The columns of an inverse-dynamics result (`mbd inverse --output`): t, one per actuator,
+// then with `reactions` each joint's reaction (reaction_columns of simulation.hpp).
+std::vector<std::string> inverse_columns(const Model& model, bool reactions);
+// One sample in those columns.
+std::vector<double> inverse_row(const InverseSample& sample, System& system, bool reactions);
 
 }  // namespace mbd

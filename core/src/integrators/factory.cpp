@@ -2,6 +2,10 @@
 #include "common.hpp"
 
 #include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/text.hpp>
+
+#include <cmath>
+#include <cstdio>
 
 namespace mbd {
 
@@ -34,6 +38,43 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, const Integ
     std::string known;
     for (const Entry& e : kIntegrators) known += std::string(known.empty() ? "" : ", ") + e.name;
     throw InputError("integrator", "unknown integrator '" + name + "' (known: " + known + ")");
+}
+
+std::string command_line_spelling(const std::string& option, const std::string& value) {
+    return "--" + option + (value.empty() ? std::string() : " " + value);
+}
+
+void check_integrator_options(const std::string& integrator, bool tolerance_given, double tolerance, bool step_given,
+                              double step, double t_end, const OptionSpelling& spell) {
+    const bool adaptive = make_integrator(integrator, IntegratorSettings{})->adaptive();
+    if (adaptive && step_given)
+        throw InputError(spell("step", ""), "applies to the fixed-step integrators (rk4, euler, generalized_alpha); " +
+                                                integrator + " chooses its own steps: set its accuracy with " +
+                                                spell("tol", "") + " and the time between rows with " +
+                                                spell("output-step", ""));
+    if (!adaptive && tolerance_given)
+        throw InputError(spell("tol", ""), "applies to the adaptive integrators (dopri5, cvode); " + integrator +
+                                               " takes fixed steps: set them with " + spell("step", ""));
+    if (!adaptive && !step_given)
+        throw InputError(spell("step", ""), integrator + " takes fixed steps: give their size with " +
+                                                spell("step", "") + " (e.g. " + spell("step", "1e-3") +
+                                                "), or choose an adaptive integrator (" +
+                                                spell("integrator", "dopri5") + " or cvode)");
+    if (tolerance_given && !(tolerance >= kSmallestTolerance && tolerance <= 1.0))
+        throw InputError(spell("tol", ""), "expected a number from 1e-14 to 1 (below 1e-14 is beneath "
+                                           "double-precision round-off), got " + format_number(tolerance));
+    if (step_given) {
+        if (!(std::isfinite(step) && step > 0.0))
+            throw InputError(spell("step", ""), "expected a positive number, got " + format_number(step));
+        const double steps = t_end / step;
+        const long limit = IntegratorSettings{}.max_steps;
+        if (!(steps <= static_cast<double>(limit))) {
+            char text[200];
+            std::snprintf(text, sizeof text, "%g needs %.3g steps to reach %s %g; at most %ld are taken: use a "
+                          "larger step", step, steps, spell("t-end", "").c_str(), t_end, limit);
+            throw InputError(spell("step", ""), text);
+        }
+    }
 }
 
 }  // namespace mbd

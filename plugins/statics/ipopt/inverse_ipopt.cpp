@@ -239,6 +239,7 @@ private:
         const Eigen::MatrixXd G = U.transpose() * eq.G0;
         const Eigen::VectorXd h = U.transpose() * eq.h0;
         Ipopt::SmartPtr<EffortQP> qp = new EffortQP(G, h, eq.w, eq.lo, eq.hi, tau.cwiseMax(eq.lo).cwiseMin(eq.hi));
+        std::unique_lock<std::mutex> one_ipopt_at_a_time(ipopt_lock());
         Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
         app->Options()->SetIntegerValue("print_level", opt_.print_level);
         app->Options()->SetStringValue("sb", "yes");
@@ -249,6 +250,8 @@ private:
         app->Options()->SetStringValue("jac_c_constant", "yes");
         app->Initialize();
         const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(qp);
+        app = nullptr;  // Ipopt is done: let other threads use it
+        one_ipopt_at_a_time.unlock();
         if (!succeeded(status) || !qp->done) {
             std::string names;
             for (int a = 0; a < na; ++a)

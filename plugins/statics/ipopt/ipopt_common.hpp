@@ -3,9 +3,20 @@
 
 #include <IpIpoptApplication.hpp>
 
+#include <mutex>
 #include <string>
 
 namespace mbd::ipopt_plugin {
+
+// Ipopt's linear solver, Debian's sequential MUMPS, keeps global state (Fortran module
+// variables): two solves at once in one process corrupt each other (a Fortran runtime error
+// or a crash, met with Python threads running statics). Every use of Ipopt, from creating the
+// application to the end of its last solve, holds this lock; the rest of a statics or
+// inverse-dynamics run goes on in parallel.
+inline std::mutex& ipopt_lock() {
+    static std::mutex lock;
+    return lock;
+}
 
 inline std::string status_name(Ipopt::ApplicationReturnStatus s) {
     switch (s) {

@@ -159,6 +159,7 @@ private:
         Evaluator ev(sys, opt.time, limit_joints);
 
         const Eigen::VectorXd lambda0 = potential ? Eigen::VectorXd() : initial_multipliers(sys, res.state);
+        const std::lock_guard<std::mutex> one_ipopt_at_a_time(ipopt_lock());
         Ipopt::SmartPtr<Ipopt::IpoptApplication> app = make_application(opt, potential);
         const Ipopt::ApplicationReturnStatus status = app->Initialize();
         if (status != Ipopt::Solve_Succeeded) {
