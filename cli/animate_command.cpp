@@ -26,10 +26,10 @@ struct AnimateArguments {
 }  // namespace
 
 void add_animate_command(CLI::App& app, Commands& commands) {
-    CLI::App* sub = app.add_subcommand(
-        "animate", "Write the motion of a result CSV as a glTF 2.0 binary (.glb) or a browser viewer (.html)");
     auto args = std::make_shared<AnimateArguments>();
-    sub->add_option("SCENE", args->scene, "Scene file (YAML) the result was computed from")->required();
+    CLI::App* sub = add_scene_subcommand(
+        app, "animate", "Write the motion of a result CSV as a glTF 2.0 binary (.glb) or a browser viewer (.html)",
+        args->scene, "Scene file (YAML) the result was computed from");
     sub->add_option("RESULT", args->result, "Result CSV of mbd simulate or mbd kinematics")->required();
     sub->add_option("-o,--output", args->output, "out.glb (glTF 2.0 binary) or out.html (viewer)")->required();
     sub->add_option("--plot", args->plot, "HTML: the column plotted when the page opens (default: the first body's x)");

@@ -32,12 +32,12 @@ std::string plural(int n, const char* word) {
 }  // namespace
 
 void add_check_command(CLI::App& app, Commands& commands) {
-    CLI::App* sub = app.add_subcommand(
-        "check", "Load and assemble a scene; print its bodies, joints, forces, drivers, degrees of freedom "
-                 "(Gruebler count and rank of C_q) and redundant constraints");
     auto scene = std::make_shared<std::string>();
     auto tolerance = std::make_shared<double>(1e-9);
-    sub->add_option("SCENE", *scene, "Scene file (YAML)")->required();
+    CLI::App* sub = add_scene_subcommand(app, "check",
+                                         "Load and assemble a scene; print its bodies, joints, forces, drivers, degrees "
+                                         "of freedom (Gruebler count and rank of C_q) and redundant constraints",
+                                         *scene);
     sub->add_option("--rank-tolerance", *tolerance, "Relative tolerance of the rank of C_q")
         ->capture_default_str()
         ->check(number_between(1e-16, 1.0));

@@ -30,10 +30,10 @@ struct InverseArguments {
 }  // namespace
 
 void add_inverse_command(CLI::App& app, Commands& commands) {
-    CLI::App* sub = app.add_subcommand(
-        "inverse", "Inverse dynamics: actuator efforts for the motion the drivers prescribe, at t = 0, h, ..., t_end");
     auto args = std::make_shared<InverseArguments>();
-    sub->add_option("SCENE", args->scene, "Scene file (YAML) with drivers and 'actuators:'")->required();
+    CLI::App* sub = add_scene_subcommand(
+        app, "inverse", "Inverse dynamics: actuator efforts for the motion the drivers prescribe, at t = 0, h, ..., t_end",
+        args->scene, "Scene file (YAML) with drivers and 'actuators:'");
     add_time_grid_options(sub, args->grid);
     sub->add_option("-o,--output", args->output, "CSV file: t, one column per actuator (and reactions)");
     sub->add_flag("--reactions", args->reactions, "Add JOINT.fx JOINT.fy JOINT.tz (planar; 6 columns spatial)");

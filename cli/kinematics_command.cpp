@@ -53,11 +53,12 @@ void print_table(const std::vector<std::string>& columns, const std::vector<std:
 }  // namespace
 
 void add_kinematics_command(CLI::App& app, Commands& commands) {
-    CLI::App* sub = app.add_subcommand(
-        "kinematics", "Kinematically driven motion: positions and velocities of every body at t = 0, h, 2h, ..., t_end "
-                      "(Newton-Raphson assembly at each time)");
     auto args = std::make_shared<KinematicsArguments>();
-    sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
+    CLI::App* sub = add_scene_subcommand(
+        app, "kinematics",
+        "Kinematically driven motion: positions and velocities of every body at t = 0, h, 2h, ..., t_end "
+        "(Newton-Raphson assembly at each time)",
+        args->scene);
     add_time_grid_options(sub, args->grid);
     sub->add_option("-o,--output", args->output,
                     "CSV file (columns: t, positions, velocities per body); without it a short table is printed");

@@ -60,6 +60,13 @@ void add_time_grid_options(CLI::App* sub, TimeGrid& grid) {
     sub->add_option("--step", grid.step, "Output step h [s] (at most 1e7 rows)")->required()->check(positive_number());
 }
 
+CLI::App* add_scene_subcommand(CLI::App& app, const std::string& name, const std::string& description,
+                               std::string& scene, const std::string& scene_help) {
+    CLI::App* sub = app.add_subcommand(name, description);
+    sub->add_option("SCENE", scene, scene_help)->required();
+    return sub;
+}
+
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model) {
     std::vector<std::filesystem::path> files{scene};
     for (const std::string& base : model.base_files) files.emplace_back(base);

@@ -24,6 +24,11 @@ CLI::Validator finite_number();
 CLI::Validator number_between(double lo, double hi, const std::string& why = "");
 
 
+// A subcommand that reads one scene: NAME with its description, on `app`, and its required
+// SCENE positional bound to `scene`.
+CLI::App* add_scene_subcommand(CLI::App& app, const std::string& name, const std::string& description,
+                               std::string& scene, const std::string& scene_help = "Scene file (YAML)");
+
 // The scene file and every `base:` file it inherits from.
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model);
 

@@ -47,9 +47,8 @@ struct SimulateArguments {
     std::string animation;  // --animation out.glb | out.html
 };
 
-// The options of `mbd simulate`; returns --tol and --step (their counts tell whether they were given).
+// The options of `mbd simulate` after SCENE; returns --tol and --step (their counts tell whether they were given).
 std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, SimulateArguments& a) {
-    sub->add_option("SCENE", a.scene, "Scene file (YAML)")->required();
     sub->add_option("--t-end", a.t_end, "End time [s]")->required()->check(positive_number());
     sub->add_option("-o,--output", a.output, "CSV file: t, positions, velocities (+ reactions, diagnostics)")
         ->required();
@@ -201,9 +200,10 @@ void print_simulate_summary(const SimulateArguments& a, const SimulationResult& 
 }  // namespace
 
 void add_simulate_command(CLI::App& app, Commands& commands) {
-    CLI::App* sub = app.add_subcommand("simulate", "Forward dynamics: integrate the equations of motion from the scene's "
-                                                   "initial state to t_end");
     auto args = std::make_shared<SimulateArguments>();
+    CLI::App* sub = add_scene_subcommand(
+        app, "simulate", "Forward dynamics: integrate the equations of motion from the scene's initial state to t_end",
+        args->scene);
     const auto [tol, step] = add_simulate_options(sub, *args);
 
     commands[sub] = [args, tol = tol, step = step] {

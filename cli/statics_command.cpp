@@ -88,10 +88,10 @@ void print_report(const std::string& scene, const Model& model, const StaticsRep
 }  // namespace
 
 void add_statics_command(CLI::App& app, Commands& commands) {
-    CLI::App* sub = app.add_subcommand(
-        "statics", "Static equilibrium (virtual work / minimum potential, Ipopt): configuration, reactions, stability");
     auto args = std::make_shared<StaticsArguments>();
-    sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
+    CLI::App* sub = add_scene_subcommand(
+        app, "statics", "Static equilibrium (virtual work / minimum potential, Ipopt): configuration, reactions, stability",
+        args->scene);
     sub->add_flag("--json", args->json, "Print one JSON object instead of the report");
     sub->add_option("-o,--output", args->output, "Write the equilibrium as a scene file (positions replaced)");
     sub->add_option("--time", args->time, "Time at which the drivers hold their joints")

@@ -2,7 +2,8 @@
 # The whole test suite built with AddressSanitizer and UndefinedBehaviorSanitizer (issue 8),
 # in its own folder build-sanitize (clang, -O1, no benchmarks). A sanitizer report fails its
 # test: ASan aborts on the first error and UBSan does not recover (-fno-sanitize-recover=all).
-# The same build holds the libFuzzer targets (MBD_FUZZ: the code is instrumented for coverage),
+# The same build holds the libFuzzer targets (MBD_FUZZ: the code that reads their inputs is
+# instrumented for coverage),
 # so that CI's bounded fuzzing (scripts/fuzz-ci.sh) reuses it instead of building everything a
 # third time. CI runs it after scripts/test.sh. The Python module is left out of this build
 # (MBD_PYTHON defaults to OFF with MBD_SANITIZE: an instrumented extension would need the

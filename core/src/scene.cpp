@@ -184,14 +184,10 @@ void Loader::load_formulation(const Param& node) {
 // ---------------------------------------------------------------- bodies
 
 void Loader::load_body(const Param& node, int index) {
-    const std::string fallback = "body #" + std::to_string(index + 1);
-    if (!node.is_map()) node.fail(fallback + " must be a map of keys (name, mass, inertia, position, ...)");
     const bool planar = model_.dimension == Dimension::Planar;
-
     Body body;
-    body.name = name_of(node, fallback);
-    const std::string what = "body " + quote(body.name);
-    body.where = where(node);
+    const std::string what =
+        start_element(node, index, "body", "name, mass, inertia, position, ...", true, model_.bodies, body);
 
     if (planar)
         check_keys(node, what, {"name", "mass", "inertia", "position", "angle", "velocity", "angular_velocity", "visual"},
@@ -204,10 +200,6 @@ void Loader::load_body(const Param& node, int index) {
 
     if (body.name == "ground")
         find(node, "name")->fail("'ground' is reserved for the fixed ground; give the body another name");
-    for (const auto& other : model_.bodies)
-        if (other.name == body.name)
-            find(node, "name")->fail("duplicate body name " + quote(body.name) + " (first defined at " + other.where +
-                                     "); body names must be unique");
 
     // zero mass and inertia are accepted: kinematics and statics do not need them; dynamics
     // refuses a singular mass matrix by name (core/src/simulation.cpp)
@@ -370,18 +362,10 @@ Loader::WorldFrame Loader::joint_frame(const Param& node, const std::string& wha
 // ---------------------------------------------------------------- joints
 
 void Loader::load_joint(const Param& node, int index) {
-    const std::string fallback = "joint #" + std::to_string(index + 1);
-    if (!node.is_map()) node.fail(fallback + " must be a map of keys (name, type, bodies, point, ...)");
     const bool planar = model_.dimension == Dimension::Planar;
-
     JointInstance joint;
-    joint.name = name_of(node, fallback);
-    const std::string what = "joint " + quote(joint.name);
-    joint.where = where(node);
-    for (const auto& other : model_.joints)
-        if (other.name == joint.name)
-            find(node, "name")->fail("duplicate joint name " + quote(joint.name) + " (first defined at " +
-                                     other.where + "); joint names must be unique");
+    const std::string what =
+        start_element(node, index, "joint", "name, type, bodies, point, ...", true, model_.joints, joint);
 
     const Param& type = require(node, "type", what, "the joint type, e.g. revolute");
     if (!type.is_scalar() || type.text.empty()) type.fail(what + ": 'type' must be a single word, e.g. revolute");

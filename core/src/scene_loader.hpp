@@ -244,20 +244,26 @@ private:
                     .fail("duplicate " + kind + " name " + quote(name) + " (first defined at " + other.where + "); " +
                           kind + " names must be unique");
     }
-    // The common start of a list element of this kind: a map of these keys only, its name (or
-    // KIND<index> when it has none), unique among the existing ones, and where it is. Returns
-    // "KIND 'name'" for messages.
+    // The common start of a list element of this kind: a map (of the keys `keys_hint` lists),
+    // its name (required, or else KIND<index>), unique among the existing ones, and where it
+    // is. Returns "KIND 'name'" for messages.
+    template <class Element>
+    std::string start_element(const Param& node, int index, const std::string& kind, const std::string& keys_hint,
+                              bool name_required, const std::vector<Element>& existing, Element& element) const {
+        const std::string fallback = kind + " #" + std::to_string(index + 1);
+        if (!node.is_map()) node.fail(fallback + " must be a map of keys (" + keys_hint + ")");
+        element.name = name_required || find(node, "name") ? name_of(node, fallback) : kind + std::to_string(index);
+        element.where = where(node);
+        require_unique_name(existing, element.name, node, kind);
+        return kind + " " + quote(element.name);
+    }
+    // start_element() of an element whose name is optional and whose keys are exactly these.
     template <class Element>
     std::string open_element(const Param& node, int index, const std::string& kind,
                              const std::vector<std::string>& keys, const std::vector<Element>& existing,
                              Element& element) const {
-        const std::string fallback = kind + " #" + std::to_string(index + 1);
-        if (!node.is_map()) node.fail(fallback + " must be a map of keys (" + join(keys) + ")");
-        element.name = find(node, "name") ? name_of(node, fallback) : kind + std::to_string(index);
-        const std::string what = kind + " " + quote(element.name);
-        element.where = where(node);
+        const std::string what = start_element(node, index, kind, join(keys), false, existing, element);
         check_keys(node, what, keys);
-        require_unique_name(existing, element.name, node, kind);
         return what;
     }
     // The joint a driver or actuator names (`joint` key), which must have one coordinate;
