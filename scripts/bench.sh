@@ -9,8 +9,11 @@
 #   3. per-step cost against body count for every formulation (scripts/bench_scaling.py) and the
 #      rhs benchmarks bench_augmented / bench_embedding (reduced sizes);
 #   4. scripts/bench_report.py: one work-precision diagram per scene (PNG, SVG), the scaling plot,
-#      and the tables in docs/benchmarks.md.
-# Budget: under 15 minutes on a 2-core machine from a fresh checkout (most of it the build).
+#      and the tables in docs/benchmarks.md: each engine's CPU time at error 1e-6 and 1e-9, read
+#      by log-log interpolation on its own work-precision curves (scripts/work_precision.py).
+# Budget: the last run (docs/benchmarks.md) took 281 s on the coarse grids of then (steps of 100);
+# the grids of scenes/bench now step by sqrt(10) in tolerance and 1.5 in step, about three times
+# the points, so expect about three times that.
 # Options (environment): MBD_BENCH_REPEAT (3), MBD_BENCH_SCENES (all of scenes/bench), MBD_BENCH_SKIP_BUILD=1.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -129,23 +130,97 @@ TEST(Bench, ErrorEstimateOfSimulateIsWithinTenOfTheTrueError) {
     std::filesystem::remove(csv);
 }
 
+// The pendulum scene with another `bench:` key: its measure and reference, then `runs`
+// (the YAML of the runs and peers keys, indented by two) in a scene file under `dir`.
+std::string pendulum_bench_scene(const std::filesystem::path& dir, const std::string& runs) {
+    std::filesystem::create_directories(dir);
+    const std::string scene = (dir / "pendulum.yaml").string();
+    std::ifstream src(test::scene_path(kPendulum));
+    std::ofstream out(scene);
+    std::string line;
+    while (std::getline(src, line) && line.rfind("bench:", 0) != 0) out << line << '\n';
+    out << "bench:\n  t_end: 1\n  output_step: 0.5\n"
+           "  measure: {body: bob, quantity: position, norm: max}\n"
+           "  reference: {kind: closed_form, name: pendulum_a01}\n"
+        << runs;
+    return scene;
+}
+
+// A grid given as a geometric sequence: per_decade N is the ratio 10^(1/N) exactly, a ratio R
+// is met or beaten by equal ratios from `from` to `to`, both ends included.
+TEST(Bench, GridAsAGeometricSequence) {
+    const std::string scene = pendulum_bench_scene(
+        std::filesystem::temp_directory_path() / "mbd_test_bench_grid",
+        "  runs:\n    - {integrator: dopri5, tolerances: {from: 1.0e-4, to: 1.0e-8, per_decade: 2}}\n"
+        "    - {integrator: rk4, steps: {from: 1.0e-2, to: 1.0e-3, ratio: 1.5}}\n");
+    Registry& registry = test::shared_registry();
+    const BenchSpec spec = load_bench_spec(load_scene(scene, registry));
+    ASSERT_EQ(spec.runs.size(), 2u);
+    const std::vector<double>& tol = spec.runs[0].tolerances;
+    ASSERT_EQ(tol.size(), 9u);
+    for (int k = 0; k < 9; ++k) EXPECT_NEAR(tol[k] / (1e-4 * std::pow(10.0, -0.5 * k)), 1.0, 1e-13) << k;
+    const std::vector<double>& h = spec.runs[1].steps;
+    ASSERT_EQ(h.size(), 7u);  // ln 10 / ln 1.5 = 5.68 intervals: 6, each 10^(1/6) = 1.468
+    EXPECT_EQ(h.front(), 1e-2);
+    EXPECT_EQ(h.back(), 1e-3);
+    for (size_t k = 1; k < h.size(); ++k) EXPECT_NEAR(h[k - 1] / h[k], std::pow(10.0, 1.0 / 6.0), 1e-12);
+}
+
+TEST(Bench, BadGridsAreRefusedByKey) {
+    Registry& registry = test::shared_registry();
+    const auto dir = std::filesystem::temp_directory_path() / "mbd_test_bench_bad_grid";
+    const std::pair<const char*, const char*> cases[] = {
+        {"{from: 1.0e-4, to: 1.0e-8}", "per_decade: N} or {from: A, to: B, ratio: R}"},
+        {"{from: 1.0e-4, to: 1.0e-8, ratio: 0.5}", "'ratio' must be a number above 1"},
+        {"{from: 1.0e-4, to: -1.0e-8, per_decade: 2}", "'from' and 'to' must be two different positive numbers"},
+        {"{from: 1.0e-4, to: 1.0e-8, per_decade: 2, by: 3}", "unknown key 'by'"},
+        {"[1.0e-4, 0]", "'tolerances' must be positive numbers"},
+    };
+    for (const auto& [grid, message] : cases) {
+        const std::string scene =
+            pendulum_bench_scene(dir, std::string("  runs:\n    - {integrator: dopri5, tolerances: ") + grid + "}\n");
+        try {
+            load_bench_spec(load_scene(scene, registry));
+            ADD_FAILURE() << grid << " was accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("pendulum.yaml:"), std::string::npos) << e.what();
+        }
+    }
+}
+
+// Issue 13's fair bench: no gap in a committed grid wider than sqrt(10) in tolerance or 1.5 in
+// step, so that the cost at equal error is interpolated between close points.
+TEST(Bench, EveryBenchSceneGridIsFine) {
+    int series = 0;
+    auto check = [&series](const std::string& what, std::vector<double> values, double widest) {
+        std::sort(values.begin(), values.end());
+        for (size_t k = 1; k < values.size(); ++k)
+            EXPECT_LE(values[k] / values[k - 1], widest * (1 + 1e-12)) << what << " at " << values[k - 1];
+        series += values.size() > 1;
+    };
+    for (const auto& entry : std::filesystem::directory_iterator(test::scene_path("bench"))) {
+        if (entry.path().extension() != ".yaml") continue;
+        const BenchSpec spec = load_bench_spec(test::load("bench/" + entry.path().filename().string()));
+        for (const BenchSeries& s : spec.runs) {
+            check(spec.name + " " + s.formulation + " + " + s.integrator + " tolerances", s.tolerances, std::sqrt(10.0));
+            check(spec.name + " " + s.formulation + " + " + s.integrator + " steps", s.steps, 1.5);
+        }
+        for (const BenchPeerSeries& s : spec.peers) {
+            check(spec.name + " " + s.engine + " tolerances", s.tolerances, std::sqrt(10.0));
+            check(spec.name + " " + s.engine + " steps", s.steps, 1.5);
+        }
+    }
+    EXPECT_GE(series, 40);
+}
+
 // A peer engine that is not installed is reported and skipped; the mbd runs still happen.
 TEST(Bench, MissingPeerIsReportedNotFatal) {
     const auto dir = std::filesystem::temp_directory_path() / "mbd_test_bench_peer";
-    std::filesystem::create_directories(dir);
-    const std::string scene = (dir / "pendulum.yaml").string();
-    {
-        std::ifstream src(test::scene_path(kPendulum));
-        std::ofstream out(scene);
-        std::string line;
-        while (std::getline(src, line) && line.rfind("bench:", 0) != 0) out << line << '\n';
-        out << "bench:\n  t_end: 1\n  output_step: 0.5\n"
-               "  measure: {body: bob, quantity: position, norm: max}\n"
-               "  reference: {kind: closed_form, name: pendulum_a01}\n"
-               "  runs:\n    - {formulation: augmented, integrator: dopri5, tolerances: [1.0e-6]}\n"
-               "  peers:\n    model: pendulum_a01\n    simbody: {tolerances: [1.0e-6]}\n"
-               "    mujoco: {integrator: rk4, steps: [1.0e-3]}\n";
-    }
+    const std::string scene = pendulum_bench_scene(
+        dir, "  runs:\n    - {formulation: augmented, integrator: dopri5, tolerances: [1.0e-6]}\n"
+             "  peers:\n    model: pendulum_a01\n    simbody: {tolerances: [1.0e-6]}\n"
+             "    mujoco: {integrator: rk4, steps: [1.0e-3]}\n");
     BenchOptions options;
     options.repeat = 1;
     options.progress = false;

@@ -53,6 +53,41 @@ std::vector<double> number_list(const Param* node, const std::string& what) {
     return out;
 }
 
+void check_keys(const Param& n, const std::string& what, const std::vector<std::string>& accepted);
+
+// A series' grid of tolerances or steps: a list of numbers, or a geometric sequence
+// {from: A, to: B, per_decade: N} or {from: A, to: B, ratio: R} from A to B (both included), equal
+// ratios between neighbours: 10^(1/N), or the least number of them not above R. Positive values only.
+std::vector<double> grid_list(const Param* node, const std::string& what) {
+    if (!node || !node->is_map()) {
+        std::vector<double> out = number_list(node, what);
+        for (size_t k = 0; k < out.size(); ++k)
+            if (!(out[k] > 0.0)) node->items[k].fail("bench: '" + what + "' must be positive numbers");
+        return out;
+    }
+    check_keys(*node, what, {"from", "to", "per_decade", "ratio"});
+    const Param* from = field(*node, "from");
+    const Param* to = field(*node, "to");
+    const Param* per_decade = field(*node, "per_decade");
+    const Param* ratio = field(*node, "ratio");
+    if (!from || !to || (per_decade != nullptr) == (ratio != nullptr))
+        node->fail("bench: '" + what + "' as a sequence is {from: A, to: B, per_decade: N} or {from: A, to: B, ratio: R}");
+    const double a = from->as_number("from", "bench"), b = to->as_number("to", "bench");
+    if (!(a > 0.0) || !(b > 0.0) || a == b)
+        node->fail("bench: '" + what + "': 'from' and 'to' must be two different positive numbers");
+    double r = per_decade ? std::pow(10.0, 1.0 / per_decade->as_integer("per_decade", 1, 20, "bench"))
+                          : ratio->as_number("ratio", "bench");
+    if (!(r > 1.0) || !std::isfinite(r)) ratio->fail("bench: '" + what + "': 'ratio' must be a number above 1");
+    const double span = std::abs(std::log(a / b)) / std::log(r);
+    // rounded up, so that no ratio exceeds R (per_decade spans are whole numbers but for round-off)
+    const int intervals = std::max(1, static_cast<int>(std::ceil(span - 1e-9)));
+    if (intervals > 200) node->fail("bench: '" + what + "' makes " + std::to_string(intervals + 1) + " points; at most 201");
+    std::vector<double> out;
+    for (int k = 0; k <= intervals; ++k) out.push_back(a * std::pow(b / a, static_cast<double>(k) / intervals));
+    out.back() = b;
+    return out;
+}
+
 void check_keys(const Param& n, const std::string& what, const std::vector<std::string>& accepted) {
     if (!n.is_map()) n.fail("bench: '" + what + "' must be a map of keys");
     for (const auto& [key, value] : n.fields) {
@@ -320,8 +355,8 @@ BenchSpec load_bench_spec(const Model& model) {
         BenchSeries series;
         series.formulation = word_or(s, "formulation", "augmented");
         series.integrator = word_or(s, "integrator", "dopri5");
-        series.tolerances = number_list(field(s, "tolerances"), "tolerances");
-        series.steps = number_list(field(s, "steps"), "steps");
+        series.tolerances = grid_list(field(s, "tolerances"), "tolerances");
+        series.steps = grid_list(field(s, "steps"), "steps");
         spec.runs.push_back(series);
     }
     if (const Param* p = field(*b, "peers")) {
@@ -340,8 +375,8 @@ BenchSpec load_bench_spec(const Model& model) {
                 BenchPeerSeries ps;
                 ps.engine = engine;
                 ps.integrator = word_or(*s, "integrator", "default");
-                ps.tolerances = number_list(field(*s, "tolerances"), "tolerances");
-                ps.steps = number_list(field(*s, "steps"), "steps");
+                ps.tolerances = grid_list(field(*s, "tolerances"), "tolerances");
+                ps.steps = grid_list(field(*s, "steps"), "steps");
                 spec.peers.push_back(ps);
             }
         }
