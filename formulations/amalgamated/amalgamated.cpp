@@ -49,14 +49,11 @@
 namespace mbd {
 namespace {
 
-class Amalgamated final : public Formulation {
+class Amalgamated final : public CoordinateVelocityFormulation {
 public:
     Amalgamated() = default;
 
     void bind(System& system, const FormulationOptions& options) override;
-    int ode_size() const override { return nq_ + nv_; }
-    void to_ode(const State& state, Eigen::VectorXd& y) override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
@@ -83,7 +80,7 @@ private:
 
     System* system_ = nullptr;
     FormulationOptions options_;
-    int nq_ = 0, nv_ = 0, nc_ = 0, nvb_ = 3;
+    int nc_ = 0, nvb_ = 3;
     Eigen::MatrixXd Mdense_;
     CoordinatePartition part_;
     bool analysed_ = false;
@@ -111,8 +108,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     options_ = options;
     log_choices_ = options.log_choices.value_or(false) && options.log.enabled();  // no text built for nobody
     singularity_.tolerance = options.singularity_tolerance;
-    nq_ = system.nq();
-    nv_ = system.nv();
+    bind_sizes(system);
     nc_ = system.constraint_rows(true);
     nvb_ = velocities_per_body(system.dimension());
     Mdense_ = Eigen::MatrixXd(system.mass_matrix());
@@ -245,15 +241,9 @@ void Amalgamated::solve_dynamics(double t) {
     Qc_ = -x_.segment(n, n);
 }
 
-void Amalgamated::to_ode(const State& state, Eigen::VectorXd& y) { qv_to_ode(state, nq_, nv_, y); }
-
-void Amalgamated::from_ode(double t, const Eigen::VectorXd& y, State& state) {
-    qv_from_ode(t, y, nq_, nv_, state);
-}
-
 void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
-    qv_from_ode(t, y, nq_, nv_, state_);
+    from_ode(t, y, state_);
     solve_dynamics(t);
     ydot.resize(nq_ + nv_);
     write_coordinate_rates(system_->dimension(), state_.q, state_.v, ydot.head(nq_));
@@ -262,7 +252,7 @@ void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
 
 bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     System& sys = *system_;
-    qv_from_ode(t, y, nq_, nv_, state_);
+    from_ode(t, y, state_);
     sys.normalize(state_.q);
     const bool projected = options_.stabilization == Stabilization::Projection && nc_ > 0;
     if (projected) {

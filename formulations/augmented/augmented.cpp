@@ -55,16 +55,13 @@
 namespace mbd {
 namespace {
 
-class Augmented final : public Formulation {
+class Augmented final : public CoordinateVelocityFormulation {
 public:
     Augmented() = default;
     Augmented(const Augmented&) = delete;
     Augmented& operator=(const Augmented&) = delete;
 
     void bind(System& system, const FormulationOptions& options) override;
-    int ode_size() const override { return nq_ + nv_; }
-    void to_ode(const State& state, Eigen::VectorXd& y) override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
@@ -102,7 +99,7 @@ private:
     FormulationOptions options_;
     bool sparse_ = false;
     bool planar_ = true;
-    int nb_ = 0, nq_ = 0, nv_ = 0, nc_ = 0, nvb_ = 3, nqb_ = 3;
+    int nb_ = 0, nc_ = 0, nvb_ = 3, nqb_ = 3;
 
     // per body: M^-1 block and its lower Cholesky factor Lm (M^-1 = Lm Lm^T)
     BlockMassInverse mass_inverse_;
@@ -140,8 +137,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     nvb_ = velocities_per_body(system.dimension());
     nqb_ = coordinates_per_body(system.dimension());
     nb_ = system.body_count();
-    nq_ = system.nq();
-    nv_ = system.nv();
+    bind_sizes(system);
     nc_ = system.constraint_rows(true);
     sparse_ = options_.algebra == LinearAlgebra::Sparse ||
               (options_.algebra == LinearAlgebra::Auto && nv_ > options_.sparse_threshold);
@@ -200,12 +196,6 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
         for (int c = 0; c < nvb_; ++c) rows_of_column[b * nvb_ + c] = rows;
     }
     sparse_gram_.analyze(nc_, nv_, rows_of_column);
-}
-
-void Augmented::to_ode(const State& state, Eigen::VectorXd& y) { qv_to_ode(state, nq_, nv_, y); }
-
-void Augmented::from_ode(double t, const Eigen::VectorXd& y, State& state) {
-    qv_from_ode(t, y, nq_, nv_, state);
 }
 
 void Augmented::check_finite(double t, const Eigen::VectorXd& x, const char* what) const {
@@ -426,7 +416,7 @@ void Augmented::solve_dynamics(double t) {
 }
 
 void Augmented::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
-    qv_from_ode(t, y, nq_, nv_, state_);
+    from_ode(t, y, state_);
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     solve_dynamics(t);
     ydot.resize(nq_ + nv_);
@@ -446,7 +436,7 @@ void Augmented::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
 
 bool Augmented::project(double t, Eigen::VectorXd& y) {
     System& sys = *system_;
-    qv_from_ode(t, y, nq_, nv_, state_);
+    from_ode(t, y, state_);
     sys.normalize(state_.q);  // unit Euler parameters
     if (options_.stabilization != Stabilization::Projection || nc_ == 0) {
         y.head(nq_) = state_.q;

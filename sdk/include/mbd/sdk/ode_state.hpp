@@ -2,7 +2,9 @@
 // the velocities directly (augmented, amalgamated).
 #pragma once
 
+#include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/state.hpp>
+#include <mbd/sdk/system.hpp>
 
 #include <Eigen/Core>
 
@@ -21,5 +23,21 @@ inline void qv_from_ode(double t, const Eigen::VectorXd& y, int nq, int nv, Stat
     state.q = y.head(nq);
     state.v = y.tail(nv);
 }
+
+// A formulation whose ODE vector is y = [q; v] (augmented, amalgamated): the mapping between
+// the state and y, once. bind() calls bind_sizes() first.
+class CoordinateVelocityFormulation : public Formulation {
+public:
+    int ode_size() const final { return nq_ + nv_; }
+    void to_ode(const State& state, Eigen::VectorXd& y) final { qv_to_ode(state, nq_, nv_, y); }
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) final { qv_from_ode(t, y, nq_, nv_, state); }
+
+protected:
+    void bind_sizes(const System& system) {
+        nq_ = system.nq();
+        nv_ = system.nv();
+    }
+    int nq_ = 0, nv_ = 0;
+};
 
 }  // namespace mbd
