@@ -1,0 +1,154 @@
+// Coulomb friction in dynamics (issue 19, item 3): the coulomb_friction force element
+// against closed forms.
+//  - Book Ex. 5.6 (L6248-6352; digests/formulations.md 11.7): a 5 kg mass on a spring
+//    (k = 5e3 N/m) with kinetic friction mu_k = 0.1, released at x0 = 0.03 m. Each half
+//    cycle is a harmonic motion about the offset equilibrium sgn(x_n) F_f / k, so the
+//    turning points are x_n = (-1)^n (x0 - 2 n F_f / k) at t_n = n pi / w, and the mass
+//    stops at the first turning point where k |x_n| <= mu_s F_n.
+//  - A block on an incline: sticks when tan(angle) <= mu_s, slides with
+//    a = g (sin - mu_k cos) otherwise.
+#include "support/test_support.hpp"
+
+#include <mbd/simulation.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace {
+
+using mbd::test::g17;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kG = 9.81;
+
+std::vector<mbd::State> run(const mbd::Model& model, double t_end, double output_step, double tolerance) {
+    mbd::SimulationSettings s;
+    s.formulation = "augmented";
+    s.integrator = "cvode";
+    s.integration.tolerance = tolerance;
+    s.t_end = t_end;
+    s.output_step = output_step;
+    s.progress = false;
+    s.messages = mbd::MessageLog::silent();
+    std::vector<mbd::State> states;
+    mbd::simulate(model, mbd::test::shared_registry(), s, [&](const mbd::SimulationSample& sample) {
+        states.push_back(sample.state);
+        return true;
+    });
+    return states;
+}
+
+// ------------------------------------------------------------------ Ex. 5.6
+struct Oscillator {
+    double m = 5.0, k = 5e3, mu = 0.1, x0 = 0.03;
+    double normal() const { return m * kG; }
+    double friction() const { return mu * normal(); }  // F_f = 4.905 N
+    double w() const { return std::sqrt(k / m); }       // 31.6228 rad/s
+};
+
+// The block slides on a prismatic guide along x; the spring joins it to the ground point
+// (-1, 0) with rest length 1 (so its force is -k x); the friction element holds the
+// normal load m g (no gravity in the scene: the guide would carry it anyway).
+std::string oscillator_scene(const Oscillator& o, double stiction_velocity) {
+    return "name: ex5-6\ndimension: planar\n"
+           "bodies:\n  - {name: block, mass: " + g17(o.m) + ", inertia: 0.01, position: [" + g17(o.x0) + ", 0]}\n"
+           "joints:\n  - {name: guide, type: prismatic, bodies: [ground, block], point: [0, 0], axis: [1, 0]}\n"
+           "forces:\n"
+           "  - {name: spring, type: spring_damper, bodies: [ground, block], points: [[-1, 0], [0, 0]],"
+           " stiffness: " + g17(o.k) + ", rest_length: 1}\n"
+           "  - {name: dry, type: coulomb_friction, bodies: [block, ground], point: [" + g17(o.x0) + ", 0], axis: [1, 0],"
+           " normal_force: " + g17(o.normal()) + ", static_friction: " + g17(o.mu) + ", kinetic_friction: " +
+           g17(o.mu) + ", stiction_velocity: " + g17(stiction_velocity) + "}\n";
+}
+
+TEST(CoulombFriction, BookExample5_6TurningPointsHalfCyclesAndRest) {
+    const Oscillator o;
+    const double drop = 2.0 * o.friction() / o.k;  // 1.962e-3 m per half cycle
+    EXPECT_NEAR(drop, 1.962e-3, 1e-12);
+    // the closed form: the number of half cycles before rest (the digest: 15)
+    int half_cycles = 0;
+    while (o.k * std::abs(o.x0 - half_cycles * drop) > o.friction()) ++half_cycles;
+    EXPECT_EQ(half_cycles, 15);
+    const double t_half = kPi / o.w();  // 0.099346 s
+    const int per_half = 40;
+    const double t_rest = half_cycles * t_half;
+    const auto states = run(mbd::test::scene(oscillator_scene(o, 1e-9)), t_rest + 1.2, t_half / per_half, 1e-12);
+    ASSERT_GT(states.size(), static_cast<size_t>(per_half * half_cycles + 1));
+    auto x_at = [&](int half) { return states[half * per_half].q[0]; };
+    // the digest's corrected values at the first two turning points
+    EXPECT_NEAR(x_at(1), -0.028038, 1e-6);
+    EXPECT_NEAR(x_at(2), 0.026076, 1e-6);
+    double worst_turning = 0.0;
+    for (int n = 0; n <= half_cycles; ++n) {
+        const double exact = (n % 2 ? -1.0 : 1.0) * (o.x0 - n * drop);
+        worst_turning = std::max(worst_turning, std::abs(x_at(n) - exact));
+        EXPECT_NEAR(states[n * per_half].t, n * t_half, 1e-12);
+    }
+    std::printf("Ex. 5.6: worst turning-point error over %d half cycles %.3e m\n", half_cycles, worst_turning);
+    EXPECT_LT(worst_turning, 1e-7);
+    // still moving just before the last turning point, stuck from then on for more than 1 s
+    EXPECT_GT(std::abs(states[half_cycles * per_half - per_half / 2].v[0]), 1e-3);
+    double worst_speed = 0.0;
+    const double x_rest = states[half_cycles * per_half].q[0];
+    for (size_t r = half_cycles * per_half + per_half / 4; r < states.size(); ++r) {
+        worst_speed = std::max(worst_speed, std::abs(states[r].v[0]));
+        EXPECT_NEAR(states[r].q[0], x_rest, 1e-8);
+    }
+    std::printf("Ex. 5.6: at rest from t = %.4f s for %.3f s, max |v| %.3e m/s\n", t_rest,
+                states.back().t - t_rest - t_half / 4, worst_speed);
+    EXPECT_GT(states.back().t - t_rest - t_half / 4, 1.0);
+    EXPECT_LT(worst_speed, 1e-9);
+}
+
+// ------------------------------------------------------------------ incline
+// A 2 kg block on a guide inclined at `angle`, gravity down; the friction element carries
+// the normal load m g cos(angle). Returns the states (q[0..1] position, v along the slope).
+std::vector<mbd::State> incline(double angle, double mu_s, double mu_k, double t_end) {
+    const double m = 2.0, c = std::cos(angle), s = std::sin(angle);
+    const std::string axis = "[" + g17(c) + ", " + g17(s) + "]";
+    const std::string yaml =
+        "name: incline\ndimension: planar\ngravity: [0, " + g17(-kG) + "]\n"
+        "bodies:\n  - {name: block, mass: " + g17(m) + ", inertia: 0.01, position: [0, 0], angle: " + g17(angle) + "}\n"
+        "joints:\n  - {name: slope, type: prismatic, bodies: [ground, block], point: [0, 0], axis: " + axis + "}\n"
+        "forces:\n"
+        "  - {name: dry, type: coulomb_friction, bodies: [block, ground], point: [0, 0], axis: " + axis +
+        ", normal_force: " + g17(m * kG * c) + ", static_friction: " + g17(mu_s) + ", kinetic_friction: " + g17(mu_k) +
+        ", stiction_velocity: 1e-9}\n";
+    return run(mbd::test::scene(yaml), t_end, 0.05, 1e-12);
+}
+double along(const mbd::State& st, double angle) { return st.q[0] * std::cos(angle) + st.q[1] * std::sin(angle); }
+double speed_along(const mbd::State& st, double angle) { return st.v[0] * std::cos(angle) + st.v[1] * std::sin(angle); }
+
+TEST(CoulombFriction, BlockOnAnInclineSticksUpToTheStaticCoefficient) {
+    const double mu_s = 0.4, mu_k = 0.3;
+    for (double tan_angle : {0.2, 0.39, mu_s}) {
+        const double angle = std::atan(tan_angle);
+        const auto states = incline(angle, mu_s, mu_k, 1.0);
+        double travel = 0.0;
+        for (const auto& st : states) travel = std::max(travel, std::abs(along(st, angle)));
+        std::printf("incline tan %.3f (mu_s %.2f): travel in 1 s %.3e m\n", tan_angle, mu_s, travel);
+        // within the stiction velocity times 1 s (twice that at tan = mu_s: the plateau of the law)
+        EXPECT_LT(travel, (tan_angle < mu_s ? 1.0 : 2.0) * 1e-9 + 1e-12) << "tan(angle) = " << tan_angle;
+    }
+}
+
+TEST(CoulombFriction, BlockOnAnInclineSlidesWithTheKineticCoefficient) {
+    const double mu_s = 0.4, mu_k = 0.3;
+    for (double tan_angle : {mu_s * 1.001, 0.7, 2.0}) {
+        const double angle = std::atan(tan_angle);
+        const auto states = incline(angle, mu_s, mu_k, 1.0);
+        const double a = kG * (std::sin(angle) - mu_k * std::cos(angle));
+        // after the start (the stiction band is crossed in ~1e-8 s) the speed grows at a
+        const mbd::State &s1 = states[10], &s2 = states.back();
+        const double measured = (speed_along(s1, angle) - speed_along(s2, angle)) / (s2.t - s1.t);  // down the slope
+        std::printf("incline tan %.4f: a %.12f, closed form %.12f, error %.2e\n", tan_angle, measured, a,
+                    measured - a);
+        EXPECT_NEAR(measured, a, 1e-8) << "tan(angle) = " << tan_angle;
+        EXPECT_LT(along(s2, angle), 0.0);  // down the slope (the axis points up it)
+    }
+}
+
+}  // namespace
