@@ -151,4 +151,46 @@ TEST(CoulombFriction, BlockOnAnInclineSlidesWithTheKineticCoefficient) {
     }
 }
 
+// ------------------------------------------------------------------ bad input
+std::string error_of(const std::string& yaml) {
+    try {
+        const mbd::Model model = mbd::test::scene(yaml, "friction.yaml");
+        run(model, 0.01, 0.005, 1e-8);
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(CoulombFriction, BadInputIsNamedWithItsKey) {
+    const Oscillator o;
+    const std::string good = oscillator_scene(o, 1e-6);
+    auto with = [&](const std::string& from, const std::string& to) {
+        std::string y = good;
+        const size_t at = y.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        return y.replace(at, from.size(), to);
+    };
+    const struct {
+        std::string from, to, expected;
+    } cases[] = {
+        {"kinetic_friction: 0.10000000000000001", "kinetic_friction: 0.2", "must not exceed 'static_friction'"},
+        {"stiction_velocity: 9.9999999999999995e-07", "stiction_velocity: 0", "'stiction_velocity' must be positive"},
+        {"normal_force: 49.050000000000004,", "", "missing key 'normal_force'"},
+        {"normal_force: 49.050000000000004", "normal_force: -1", "'normal_force' must not be negative"},
+        {"static_friction: 0.10000000000000001", "static_friction: -0.1", "'static_friction' must not be negative"},
+        {"bodies: [block, ground], point", "bodies: [block], point", "two bodies"},
+    };
+    for (const auto& c : cases) {
+        const std::string m = error_of(with(c.from, c.to));
+        EXPECT_NE(m.find(c.expected), std::string::npos) << c.to << ": " << m;
+        EXPECT_NE(m.find("friction.yaml"), std::string::npos) << m;
+        if (c.expected != "two bodies") EXPECT_NE(m.find("force 'dry'"), std::string::npos) << m;
+    }
+    // a normal load that turns negative during the run stops it, naming the element
+    const std::string m = error_of(with("normal_force: 49.050000000000004",
+                                        "normal_force: {type: harmonic, amplitude: 1, frequency: 1000}"));
+    EXPECT_NE(m.find("force 'dry': normal_force is negative"), std::string::npos) << m;
+}
+
 }  // namespace

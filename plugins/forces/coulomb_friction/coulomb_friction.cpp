@@ -2,7 +2,8 @@
 // with static and kinetic coefficients and the regularized law of regularized_coulomb.hpp.
 //
 // The contact point P is the force's marker on the first body (i), the contact line
-// the marker's x axis t = A_i A_bar_i e_x (it turns with body i). The sliding velocity
+// the marker's axis t = A_i A_bar_i e (e = x planar, z spatial: the scene's `axis`, as for
+// a joint; it turns with body i). The sliding velocity
 // is that of P on i relative to the material point of j at P (Eq. 5.74's v_r):
 //   v_r = (Rdot_i + omega_i x (P - R_i) - Rdot_j - omega_j x (P - R_j)) . t
 // and the friction force on i is F = -mu(v_r) F_n t, on j +mu(v_r) F_n t, both applied
@@ -35,10 +36,10 @@ S cross2(const V2<S>& a, const V2<S>& b) {
 
 class CoulombFriction final : public LoadedForce<CoulombFriction, 2> {
 public:
-    explicit CoulombFriction(const ForceSpec& spec) : LoadedForce(spec, "two bodies [i, j]") {
+    explicit CoulombFriction(const ForceSpec& spec) : LoadedForce(spec, "two bodies [i, j]"), name_(spec.name) {
         const Marker& m = marker_or_centre(spec, 0);
         u_ = m.u_bar;
-        t_bar_ = m.axis_x();
+        t_bar_ = dim_ == Dimension::Planar ? m.axis_x() : m.axis_z();  // along `axis`, as for a joint
         if (dim_ == Dimension::Planar) {
             u_.z() = 0.0;
             t_bar_.z() = 0.0;
@@ -46,6 +47,9 @@ public:
         if (!spec.params.has("normal_force"))
             fail(spec, "missing key 'normal_force' (the load pressing the surfaces together, N; e.g. m g cos(angle))");
         normal_ = make_time_function(spec.params.at("normal_force"), "force '" + spec.name + "' normal_force");
+        if (normal_->evaluate(0.0).f < 0.0)
+            fail(spec, "'normal_force' must not be negative (the load pressing the surfaces together)",
+                 &spec.params.at("normal_force"));
         law_.mu_static = non_negative(spec, "static_friction");
         law_.mu_kinetic = non_negative(spec, "kinetic_friction");
         if (law_.mu_kinetic > law_.mu_static)
@@ -62,8 +66,9 @@ public:
     double load(double t) const {
         const double n = normal_->evaluate(t).f;
         if (n < 0.0)
-            throw InputError("", "normal_force is negative (" + std::to_string(n) + " N) at t = " + std::to_string(t) +
-                                     ": a contact cannot pull");
+            throw InputError("force '" + name_ + "'", "force '" + name_ + "': normal_force is negative (" +
+                                                          std::to_string(n) + " N) at t = " + std::to_string(t) +
+                                                          ": a contact cannot pull; keep the load >= 0");
         return n;
     }
 
@@ -97,6 +102,7 @@ private:
     static double number_or(const ForceSpec& spec, const std::string& key, double fallback) {
         return number(spec, key, &fallback);
     }
+    std::string name_;
     Vec3 u_, t_bar_;
     std::shared_ptr<const TimeFunction> normal_;
     friction::CoulombLaw law_;
