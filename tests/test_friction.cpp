@@ -151,6 +151,21 @@ TEST(CoulombFriction, BlockOnAnInclineSlidesWithTheKineticCoefficient) {
     }
 }
 
+// ------------------------------------------------------------------ the plugin check
+// Its Jacobians against central differences, planar and spatial, with the random sliding
+// speeds of the check inside the stiction band (v_s = 5 m/s), on the plateau and beyond.
+TEST(CoulombFriction, PassesThePluginCheck) {
+    const std::string lib = (mbd::test::build_plugin_dir() / "libmbd_force_coulomb_friction.so").string();
+    for (const char* vs : {"5", "0.5", "1e-3"}) {
+        const auto r = mbd::test::run_mbd("plugin check " + lib +
+                                          " --params 'normal_force: 10' --params 'static_friction: 0.3'"
+                                          " --params 'kinetic_friction: 0.2' --params 'stiction_velocity: " +
+                                          vs + "'");
+        EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+        EXPECT_NE(r.out.find("2 checked, 0 failed"), std::string::npos) << r.out;
+    }
+}
+
 // ------------------------------------------------------------------ bad input
 std::string error_of(const std::string& yaml) {
     try {
