@@ -151,18 +151,61 @@ TEST(CoulombFriction, BlockOnAnInclineSlidesWithTheKineticCoefficient) {
     }
 }
 
+// ------------------------------------------------------------------ a pin with friction
+// A wheel (J = 0.5 kg m^2) on a revolute joint to the ground, a torque T about the pin
+// and the pin's friction: radius 0.02 m, load 500 N, mu_s 0.3, mu_k 0.2, preload 0.5 N m,
+// so breakaway M_s = 0.3 * 0.02 * 500 + 0.5 = 3.5 N m and slipping M_k = 2.5 N m.
+std::vector<mbd::State> pin(double torque) {
+    const std::string yaml =
+        "name: pin\ndimension: planar\n"
+        "bodies:\n  - {name: wheel, mass: 2, inertia: 0.5, position: [0, 0]}\n"
+        "joints:\n  - {name: axle, type: revolute, bodies: [ground, wheel], point: [0, 0]}\n"
+        "forces:\n"
+        "  - {name: motor, type: point_torque, body: wheel, torque: " + g17(torque) + "}\n"
+        "  - {name: bearing, type: rotational_friction, bodies: [wheel, ground], point: [0, 0], radius: 0.02,"
+        " normal_force: 500, static_friction: 0.3, kinetic_friction: 0.2, preload: 0.5, stiction_velocity: 1e-9}\n";
+    return run(mbd::test::scene(yaml), 1.0, 0.05, 1e-12);
+}
+
+TEST(RotationalFriction, PinUnderATorqueBelowBreakawayDoesNotTurn) {
+    const double breakaway = 0.3 * 0.02 * 500 + 0.5;
+    for (double torque : {1.0, 3.4, breakaway, -3.4}) {
+        double turned = 0.0;
+        for (const auto& st : pin(torque)) turned = std::max(turned, std::abs(st.q[2]));
+        std::printf("pin, torque %.3f N m (breakaway %.3f): turned %.3e rad in 1 s\n", torque, breakaway, turned);
+        EXPECT_LT(turned, (std::abs(torque) < breakaway ? 1.0 : 2.0) * 1e-9 + 1e-12) << torque;
+    }
+}
+
+TEST(RotationalFriction, PinAboveBreakawaySlipsWithTheKineticMoment) {
+    const double kinetic = 0.2 * 0.02 * 500 + 0.5, J = 0.5;
+    for (double torque : {3.51, 5.0, -8.0}) {
+        const auto states = pin(torque);
+        const mbd::State &a = states[4], &b = states.back();
+        const double measured = (b.v[2] - a.v[2]) / (b.t - a.t);
+        const double exact = (torque - (torque > 0 ? kinetic : -kinetic)) / J;
+        std::printf("pin, torque %.2f: angular acceleration %.12f, closed form %.12f\n", torque, measured, exact);
+        EXPECT_NEAR(measured, exact, 1e-8) << torque;
+    }
+}
+
 // ------------------------------------------------------------------ the plugin check
 // Its Jacobians against central differences, planar and spatial, with the random sliding
 // speeds of the check inside the stiction band (v_s = 5 m/s), on the plateau and beyond.
-TEST(CoulombFriction, PassesThePluginCheck) {
-    const std::string lib = (mbd::test::build_plugin_dir() / "libmbd_force_coulomb_friction.so").string();
-    for (const char* vs : {"5", "0.5", "1e-3"}) {
-        const auto r = mbd::test::run_mbd("plugin check " + lib +
-                                          " --params 'normal_force: 10' --params 'static_friction: 0.3'"
-                                          " --params 'kinetic_friction: 0.2' --params 'stiction_velocity: " +
-                                          vs + "'");
-        EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-        EXPECT_NE(r.out.find("2 checked, 0 failed"), std::string::npos) << r.out;
+TEST(Friction, BothPluginsPassThePluginCheck) {
+    for (const char* type : {"coulomb_friction", "rotational_friction"}) {
+        const std::string lib =
+            (mbd::test::build_plugin_dir() / ("libmbd_force_" + std::string(type) + ".so")).string();
+        const std::string keys = std::string(type) == "rotational_friction"
+                                     ? " --params 'radius: 0.02' --params 'normal_force: 100' --params 'preload: 0.1'"
+                                     : " --params 'normal_force: 10'";
+        for (const char* vs : {"5", "0.5", "1e-3"}) {
+            const auto r = mbd::test::run_mbd("plugin check " + lib + keys +
+                                              " --params 'static_friction: 0.3' --params 'kinetic_friction: 0.2'"
+                                              " --params 'stiction_velocity: " + vs + "'");
+            EXPECT_EQ(r.exit_code, 0) << type << " " << r.out << r.err;
+            EXPECT_NE(r.out.find("2 checked, 0 failed"), std::string::npos) << r.out;
+        }
     }
 }
 

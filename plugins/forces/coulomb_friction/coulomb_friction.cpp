@@ -1,5 +1,5 @@
 // Coulomb friction between two bodies along a contact line (book Sec. 5.5, Eq. 5.74),
-// with static and kinetic coefficients and the regularized law of regularized_coulomb.hpp.
+// with static and kinetic coefficients and the regularized law of mbd/sdk/coulomb_law.hpp.
 //
 // The contact point P is the force's marker on the first body (i), the contact line
 // the marker's axis t = A_i A_bar_i e (e = x planar, z spatial: the scene's `axis`, as for
@@ -15,7 +15,7 @@
 // mu_s, kinetic_friction mu_k (0 <= mu_k <= mu_s), stiction_velocity v_s (> 0, default
 // 1e-6 m/s), and the frame: `point` with `axis` (world, at t = 0: the contact point and
 // the direction of the contact line). Not conservative; exact Jacobians.
-#include "regularized_coulomb.hpp"
+#include <mbd/sdk/coulomb_law.hpp>
 
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
