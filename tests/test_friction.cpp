@@ -9,6 +9,7 @@
 //    a = g (sin - mu_k cos) otherwise.
 #include "support/test_support.hpp"
 
+#include <mbd/sdk/coulomb_law.hpp>
 #include <mbd/simulation.hpp>
 
 #include <gtest/gtest.h>
@@ -39,6 +40,34 @@ std::vector<mbd::State> run(const mbd::Model& model, double t_end, double output
         return true;
     });
     return states;
+}
+
+// ------------------------------------------------------------------ the law
+// The shape the docs promise: exactly mu_s at |v| = v_s and on [v_s, 2 v_s], mu_k beyond
+// 9 v_s to double precision, odd, and C1 (one-sided differences agree at the joins).
+TEST(CoulombLaw, RisesToTheStaticCoefficientAndFallsToTheKinetic) {
+    mbd::friction::CoulombLaw law;
+    law.mu_static = 0.4;
+    law.mu_kinetic = 0.25;
+    law.stiction_velocity = 1e-3;
+    const double vs = law.stiction_velocity;
+    EXPECT_EQ(law.coefficient(0.0), 0.0);
+    EXPECT_DOUBLE_EQ(law.coefficient(vs), 0.4);
+    EXPECT_DOUBLE_EQ(law.coefficient(1.5 * vs), 0.4);
+    EXPECT_DOUBLE_EQ(law.coefficient(2.0 * vs), 0.4);
+    EXPECT_EQ(law.coefficient(9.0 * vs), 0.25);
+    EXPECT_EQ(law.coefficient(-50.0 * vs), -0.25);
+    for (double v : {0.3 * vs, 1.7 * vs, 3.0 * vs}) EXPECT_EQ(law.coefficient(-v), -law.coefficient(v));
+    double peak = 0.0;
+    for (int k = 0; k <= 4000; ++k) peak = std::max(peak, law.coefficient(k * 1e-2 * vs));
+    EXPECT_DOUBLE_EQ(peak, 0.4);  // never above mu_s: the breakaway load is mu_s F_n
+    const double h = 1e-7 * vs;
+    for (double join : {vs, 2.0 * vs}) {
+        const double left = (law.coefficient(join) - law.coefficient(join - h)) / h;
+        const double right = (law.coefficient(join + h) - law.coefficient(join)) / h;
+        EXPECT_NEAR(left, right, 1e-4 / vs) << join;
+    }
+    EXPECT_NEAR((law.coefficient(h) - law.coefficient(-h)) / (2 * h), 1.5 * 0.4 / vs, 1e-6 / vs);  // slope at 0
 }
 
 // ------------------------------------------------------------------ Ex. 5.6

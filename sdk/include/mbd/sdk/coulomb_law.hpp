@@ -11,8 +11,8 @@
 //   |x| >  2:      mu(x) = sgn(x) [mu_k + (mu_s - mu_k) exp(-(|x| - 2)^2)]     (C1 throughout)
 // So a contact whose tangential load stays below mu_s F_n creeps at a speed below v_s
 // (it "sticks" to within v_s; at exactly mu_s F_n within 2 v_s), the breakaway load is
-// exactly mu_s F_n, and beyond about 8 v_s the coefficient equals mu_k to double
-// precision (exp(-36) < 3e-16).
+// exactly mu_s F_n, and beyond 9 v_s the coefficient equals mu_k to double
+// precision (exp(-49) < 6e-22).
 // The slope at v = 0 is 1.5 mu_s F_n / v_s: a small v_s makes the problem stiff, for
 // an implicit integrator (cvode).
 #pragma once
