@@ -218,6 +218,29 @@ TEST(RotationalFriction, PinAboveBreakawaySlipsWithTheKineticMoment) {
     }
 }
 
+// ------------------------------------------------------------------ the example scenes
+// scenes/examples/force-*-friction.yaml: the planar block sliding down its incline and the
+// spatial flywheel slipping in its bearing, against their closed forms.
+TEST(Friction, ExampleScenesMatchTheirClosedForms) {
+    {
+        const auto states = run(mbd::test::load("examples/force-coulomb-friction.yaml"), 1.0, 0.05, 1e-12);
+        const double angle = std::atan(0.7);
+        const double a = kG * (std::sin(angle) - 0.3 * std::cos(angle));
+        const mbd::State &s1 = states[4], &s2 = states.back();
+        EXPECT_NEAR((speed_along(s1, angle) - speed_along(s2, angle)) / (s2.t - s1.t), a, 1e-8);
+    }
+    {
+        const mbd::Model model = mbd::test::load("examples/force-rotational-friction.yaml");
+        const auto states = run(model, 1.0, 0.05, 1e-12);
+        const mbd::State &s1 = states[4], &s2 = states.back();
+        // spatial velocities: [Rdot, omega_bar (body axes)]; the hinge is the body z axis
+        const double alpha = (s2.v[5] - s1.v[5]) / (s2.t - s1.t);
+        std::printf("spatial flywheel in its bearing: %.12f rad/s^2 (closed form 5)\n", alpha);
+        EXPECT_NEAR(alpha, (5.0 - (0.2 * 0.02 * 500 + 0.5)) / 0.5, 1e-8);
+        EXPECT_LT(std::abs(s2.v[3]) + std::abs(s2.v[4]), 1e-9);  // it turns about the hinge only
+    }
+}
+
 // ------------------------------------------------------------------ the plugin check
 // Its Jacobians against central differences, planar and spatial, with the random sliding
 // speeds of the check inside the stiction band (v_s = 5 m/s), on the plateau and beyond.
