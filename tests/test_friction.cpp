@@ -10,6 +10,7 @@
 #include "support/test_support.hpp"
 
 #include <mbd/sdk/coulomb_law.hpp>
+#include <mbd/model_system.hpp>
 #include <mbd/simulation.hpp>
 
 #include <gtest/gtest.h>
@@ -130,6 +131,16 @@ TEST(CoulombFriction, BookExample5_6TurningPointsHalfCyclesAndRest) {
                 states.back().t - t_rest - t_half / 4, worst_speed);
     EXPECT_GT(states.back().t - t_rest - t_half / 4, 1.0);
     EXPECT_LT(worst_speed, 1e-9);
+    // the energy the friction dissipated, as the diagnostics' kinetic + potential energy show
+    // it, against F_f times the distance slid: sum over half cycles of A_n + A_(n+1)
+    double path = 0.0;
+    for (int n = 0; n < half_cycles; ++n) path += 2.0 * (o.x0 - n * drop) - drop;
+    const mbd::Model model = mbd::test::scene(oscillator_scene(o, 1e-9));
+    mbd::ModelSystem system(model);
+    auto energy = [&](const mbd::State& st) { return system.kinetic_energy(st) + system.potential_energy(st); };
+    const double dissipated = energy(states.front()) - energy(states.back());
+    std::printf("Ex. 5.6: energy dissipated %.9f J, F_f x distance slid %.9f J\n", dissipated, o.friction() * path);
+    EXPECT_NEAR(dissipated, o.friction() * path, 1e-7);
 }
 
 // ------------------------------------------------------------------ incline
