@@ -1,0 +1,46 @@
+// The regularized Coulomb law with static and kinetic coefficients (book Eq. 5.74),
+// as a friction coefficient of the sliding velocity v, for force elements.
+//
+// The book's law is set-valued at v = 0 (|F_f| <= mu_s F_n while stuck, F_f = mu_k F_n
+// sgn(v) while sliding). An ODE needs a function, so within a named velocity scale
+// v_s (`stiction_velocity`) the law rises to mu_s, and beyond it falls to mu_k:
+//   x = v / v_s,
+//   |x| <= 1:      mu(x) = mu_s (3 x - x^3) / 2           (rises to exactly mu_s, zero slope at |x| = 1)
+//   1 < |x| <= 2:  mu(x) = sgn(x) mu_s                     (a plateau: a step that overshoots the
+//                                                          stick band is pushed back, not released)
+//   |x| >  2:      mu(x) = sgn(x) [mu_k + (mu_s - mu_k) exp(-(|x| - 2)^2)]     (C1 throughout)
+// So a contact whose tangential load stays below mu_s F_n creeps at a speed below v_s
+// (it "sticks" to within v_s; at exactly mu_s F_n within 2 v_s), the breakaway load is
+// exactly mu_s F_n, and beyond 9 v_s the coefficient equals mu_k to double
+// precision (exp(-49) < 6e-22).
+// The slope at v = 0 is 1.5 mu_s F_n / v_s: a small v_s makes the problem stiff, for
+// an implicit integrator (cvode).
+#pragma once
+
+#include <mbd/sdk/force_support.hpp>
+
+#include <cmath>
+
+namespace mbd::friction {
+
+struct CoulombLaw {
+    double mu_static = 0.0;
+    double mu_kinetic = 0.0;
+    double stiction_velocity = 1e-6;
+
+    // the signed coefficient, templated for automatic differentiation
+    template <class S>
+    S coefficient(const S& v) const {
+        using std::abs;
+        using std::exp;
+        using force_support::value_of;
+        const S x = v / stiction_velocity;
+        if (std::abs(value_of(x)) <= 1.0) return mu_static * (3.0 * x - x * x * x) / 2.0;
+        if (std::abs(value_of(x)) <= 2.0) return S(value_of(x) > 0.0 ? mu_static : -mu_static);
+        const S excess = abs(x) - 2.0;
+        const S magnitude = mu_kinetic + (mu_static - mu_kinetic) * exp(-excess * excess);
+        return value_of(x) > 0.0 ? magnitude : S(-magnitude);
+    }
+};
+
+}  // namespace mbd::friction
