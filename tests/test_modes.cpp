@@ -10,11 +10,14 @@
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/text.hpp>
 #include <mbd/statics_analysis.hpp>
+#include <mbd/simulation.hpp>
+#include <mbd/sdk/velocity_transform.hpp>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 
 namespace {
@@ -152,6 +155,112 @@ TEST(Modes, FreeCoordinateIsIgnorable) {
     // what is left: the free velocity (lambda = 0, a rigid-body mode)
     ASSERT_EQ(a.modes.size(), 1u);
     EXPECT_NEAR(a.modes[0].natural_frequency, 0.0, 1e-12);
+}
+
+// ---------------------------------------------------------------- four-bar with a spring
+
+
+// scenes/dynamics/four-bar-spring-damper.yaml with its damper removed (a clean frequency)
+mbd::Model four_bar_with_spring() {
+    std::ifstream in(mbd::test::scene_path("dynamics/four-bar-spring-damper.yaml"));
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string yaml = text.str();
+    const size_t at = yaml.find("damping: 10");
+    EXPECT_NE(at, std::string::npos);
+    yaml.replace(at, 11, "damping: 0");
+    return scene(yaml, "four-bar-spring.yaml");
+}
+
+mbd::State equilibrium(const mbd::Model& model) {
+    const mbd::StaticsReport rep = mbd::run_statics(model, mbd::test::shared_registry(), {});
+    EXPECT_TRUE(rep.result.converged) << rep.result.message;
+    mbd::State s = rep.result.state;
+    s.v = Eigen::VectorXd::Zero(model.nv());
+    return s;
+}
+
+// The linearised A against first-order central differences (step 1e-6) of the nonlinear
+// accelerations of the augmented formulation plugin, on consistent states built around the
+// equilibrium along the independent coordinate and its velocity.
+TEST(Modes, FourBarLinearisationMatchesDifferencesOfTheNonlinearRhs) {
+    const mbd::Model model = four_bar_with_spring();
+    mbd::ModelSystem system(model);
+    const mbd::LinearModel linear = mbd::linearise(system, equilibrium(model), {});
+    ASSERT_EQ(linear.columns.size(), 1u);
+    const int col = linear.columns[0];
+
+    mbd::ModelSystem plugin_system(model);
+    mbd::FormulationSpec spec{"augmented", "augmented", {}};
+    auto formulation = mbd::test::shared_registry().create_formulation(spec, "test");
+    formulation->bind(plugin_system, mbd::FormulationOptions{});
+    mbd::CoordinatePartition partition;
+    {
+        mbd::ConstraintValues cv;
+        system.constraints(linear.reference, cv, true);
+        partition = mbd::partition_coordinates(Eigen::MatrixXd(cv.J));
+    }
+    ASSERT_EQ(partition.independent, linear.columns);
+    auto accel = [&](double dz, double dw) {
+        mbd::State s = linear.reference;
+        Eigen::VectorXd dv = Eigen::VectorXd::Zero(model.nv());
+        dv[col] = dz;
+        plugin_system.advance_positions(s.q, dv);
+        mbd::ConstraintValues cv;
+        Eigen::MatrixXd J;
+        mbd::VelocityTransformWorkspace ws;
+        EXPECT_TRUE(mbd::correct_dependent_positions(plugin_system, s, partition, 1e-14, 30, cv, J, ws));
+        mbd::dependent_velocities(J, cv.C_t, partition, Eigen::VectorXd::Constant(1, dw), s.v, ws);
+        Eigen::VectorXd vdot;
+        formulation->accelerations(s, vdot);
+        return vdot[col];
+    };
+    const double h = 1e-6;
+    const double dadz = (accel(h, 0) - accel(-h, 0)) / (2 * h), dadw = (accel(0, h) - accel(0, -h)) / (2 * h);
+    const double scale = linear.A.cwiseAbs().maxCoeff();
+    EXPECT_NEAR(linear.A(1, 0), dadz, 1e-6 * scale);
+    EXPECT_NEAR(linear.A(1, 1), dadw, 1e-6 * scale);
+    EXPECT_EQ(linear.A(0, 0), 0.0);
+    EXPECT_EQ(linear.A(0, 1), 1.0);
+}
+
+// The natural frequency against the period of a small-amplitude free oscillation simulated
+// from the equilibrium (rocker angle zero crossings, interpolated, over ten periods).
+TEST(Modes, FourBarFrequencyMatchesASmallAmplitudeSimulation) {
+    const mbd::Model model = four_bar_with_spring();
+    mbd::ModelSystem system(model);
+    const mbd::LinearModel linear = mbd::linearise(system, equilibrium(model), {});
+    const mbd::ModeAnalysis a = mbd::modes_of(linear);
+    ASSERT_EQ(a.modes.size(), 1u);
+    const double omega = a.modes[0].natural_frequency;
+    ASSERT_GT(omega, 0.0);
+
+    mbd::SimulationSettings settings;
+    settings.formulation = "augmented";
+    settings.integration.tolerance = 1e-12;
+    settings.t_end = 10.5 * 2 * M_PI / omega;
+    settings.output_step = 1e-4;
+    settings.progress = false;
+    settings.messages = mbd::MessageLog::silent();
+    mbd::State start = linear.reference;
+    start.v = linear.velocity_map * Eigen::VectorXd::Constant(1, 1e-4 * omega);  // amplitude 1e-4 rad
+    settings.initial_state = start;
+    const int col = linear.columns[0];
+    const double rest = linear.reference.q[col];  // planar: the angle column is its coordinate
+    std::vector<double> crossings;
+    double last_t = 0.0, last_x = 0.0;
+    bool first = true;
+    mbd::simulate(model, mbd::test::shared_registry(), settings, [&](const mbd::SimulationSample& s) {
+        const double x = s.state.q[col] - rest;
+        if (!first && ((last_x < 0) != (x < 0)) && x != last_x)
+            crossings.push_back(last_t + (s.state.t - last_t) * last_x / (last_x - x));
+        first = false;
+        last_t = s.state.t, last_x = x;
+        return true;
+    });
+    ASSERT_GE(crossings.size(), 21u);
+    const double period = 2 * (crossings[20] - crossings[0]) / 20;
+    EXPECT_NEAR(2 * M_PI / period, omega, 1e-4 * omega);
 }
 
 }  // namespace
