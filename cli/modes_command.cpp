@@ -40,17 +40,19 @@ const char* kind_of(const Mode& m) { return m.oscillatory ? "oscillatory" : "rea
 
 std::string number(double x) { return format_number(x, 17); }
 
-// mode, kind, eigenvalue, frequencies, damping, then the shape (re, im) in the independent
-// coordinates and in the joint coordinates; the ignorable coordinates last, as zero modes.
+// Numbers only: mode, oscillatory (1: a complex pair, shown by its Im > 0 member),
+// ignorable (1: a coordinate the dynamics do not depend on, its zero eigenvalue), eigenvalue,
+// frequencies, damping, then the shape (re, im) in the independent coordinates and in the
+// joint coordinates; the ignorable coordinates last.
 std::string mode_table(const LinearModel& linear, const ModeAnalysis& analysis) {
     std::ostringstream s;
-    s << "mode,kind,eigenvalue_real,eigenvalue_imag,natural_frequency_rad_s,natural_frequency_hz,damping_ratio";
+    s << "mode,oscillatory,ignorable,eigenvalue_real,eigenvalue_imag,natural_frequency_rad_s,natural_frequency_hz,damping_ratio";
     for (const std::string& c : linear.coordinates) s << ',' << c << "_re," << c << "_im";
     for (const std::string& j : linear.joint_coordinates) s << ",joint." << j << "_re,joint." << j << "_im";
     s << '\n';
     int index = 1;
     for (const Mode& m : analysis.modes) {
-        s << index++ << ',' << kind_of(m) << ',' << number(m.eigenvalue.real()) << ',' << number(m.eigenvalue.imag())
+        s << index++ << ',' << (m.oscillatory ? 1 : 0) << ",0," << number(m.eigenvalue.real()) << ',' << number(m.eigenvalue.imag())
           << ',' << number(m.natural_frequency) << ',' << number(m.natural_frequency / (2 * M_PI)) << ','
           << number(m.damping_ratio);
         for (Eigen::Index c = 0; c < m.shape.size(); ++c) s << ',' << number(m.shape[c].real()) << ',' << number(m.shape[c].imag());
@@ -59,7 +61,7 @@ std::string mode_table(const LinearModel& linear, const ModeAnalysis& analysis) 
         s << '\n';
     }
     for (int c : analysis.ignorable) {
-        s << index++ << ",ignorable,0,0,0,0,0";
+        s << index++ << ",0,1,0,0,0,0,0";
         for (size_t i = 0; i < linear.coordinates.size(); ++i) s << ',' << (static_cast<int>(i) == c ? 1 : 0) << ",0";
         for (Eigen::Index j = 0; j < linear.joint_map.rows(); ++j) s << ',' << number(linear.joint_map(j, c)) << ",0";
         s << '\n';
@@ -74,17 +76,16 @@ std::vector<std::string> state_names(const LinearModel& linear) {
     return out;
 }
 
-// One row per state: the state's name, its row of A, then its row of B.
+// One row per state, in the order of the A columns: its row of A, then its row of B.
 std::string state_space_table(const LinearModel& linear) {
     const std::vector<std::string> names = state_names(linear);
     std::ostringstream s;
-    s << "state";
-    for (const std::string& n : names) s << ",A." << n;
-    for (const std::string& n : linear.inputs) s << ",B." << n;
+    const char* separator = "";
+    for (const std::string& n : names) s << separator << "A." << n, separator = ",";
+    for (const std::string& n : linear.inputs) s << separator << "B." << n, separator = ",";
     s << '\n';
     for (Eigen::Index i = 0; i < linear.A.rows(); ++i) {
-        s << names[i];
-        for (Eigen::Index j = 0; j < linear.A.cols(); ++j) s << ',' << number(linear.A(i, j));
+        for (Eigen::Index j = 0; j < linear.A.cols(); ++j) s << (j ? "," : "") << number(linear.A(i, j));
         for (Eigen::Index j = 0; j < linear.B.cols(); ++j) s << ',' << number(linear.B(i, j));
         s << '\n';
     }

@@ -14,9 +14,11 @@
 #include <mbd/sdk/velocity_transform.hpp>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -261,6 +263,78 @@ TEST(Modes, FourBarFrequencyMatchesASmallAmplitudeSimulation) {
     ASSERT_GE(crossings.size(), 21u);
     const double period = 2 * (crossings[20] - crossings[0]) / 20;
     EXPECT_NEAR(2 * M_PI / period, omega, 1e-4 * omega);
+}
+
+// ---------------------------------------------------------------- the command
+
+struct ModesCli : ::testing::Test {
+    std::filesystem::path dir = std::filesystem::temp_directory_path() / "mbd_modes_cli";
+    void SetUp() override {
+        std::filesystem::remove_all(dir);
+        std::filesystem::create_directories(dir);
+    }
+    std::string write(const std::string& name, const std::string& text) {
+        std::ofstream(dir / name) << text;
+        return (dir / name).string();
+    }
+};
+
+TEST_F(ModesCli, WritesTheModesAndTheStateSpace) {
+    const Pendulum p;
+    // drawn away from the equilibrium: --about statics finds it first
+    const std::string file = write("pendulum.yaml", p.yaml(0.7, true));
+    const std::string csv = (dir / "modes.csv").string(), ab = (dir / "ab.csv").string();
+    const mbd::test::CommandResult r =
+        mbd::test::run_mbd("modes '" + file + "' --output '" + csv + "' --state-space '" + ab + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const mbd::test::Csv modes = mbd::test::read_csv(csv);
+    ASSERT_EQ(modes.rows.size(), 1u);
+    const double omega = std::sqrt(p.m * p.g * p.l / p.I());
+    EXPECT_NEAR(modes.rows[0][modes.column("natural_frequency_rad_s")], omega, 1e-8 * omega);
+    EXPECT_NEAR(modes.rows[0][modes.column("natural_frequency_hz")], omega / (2 * M_PI), 1e-8 * omega);
+    const mbd::test::Csv state_space = mbd::test::read_csv(ab);
+    ASSERT_EQ(state_space.rows.size(), 2u);
+    EXPECT_NEAR(state_space.rows[1][state_space.column("B.motor")], 1.0 / p.I(), 1e-10 / p.I());
+    EXPECT_NEAR(state_space.rows[1][state_space.column("A.link.angle")], -omega * omega, 1e-7 * omega * omega);
+}
+
+TEST_F(ModesCli, NotAnEquilibriumIsRefusedWithItsResidualAndNoFile) {
+    const Pendulum p;
+    const std::string file = write("pendulum.yaml", p.yaml(0.5));
+    const std::string csv = (dir / "modes.csv").string();
+    const mbd::test::CommandResult r = mbd::test::run_mbd("modes '" + file + "' --about initial --output '" + csv + "'");
+    EXPECT_NE(r.exit_code, 0);
+    const double residual = p.m * p.g * p.l * std::sin(0.5) / p.I();
+    EXPECT_NE(r.err.find("not an equilibrium or steady motion"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(mbd::format_number(residual)), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(csv));
+    EXPECT_FALSE(std::filesystem::exists(csv + ".partial"));
+}
+
+TEST_F(ModesCli, FailedStaticsWritesNoModes) {
+    const Pendulum p;
+    const std::string file = write("pendulum.yaml", p.yaml(0.5));
+    const std::string csv = (dir / "modes.csv").string();
+    const mbd::test::CommandResult r =
+        mbd::test::run_mbd("modes '" + file + "' --statics-iterations 1 --output '" + csv + "'");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("did not converge"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(csv));
+    EXPECT_FALSE(std::filesystem::exists(csv + ".partial"));
+}
+
+TEST_F(ModesCli, JsonHasTheModesAndMatrices) {
+    const std::string file = write("chain.yaml", chain_yaml(2.0, 50.0, 0.5));
+    const mbd::test::CommandResult r = mbd::test::run_mbd("modes '" + file + "' --about initial --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["modes"].size(), 3u);
+    EXPECT_EQ(j["A"].size(), 6u);
+    EXPECT_EQ(j["coordinates"].size(), 3u);
+    // the lowest mode of the damped chain: omega_n^2 = (k/m)(2 - sqrt 2), 2 zeta omega_n = (c/m)(2 - sqrt 2)
+    const double k_m = 25.0, c_m = 0.25, w2 = k_m * (2 - std::sqrt(2.0));
+    EXPECT_NEAR(j["modes"][0]["natural_frequency"].get<double>(), std::sqrt(w2), 1e-9);
+    EXPECT_NEAR(j["modes"][0]["damping_ratio"].get<double>(), c_m * (2 - std::sqrt(2.0)) / (2 * std::sqrt(w2)), 1e-9);
 }
 
 }  // namespace
