@@ -159,6 +159,43 @@ TEST(Modes, FreeCoordinateIsIgnorable) {
     EXPECT_NEAR(a.modes[0].natural_frequency, 0.0, 1e-12);
 }
 
+// A spatial body hanging from a spherical joint: small swings about the body's x and y axes
+// at sqrt(m g l / (J + m l^2)) each; the rotation about the vertical is ignorable.
+std::string spherical_pendulum_yaml(double m, double Jx, double Jy, double Jz, double l, bool spinning = false) {
+    std::ostringstream s;
+    s << "dimension: spatial\ngravity: [0, 0, -9.81]\nbodies:\n  - {name: bob, mass: " << m << ", inertia: [" << Jx
+      << ", " << Jy << ", " << Jz << "], position: [0, 0, " << -l << "]"
+      << (spinning ? ", angular_velocity: [0, 0, 3]" : "") << "}\n"
+      << "joints:\n  - {name: O, type: spherical, bodies: [ground, bob], point: [0, 0, 0]}\n";
+    return s.str();
+}
+
+TEST(Modes, SphericalPendulumSwingsAndIgnorableHeading) {
+    const double m = 1.4, Jx = 0.03, Jy = 0.05, Jz = 0.04, l = 0.6, g = 9.81;
+    mbd::LinearModel linear;
+    const mbd::ModeAnalysis a = modes_of_scene(scene(spherical_pendulum_yaml(m, Jx, Jy, Jz, l)), &linear);
+    ASSERT_EQ(linear.coordinates.size(), 3u);
+    ASSERT_EQ(a.ignorable.size(), 1u);
+    EXPECT_EQ(linear.coordinates[a.ignorable[0]], "bob.rz");
+    // the two swings, and the free rate of the heading (lambda = 0)
+    ASSERT_EQ(a.modes.size(), 3u);
+    EXPECT_NEAR(a.modes[0].natural_frequency, 0.0, 1e-12);
+    const double wy = std::sqrt(m * g * l / (Jy + m * l * l)), wx = std::sqrt(m * g * l / (Jx + m * l * l));
+    EXPECT_NEAR(a.modes[1].natural_frequency, wy, 1e-10 * wy);
+    EXPECT_NEAR(a.modes[2].natural_frequency, wx, 1e-10 * wx);
+}
+
+TEST(Modes, RotatingSpatialBodyIsRefusedByName) {
+    const mbd::Model model = scene(spherical_pendulum_yaml(1.4, 0.03, 0.05, 0.04, 0.6, true));
+    mbd::ModelSystem system(model);
+    try {
+        mbd::linearise(system, model.initial_state(), {});
+        FAIL() << "linearised about a rotating spatial body";
+    } catch (const mbd::LinearisationError& e) {
+        EXPECT_NE(std::string(e.what()).find("body 'bob' rotates"), std::string::npos) << e.what();
+    }
+}
+
 // ---------------------------------------------------------------- four-bar with a spring
 
 
