@@ -16,6 +16,7 @@ void add_commands(CLI::App& app, Commands& commands) {
     add_bench_command(app, commands);
     add_stability_command(app, commands);
     add_animate_command(app, commands);
+    add_modes_command(app, commands);
 }
 
 }  // namespace mbd::cli

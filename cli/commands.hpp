@@ -28,5 +28,6 @@ void add_plugin_check_command(CLI::App& app, Commands& commands);
 void add_bench_command(CLI::App& app, Commands& commands);
 void add_stability_command(CLI::App& app, Commands& commands);
 void add_animate_command(CLI::App& app, Commands& commands);
+void add_modes_command(CLI::App& app, Commands& commands);
 
 }  // namespace mbd::cli

@@ -1,0 +1,215 @@
+// mbd modes SCENE [--about statics|initial] [--json] [--output modes.csv]
+// [--state-space AB.csv]: the equations of motion linearised in independent coordinates
+// about a static equilibrium (the statics plugin's) or the scene's initial state taken as a
+// steady motion; eigenvalues, natural frequencies, damping ratios and mode shapes, and the
+// state-space matrices A and B. See docs/user-guide.md, "Modes".
+#include "commands.hpp"
+#include "options.hpp"
+
+#include <mbd/app/json_output.hpp>
+#include <mbd/linearisation.hpp>
+#include <mbd/modes.hpp>
+#include <mbd/output_file.hpp>
+#include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
+#include <mbd/sdk/text.hpp>
+#include <mbd/statics_analysis.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace mbd::cli {
+
+namespace {
+
+struct ModesArguments {
+    std::string scene;
+    std::string about = "statics";
+    bool json = false;
+    std::string output;       // the mode table (CSV)
+    std::string state_space;  // [A B] (CSV)
+    double residual_tolerance = 1e-8;
+    std::string solver = "ipopt";
+    int statics_iterations = 500;
+};
+
+const char* kind_of(const Mode& m) { return m.oscillatory ? "oscillatory" : "real"; }
+
+std::string number(double x) { return format_number(x, 17); }
+
+// Numbers only: mode, oscillatory (1: a complex pair, shown by its Im > 0 member),
+// ignorable (1: a coordinate the dynamics do not depend on, its zero eigenvalue), eigenvalue,
+// frequencies, damping, then the shape (re, im) in the independent coordinates and in the
+// joint coordinates; the ignorable coordinates last.
+std::string mode_table(const LinearModel& linear, const ModeAnalysis& analysis) {
+    std::ostringstream s;
+    s << "mode,oscillatory,ignorable,eigenvalue_real,eigenvalue_imag,natural_frequency_rad_s,natural_frequency_hz,damping_ratio";
+    for (const std::string& c : linear.coordinates) s << ',' << c << "_re," << c << "_im";
+    for (const std::string& j : linear.joint_coordinates) s << ",joint." << j << "_re,joint." << j << "_im";
+    s << '\n';
+    int index = 1;
+    for (const Mode& m : analysis.modes) {
+        s << index++ << ',' << (m.oscillatory ? 1 : 0) << ",0," << number(m.eigenvalue.real()) << ',' << number(m.eigenvalue.imag())
+          << ',' << number(m.natural_frequency) << ',' << number(m.natural_frequency / (2 * M_PI)) << ','
+          << number(m.damping_ratio);
+        for (Eigen::Index c = 0; c < m.shape.size(); ++c) s << ',' << number(m.shape[c].real()) << ',' << number(m.shape[c].imag());
+        for (Eigen::Index j = 0; j < m.joint_shape.size(); ++j)
+            s << ',' << number(m.joint_shape[j].real()) << ',' << number(m.joint_shape[j].imag());
+        s << '\n';
+    }
+    for (int c : analysis.ignorable) {
+        s << index++ << ",0,1,0,0,0,0,0";
+        for (size_t i = 0; i < linear.coordinates.size(); ++i) s << ',' << (static_cast<int>(i) == c ? 1 : 0) << ",0";
+        for (Eigen::Index j = 0; j < linear.joint_map.rows(); ++j) s << ',' << number(linear.joint_map(j, c)) << ",0";
+        s << '\n';
+    }
+    return s.str();
+}
+
+std::vector<std::string> state_names(const LinearModel& linear) {
+    std::vector<std::string> out;
+    for (const std::string& c : linear.coordinates) out.push_back(c);
+    for (const std::string& c : linear.coordinates) out.push_back(c + "_rate");
+    return out;
+}
+
+// One row per state, in the order of the A columns: its row of A, then its row of B.
+std::string state_space_table(const LinearModel& linear) {
+    const std::vector<std::string> names = state_names(linear);
+    std::ostringstream s;
+    const char* separator = "";
+    for (const std::string& n : names) s << separator << "A." << n, separator = ",";
+    for (const std::string& n : linear.inputs) s << separator << "B." << n, separator = ",";
+    s << '\n';
+    for (Eigen::Index i = 0; i < linear.A.rows(); ++i) {
+        for (Eigen::Index j = 0; j < linear.A.cols(); ++j) s << (j ? "," : "") << number(linear.A(i, j));
+        for (Eigen::Index j = 0; j < linear.B.cols(); ++j) s << ',' << number(linear.B(i, j));
+        s << '\n';
+    }
+    return s.str();
+}
+
+Json complex_array(const Eigen::VectorXcd& x) {
+    Json out = Json::array();
+    for (Eigen::Index i = 0; i < x.size(); ++i) out.push_back(Json::array({x[i].real(), x[i].imag()}));
+    return out;
+}
+
+Json matrix_json(const Eigen::MatrixXd& M) {
+    Json out = Json::array();
+    for (Eigen::Index i = 0; i < M.rows(); ++i) out.push_back(json_array(M.row(i).transpose()));
+    return out;
+}
+
+Json modes_json(const std::string& about, const LinearModel& linear, const ModeAnalysis& analysis) {
+    Json doc;
+    doc["about"] = about;
+    doc["residual"] = linear.residual;
+    doc["coordinates"] = linear.coordinates;
+    doc["joint_coordinates"] = linear.joint_coordinates;
+    doc["states"] = state_names(linear);
+    doc["inputs"] = linear.inputs;
+    Json modes = Json::array();
+    for (const Mode& m : analysis.modes) {
+        Json j;
+        j["kind"] = kind_of(m);
+        j["eigenvalue"] = Json::array({m.eigenvalue.real(), m.eigenvalue.imag()});
+        j["natural_frequency"] = m.natural_frequency;
+        j["damped_frequency"] = m.damped_frequency;
+        j["damping_ratio"] = m.damping_ratio;
+        j["shape"] = complex_array(m.shape);
+        j["joint_shape"] = complex_array(m.joint_shape);
+        modes.push_back(j);
+    }
+    doc["modes"] = modes;
+    Json ignorable = Json::array();
+    for (int c : analysis.ignorable) ignorable.push_back(linear.coordinates[c]);
+    doc["ignorable"] = ignorable;
+    doc["A"] = matrix_json(linear.A);
+    doc["B"] = matrix_json(linear.B);
+    return doc;
+}
+
+void print_report(const std::string& scene, const std::string& about, const LinearModel& linear,
+                  const ModeAnalysis& analysis) {
+    std::printf("modes of %s about %s (residual max |vdot_i| = %.3e)\n", scene.c_str(),
+                about == "statics" ? "the static equilibrium" : "the initial state", linear.residual);
+    std::printf("independent coordinates:");
+    for (const std::string& c : linear.coordinates) std::printf(" %s", c.c_str());
+    std::printf("\n\n  mode  %-12s %26s %16s %14s %12s\n", "kind", "eigenvalue (1/s)", "omega_n (rad/s)", "f_n (Hz)",
+                "damping");
+    int index = 1;
+    for (const Mode& m : analysis.modes)
+        std::printf("  %4d  %-12s %12.8g %+12.8gi %16.10g %14.8g %12.8g\n", index++, kind_of(m), m.eigenvalue.real(),
+                    m.eigenvalue.imag(), m.natural_frequency, m.natural_frequency / (2 * M_PI), m.damping_ratio);
+    for (int c : analysis.ignorable)
+        std::printf("  %4d  %-12s zero by symmetry: the dynamics do not depend on %s\n", index++, "ignorable",
+                    linear.coordinates[c].c_str());
+}
+
+void write_file(const std::string& path, const std::string& text) {
+    OutputFile file(path);
+    file.replace(text);
+    file.commit();
+}
+
+}  // namespace
+
+void add_modes_command(CLI::App& app, Commands& commands) {
+    CLI::App* sub = app.add_subcommand(
+        "modes", "Linearised equations of motion: eigenvalues, natural frequencies, damping ratios, mode shapes, "
+                 "state-space A and B");
+    auto args = std::make_shared<ModesArguments>();
+    sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
+    sub->add_option("--about", args->about,
+                    "statics (the static equilibrium found by the statics plugin) or initial (the scene's initial "
+                    "state, taken as an equilibrium or steady motion)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"statics", "initial"}));
+    sub->add_flag("--json", args->json, "Print one JSON object (modes, A, B) instead of the report");
+    sub->add_option("-o,--output", args->output, "Write the modes as CSV");
+    sub->add_option("--state-space", args->state_space, "Write A and B as CSV (one row per state)");
+    sub->add_option("--residual-tolerance", args->residual_tolerance,
+                    "Largest independent acceleration accepted at the reference state")
+        ->capture_default_str()
+        ->check(positive_number());
+    sub->add_option("--solver", args->solver, "Statics plugin type (--about statics)")->capture_default_str();
+    sub->add_option("--statics-iterations", args->statics_iterations, "Ipopt iterations of the statics (--about statics)")
+        ->capture_default_str()
+        ->check(positive_number());
+
+    commands[sub] = [args] {
+        Registry registry;
+        const Model model = load_scene(args->scene, registry);
+        check_output_path(args->output, scene_files(args->scene, model), "--output");
+        check_output_path(args->state_space, scene_files(args->scene, model), "--state-space");
+        State reference = model.initial_state();
+        if (args->about == "statics") {
+            StaticsOptions statics;
+            statics.max_iterations = args->statics_iterations;
+            const StaticsReport rep = run_statics(model, registry, statics, args->solver);
+            if (!rep.result.converged) {
+                std::cerr << "mbd: error: no modes: the statics of " << args->scene
+                          << " did not converge: " << rep.result.message << '\n';
+                return 1;
+            }
+            reference = rep.result.state;
+            reference.v = Eigen::VectorXd::Zero(model.nv());
+        }
+        ModelSystem system(model);
+        LinearisationOptions options;
+        options.residual_tolerance = args->residual_tolerance;
+        const LinearModel linear = linearise(system, reference, scene_actuators(model), options);
+        const ModeAnalysis analysis = modes_of(linear);
+        if (args->json) std::cout << json_text(modes_json(args->about, linear, analysis)) << std::endl;
+        else print_report(args->scene, args->about, linear, analysis);
+        if (!args->output.empty()) write_file(args->output, mode_table(linear, analysis));
+        if (!args->state_space.empty()) write_file(args->state_space, state_space_table(linear));
+        return 0;
+    };
+}
+
+}  // namespace mbd::cli

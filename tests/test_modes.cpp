@@ -1,0 +1,377 @@
+// Linearisation and modes (issue 17) against closed forms: a compound pendulum's
+// small-oscillation frequency sqrt(m g l / I), a fixed-fixed chain of three equal masses
+// and four equal springs (omega^2 = (k/m)(2 - sqrt 2), 2k/m, (k/m)(2 + sqrt 2)), a damped
+// spring-mass's damping ratio c / (2 sqrt(k m)); the input matrix of an actuated pendulum
+// (1/I); the refusal of a state that is not an equilibrium.
+#include "support/test_support.hpp"
+
+#include <mbd/linearisation.hpp>
+#include <mbd/modes.hpp>
+#include <mbd/model_system.hpp>
+#include <mbd/sdk/text.hpp>
+#include <mbd/statics_analysis.hpp>
+#include <mbd/simulation.hpp>
+#include <mbd/sdk/velocity_transform.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+using mbd::test::g17;
+using mbd::test::scene;
+
+mbd::ModeAnalysis modes_of_scene(const mbd::Model& model, mbd::LinearModel* linear_out = nullptr) {
+    mbd::ModelSystem system(model);
+    const mbd::LinearModel linear = mbd::linearise(system, model.initial_state(), mbd::scene_actuators(model));
+    if (linear_out) *linear_out = linear;
+    return mbd::modes_of(linear);
+}
+
+struct Pendulum {
+    double m = 1.7, J = 0.23, l = 0.8, g = 9.81;
+    double I() const { return J + m * l * l; }
+    // hanging at rest below the pivot, at angle `angle` from the downward vertical
+    std::string yaml(double angle = 0.0, bool actuated = false) const {
+        std::ostringstream s;
+        s << "dimension: planar\ngravity: [0, " << -g << "]\nbodies:\n"
+          << "  - {name: link, mass: " << m << ", inertia: " << J << ", position: [" << g17(l * std::sin(angle))
+          << ", " << g17(-l * std::cos(angle)) << "], angle: " << g17(angle) << "}\n"
+          << "joints:\n  - {name: pivot, type: revolute, bodies: [ground, link], point: [0, 0]}\n";
+        if (actuated) s << "actuators:\n  - {name: motor, joint: pivot}\n";
+        return s.str();
+    }
+};
+
+TEST(Modes, PendulumSmallOscillationFrequency) {
+    const Pendulum p;
+    mbd::LinearModel linear;
+    const mbd::ModeAnalysis a = modes_of_scene(scene(p.yaml()), &linear);
+    ASSERT_EQ(linear.coordinates.size(), 1u);
+    ASSERT_EQ(a.modes.size(), 1u);
+    EXPECT_TRUE(a.modes[0].oscillatory);
+    const double omega = std::sqrt(p.m * p.g * p.l / p.I());
+    EXPECT_NEAR(a.modes[0].natural_frequency, omega, 1e-10 * omega);
+    EXPECT_NEAR(a.modes[0].damping_ratio, 0.0, 1e-10);
+    EXPECT_TRUE(a.ignorable.empty());
+    // its shape in the joint coordinate: the pivot angle moves one to one with the link's angle
+    ASSERT_EQ(a.modes[0].joint_shape.size(), 1);
+    EXPECT_NEAR(std::abs(a.modes[0].joint_shape[0]), 1.0, 1e-12);
+}
+
+TEST(Modes, ActuatedPendulumInputMatrix) {
+    const Pendulum p;
+    mbd::LinearModel linear;
+    modes_of_scene(scene(p.yaml(0.0, true)), &linear);
+    ASSERT_EQ(linear.B.rows(), 2);
+    ASSERT_EQ(linear.B.cols(), 1);
+    EXPECT_NEAR(linear.B(0, 0), 0.0, 1e-14);
+    EXPECT_NEAR(linear.B(1, 0), 1.0 / p.I(), 1e-12 / p.I());  // thetaddot = u / I
+    EXPECT_EQ(linear.inputs, std::vector<std::string>{"motor"});
+}
+
+TEST(Modes, NotAnEquilibriumGivesTheResidual) {
+    const Pendulum p;
+    const mbd::Model model = scene(p.yaml(0.5));
+    mbd::ModelSystem system(model);
+    try {
+        mbd::linearise(system, model.initial_state(), {});
+        FAIL() << "linearised about a state that is not an equilibrium";
+    } catch (const mbd::LinearisationError& e) {
+        const std::string what = e.what();
+        // thetaddot = -m g l sin(0.5) / I
+        const double residual = p.m * p.g * p.l * std::sin(0.5) / p.I();
+        EXPECT_NE(what.find("not an equilibrium"), std::string::npos) << what;
+        EXPECT_NE(what.find(mbd::format_number(residual)), std::string::npos) << what;
+    }
+}
+
+// Three blocks on x guides at x = 1, 2, 3 joined by springs to each other and to anchors
+// at x = 0 and x = 4 (unstretched, no gravity).
+std::string chain_yaml(double m, double k, double c) {
+    std::ostringstream s;
+    s << "dimension: planar\ngravity: [0, 0]\nbodies:\n";
+    for (int i = 1; i <= 3; ++i)
+        s << "  - {name: b" << i << ", mass: " << m << ", inertia: 0.01, position: [" << i << ", 0]}\n";
+    s << "joints:\n";
+    for (int i = 1; i <= 3; ++i)
+        s << "  - {name: guide" << i << ", type: prismatic, bodies: [ground, b" << i << "], point: [" << i
+          << ", 0], axis: [1, 0]}\n";
+    s << "forces:\n";
+    const char* names[] = {"ground", "b1", "b2", "b3", "ground"};
+    for (int i = 0; i < 4; ++i) {
+        s << "  - {name: s" << i << ", type: spring_damper, bodies: [" << names[i] << ", " << names[i + 1]
+          << "], points: [[" << (i == 0 ? 0 : 0) << ", 0], [" << (i == 3 ? 4 : 0) << ", 0]], stiffness: " << g17(k)
+          << ", damping: " << g17(c) << ", rest_length: 1}\n";
+    }
+    return s.str();
+}
+
+TEST(Modes, ThreeMassChainEigenfrequencies) {
+    const double m = 2.0, k = 50.0;
+    const mbd::ModeAnalysis a = modes_of_scene(scene(chain_yaml(m, k, 0.0)));
+    ASSERT_EQ(a.modes.size(), 3u);
+    const double expected[] = {std::sqrt(k / m * (2 - std::sqrt(2.0))), std::sqrt(2 * k / m),
+                               std::sqrt(k / m * (2 + std::sqrt(2.0)))};
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_NEAR(a.modes[i].natural_frequency, expected[i], 1e-10 * expected[i]) << i;
+        EXPECT_NEAR(a.modes[i].damping_ratio, 0.0, 1e-10) << i;
+    }
+    // the lowest mode: the blocks move in phase, the middle one sqrt 2 times the outer ones
+    const Eigen::VectorXcd& s = a.modes[0].joint_shape;
+    ASSERT_EQ(s.size(), 3);
+    EXPECT_NEAR(std::abs(s[0] / s[1]), 1.0 / std::sqrt(2.0), 1e-10);
+    EXPECT_NEAR(std::abs(s[2] / s[1]), 1.0 / std::sqrt(2.0), 1e-10);
+}
+
+TEST(Modes, DampedSpringMassDampingRatio) {
+    const double m = 1.3, k = 40.0, c = 1.9;
+    // one block between the anchor at x = 0 and a spring without stiffness to x = 2
+    std::ostringstream s;
+    s << "dimension: planar\ngravity: [0, -9.81]\nbodies:\n  - {name: block, mass: " << m
+      << ", inertia: 0.01, position: [1, 0]}\njoints:\n"
+      << "  - {name: guide, type: prismatic, bodies: [ground, block], point: [1, 0], axis: [1, 0]}\n"
+      << "forces:\n  - {name: spring, type: spring_damper, bodies: [ground, block], points: [[0, 0], [0, 0]], "
+      << "stiffness: " << k << ", damping: " << c << ", rest_length: 1}\n";
+    const mbd::ModeAnalysis a = modes_of_scene(scene(s.str()));
+    ASSERT_EQ(a.modes.size(), 1u);
+    const double zeta = c / (2 * std::sqrt(k * m)), omega = std::sqrt(k / m);
+    EXPECT_NEAR(a.modes[0].damping_ratio, zeta, 1e-10);
+    EXPECT_NEAR(a.modes[0].natural_frequency, omega, 1e-10 * omega);
+    EXPECT_NEAR(a.modes[0].damped_frequency, omega * std::sqrt(1 - zeta * zeta), 1e-10 * omega);
+}
+
+// A block on a frictionless x guide with no force along it: its position is ignorable.
+TEST(Modes, FreeCoordinateIsIgnorable) {
+    const mbd::Model model = scene(
+        "dimension: planar\ngravity: [0, -9.81]\nbodies:\n  - {name: cart, mass: 2, inertia: 0.1, position: [0, 0]}\n"
+        "joints:\n  - {name: rail, type: prismatic, bodies: [ground, cart], point: [0, 0], axis: [1, 0]}\n");
+    const mbd::ModeAnalysis a = modes_of_scene(model);
+    ASSERT_EQ(a.ignorable.size(), 1u);
+    // what is left: the free velocity (lambda = 0, a rigid-body mode)
+    ASSERT_EQ(a.modes.size(), 1u);
+    EXPECT_NEAR(a.modes[0].natural_frequency, 0.0, 1e-12);
+}
+
+// A spatial body hanging from a spherical joint: small swings about the body's x and y axes
+// at sqrt(m g l / (J + m l^2)) each; the rotation about the vertical is ignorable.
+std::string spherical_pendulum_yaml(double m, double Jx, double Jy, double Jz, double l, bool spinning = false) {
+    std::ostringstream s;
+    s << "dimension: spatial\ngravity: [0, 0, -9.81]\nbodies:\n  - {name: bob, mass: " << m << ", inertia: [" << Jx
+      << ", " << Jy << ", " << Jz << "], position: [0, 0, " << -l << "]"
+      << (spinning ? ", angular_velocity: [0, 0, 3]" : "") << "}\n"
+      << "joints:\n  - {name: O, type: spherical, bodies: [ground, bob], point: [0, 0, 0]}\n";
+    return s.str();
+}
+
+TEST(Modes, SphericalPendulumSwingsAndIgnorableHeading) {
+    const double m = 1.4, Jx = 0.03, Jy = 0.05, Jz = 0.04, l = 0.6, g = 9.81;
+    mbd::LinearModel linear;
+    const mbd::ModeAnalysis a = modes_of_scene(scene(spherical_pendulum_yaml(m, Jx, Jy, Jz, l)), &linear);
+    ASSERT_EQ(linear.coordinates.size(), 3u);
+    ASSERT_EQ(a.ignorable.size(), 1u);
+    EXPECT_EQ(linear.coordinates[a.ignorable[0]], "bob.rz");
+    // the two swings, and the free rate of the heading (lambda = 0)
+    ASSERT_EQ(a.modes.size(), 3u);
+    EXPECT_NEAR(a.modes[0].natural_frequency, 0.0, 1e-12);
+    const double wy = std::sqrt(m * g * l / (Jy + m * l * l)), wx = std::sqrt(m * g * l / (Jx + m * l * l));
+    EXPECT_NEAR(a.modes[1].natural_frequency, wy, 1e-10 * wy);
+    EXPECT_NEAR(a.modes[2].natural_frequency, wx, 1e-10 * wx);
+}
+
+TEST(Modes, RotatingSpatialBodyIsRefusedByName) {
+    const mbd::Model model = scene(spherical_pendulum_yaml(1.4, 0.03, 0.05, 0.04, 0.6, true));
+    mbd::ModelSystem system(model);
+    try {
+        mbd::linearise(system, model.initial_state(), {});
+        FAIL() << "linearised about a rotating spatial body";
+    } catch (const mbd::LinearisationError& e) {
+        EXPECT_NE(std::string(e.what()).find("body 'bob' rotates"), std::string::npos) << e.what();
+    }
+}
+
+// ---------------------------------------------------------------- four-bar with a spring
+
+
+// scenes/dynamics/four-bar-spring-damper.yaml with its damper removed (a clean frequency)
+mbd::Model four_bar_with_spring() {
+    std::ifstream in(mbd::test::scene_path("dynamics/four-bar-spring-damper.yaml"));
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string yaml = text.str();
+    const size_t at = yaml.find("damping: 10");
+    EXPECT_NE(at, std::string::npos);
+    yaml.replace(at, 11, "damping: 0");
+    return scene(yaml, "four-bar-spring.yaml");
+}
+
+mbd::State equilibrium(const mbd::Model& model) {
+    const mbd::StaticsReport rep = mbd::run_statics(model, mbd::test::shared_registry(), {});
+    EXPECT_TRUE(rep.result.converged) << rep.result.message;
+    mbd::State s = rep.result.state;
+    s.v = Eigen::VectorXd::Zero(model.nv());
+    return s;
+}
+
+// The linearised A against first-order central differences (step 1e-6) of the nonlinear
+// accelerations of the augmented formulation plugin, on consistent states built around the
+// equilibrium along the independent coordinate and its velocity.
+TEST(Modes, FourBarLinearisationMatchesDifferencesOfTheNonlinearRhs) {
+    const mbd::Model model = four_bar_with_spring();
+    mbd::ModelSystem system(model);
+    const mbd::LinearModel linear = mbd::linearise(system, equilibrium(model), {});
+    ASSERT_EQ(linear.columns.size(), 1u);
+    const int col = linear.columns[0];
+
+    mbd::ModelSystem plugin_system(model);
+    mbd::FormulationSpec spec{"augmented", "augmented", {}};
+    auto formulation = mbd::test::shared_registry().create_formulation(spec, "test");
+    formulation->bind(plugin_system, mbd::FormulationOptions{});
+    mbd::CoordinatePartition partition;
+    {
+        mbd::ConstraintValues cv;
+        system.constraints(linear.reference, cv, true);
+        partition = mbd::partition_coordinates(Eigen::MatrixXd(cv.J));
+    }
+    ASSERT_EQ(partition.independent, linear.columns);
+    auto accel = [&](double dz, double dw) {
+        mbd::State s = linear.reference;
+        Eigen::VectorXd dv = Eigen::VectorXd::Zero(model.nv());
+        dv[col] = dz;
+        plugin_system.advance_positions(s.q, dv);
+        mbd::ConstraintValues cv;
+        Eigen::MatrixXd J;
+        mbd::VelocityTransformWorkspace ws;
+        EXPECT_TRUE(mbd::correct_dependent_positions(plugin_system, s, partition, 1e-14, 30, cv, J, ws));
+        mbd::dependent_velocities(J, cv.C_t, partition, Eigen::VectorXd::Constant(1, dw), s.v, ws);
+        Eigen::VectorXd vdot;
+        formulation->accelerations(s, vdot);
+        return vdot[col];
+    };
+    const double h = 1e-6;
+    const double dadz = (accel(h, 0) - accel(-h, 0)) / (2 * h), dadw = (accel(0, h) - accel(0, -h)) / (2 * h);
+    const double scale = linear.A.cwiseAbs().maxCoeff();
+    EXPECT_NEAR(linear.A(1, 0), dadz, 1e-6 * scale);
+    EXPECT_NEAR(linear.A(1, 1), dadw, 1e-6 * scale);
+    EXPECT_EQ(linear.A(0, 0), 0.0);
+    EXPECT_EQ(linear.A(0, 1), 1.0);
+}
+
+// The natural frequency against the period of a small-amplitude free oscillation simulated
+// from the equilibrium (rocker angle zero crossings, interpolated, over ten periods).
+TEST(Modes, FourBarFrequencyMatchesASmallAmplitudeSimulation) {
+    const mbd::Model model = four_bar_with_spring();
+    mbd::ModelSystem system(model);
+    const mbd::LinearModel linear = mbd::linearise(system, equilibrium(model), {});
+    const mbd::ModeAnalysis a = mbd::modes_of(linear);
+    ASSERT_EQ(a.modes.size(), 1u);
+    const double omega = a.modes[0].natural_frequency;
+    ASSERT_GT(omega, 0.0);
+
+    mbd::SimulationSettings settings;
+    settings.formulation = "augmented";
+    settings.integration.tolerance = 1e-12;
+    settings.t_end = 10.5 * 2 * M_PI / omega;
+    settings.output_step = 1e-4;
+    settings.progress = false;
+    settings.messages = mbd::MessageLog::silent();
+    mbd::State start = linear.reference;
+    start.v = linear.velocity_map * Eigen::VectorXd::Constant(1, 1e-4 * omega);  // amplitude 1e-4 rad
+    settings.initial_state = start;
+    const int col = linear.columns[0];
+    const double rest = linear.reference.q[col];  // planar: the angle column is its coordinate
+    std::vector<double> crossings;
+    double last_t = 0.0, last_x = 0.0;
+    bool first = true;
+    mbd::simulate(model, mbd::test::shared_registry(), settings, [&](const mbd::SimulationSample& s) {
+        const double x = s.state.q[col] - rest;
+        if (!first && ((last_x < 0) != (x < 0)) && x != last_x)
+            crossings.push_back(last_t + (s.state.t - last_t) * last_x / (last_x - x));
+        first = false;
+        last_t = s.state.t, last_x = x;
+        return true;
+    });
+    ASSERT_GE(crossings.size(), 21u);
+    const double period = 2 * (crossings[20] - crossings[0]) / 20;
+    EXPECT_NEAR(2 * M_PI / period, omega, 1e-4 * omega);
+}
+
+// ---------------------------------------------------------------- the command
+
+struct ModesCli : ::testing::Test {
+    std::filesystem::path dir = std::filesystem::temp_directory_path() / "mbd_modes_cli";
+    void SetUp() override {
+        std::filesystem::remove_all(dir);
+        std::filesystem::create_directories(dir);
+    }
+    std::string write(const std::string& name, const std::string& text) {
+        std::ofstream(dir / name) << text;
+        return (dir / name).string();
+    }
+};
+
+TEST_F(ModesCli, WritesTheModesAndTheStateSpace) {
+    const Pendulum p;
+    // drawn away from the equilibrium: --about statics finds it first
+    const std::string file = write("pendulum.yaml", p.yaml(0.7, true));
+    const std::string csv = (dir / "modes.csv").string(), ab = (dir / "ab.csv").string();
+    const mbd::test::CommandResult r =
+        mbd::test::run_mbd("modes '" + file + "' --output '" + csv + "' --state-space '" + ab + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const mbd::test::Csv modes = mbd::test::read_csv(csv);
+    ASSERT_EQ(modes.rows.size(), 1u);
+    const double omega = std::sqrt(p.m * p.g * p.l / p.I());
+    EXPECT_NEAR(modes.rows[0][modes.column("natural_frequency_rad_s")], omega, 1e-8 * omega);
+    EXPECT_NEAR(modes.rows[0][modes.column("natural_frequency_hz")], omega / (2 * M_PI), 1e-8 * omega);
+    const mbd::test::Csv state_space = mbd::test::read_csv(ab);
+    ASSERT_EQ(state_space.rows.size(), 2u);
+    EXPECT_NEAR(state_space.rows[1][state_space.column("B.motor")], 1.0 / p.I(), 1e-10 / p.I());
+    EXPECT_NEAR(state_space.rows[1][state_space.column("A.link.angle")], -omega * omega, 1e-7 * omega * omega);
+}
+
+TEST_F(ModesCli, NotAnEquilibriumIsRefusedWithItsResidualAndNoFile) {
+    const Pendulum p;
+    const std::string file = write("pendulum.yaml", p.yaml(0.5));
+    const std::string csv = (dir / "modes.csv").string();
+    const mbd::test::CommandResult r = mbd::test::run_mbd("modes '" + file + "' --about initial --output '" + csv + "'");
+    EXPECT_NE(r.exit_code, 0);
+    const double residual = p.m * p.g * p.l * std::sin(0.5) / p.I();
+    EXPECT_NE(r.err.find("not an equilibrium or steady motion"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(mbd::format_number(residual)), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(csv));
+    EXPECT_FALSE(std::filesystem::exists(csv + ".partial"));
+}
+
+TEST_F(ModesCli, FailedStaticsWritesNoModes) {
+    const Pendulum p;
+    const std::string file = write("pendulum.yaml", p.yaml(0.5));
+    const std::string csv = (dir / "modes.csv").string();
+    const mbd::test::CommandResult r =
+        mbd::test::run_mbd("modes '" + file + "' --statics-iterations 1 --output '" + csv + "'");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("did not converge"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(csv));
+    EXPECT_FALSE(std::filesystem::exists(csv + ".partial"));
+}
+
+TEST_F(ModesCli, JsonHasTheModesAndMatrices) {
+    const std::string file = write("chain.yaml", chain_yaml(2.0, 50.0, 0.5));
+    const mbd::test::CommandResult r = mbd::test::run_mbd("modes '" + file + "' --about initial --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["modes"].size(), 3u);
+    EXPECT_EQ(j["A"].size(), 6u);
+    EXPECT_EQ(j["coordinates"].size(), 3u);
+    // the lowest mode of the damped chain: omega_n^2 = (k/m)(2 - sqrt 2), 2 zeta omega_n = (c/m)(2 - sqrt 2)
+    const double k_m = 25.0, c_m = 0.25, w2 = k_m * (2 - std::sqrt(2.0));
+    EXPECT_NEAR(j["modes"][0]["natural_frequency"].get<double>(), std::sqrt(w2), 1e-9);
+    EXPECT_NEAR(j["modes"][0]["damping_ratio"].get<double>(), c_m * (2 - std::sqrt(2.0)) / (2 * std::sqrt(w2)), 1e-9);
+}
+
+}  // namespace
