@@ -159,11 +159,11 @@ void write_file(const std::string& path, const std::string& text) {
 }  // namespace
 
 void add_modes_command(CLI::App& app, Commands& commands) {
-    CLI::App* sub = app.add_subcommand(
-        "modes", "Linearised equations of motion: eigenvalues, natural frequencies, damping ratios, mode shapes, "
-                 "state-space A and B");
     auto args = std::make_shared<ModesArguments>();
-    sub->add_option("SCENE", args->scene, "Scene file (YAML)")->required();
+    CLI::App* sub = add_scene_subcommand(app, "modes",
+                                         "Linearised equations of motion: eigenvalues, natural frequencies, damping "
+                                         "ratios, mode shapes, state-space A and B",
+                                         args->scene);
     sub->add_option("--about", args->about,
                     "statics (the static equilibrium found by the statics plugin) or initial (the scene's initial "
                     "state, taken as an equilibrium or steady motion)")
