@@ -193,3 +193,31 @@ TEST(SparsePartition, ReselectsThroughTheFourBarDeadPointsAsTheDenseOneDoes) {
 }
 
 }  // namespace
+
+namespace {
+
+// The elimination's work is its fill: the entries of the pivot rows it keeps. Retiring
+// columns (the initial selection's threshold), each pivot row of a chain in scene order holds
+// a bounded number of entries whatever the length, so the selection costs O(n): the fill per
+// pivot of a 500-link chain is that of a 50-link one.
+TEST(SparsePartition, FillPerPivotDoesNotGrowWithTheChain) {
+    double per_pivot[2] = {0.0, 0.0};
+    int slot = 0;
+    for (const char* path : {"bench/chain-50.yaml", "bench/chain-500.yaml"}) {
+        const mbd::Model model = mbd::test::load(path);
+        mbd::ModelSystem system(model);
+        const Eigen::SparseMatrix<double> J = jacobian_at_assembly(system);
+        mbd::SparsePartitionWorkspace ws;
+        mbd::CoordinatePartition p;
+        mbd::partition_sparse(J, 0.1, 1e-10, {}, ws, p);  // the initial selection's threshold
+        ASSERT_EQ(p.rank, J.rows()) << path << ": a chain has no redundant rows";
+        expect_valid_partition(Eigen::MatrixXd(J), p);
+        per_pivot[slot] = static_cast<double>(ws.u_column.size()) / p.rank;
+        ++slot;
+    }
+    std::printf("pivot-row entries per pivot: chain-50 %.2f, chain-500 %.2f\n", per_pivot[0], per_pivot[1]);
+    EXPECT_LT(per_pivot[1], 1.05 * per_pivot[0]);
+    EXPECT_LT(per_pivot[1], 10.0);
+}
+
+}  // namespace

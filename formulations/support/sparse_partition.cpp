@@ -9,8 +9,13 @@ namespace mbd {
 
 namespace {
 
-// the row being reduced: add `value` at column c, queueing c's pivot step if it has one
+// the row being reduced: add `value` at column c, queueing c's pivot step if it has one.
+// A retired column (see the header) is dropped: it can no longer be a pivot.
 void accumulate(SparsePartitionWorkspace& ws, int c, double value) {
+    if (ws.retired(c)) {
+        ws.dropped = true;
+        return;
+    }
     if (!ws.present[c]) {
         ws.present[c] = 1;
         ws.pattern.push_back(c);
@@ -28,6 +33,7 @@ void accumulate(SparsePartitionWorkspace& ws, int c, double value) {
 // Row r of J reduced by every pivot row before it, in pivot order: pivot row s holds no
 // column of a pivot before s, so applying it can only queue later pivots.
 void reduce_row(SparsePartitionWorkspace& ws, int r, const CoordinatePartition& out) {
+    ws.current_row = r;
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(ws.rows, r); it; ++it)
         accumulate(ws, static_cast<int>(it.col()), it.value());
     while (!ws.heap.empty()) {
@@ -57,12 +63,18 @@ int choose_pivot(const SparsePartitionWorkspace& ws, double threshold, double fl
     return best;
 }
 
-}  // namespace
-
-void partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold, double rank_tolerance,
-                      const std::vector<int>& last, SparsePartitionWorkspace& ws, CoordinatePartition& out) {
+// The elimination; with `retire`, columns are retired as the header says. Returns false when,
+// retiring, a row was found redundant after entries had been dropped (then only the exact
+// elimination can tell whether it is).
+bool eliminate(const Eigen::SparseMatrix<double>& J, double threshold, double rank_tolerance,
+               const std::vector<int>& last, bool retire, SparsePartitionWorkspace& ws, CoordinatePartition& out) {
     const int m = static_cast<int>(J.rows()), n = static_cast<int>(J.cols());
-    ws.rows = J;
+    ws.last_row.assign(n, retire ? -1 : m);
+    if (retire)
+        for (int c = 0; c < n; ++c)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it)
+                ws.last_row[c] = std::max(ws.last_row[c], static_cast<int>(it.row()));
+    ws.dropped = false;
     ws.work.setZero(n);
     ws.present.assign(n, 0);
     ws.late.assign(n, 0);
@@ -89,6 +101,7 @@ void partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold, do
         reduce_row(ws, r, out);
         const int pc = out.rank < std::min(m, n) ? choose_pivot(ws, threshold, floor) : -1;
         if (pc < 0) {
+            if (ws.dropped) return false;
             out.redundant.push_back(r);
         } else {
             const int step = out.rank++;
@@ -115,6 +128,18 @@ void partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold, do
     for (int c = 0; c < n; ++c)
         if (ws.step_of_column[c] < 0) out.independent.push_back(c);
     out.pivot_ratio = out.rank ? pmin / pmax : 1.0;
+    return true;
+}
+
+}  // namespace
+
+void partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold, double rank_tolerance,
+                      const std::vector<int>& last, SparsePartitionWorkspace& ws, CoordinatePartition& out) {
+    ws.rows = J;
+    // a re-selection (threshold 1) looks for the best pivots among every column: exactly
+    const bool retire = threshold < 1.0;
+    if (!eliminate(J, threshold, rank_tolerance, last, retire, ws, out))
+        eliminate(J, threshold, rank_tolerance, last, false, ws, out);
 }
 
 CoordinatePartition partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold, double rank_tolerance,
