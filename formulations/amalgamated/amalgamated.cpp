@@ -29,6 +29,8 @@
 // J_d^T lambda = -Q_c,d (redundant rows get zero).
 #include "fixed_pattern_lu.hpp"
 
+#include <coordinate_selector.hpp>
+
 #include <mbd/sdk/coordinate_rates.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/ode_state.hpp>
@@ -96,7 +98,7 @@ private:
     std::vector<int> b_slots_;  // per column c and row of B: the value indices of -B and -B^T in K_
     FixedPatternLU lu_;
     VelocityTransformWorkspace transform_;
-    PartitionWorkspace elimination_;  // the candidate partition of a re-selection
+    CoordinateSelector selector_;     // dense or sparse by size (coordinate_selector.hpp)
     CoordinatePartition fresh_;
     DenseMetricSolver metric_;
     ProjectionScratch projection_;
@@ -121,7 +123,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     vdot_.setZero(nv_);
     Qc_.setZero(nv_);
     projection_.resize(nq_, nv_, nc_);
-    reserve_partition(nc_, nv_, elimination_, fresh_);  // a re-selection allocates nothing
+    selector_.bind(nc_, nv_, options, fresh_);  // a re-selection allocates nothing (dense)
     analysed_ = false;
     // the partition at the assembled initial state (the run assembles the same way)
     select(assembled_initial_state(system), true);
@@ -130,7 +132,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
 void Amalgamated::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
     J_ = cv_.J;
-    part_ = partition_coordinates(J_, initial ? options_.partition.pivot_threshold : 1.0, options_.partition.rank_tolerance);
+    part_ = selector_.select(cv_.J, initial ? options_.partition.pivot_threshold : 1.0, options_.partition.rank_tolerance);
     analysed_ = false;
     if (initial && !part_.redundant.empty())
         options_.log("amalgamated: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
@@ -280,7 +282,7 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
         const double ratio = dependent_pivot_ratio(J_, part_, transform_);
         if (ratio < options_.partition.reselect_ratio) {
             CoordinatePartition& fresh = fresh_;
-            partition_coordinates(J_, 1.0, options_.partition.rank_tolerance, {}, elimination_, fresh);
+            selector_.select(cv_.J, 1.0, options_.partition.rank_tolerance, {}, fresh);
             if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh, transform_) > ratio) {
                 part_ = fresh;  // the same rank: K keeps its pattern and size
                 if (log_choices_) options_.log("amalgamated: t = " + format_time(t) + ": new coordinate partition");

@@ -52,7 +52,7 @@ void Partitioned::bind(System& system, const FormulationOptions& options) {
     state_.v.setZero(nv_);
     Q_.setZero(nv_);
     v_before_.setZero(nv_);
-    reserve_partition(nc_, nv_, elimination_, fresh_);  // a re-selection allocates nothing
+    selector_.bind(nc_, nv_, options, fresh_);  // a re-selection allocates nothing (dense)
     vdot_.setZero(nv_);
     // The ODE size needs the rank: select at the assembled initial state.
     select(assembled_initial_state(system), true);
@@ -89,13 +89,13 @@ void Partitioned::select(const State& state, bool initial) {
                                          "body.x, body.y, body.z, body.wx, body.wy, body.wz (spatial))");
             last.push_back(static_cast<int>(it - names_.begin()));
         }
-        part_ = partition_coordinates(J_, 1e-3, options_.partition.rank_tolerance, last);
+        part_ = selector_.select(cv_.J, 1e-3, options_.partition.rank_tolerance, last);
         if (!same_set(part_.independent, last))
             throw InputError("", "embedding formulation: the requested independent coordinates (" +
                                      std::to_string(last.size()) + ") are not a valid independent set here; a valid one is " +
                                      independent_names());
     } else {
-        part_ = partition_coordinates(J_, initial ? options_.partition.pivot_threshold : 1.0, options_.partition.rank_tolerance);
+        part_ = selector_.select(cv_.J, initial ? options_.partition.pivot_threshold : 1.0, options_.partition.rank_tolerance);
     }
     selected_ = true;
     if (initial && log_choices_) {
@@ -194,7 +194,7 @@ bool Partitioned::project(double t, Eigen::VectorXd& y) {
             vi_ = y.tail(ode_size() - nq_);
             velocities(vi_, v);
             CoordinatePartition& fresh = fresh_;
-            partition_coordinates(J_, 1.0, options_.partition.rank_tolerance, {}, elimination_, fresh);
+            selector_.select(cv_.J, 1.0, options_.partition.rank_tolerance, {}, fresh);
             if (fresh.rank != p.rank)
                 throw DynamicsError(t, "embedding: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(p.rank));
@@ -219,14 +219,14 @@ bool Partitioned::project(double t, Eigen::VectorXd& y) {
 void Partitioned::accelerations(const State& state, Eigen::VectorXd& vdot) {
     evaluate(state);
     CoordinatePartition p = part_;
-    if (jd_pivot_ratio(p) < options_.partition.reselect_ratio) p = partition_coordinates(J_, 1.0, options_.partition.rank_tolerance);
+    if (jd_pivot_ratio(p) < options_.partition.reselect_ratio) p = selector_.select(cv_.J, 1.0, options_.partition.rank_tolerance);
     solve_accelerations(state.t, p, state, vdot);
 }
 
 void Partitioned::multipliers(const State& state, Eigen::VectorXd& lambda) {
     evaluate(state);
     CoordinatePartition p = part_;
-    if (jd_pivot_ratio(p) < options_.partition.reselect_ratio) p = partition_coordinates(J_, 1.0, options_.partition.rank_tolerance);
+    if (jd_pivot_ratio(p) < options_.partition.reselect_ratio) p = selector_.select(cv_.J, 1.0, options_.partition.rank_tolerance);
     Eigen::VectorXd vdot;
     solve_accelerations(state.t, p, state, vdot);
     // J^T lambda = Q - M vdot (Q_c = -J^T lambda, book Eq. 6.128); its dependent rows

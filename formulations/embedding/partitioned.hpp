@@ -35,6 +35,8 @@
 #include <mbd/sdk/partition.hpp>
 #include <mbd/sdk/velocity_transform.hpp>
 
+#include <coordinate_selector.hpp>
+
 #include <Eigen/Dense>
 
 #include <limits>
@@ -103,7 +105,7 @@ private:
     Eigen::MatrixXd B_, MB_, Mbar_;                  // B, M B, B^T M B (Eq. 6.95)
     Eigen::VectorXd gamma_prime_, Mg_, Qbar_, vi_, vdot_i_, vdot_;
     Eigen::LLT<Eigen::MatrixXd> llt_;                // of B^T M B (Eq. 6.99)
-    PartitionWorkspace elimination_;                 // the candidate partition of a re-selection, and v
+    CoordinateSelector selector_;                    // dense or sparse by size (coordinate_selector.hpp)
     CoordinatePartition fresh_;
     Eigen::VectorXd v_before_;
 };

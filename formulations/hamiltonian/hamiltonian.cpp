@@ -45,6 +45,8 @@
 #include <mbd/sdk/text.hpp>
 #include <mbd/sdk/velocity_transform.hpp>
 
+#include <coordinate_selector.hpp>
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -124,7 +126,7 @@ private:
     Eigen::LLT<Eigen::MatrixXd> llt_;                // of Mbar
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_JdT_;    // of J_d^T (mu)
     VelocityTransformWorkspace transform_;
-    PartitionWorkspace elimination_;  // the candidate partition of a re-selection, and its velocities
+    CoordinateSelector selector_;     // dense or sparse by size (coordinate_selector.hpp)
     CoordinatePartition fresh_;
     Eigen::VectorXd v_before_;
 };
@@ -150,7 +152,7 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     Q_.setZero(nv_);
     Mx_.setZero(nv_);
     v_before_.setZero(nv_);
-    reserve_partition(nc_, nv_, elimination_, fresh_);  // a re-selection allocates nothing
+    selector_.bind(nc_, nv_, options, fresh_);  // a re-selection allocates nothing (dense)
     probe_.q.setZero(nq_);
     probe_.v.setZero(nv_);
     corrected_.q.setZero(nq_);
@@ -162,7 +164,7 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
 void Hamiltonian::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
     J_ = cv_.J;
-    part_ = partition_coordinates(J_, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
+    part_ = selector_.select(cv_.J, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     selected_ = true;
     set_momentum_scale(state.t, state.q);
     if (initial && !part_.redundant.empty())
@@ -314,7 +316,7 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
             kinematics(t, s.q, p_);
             v_before_ = state_.v;
             CoordinatePartition& fresh = fresh_;
-            partition_coordinates(J, 1.0, partition_settings_.rank_tolerance, {}, elimination_, fresh);
+            selector_.select(cv.J, 1.0, partition_settings_.rank_tolerance, {}, fresh);
             if (fresh.rank != part_.rank)
                 throw DynamicsError(t, "hamiltonian: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(part_.rank));
@@ -355,7 +357,7 @@ void Hamiltonian::accelerations(const State& state, Eigen::VectorXd& vdot) {
     system_->constraints(state, cv_, true);
     J_ = cv_.J;
     CoordinatePartition p = part_;
-    if (dependent_pivot_ratio(J_, p, transform_) < partition_settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
+    if (dependent_pivot_ratio(J_, p, transform_) < partition_settings_.reselect_ratio) p = selector_.select(cv_.J, 1.0, partition_settings_.rank_tolerance);
     solve_accelerations(state.t, p, state, vdot);
 }
 
@@ -363,7 +365,7 @@ void Hamiltonian::multipliers(const State& state, Eigen::VectorXd& lambda) {
     system_->constraints(state, cv_, true);
     J_ = cv_.J;
     CoordinatePartition p = part_;
-    if (dependent_pivot_ratio(J_, p, transform_) < partition_settings_.reselect_ratio) p = partition_coordinates(J_, 1.0, partition_settings_.rank_tolerance);
+    if (dependent_pivot_ratio(J_, p, transform_) < partition_settings_.reselect_ratio) p = selector_.select(cv_.J, 1.0, partition_settings_.rank_tolerance);
     Eigen::VectorXd vdot;
     solve_accelerations(state.t, p, state, vdot);
     multipliers_from_dependent_rows(J_, p, Eigen::VectorXd(Q_ - *M_ * vdot), lambda, transform_);
