@@ -211,7 +211,7 @@ TEST(SparsePartition, FillPerPivotDoesNotGrowWithTheChain) {
         mbd::CoordinatePartition p;
         mbd::partition_sparse(J, 0.1, 1e-10, {}, ws, p);  // the initial selection's threshold
         ASSERT_EQ(p.rank, J.rows()) << path << ": a chain has no redundant rows";
-        expect_valid_partition(Eigen::MatrixXd(J), p);
+        if (slot == 0) expect_valid_partition(Eigen::MatrixXd(J), p);  // a dense SVD: the short chain only
         per_pivot[slot] = static_cast<double>(ws.u_column.size()) / p.rank;
         ++slot;
     }
