@@ -4,6 +4,7 @@
 // degree of freedom (its Gruebler count is 0: one of its rows is redundant), and a four-bar
 // driven through its rocker's dead points, where the pivot-ratio rule of Sec. 6.12 must
 // re-select with the sparse elimination as it does with the dense one.
+#include "support/four_bar_dead_points.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/model_system.hpp>
@@ -107,23 +108,9 @@ TEST(SparsePartition, PreferredColumnsStayIndependentWhenTheyCan) {
     EXPECT_LT(shared, first.rank);
 }
 
-// The crank-rocker four-bar of test_embedding (book Table 3.2 links) in free motion: the
-// rocker passes its dead points, where rocker.angle cannot stay independent.
-const char* kFourBar = R"(
-name: four-bar-dead-points
-dimension: planar
-gravity: [0, 0]
-bodies:
-  - {name: crank, mass: 1, inertia: 0.0033333333333333335, position: [-3.6732051e-07, 0.09999999999932538], angle: 1.5708, angular_velocity: 5.0}
-  - {name: coupler, mass: 1, inertia: 0.013333333333333334, position: [0.14010956179022666, 0.3427203728749434], angle: 0.794626308141491}
-  - {name: rocker, mass: 1, inertia: 0.020833333333333332, position: [0.340109929110737, 0.242720372875618], angle: 4.954301901756992}
-joints:
-  - {name: O, type: revolute, bodies: [ground, crank], point: [0, 0]}
-  - {name: A, type: revolute, bodies: [crank, coupler], point: [-7.3464102e-07, 0.1999999999986508]}
-  - {name: B, type: revolute, bodies: [coupler, rocker], point: [0.280219858221474, 0.485440745751236]}
-  - {name: C, type: revolute, bodies: [rocker, ground], point: [0.4, 0]}
-formulation: {type: augmented}
-)";
+// The crank-rocker four-bar through its dead points (support/four_bar_dead_points.hpp), where
+// rocker.angle cannot stay independent.
+const std::string kFourBar = mbd::test::four_bar_dead_points("formulation: {type: augmented}");
 
 // Along the augmented formulation's trajectory (the oracle), the rule of Sec. 6.12 (re-select
 // when J_d's pivot ratio falls below 0.05, keep the fresh partition if its ratio is better)
