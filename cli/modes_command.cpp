@@ -100,7 +100,13 @@ Json complex_array(const Eigen::VectorXcd& x) {
 
 Json matrix_json(const Eigen::MatrixXd& M) {
     Json out = Json::array();
-    for (Eigen::Index i = 0; i < M.rows(); ++i) out.push_back(json_array(M.row(i).transpose()));
+    for (Eigen::Index i = 0; i < M.rows(); ++i) {
+        // a matrix without columns (B of a scene without actuators) has no row to take a block of
+        if (M.cols() == 0)
+            out.push_back(Json::array());
+        else
+            out.push_back(json_array(M.row(i).transpose()));
+    }
     return out;
 }
 

@@ -305,7 +305,10 @@ TEST(Modes, FourBarFrequencyMatchesASmallAmplitudeSimulation) {
 // ---------------------------------------------------------------- the command
 
 struct ModesCli : ::testing::Test {
-    std::filesystem::path dir = std::filesystem::temp_directory_path() / "mbd_modes_cli";
+    // one folder per test: ctest runs the tests of this fixture in parallel processes
+    std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                (std::string("mbd_modes_cli_") +
+                                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
     void SetUp() override {
         std::filesystem::remove_all(dir);
         std::filesystem::create_directories(dir);
