@@ -185,22 +185,24 @@ private:
         least_relative_pivot_ = 1.0;
         for (Eigen::Index k = 0; k < n; ++k) {
             Eigen::Index p = k;
-            for (Eigen::Index i = k + 1; i < n; ++i)
-                if (l[i * n + i] * inverse_scale_[order_[i]] > l[p * n + p] * inverse_scale_[order_[p]]) p = i;
+            double largest = l[k * n + k] * inverse_scale_[k];
+            for (Eigen::Index i = k + 1; i < n; ++i) {
+                const double relative = l[i * n + i] * inverse_scale_[i];
+                if (relative > largest) {
+                    largest = relative;
+                    p = i;
+                }
+            }
             if (p != k) swap_symmetric(k, p);
             double* column_k = l + k * n;
             const double pivot = column_k[k];
             if (!(pivot > 0.0)) return least_relative_pivot_ = 0.0;
-            least_relative_pivot_ = std::min(least_relative_pivot_, pivot * inverse_scale_[order_[k]]);
+            least_relative_pivot_ = std::min(least_relative_pivot_, largest);
             const double root = std::sqrt(pivot), inverse = 1.0 / root;
             column_k[k] = root;
             inverse_diagonal_[k] = inverse;
             for (Eigen::Index i = k + 1; i < n; ++i) column_k[i] *= inverse;
-            for (Eigen::Index j = k + 1; j < n; ++j) {
-                double* column_j = l + j * n;
-                const double factor = column_k[j];
-                for (Eigen::Index i = j; i < n; ++i) column_j[i] -= factor * column_k[i];
-            }
+            for (Eigen::Index j = k + 1; j < n; ++j) subtract_multiple(l + j * n + j, column_k + j, column_k[j], n - j);
         }
         return least_relative_pivot_;
     }
@@ -208,11 +210,18 @@ private:
     // (columns before k already hold factor entries: their rows k and p trade places).
     void swap_symmetric(Eigen::Index k, Eigen::Index p) {
         const Eigen::Index n = L_.rows();
-        for (Eigen::Index j = 0; j < k; ++j) std::swap(L_(k, j), L_(p, j));
-        std::swap(L_(k, k), L_(p, p));
-        for (Eigen::Index i = k + 1; i < p; ++i) std::swap(L_(i, k), L_(p, i));
-        for (Eigen::Index i = p + 1; i < n; ++i) std::swap(L_(i, k), L_(i, p));
+        double* l = L_.data();  // column-major: entry (i, j) at l[i + j * n]
+        for (Eigen::Index j = 0; j < k; ++j) std::swap(l[k + j * n], l[p + j * n]);
+        std::swap(l[k + k * n], l[p + p * n]);
+        for (Eigen::Index i = k + 1; i < p; ++i) std::swap(l[i + k * n], l[p + i * n]);
+        for (Eigen::Index i = p + 1; i < n; ++i) std::swap(l[i + k * n], l[i + p * n]);
         std::swap(order_[k], order_[p]);
+        std::swap(inverse_scale_[k], inverse_scale_[p]);
+    }
+    // y -= a x over len entries: a column of the trailing update. The two never overlap (two
+    // columns of L), and saying so lets the compiler vectorize the loop.
+    static void subtract_multiple(double* __restrict y, const double* __restrict x, double a, Eigen::Index len) {
+        for (Eigen::Index i = 0; i < len; ++i) y[i] -= a * x[i];
     }
     // x <- S^-1 x = P^T (L L^T)^-1 P x
     void cholesky_solve(Eigen::VectorXd& x) {
@@ -269,7 +278,7 @@ private:
     Eigen::MatrixXd L_;  // the Cholesky factor, lower
     Eigen::VectorXd inverse_diagonal_;  // 1 / L(i, i)
     Eigen::VectorXd permuted_;          // P x
-    Eigen::VectorXd inverse_scale_;     // 1 / S(i, i)
+    Eigen::VectorXd inverse_scale_;     // 1 / S(i, i) of the row now at place i of P S P^T
     std::vector<int> order_;            // row k of P S P^T is row order_[k] of S
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_w_, cod_wt_;
     PseudoInverseSolver pinv_w_, pinv_wt_;
