@@ -13,11 +13,17 @@
 //  - bad input named by its key.
 #include "support/test_support.hpp"
 
+// the elements themselves (header-only, SDK-only), for their gap_and_rate member
+#include "../plugins/forces/contact/plane_contact.hpp"
+#include "../plugins/forces/contact/sphere_contact.hpp"
+
 #include <mbd/body_poses.hpp>
 #include <mbd/derivative_check.hpp>
 #include <mbd/simulation.hpp>
 
 #include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <cstdio>
@@ -360,6 +366,92 @@ TEST(Contact, SeparatedBodiesFeelNoForceAndNoJacobian) {
         EXPECT_EQ(Q.norm(), 0.0) << type;
         EXPECT_EQ(Kq.norm() + Kv.norm(), 0.0) << type;
         EXPECT_EQ(f.force->potential_energy(poses.view(f.bodies, s.t)), 0.0) << type;
+    }
+}
+
+// ------------------------------------------------------------------ gap and rate
+// The members an event function will watch: the gap against its definition at a state where
+// both bodies move and turn, and its rate against a central difference of the gap along the
+// motion (constant velocities, constant body-axes angular velocities).
+mbd::Param scalar(const std::string& text) {
+    mbd::Param p;
+    p.text = text;
+    p.file = "gap.yaml";
+    p.line = 3;
+    return p;
+}
+mbd::Param numbers(const std::vector<double>& values) {
+    mbd::Param p = scalar("");
+    p.kind = mbd::Param::Kind::List;
+    for (double v : values) p.items.push_back(scalar(g17(v)));
+    return p;
+}
+
+struct Motion {  // a spatial body's pose at t from its pose and velocities at 0
+    mbd::Vec3 R, v, w_bar;
+    Eigen::Quaterniond q;
+    mbd::SpatialBody at(double t) const {
+        const double angle = w_bar.norm() * t;
+        const Eigen::Quaterniond qt = q * Eigen::Quaterniond(Eigen::AngleAxisd(angle, w_bar.normalized()));
+        mbd::SpatialBody b;
+        b.set(R + v * t, mbd::Vec4(qt.w(), qt.x(), qt.y(), qt.z()), v, w_bar);
+        return b;
+    }
+};
+
+template <class Element>
+void expect_gap_and_rate(const Element& element, const Motion& i, const Motion& j, double expected_gap) {
+    auto gap_at = [&](double t) {
+        const mbd::SpatialBody bi = i.at(t), bj = j.at(t);
+        mbd::BodyStates b;
+        b.spatial_bodies = {&bi, &bj};
+        return element.gap_and_rate(b);
+    };
+    const double h = 1e-6;
+    const mbd::contact::GapAndRate now = gap_at(0.0);
+    const double rate = (gap_at(h).gap - gap_at(-h).gap) / (2 * h);
+    std::printf("gap %.12f m (definition %.12f), rate %.9f m/s (difference %.9f)\n", now.gap, expected_gap, now.rate,
+                rate);
+    EXPECT_NEAR(now.gap, expected_gap, 1e-14);
+    EXPECT_NEAR(now.rate, rate, 1e-8);
+    EXPECT_GT(std::abs(now.rate), 0.1);  // a rate that the turning normal and the motion both feed
+}
+
+TEST(Contact, GapAndItsRateForTheEventHook) {
+    const Motion i{{0.1, -0.2, 0.3}, {0.4, 0.1, -0.3}, {0.7, -1.1, 0.5},
+                   Eigen::Quaterniond(Eigen::AngleAxisd(0.6, mbd::Vec3(1, 2, -1).normalized()))};
+    const Motion j{{0.5, 0.2, 1.4}, {-0.2, 0.3, 0.6}, {-0.4, 0.9, 1.3},
+                   Eigen::Quaterniond(Eigen::AngleAxisd(1.1, mbd::Vec3(-1, 0.5, 2).normalized()))};
+    const mbd::Vec3 ui(0.05, 0.1, -0.02), uj(-0.03, 0.04, 0.06);
+    mbd::ForceSpec spec;
+    spec.name = "touch";
+    spec.dimension = mbd::Dimension::Spatial;
+    spec.bodies.resize(2);
+    spec.bodies[0].name = "a";
+    spec.bodies[1].name = "b";
+    spec.markers.resize(2);
+    spec.markers[0].u_bar = ui;
+    spec.markers[1].u_bar = uj;
+    const mbd::SpatialBody bi = i.at(0.0), bj = j.at(0.0);
+    const mbd::Vec3 P0 = bi.R + bi.A * ui, C = bj.R + bj.A * uj;
+    {
+        mbd::Param node = scalar("");
+        node.kind = mbd::Param::Kind::Map;
+        node.fields = {{"normal", numbers({0.2, -0.1, 1.0})}, {"radius", scalar("0.4")}, {"stiffness", scalar("1e5")}};
+        spec.type = "sphere_plane";
+        spec.params = mbd::Params("force 'touch'", &node);
+        const mbd::contact::PlaneContact plane(spec, mbd::Dimension::Spatial, "circle_line");
+        const mbd::Vec3 n = bi.A * mbd::Vec3(0.2, -0.1, 1.0).normalized();
+        expect_gap_and_rate(plane, i, j, n.dot(C - P0) - 0.4);
+    }
+    {
+        mbd::Param node = scalar("");
+        node.kind = mbd::Param::Kind::Map;
+        node.fields = {{"radii", numbers({0.3, 0.5})}, {"stiffness", scalar("1e5")}};
+        spec.type = "sphere_sphere";
+        spec.params = mbd::Params("force 'touch'", &node);
+        const mbd::contact::SphereContact spheres(spec, mbd::Dimension::Spatial, "circle_circle");
+        expect_gap_and_rate(spheres, i, j, (C - P0).norm() - 0.8);
     }
 }
 
