@@ -212,7 +212,7 @@ struct GapAndRate {
 template <class Derived>
 class ContactForce : public force_support::LoadedForce<Derived, 2> {
 public:
-    // planar: the scene dimension this type accepts; other: the type to use instead
+    // accepted: the dimension of this type; other: the type to use in a scene of the other dimension
     ContactForce(const ForceSpec& spec, Dimension accepted, const std::string& other)
         : force_support::LoadedForce<Derived, 2>(spec, "two bodies [i, j]") {
         if (spec.dimension != accepted)
