@@ -41,6 +41,19 @@ struct CoulombLaw {
         const S magnitude = mu_kinetic + (mu_static - mu_kinetic) * exp(-excess * excess);
         return value_of(x) > 0.0 ? magnitude : S(-magnitude);
     }
+
+    // mu(|v|) / |v| of a slip velocity vector v, given its squared norm: the friction force of a
+    // contact sliding with v is -F_n ratio v. Inside the stiction band it is
+    // mu_s (3 - x^2) / (2 v_s), x^2 = |v|^2 / v_s^2, smooth at v = 0 (no |v| to differentiate).
+    template <class S>
+    S coefficient_per_speed(const S& speed_squared) const {
+        using std::sqrt;
+        using force_support::value_of;
+        const S x2 = speed_squared / (stiction_velocity * stiction_velocity);
+        if (value_of(x2) <= 1.0) return mu_static * (3.0 - x2) / (2.0 * stiction_velocity);
+        const S speed = sqrt(speed_squared);
+        return coefficient(speed) / speed;
+    }
 };
 
 }  // namespace mbd::friction
