@@ -26,6 +26,15 @@ std::string first_non_finite(const Joint& joint, const ConstraintEval& e) {
     return "no entry";
 }
 
+// Every entry of a joint's output finite. A NaN or an infinity in any entry makes the sum
+// non-finite, so one pass of additions decides the common case; only a sum that overflowed
+// from finite entries (|entries| near 1e308) needs the entry-by-entry look.
+bool rows_finite(const ConstraintEval& e) {
+    const double sum = e.C.sum() + e.C_t.sum() + e.gamma.sum() + e.J.sum();
+    if (std::isfinite(sum)) return true;
+    return e.C.allFinite() && e.C_t.allFinite() && e.gamma.allFinite() && e.J.allFinite();
+}
+
 }  // namespace
 
 std::string RowOwner::describe() const {
@@ -119,8 +128,7 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         ji.joint->evaluate(data.view, e);
         // a NaN from a joint would surface later as a failed projection or a singular
         // matrix; name the joint here instead (unless the state itself is not finite)
-        if (!(e.C.allFinite() && e.C_t.allFinite() && e.gamma.allFinite() && e.J.allFinite()) && state.q.allFinite() &&
-            state.v.allFinite())
+        if (!rows_finite(e) && state.q.allFinite() && state.v.allFinite())
             throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type + (ji.where.empty() ? "" : ", " + ji.where) +
                                              ") gave a non-finite value at t = " + format_time(state.t) + " (" +
                                              first_non_finite(*ji.joint, e) +

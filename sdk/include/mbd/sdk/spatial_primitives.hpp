@@ -128,19 +128,74 @@ private:
 
 // ---- the primitives ------------------------------------------------------------
 
+// The primitives below are the Kin3 algebra above written out, each in the body frames
+// where that saves work (they run for every joint on every evaluation): for a body-fixed
+// direction a = A a_bar and any world vector x,
+//     x^T (-A a_bar~) = (a_bar x (A^T x))^T            (the rotational Jacobian block of a . x)
+// and for a body-fixed point r = R + A u_bar,  x^T (-A u_bar~) = (u_bar x (A^T x))^T.
+
+// A body-fixed point's or direction's rate and velocity-quadratic acceleration, world frame:
+// A (w x u) and A (w x (w x u)).
+struct BodyFixedMotion {
+    Vec3 rate, quad;
+    BodyFixedMotion(const SpatialBody& b, const Vec3& u_bar) {
+        const Vec3 w_u = b.omega_bar.cross(u_bar);
+        rate = b.A * w_u;
+        quad = b.A * b.omega_bar.cross(w_u);
+    }
+};
+
 // SPH: d = r_P^i - r_P^j (3 rows; book Eqs. 7.159-7.166, Jacobian [I, -A_i u_i~, -I, A_j u_j~]).
 inline Kin3 sph(const Pair& pair, const Vec3& u_bar_i, const Vec3& u_bar_j) {
-    return pair.point(0, u_bar_i) - pair.point(1, u_bar_j);
+    const SpatialBody& bi = pair.body(0);
+    const SpatialBody& bj = pair.body(1);
+    const BodyFixedMotion mi(bi, u_bar_i), mj(bj, u_bar_j);
+    Kin3 d;
+    d.value = bi.R + bi.A * u_bar_i - bj.R - bj.A * u_bar_j;
+    d.rate = bi.Rdot + mi.rate - bj.Rdot - mj.rate;
+    d.J.block<3, 3>(0, 0).setIdentity();
+    d.J.block<3, 3>(0, 3).noalias() = -bi.A * skew(u_bar_i);
+    d.J.block<3, 3>(0, 6) = -Mat3::Identity();
+    d.J.block<3, 3>(0, 9).noalias() = bj.A * skew(u_bar_j);
+    d.quad = mi.quad - mj.quad;
+    return d;
 }
 
-// DOT1: a_i . a_j for body-fixed a_i on body i and a_j on body j (book Eqs. 7.168-7.170).
+// DOT1: a_i . a_j for body-fixed a_i on body i and a_j on body j (book Eqs. 7.168-7.170):
+// J = [0, a_bar_i x (A_i^T a_j), 0, a_bar_j x (A_j^T a_i)],
+// gamma = -(a_j . addot_i + a_i . addot_j + 2 adot_i . adot_j) (quadratic parts).
 inline Scalar dot1(const Pair& pair, const Vec3& a_bar_i, const Vec3& a_bar_j) {
-    return dot(pair.vector(0, a_bar_i), pair.vector(1, a_bar_j));
+    const SpatialBody& bi = pair.body(0);
+    const SpatialBody& bj = pair.body(1);
+    const Vec3 ai = bi.A * a_bar_i, aj = bj.A * a_bar_j;
+    const BodyFixedMotion mi(bi, a_bar_i), mj(bj, a_bar_j);
+    Scalar s;
+    s.value = ai.dot(aj);
+    s.rate = mi.rate.dot(aj) + ai.dot(mj.rate);
+    s.J.segment<3>(3) = a_bar_i.cross(bi.A.transpose() * aj).transpose();
+    s.J.segment<3>(9) = a_bar_j.cross(bj.A.transpose() * ai).transpose();
+    s.gamma = -(aj.dot(mi.quad) + ai.dot(mj.quad) + 2.0 * mi.rate.dot(mj.rate));
+    return s;
 }
 
-// DOT2: a_i . d with d = r_P^i - r_P^j (book Eqs. 7.169, 7.172, 7.178).
+// DOT2: a_i . d with d = r_P^i - r_P^j (book Eqs. 7.169, 7.172, 7.178):
+// J = [a_i^T, (a_bar_i x (A_i^T d) + u_bar_i x a_bar_i)^T, -a_i^T, -(u_bar_j x (A_j^T a_i))^T].
 inline Scalar dot2(const Pair& pair, const Vec3& a_bar_i, const Vec3& u_bar_i, const Vec3& u_bar_j) {
-    return dot(pair.vector(0, a_bar_i), sph(pair, u_bar_i, u_bar_j));
+    const SpatialBody& bi = pair.body(0);
+    const SpatialBody& bj = pair.body(1);
+    const Vec3 ai = bi.A * a_bar_i;
+    const BodyFixedMotion ma(bi, a_bar_i), mi(bi, u_bar_i), mj(bj, u_bar_j);
+    const Vec3 d = bi.R + bi.A * u_bar_i - bj.R - bj.A * u_bar_j;
+    const Vec3 ddot = bi.Rdot + mi.rate - bj.Rdot - mj.rate;
+    Scalar s;
+    s.value = ai.dot(d);
+    s.rate = ma.rate.dot(d) + ai.dot(ddot);
+    s.J.segment<3>(0) = ai.transpose();
+    s.J.segment<3>(3) = (a_bar_i.cross(bi.A.transpose() * d) + u_bar_i.cross(a_bar_i)).transpose();
+    s.J.segment<3>(6) = -ai.transpose();
+    s.J.segment<3>(9) = -u_bar_j.cross(bj.A.transpose() * ai).transpose();
+    s.gamma = -(d.dot(ma.quad) + ai.dot(mi.quad - mj.quad) + 2.0 * ma.rate.dot(ddot));
+    return s;
 }
 
 // DIST: d . d - length^2 (book Eqs. 7.171-7.174; singular at d = 0, prefer SPH).
