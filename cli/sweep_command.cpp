@@ -33,6 +33,7 @@ struct SweepArguments {
     int threads = 1;
     bool resume = false;
     bool quiet = false;
+    double flush_seconds = 1.0;
 };
 
 // The output files are neither an input (the study, its scene and their bases) nor, without
@@ -70,6 +71,7 @@ int run_sweep(const SweepArguments& a, const MpiRole& role) {
     InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP: the finished cases stay in OUTPUT.partial
     SweepResults results = a.resume ? SweepResults::resume(a.output, study, design)
                                     : SweepResults::create(a.output, study, design);
+    results.set_flush_interval(a.flush_seconds);
     const auto start = std::chrono::steady_clock::now();
     SweepOptions options;
     options.threads = a.threads;
@@ -103,6 +105,10 @@ void add_sweep_command(CLI::App& app, Commands& commands) {
         ->check(CLI::Range(1, 1024));
     sub->add_flag("--resume", args->resume,
                   "Continue an interrupted study from OUTPUT.partial: finished cases are kept, the others run once");
+    sub->add_option("--flush-seconds", args->flush_seconds,
+                    "Least time between writes of OUTPUT.partial (a kill loses at most the cases of this time)")
+        ->capture_default_str()
+        ->check(positive_number());
     sub->add_flag("-q,--quiet", args->quiet, "No progress bar and no summary");
 
     commands[sub] = [args] {

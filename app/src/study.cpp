@@ -2,6 +2,7 @@
 #include <mbd/app/study.hpp>
 
 #include <mbd/app/study_case.hpp>
+#include <mbd/app/study_design.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/scene_parameters.hpp>
 #include <mbd/sdk/suggest.hpp>
@@ -182,7 +183,36 @@ StudyDesign read_design(const Param& node) {
     return d;
 }
 
-std::vector<StudyParameter> read_parameters(const Param& node, const StudyDesign& design, const Param& scene_document) {
+// The path must name a number of the scene, or a key the scene leaves out but may have (an
+// initial velocity): such a key is set on a copy and the scene built, and an "unknown key"
+// about it is the path's error. Other problems of that value are left to the cases.
+void check_parameter_path(const Param& item, const StudyParameter& p, const Param& scene_document,
+                          Registry& registry) {
+    bool present = true;
+    try {
+        scene_parameter(scene_document, p.path);
+    } catch (const ParameterError&) {
+        present = false;
+    }
+    Param copy = scene_document;
+    try {
+        set_scene_parameter(copy, p.path, p.values.empty() ? inverse_cdf(p, 0.5) : p.values.front());
+    } catch (const ParameterError& e) {
+        item.fail(e.message() + " (in the base scene " + e.where() + ")");
+    }
+    if (present) return;
+    std::string key = p.path.substr(p.path.find_last_of('.') + 1);
+    key = key.substr(0, key.find('['));
+    try {
+        load_scene_document(copy, scene_document.file, registry);
+    } catch (const InputError& e) {
+        if (e.message().find("unknown key '" + key + "'") != std::string::npos)
+            item.fail("parameter '" + p.path + "': " + e.message() + " (the base scene " + e.where() + ")");
+    }
+}
+
+std::vector<StudyParameter> read_parameters(const Param& node, const StudyDesign& design, const Param& scene_document,
+                                            Registry& registry) {
     if (!node.is_list() || node.items.empty())
         node.fail("'parameters' must be a list of {path: KEY, ...}, one item per varied scene key");
     std::vector<StudyParameter> out;
@@ -200,13 +230,7 @@ std::vector<StudyParameter> read_parameters(const Param& node, const StudyDesign
         } else {
             read_distribution(item, owner, p);
         }
-        // the path must name a number of the scene (or a key it may have): checked on a copy
-        try {
-            Param copy = scene_document;
-            set_scene_parameter(copy, p.path, 0.0);
-        } catch (const ParameterError& e) {
-            item.fail(e.message() + " (in the base scene " + e.where() + ")");
-        }
+        check_parameter_path(item, p, scene_document, registry);
         out.push_back(std::move(p));
     }
     return out;
@@ -299,7 +323,7 @@ Study read_study(const std::filesystem::path& file, Registry& registry) {
     s.model = std::make_shared<const Model>(load_scene(s.scene, registry));
     s.analysis = read_analysis(required(root, "analysis", "study"));
     s.design = read_design(required(root, "design", "study"));
-    s.parameters = read_parameters(required(root, "parameters", "study"), s.design, *s.model->document);
+    s.parameters = read_parameters(required(root, "parameters", "study"), s.design, *s.model->document, registry);
     s.columns = case_columns(*s.model, s.analysis);
     s.metrics = read_metrics(required(root, "metrics", "study"), s.columns);
     if (const Param* series = field(root, "series")) s.series = read_series(*series, s.analysis, s.columns);

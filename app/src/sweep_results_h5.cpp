@@ -381,7 +381,7 @@ void SweepResults::write_image(const fs::path& target) const {
 void SweepResults::flush(bool force) {
     const auto now = std::chrono::steady_clock::now();
     const double since = std::chrono::duration<double>(now - last_write_).count();
-    if (!force && (unwritten_ == 0 || since < std::max(1.0, 10.0 * last_write_seconds_))) return;
+    if (!force && (unwritten_ == 0 || since < std::max(interval_, 10.0 * last_write_seconds_))) return;
     write_image(partial_path());
     last_write_ = std::chrono::steady_clock::now();
     last_write_seconds_ = std::chrono::duration<double>(last_write_ - now).count();

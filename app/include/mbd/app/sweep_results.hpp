@@ -43,9 +43,10 @@ public:
     long failed() const;
     void add(long index, CaseResult result);
 
-    // Writes NAME.partial when `force` or when due: at least a second since the last write and
-    // ten times as long as the last write took (the writing stays below a tenth of the run).
+    // Writes NAME.partial when `force` or when due: at least `interval` seconds since the last
+    // write and ten times as long as the last write took (the writing stays below a tenth of the run).
     void flush(bool force = false);
+    void set_flush_interval(double seconds) { interval_ = seconds; }
     // Every case finished: the last image, renamed to NAME.
     void commit();
     bool committed() const { return committed_; }
@@ -71,6 +72,7 @@ private:
     std::map<long, SweepRow> rows_;
     std::chrono::steady_clock::time_point last_write_;
     double last_write_seconds_ = 0.0;
+    double interval_ = 1.0;
     long unwritten_ = 0;
     bool committed_ = false;
 };
