@@ -52,10 +52,14 @@ void check_outputs(const SweepArguments& a, const Study& study) {
                                      "with --resume, or remove it to start anew");
 }
 
-void print_summary(const SweepArguments& a, const SweepResults& results, double seconds) {
+void print_summary(const SweepArguments& a, const SweepResults& results, const SweepStats& stats, double seconds) {
     if (a.quiet) return;
-    std::printf("swept %s: %ld cases, %ld failed, in %.3g s (%.4g cases/s)\n", a.study.c_str(), results.cases(),
-                results.failed(), seconds, seconds > 0 ? static_cast<double>(results.cases()) / seconds : 0.0);
+    std::printf("swept %s: %ld cases (%ld run now), %ld failed, in %.3g s (%.4g cases/s)\n", a.study.c_str(),
+                results.cases(), stats.cases_run, results.failed(), seconds,
+                seconds > 0 ? static_cast<double>(stats.cases_run) / seconds : 0.0);
+    if (stats.cases_run > 0)
+        std::printf("  master overhead %.3g us CPU per case (recording, writing, serving the workers)\n",
+                    1e6 * stats.recorder_cpu_seconds / static_cast<double>(stats.cases_run));
     std::printf("  results in %s%s%s\n", a.output.c_str(), a.csv.empty() ? "" : ", table in ", a.csv.c_str());
 }
 
@@ -76,16 +80,17 @@ int run_sweep(const SweepArguments& a, const MpiRole& role) {
     SweepOptions options;
     options.threads = a.threads;
     options.progress = !a.quiet && ::isatty(STDERR_FILENO);
+    SweepStats stats;
     try {
-        if (role.launched) run_sweep_master(study, registry, design, results, options);
-        else run_sweep_threads(study, registry, design, results, options);
+        stats = role.launched ? run_sweep_master(study, registry, design, results, options)
+                              : run_sweep_threads(study, registry, design, results, options);
     } catch (const Interrupted&) {
         std::cerr << "mbd: '" << results.partial_path().string() << "' holds the " << results.finished() << " of "
                   << results.cases() << " cases finished; continue with --resume\n";
         throw;
     }
     if (!a.csv.empty()) results.write_csv(a.csv);
-    print_summary(a, results, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    print_summary(a, results, stats, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;
 }
 

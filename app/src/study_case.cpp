@@ -5,6 +5,7 @@
 
 #include <mbd/app/failure_kind.hpp>
 #include <mbd/app/study_metrics.hpp>
+#include <mbd/app/sweep_runner.hpp>
 #include <mbd/csv.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/kinematics.hpp>
@@ -16,17 +17,10 @@
 #include <mbd/statics_analysis.hpp>
 
 #include <algorithm>
-#include <ctime>
 
 namespace mbd {
 
 namespace {
-
-double thread_cpu_seconds() {
-    timespec now{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-    return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
 
 bool uses_any(const Study& study, const std::vector<std::string>& columns) {
     auto used = [&](const std::string& c) {

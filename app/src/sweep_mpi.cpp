@@ -198,8 +198,10 @@ MpiRole mpi_role() {
     return role;
 }
 
-void run_sweep_master(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
-                      SweepResults& results, const SweepOptions& options) {
+SweepStats run_sweep_master(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+                            SweepResults& results, const SweepOptions& options) {
+    const double cpu_start = thread_cpu_seconds();
+    const long finished_before = results.finished();
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
     CaseDispenser dispenser(pending_cases(results));
@@ -227,6 +229,7 @@ void run_sweep_master(const Study& study, Registry& registry, const std::vector<
     }
     progress.finish();
     results.commit();
+    return SweepStats{results.finished() - finished_before, thread_cpu_seconds() - cpu_start};
 }
 
 int run_sweep_worker(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design) {

@@ -3,6 +3,7 @@
 
 #include <mbd/interrupt.hpp>
 
+#include <ctime>
 #include <string>
 
 namespace mbd {
@@ -86,8 +87,16 @@ void SweepProgress::update(const SweepResults& results) {
                               std::to_string(results.failed()) + " failed");
 }
 
-void run_sweep_threads(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
-                       SweepResults& results, const SweepOptions& options) {
+double thread_cpu_seconds() {
+    timespec now{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+    return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
+SweepStats run_sweep_threads(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+                             SweepResults& results, const SweepOptions& options) {
+    const double cpu_start = thread_cpu_seconds();
+    const long finished_before = results.finished();
     CaseDispenser dispenser(pending_cases(results));
     SweepProgress progress(results, options.progress);
     {
@@ -105,6 +114,7 @@ void run_sweep_threads(const Study& study, Registry& registry, const std::vector
         stop_if_interrupted();
     }
     results.commit();
+    return SweepStats{results.finished() - finished_before, thread_cpu_seconds() - cpu_start};
 }
 
 }  // namespace mbd

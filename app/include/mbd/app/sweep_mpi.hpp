@@ -29,8 +29,8 @@ MpiRole mpi_role();
 // Rank 0: runs the pending cases of `results` on its local threads and on the workers,
 // records them and commits the file; a stop signal flushes the file, then aborts the job
 // (MPI_Abort) with Interrupted's exit status.
-void run_sweep_master(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
-                      SweepResults& results, const SweepOptions& options);
+SweepStats run_sweep_master(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+                            SweepResults& results, const SweepOptions& options);
 
 // Ranks > 0: cases on request until the master says stop; returns the exit status (0).
 int run_sweep_worker(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design);

@@ -88,10 +88,20 @@ struct SweepOptions {
     bool progress = true;
 };
 
+// What the recording thread (the master) cost: its CPU time over the run, which is the
+// per-case overhead that bounds the scaling (docs/sweep.md, "Efficiency").
+struct SweepStats {
+    long cases_run = 0;
+    double recorder_cpu_seconds = 0.0;
+};
+
+// CPU time of the calling thread.
+double thread_cpu_seconds();
+
 // Runs every pending case with `options.threads` threads, recording each in `results`; commits
 // the file when all are done. A stop signal ends the run after the cases in progress are
 // abandoned: the file keeps every finished case and Interrupted is thrown.
-void run_sweep_threads(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
-                       SweepResults& results, const SweepOptions& options);
+SweepStats run_sweep_threads(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+                             SweepResults& results, const SweepOptions& options);
 
 }  // namespace mbd
