@@ -416,3 +416,28 @@ TEST(SweepCli, UnwritableOutputIsRefusedBeforeAnyCaseRuns) {
 }
 
 }  // namespace
+
+namespace {
+
+// Modes about the statics: the pendulum hangs at the bottom and swings at
+// omega = sqrt(m g L / (J + m L^2)) (J = 1e-6 kg m^2 about the bob's centre).
+TEST(SweepCli, PendulumModesOverTheLengthFollowTheCompoundPendulumFrequency) {
+    const fs::path dir = scratch("modes");
+    const fs::path study = write(dir / "study.yaml", "scene: " + pendulum_scene() +
+                                                         "\nanalysis: {type: modes}\nparameters:\n"
+                                                         "  - {path: \"bodies.bob.position[0]\", values: [0.5, 1, 2]}\n"
+                                                         "design: {type: grid}\n"
+                                                         "metrics: [{final: mode1.natural_frequency}]\n");
+    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
+                           (dir / "r.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Table t = read_table(dir / "r.csv");
+    ASSERT_EQ(t.rows.size(), 3u);
+    for (const auto& row : t.rows) {
+        ASSERT_EQ(row[t.column("status")], "ok") << row[t.column("message")];
+        const double L = std::stod(row[1]), m = 1.0, g = 9.81, J = 1e-6;
+        EXPECT_NEAR(std::stod(row[2]), std::sqrt(m * g * L / (J + m * L * L)), 1e-6) << "L = " << L;
+    }
+}
+
+}  // namespace
