@@ -29,5 +29,6 @@ void add_bench_command(CLI::App& app, Commands& commands);
 void add_stability_command(CLI::App& app, Commands& commands);
 void add_animate_command(CLI::App& app, Commands& commands);
 void add_modes_command(CLI::App& app, Commands& commands);
+void add_sweep_command(CLI::App& app, Commands& commands);
 
 }  // namespace mbd::cli

@@ -1,5 +1,7 @@
 // Stability matrix of the extreme cases (issue 8); see mbd/app/stability.hpp.
 #include <mbd/app/stability.hpp>
+
+#include <mbd/app/failure_kind.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <mbd/interrupt.hpp>
@@ -75,26 +77,6 @@ std::vector<std::string> kind_list(const Param& p, const std::string& what) {
 Mat3 rotation_matrix(const Eigen::VectorXd& q, int offset) {
     Eigen::Quaterniond e(q[offset + 3], q[offset + 4], q[offset + 5], q[offset + 6]);
     return e.normalized().toRotationMatrix();
-}
-
-// The failure kind of an engine message.
-std::string classify(const std::string& m, bool assembly) {
-    auto has = [&m](const char* s) { return m.find(s) != std::string::npos; };
-    if (assembly) return "assembly_failure";
-    if (has("step size collapse")) return "step_size_collapse";
-    if (has("Newton iteration did not converge") || has("CV_CONV_FAILURE") || has("did not converge"))
-        return "newton_divergence";
-    if (has("mass matrix is singular")) return "singular_mass_matrix";
-    if (has("redundant")) return "redundant_constraints";
-    if (has("singular")) return "singular_constraints";
-    if (has("initial state could not be projected") || has("could not be assembled")) return "assembly_failure";
-    if (has("projection onto the constraint manifold failed")) return "projection_failure";
-    // an energy gain in a conservative scene (energy_growth.hpp) is the start of a blow-up
-    if (has("grew without bound") || has("total energy T + V grew") || has("non-finite") || has("diverged"))
-        return "blow_up";
-    if (has("maximum number of steps") || has("CV_TOO_MUCH_WORK")) return "max_steps";
-    if (has("CV_ERR_FAILURE")) return "step_size_collapse";
-    return "solver_failure";
 }
 
 // expect.final: {bodies: [...], positions: [...]}, one position (world, metres) per body.
@@ -296,7 +278,7 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
     } catch (const DynamicsError& x) {
         out.message = x.what();
         out.time = x.time();
-        out.kind = classify(out.message, false);
+        out.kind = failure_kind(out.message, false);
     } catch (const InputError& x) {
         out.message = x.what();
         if (out.message.find("index-3") != std::string::npos) {

@@ -1,0 +1,443 @@
+// `mbd sweep` (issue 18, docs/sweep.md): the designs, a 200-case Latin hypercube of the pendulum
+// run serially, in 2 threads and on 3 MPI ranks (identical tables, each case equal to its own
+// `mbd simulate`), kills of the process, of a worker rank and of the master rank followed by
+// --resume, a statics sweep of the slider crank against its closed form, and bad input.
+#include <gtest/gtest.h>
+
+#include <mbd/app/study.hpp>
+#include <mbd/app/study_design.hpp>
+#include <mbd/app/sweep_results.hpp>
+
+#include <csignal>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "support/test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using mbd::test::g17;
+using mbd::test::run_command;
+using mbd::test::run_mbd;
+using mbd::test::scratch;
+
+const std::string kMpirun = "mpirun --allow-run-as-root --oversubscribe ";
+
+std::string pendulum_scene() { return mbd::test::scene_path("dynamics/pendulum-a01.yaml").string(); }
+
+// The pendulum study: `cases` LHS cases over the length (the bob's x at the start) and the mass.
+std::string pendulum_study(long cases, double t_end = 1.0) {
+    std::ostringstream s;
+    s << "scene: " << pendulum_scene() << "\n"
+      << "analysis: {type: simulate, t_end: " << t_end << ", integrator: dopri5, tol: 1.0e-7, output_step: 0.01}\n"
+      << "parameters:\n"
+      << "  - {path: \"bodies.bob.position[0]\", distribution: uniform, range: [0.5, 1.5]}\n"
+      << "  - {path: bodies.bob.mass, distribution: uniform, range: [0.5, 2.0]}\n"
+      << "design: {type: latin_hypercube, cases: " << cases << ", seed: 7}\n"
+      << "metrics:\n  - final: bob.x\n  - final: bob.y\n  - min: bob.y\n  - max: pivot.fy\n";
+    return s.str();
+}
+
+fs::path write(const fs::path& path, const std::string& text) {
+    std::ofstream(path) << text;
+    return path;
+}
+
+// A CSV with text cells (the sweep table has status, failure and message columns).
+struct Table {
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+    int column(const std::string& name) const {
+        for (size_t k = 0; k < header.size(); ++k)
+            if (header[k] == name) return static_cast<int>(k);
+        return -1;
+    }
+};
+
+std::vector<std::string> split_csv(const std::string& line) {
+    std::vector<std::string> out{""};
+    bool quoted = false;
+    for (size_t k = 0; k < line.size(); ++k) {
+        const char c = line[k];
+        if (quoted && c == '"' && k + 1 < line.size() && line[k + 1] == '"') out.back() += '"', ++k;
+        else if (c == '"') quoted = !quoted;
+        else if (c == ',' && !quoted) out.emplace_back();
+        else out.back() += c;
+    }
+    return out;
+}
+
+Table read_table(const fs::path& path) {
+    std::ifstream in(path);
+    Table t;
+    std::string line;
+    std::getline(in, line);
+    t.header = split_csv(line);
+    while (std::getline(in, line)) t.rows.push_back(split_csv(line));
+    return t;
+}
+
+// The parameter and metric cells of every row (cpu_s left out: it is a measurement).
+std::vector<std::vector<std::string>> numbers(const Table& t) {
+    const int last = t.column("cpu_s");
+    std::vector<std::vector<std::string>> out;
+    for (const auto& row : t.rows) out.emplace_back(row.begin(), row.begin() + last);
+    return out;
+}
+
+// The finished rows of a results file, read back through the HDF5 reader of --resume.
+std::map<long, mbd::SweepRow> stored_rows(const fs::path& study_file, const fs::path& output) {
+    const mbd::Study study = mbd::read_study(study_file, mbd::test::shared_registry());
+    return mbd::SweepResults::resume(output, study, mbd::design_cases(study)).rows();
+}
+
+TEST(SweepDesign, LatinHypercubeHasOnePointPerStratumAndIsReproducible) {
+    const fs::path dir = scratch("design");
+    const fs::path study_file = write(dir / "lhs.yaml", pendulum_study(50));
+    const mbd::Study study = mbd::read_study(study_file, mbd::test::shared_registry());
+    const auto cases = mbd::design_cases(study);
+    ASSERT_EQ(cases.size(), 50u);
+    const double lo[2] = {0.5, 0.5}, hi[2] = {1.5, 2.0};
+    for (int j = 0; j < 2; ++j) {
+        std::set<long> strata;
+        for (const auto& c : cases) {
+            const double u = (c[j] - lo[j]) / (hi[j] - lo[j]);
+            ASSERT_GT(u, 0.0);
+            ASSERT_LT(u, 1.0);
+            strata.insert(static_cast<long>(std::floor(u * 50)));
+        }
+        EXPECT_EQ(strata.size(), 50u) << "parameter " << j << ": every one of the 50 strata holds one point";
+    }
+    EXPECT_EQ(mbd::design_cases(study), cases);  // the same seed, the same design
+}
+
+TEST(SweepDesign, GridVariesTheLastParameterFastestAndMonteCarloNormalHasItsMoments) {
+    const fs::path dir = scratch("design-grid");
+    const fs::path grid = write(dir / "grid.yaml",
+                                "scene: " + pendulum_scene() +
+                                    "\nanalysis: {type: simulate, t_end: 0.1}\nparameters:\n"
+                                    "  - {path: bodies.bob.mass, values: [1, 2]}\n"
+                                    "  - {path: \"gravity[1]\", range: [-10, -9], count: 3}\n"
+                                    "design: {type: grid}\nmetrics: [{final: bob.x}]\n");
+    const mbd::Study g = mbd::read_study(grid, mbd::test::shared_registry());
+    const std::vector<std::vector<double>> expected{{1, -10}, {1, -9.5}, {1, -9}, {2, -10}, {2, -9.5}, {2, -9}};
+    EXPECT_EQ(mbd::design_cases(g), expected);
+
+    const fs::path mc = write(dir / "mc.yaml", "scene: " + pendulum_scene() +
+                                                   "\nanalysis: {type: simulate, t_end: 0.1}\nparameters:\n"
+                                                   "  - {path: bodies.bob.mass, distribution: normal, mean: 2, sd: 0.1}\n"
+                                                   "design: {type: monte_carlo, cases: 20000, seed: 3}\n"
+                                                   "metrics: [{final: bob.x}]\n");
+    const mbd::Study m = mbd::read_study(mc, mbd::test::shared_registry());
+    double sum = 0, squares = 0;
+    const auto cases = mbd::design_cases(m);
+    for (const auto& c : cases) sum += c[0];
+    const double mean = sum / cases.size();
+    for (const auto& c : cases) squares += (c[0] - mean) * (c[0] - mean);
+    const double sd = std::sqrt(squares / (cases.size() - 1));
+    EXPECT_NEAR(mean, 2.0, 4 * 0.1 / std::sqrt(20000.0));   // 4 standard errors
+    EXPECT_NEAR(sd, 0.1, 4 * 0.1 / std::sqrt(2 * 20000.0));
+}
+
+// The acceptance test: serial, 2 threads and 3 MPI ranks give the same table, and every case
+// is the `mbd simulate` of its own scene (the values written into the file) to 1e-12.
+TEST(SweepCli, PendulumLhsSerialThreadsAndMpiAgreeWithSingleSimulations) {
+    const fs::path dir = scratch("lhs");
+    const fs::path study = write(dir / "study.yaml", pendulum_study(200));
+    const std::string base = "sweep " + study.string() + " -q -o ";
+    auto r = run_mbd(base + (dir / "serial.h5").string() + " --csv " + (dir / "serial.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = run_mbd(base + (dir / "threads.h5").string() + " --threads 2 --csv " + (dir / "threads.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = run_command(kMpirun + "-np 3 " MBD_EXECUTABLE " " + base + (dir / "mpi.h5").string() + " --csv " +
+                    (dir / "mpi.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+
+    const Table serial = read_table(dir / "serial.csv");
+    ASSERT_EQ(serial.rows.size(), 200u);
+    EXPECT_EQ(numbers(read_table(dir / "threads.csv")), numbers(serial));
+    EXPECT_EQ(numbers(read_table(dir / "mpi.csv")), numbers(serial));
+    // the HDF5 table holds the same numbers
+    const auto stored = stored_rows(study, dir / "mpi.h5");
+    ASSERT_EQ(stored.size(), 200u);
+    for (const auto& row : serial.rows)
+        EXPECT_EQ(g17(stored.at(std::stol(row[0])).result.metrics[0]), row[serial.column("final(bob.x)")]);
+
+    // ten cases spread over the table, each run as its own scene
+    for (size_t k = 0; k < 200; k += 20) {
+        const auto& row = serial.rows[k];
+        const double L = std::stod(row[1]), m = std::stod(row[2]);
+        const fs::path scene = write(dir / "case.yaml", "dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
+                                                        "  - {name: bob, mass: " + g17(m) +
+                                                            ", inertia: 1.0e-6, position: [" + g17(L) +
+                                                            ", 0.0], angle: 0.0}\njoints:\n  - {name: pivot, type: "
+                                                            "revolute, bodies: [ground, bob], point: [0.0, 0.0]}\n");
+        const fs::path out = dir / "case.csv";
+        r = run_mbd("simulate " + scene.string() + " --t-end 1 --integrator dopri5 --tol 1e-7 --output-step 0.01 "
+                                                   "--reactions -q -o " + out.string());
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        const mbd::test::Csv csv = mbd::test::read_csv(out);
+        const int x = csv.column("bob.x"), y = csv.column("bob.y"), fy = csv.column("pivot.fy");
+        double min_y = INFINITY, max_fy = -INFINITY;
+        for (const auto& line : csv.rows) min_y = std::min(min_y, line[y]), max_fy = std::max(max_fy, line[fy]);
+        SCOPED_TRACE("case " + row[0]);
+        EXPECT_NEAR(std::stod(row[3]), csv.rows.back()[x], 1e-12);
+        EXPECT_NEAR(std::stod(row[4]), csv.rows.back()[y], 1e-12);
+        EXPECT_NEAR(std::stod(row[5]), min_y, 1e-12);
+        EXPECT_NEAR(std::stod(row[6]), max_fy, 1e-12);
+    }
+}
+
+// ---- kills and --resume
+
+pid_t spawn(const std::string& command) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        setpgid(0, 0);
+        execl("/bin/sh", "sh", "-c", ("exec " + command + " > /dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
+        _exit(127);
+    }
+    return pid;
+}
+
+// Waits until the results file holds at least `rows` finished cases (read as --resume reads it).
+long wait_for_rows(const fs::path& study, const fs::path& output, long rows, pid_t child) {
+    for (int k = 0; k < 600; ++k) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        if (fs::exists(output.string() + ".partial")) {
+            const long n = static_cast<long>(stored_rows(study, output).size());
+            if (n >= rows) return n;
+        }
+        int status = 0;
+        if (waitpid(child, &status, WNOHANG) == child) return -1;  // ended before: the test fails
+    }
+    return -1;
+}
+
+// The process of MPI rank `rank` among the descendants of `root` (its environment says).
+pid_t rank_process(pid_t root, int rank) {
+    for (int attempt = 0; attempt < 200; ++attempt) {
+        for (const auto& entry : fs::directory_iterator("/proc")) {
+            const std::string name = entry.path().filename();
+            if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+            std::ifstream environ(entry.path() / "environ");
+            std::string text((std::istreambuf_iterator<char>(environ)), std::istreambuf_iterator<char>());
+            if (text.find(std::string("OMPI_COMM_WORLD_RANK=") + std::to_string(rank) + '\0') == std::string::npos)
+                continue;
+            if (text.find("MBD_SWEEP_TEST=" + std::to_string(root)) != std::string::npos) return std::stoi(name);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return -1;
+}
+
+// Kill the sweep (`rank` < 0: the serial process; else that MPI rank) with SIGKILL once a
+// third of it is recorded, resume, and compare with an uninterrupted run.
+void kill_and_resume(const std::string& name, int rank) {
+    const fs::path dir = scratch(name);
+    const long cases = 600;
+    const fs::path study = write(dir / "study.yaml", pendulum_study(cases, 8.0));
+    const fs::path output = dir / "killed.h5";
+    const std::string sweep = " sweep " + study.string() + " -q --flush-seconds 0.02 -o " + output.string();
+    const std::string tag = "MBD_SWEEP_TEST=" + std::to_string(getpid());
+    const pid_t child = spawn(rank < 0 ? std::string(MBD_EXECUTABLE) + sweep
+                                       : "env " + tag + " " + kMpirun + "-x MBD_SWEEP_TEST -np 3 " MBD_EXECUTABLE +
+                                             sweep);
+    ASSERT_GT(child, 0);
+    const long before = wait_for_rows(study, output, cases / 3, child);
+    ASSERT_GT(before, 0) << "the sweep ended or wrote nothing before it could be killed";
+    ASSERT_LT(before, cases) << "the sweep finished before it could be killed";
+    const pid_t victim = rank < 0 ? child : rank_process(getpid(), rank);
+    ASSERT_GT(victim, 0) << "no process of rank " << rank;
+    ASSERT_EQ(kill(victim, SIGKILL), 0);
+    int status = 0;
+    waitpid(child, &status, 0);
+    EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "a killed sweep does not end as a success";
+    ASSERT_FALSE(fs::exists(output)) << "an unfinished study has no file under its final name";
+    const long kept = static_cast<long>(stored_rows(study, output).size());
+    EXPECT_GE(kept, before);
+    EXPECT_LT(kept, cases);
+
+    const auto resumed = rank < 0 ? run_mbd(sweep.substr(1) + " --resume")
+                                  : run_command(kMpirun + "-np 3 " MBD_EXECUTABLE + sweep + " --resume");
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
+    ASSERT_TRUE(fs::exists(output));
+    const auto rows = stored_rows(study, output);
+    ASSERT_EQ(rows.size(), static_cast<size_t>(cases));  // a map by case: every case exactly once
+    long index = 0;
+    for (const auto& [k, row] : rows) EXPECT_EQ(k, index++);
+
+    const fs::path reference = dir / "reference.h5";
+    ASSERT_EQ(run_mbd("sweep " + study.string() + " -q --threads 2 -o " + reference.string()).exit_code, 0);
+    const auto expected = stored_rows(study, reference);
+    for (const auto& [k, row] : rows) {
+        EXPECT_EQ(row.values, expected.at(k).values) << "case " << k;
+        EXPECT_EQ(row.result.metrics, expected.at(k).result.metrics) << "case " << k;
+    }
+}
+
+TEST(SweepResume, ProcessKilledHalfwayThenResumedRunsEveryCaseOnce) { kill_and_resume("kill-serial", -1); }
+TEST(SweepResume, MpiWorkerKilledHalfwayThenResumedRunsEveryCaseOnce) { kill_and_resume("kill-worker", 1); }
+TEST(SweepResume, MpiMasterKilledHalfwayThenResumedRunsEveryCaseOnce) { kill_and_resume("kill-master", 0); }
+
+TEST(SweepResume, RefusesToOverwriteUnfinishedResultsWithoutResume) {
+    const fs::path dir = scratch("refuse-partial");
+    const fs::path study = write(dir / "study.yaml", pendulum_study(4));
+    write(dir / "r.h5.partial", "x");
+    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
+    EXPECT_EQ(mbd::test::read_text(dir / "r.h5.partial"), "x");
+}
+
+// ---- statics: the slider crank under a crank torque M and a pull F on the slider (no
+// gravity). Virtual work, M d(theta) + F d(x_B) = 0 with x_B = l2 cos(theta) + sqrt(l3^2 -
+// l2^2 sin^2(theta)), gives M = F l2 sin(theta) (1 + l2 cos(theta) / sqrt(l3^2 - l2^2 sin^2(theta))).
+TEST(SweepCli, SliderCrankStaticsOverTheCrankTorqueFollowTheClosedForm) {
+    const double l2 = 0.2, l3 = 0.5, F = 20.0, th0 = 0.5;
+    auto torque = [&](double th) {
+        const double s = std::sin(th), c = std::cos(th);
+        return F * l2 * s * (1 + l2 * c / std::sqrt(l3 * l3 - l2 * l2 * s * s));
+    };
+    const double th3 = std::asin(-l2 / l3 * std::sin(th0));
+    const double Ax = l2 * std::cos(th0), Ay = l2 * std::sin(th0), Bx = Ax + l3 * std::cos(th3);
+    const fs::path dir = scratch("slider-crank");
+    std::ostringstream scene;
+    scene << "dimension: planar\ngravity: [0, 0]\nbodies:\n"
+          << "  - {name: crank, mass: 1, inertia: 0.01, position: [" << g17(Ax / 2) << ", " << g17(Ay / 2)
+          << "], angle: " << g17(th0) << "}\n"
+          << "  - {name: rod, mass: 1, inertia: 0.02, position: [" << g17((Ax + Bx) / 2) << ", " << g17(Ay / 2)
+          << "], angle: " << g17(th3) << "}\n"
+          << "  - {name: slider, mass: 1, inertia: 0.001, position: [" << g17(Bx) << ", 0]}\n"
+          << "joints:\n"
+          << "  - {name: O, type: revolute, bodies: [ground, crank], point: [0, 0]}\n"
+          << "  - {name: A, type: revolute, bodies: [crank, rod], point: [" << g17(Ax) << ", " << g17(Ay) << "]}\n"
+          << "  - {name: B, type: revolute, bodies: [rod, slider], point: [" << g17(Bx) << ", 0]}\n"
+          << "  - {name: guide, type: prismatic, bodies: [ground, slider], point: [0, 0], axis: [1, 0]}\n"
+          << "forces:\n"
+          << "  - {name: motor, type: point_torque, body: crank, torque: 1}\n"
+          << "  - {name: pull, type: point_force, body: slider, force: [" << F << ", 0]}\n";
+    write(dir / "slider-crank.yaml", scene.str());
+    const fs::path study = write(dir / "study.yaml",
+                                 "scene: slider-crank.yaml\nanalysis: {type: statics, tolerance: 1.0e-12}\n"
+                                 "parameters:\n  - {path: forces.motor.torque, range: [0.2, 3.0], count: 8}\n"
+                                 "design: {type: grid}\nmetrics:\n  - final: crank.angle\n  - final: O.coordinate\n");
+    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
+                           (dir / "r.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Table t = read_table(dir / "r.csv");
+    ASSERT_EQ(t.rows.size(), 8u);
+    for (const auto& row : t.rows) {
+        ASSERT_EQ(row[t.column("status")], "ok") << row[t.column("message")];
+        const double M = std::stod(row[1]), angle = std::stod(row[t.column("final(crank.angle)")]);
+        // the closed form's root on the stable branch (below the peak of M(theta) near pi/2), by bisection
+        double lo = 0.0, hi = 1.5;
+        for (int k = 0; k < 200; ++k) (torque(0.5 * (lo + hi)) < M ? lo : hi) = 0.5 * (lo + hi);
+        EXPECT_NEAR(angle, 0.5 * (lo + hi), 1e-8) << "M = " << M;
+        EXPECT_NEAR(torque(angle), M, 1e-8);
+        EXPECT_NEAR(std::stod(row[t.column("final(O.coordinate)")]), angle, 1e-8);
+    }
+}
+
+// ---- bad input
+
+TEST(SweepCli, UnknownParameterPathNamesTheKeyAndNearMatches) {
+    const fs::path dir = scratch("bad-path");
+    std::string text = pendulum_study(4);
+    text.replace(text.find("bodies.bob.mass"), 15, "bodies.bob.mas");
+    const fs::path study = write(dir / "study.yaml", text);
+    const auto r = run_mbd("sweep " + study.string() + " -o " + (dir / "r.h5").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find(study.string() + ":5"), std::string::npos) << r.err;  // the study file and line
+    EXPECT_NE(r.err.find("bodies.bob.mas"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("did you mean 'mass'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "r.h5.partial"));
+}
+
+TEST(SweepCli, UnknownMetricColumnIsRefusedWithNearMatches) {
+    const fs::path dir = scratch("bad-metric");
+    std::string text = pendulum_study(4);
+    text.replace(text.find("max: pivot.fy"), 13, "max: pivot.fz");
+    const fs::path study = write(dir / "study.yaml", text);
+    const auto r = run_mbd("sweep " + study.string() + " -o " + (dir / "r.h5").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("no column 'pivot.fz'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("did you mean"), std::string::npos) << r.err;
+}
+
+TEST(SweepCli, NegativeMassGivesFailedCasesWithTheMessage) {
+    const fs::path dir = scratch("negative-mass");
+    const fs::path study = write(dir / "study.yaml", "scene: " + pendulum_scene() +
+                                                         "\nanalysis: {type: simulate, t_end: 0.2}\nparameters:\n"
+                                                         "  - {path: bodies.bob.mass, values: [-1, 1, -2]}\n"
+                                                         "design: {type: grid}\nmetrics: [{final: bob.y}]\n");
+    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
+                           (dir / "r.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Table t = read_table(dir / "r.csv");
+    ASSERT_EQ(t.rows.size(), 3u);
+    for (int k : {0, 2}) {
+        EXPECT_EQ(t.rows[k][t.column("status")], "failed");
+        EXPECT_EQ(t.rows[k][t.column("failure")], "scene");
+        EXPECT_NE(t.rows[k][t.column("message")].find("mass"), std::string::npos) << t.rows[k][t.column("message")];
+        EXPECT_EQ(t.rows[k][t.column("final(bob.y)")], "");  // no number for a failed case
+    }
+    EXPECT_EQ(t.rows[1][t.column("status")], "ok");
+    const auto stored = stored_rows(study, dir / "r.h5");
+    EXPECT_FALSE(stored.at(0).result.ok);
+    EXPECT_NE(stored.at(0).result.message.find("mass"), std::string::npos);
+}
+
+TEST(SweepCli, UnwritableOutputIsRefusedBeforeAnyCaseRuns) {
+    const fs::path dir = scratch("unwritable");
+    const fs::path study = write(dir / "study.yaml", pendulum_study(4));
+    auto r = run_mbd("sweep " + study.string() + " -o " + (dir / "missing" / "r.h5").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+    r = run_mbd("sweep " + study.string() + " -o " + dir.string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("is a folder"), std::string::npos) << r.err;
+    r = run_mbd("sweep " + study.string() + " -o " + study.string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("is the input file"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");  // nothing ran
+}
+
+}  // namespace
+
+namespace {
+
+// Modes about the statics: the pendulum hangs at the bottom and swings at
+// omega = sqrt(m g L / (J + m L^2)) (J = 1e-6 kg m^2 about the bob's centre).
+TEST(SweepCli, PendulumModesOverTheLengthFollowTheCompoundPendulumFrequency) {
+    const fs::path dir = scratch("modes");
+    const fs::path study = write(dir / "study.yaml", "scene: " + pendulum_scene() +
+                                                         "\nanalysis: {type: modes}\nparameters:\n"
+                                                         "  - {path: \"bodies.bob.position[0]\", values: [0.5, 1, 2]}\n"
+                                                         "design: {type: grid}\n"
+                                                         "metrics: [{final: mode1.natural_frequency}]\n");
+    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
+                           (dir / "r.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Table t = read_table(dir / "r.csv");
+    ASSERT_EQ(t.rows.size(), 3u);
+    for (const auto& row : t.rows) {
+        ASSERT_EQ(row[t.column("status")], "ok") << row[t.column("message")];
+        const double L = std::stod(row[1]), m = 1.0, g = 9.81, J = 1e-6;
+        EXPECT_NEAR(std::stod(row[2]), std::sqrt(m * g * L / (J + m * L * L)), 1e-6) << "L = " << L;
+    }
+}
+
+}  // namespace
