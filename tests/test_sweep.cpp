@@ -175,8 +175,8 @@ TEST(SweepCli, PendulumLhsSerialThreadsAndMpiAgreeWithSingleSimulations) {
     for (const auto& row : serial.rows)
         EXPECT_EQ(g17(stored.at(std::stol(row[0])).result.metrics[0]), row[serial.column("final(bob.x)")]);
 
-    // ten cases spread over the table, each run as its own scene
-    for (size_t k = 0; k < 200; k += 20) {
+    // every case, run as its own scene written here by hand (not through the sweep's parameter paths)
+    for (size_t k = 0; k < serial.rows.size(); ++k) {
         const auto& row = serial.rows[k];
         const double L = std::stod(row[1]), m = std::stod(row[2]);
         const fs::path scene = write(dir / "case.yaml", "dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
