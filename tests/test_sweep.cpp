@@ -151,6 +151,41 @@ TEST(SweepDesign, GridVariesTheLastParameterFastestAndMonteCarloNormalHasItsMome
     EXPECT_NEAR(sd, 0.1, 4 * 0.1 / std::sqrt(2 * 20000.0));
 }
 
+// Lognormal (mu, sigma of the logarithm) and triangular (lower, mode, upper) draws: their
+// moments within 4 standard errors, the triangular ones inside their bounds.
+TEST(SweepDesign, LognormalAndTriangularDrawsHaveTheirMoments) {
+    const fs::path dir = scratch("design-distributions");
+    const fs::path file = write(dir / "mc.yaml",
+                                "scene: " + pendulum_scene() +
+                                    "\nanalysis: {type: simulate, t_end: 0.1}\nparameters:\n"
+                                    "  - {path: bodies.bob.mass, distribution: lognormal, mu: 0.5, sigma: 0.2}\n"
+                                    "  - {path: \"gravity[1]\", distribution: triangular, lower: -10, mode: -9.5, "
+                                    "upper: -8}\n"
+                                    "design: {type: monte_carlo, cases: 20000, seed: 5}\nmetrics: [{final: bob.x}]\n");
+    const auto cases = mbd::design_cases(mbd::read_study(file, mbd::test::shared_registry()));
+    ASSERT_EQ(cases.size(), 20000u);
+    const double n = static_cast<double>(cases.size());
+    auto moments = [&](auto value) {
+        double sum = 0, squares = 0;
+        for (const auto& c : cases) sum += value(c);
+        const double mean = sum / n;
+        for (const auto& c : cases) squares += (value(c) - mean) * (value(c) - mean);
+        return std::pair<double, double>{mean, std::sqrt(squares / (n - 1))};
+    };
+    const auto [log_mean, log_sd] = moments([](const std::vector<double>& c) { return std::log(c[0]); });
+    EXPECT_NEAR(log_mean, 0.5, 4 * 0.2 / std::sqrt(n));
+    EXPECT_NEAR(log_sd, 0.2, 4 * 0.2 / std::sqrt(2 * n));
+    const double a = -10, c = -9.5, b = -8;
+    const double mean = (a + b + c) / 3, sd = std::sqrt((a * a + b * b + c * c - a * b - a * c - b * c) / 18);
+    const auto [tri_mean, tri_sd] = moments([](const std::vector<double>& x) { return x[1]; });
+    EXPECT_NEAR(tri_mean, mean, 4 * sd / std::sqrt(n));
+    EXPECT_NEAR(tri_sd, sd, 4 * sd / std::sqrt(2 * n));
+    for (const auto& x : cases) {
+        EXPECT_GE(x[1], a);
+        EXPECT_LE(x[1], b);
+    }
+}
+
 // The acceptance test: serial, 2 threads and 3 MPI ranks give the same table, and every case
 // is the `mbd simulate` of its own scene (the values written into the file) to 1e-12.
 TEST(SweepCli, PendulumLhsSerialThreadsAndMpiAgreeWithSingleSimulations) {
@@ -348,6 +383,41 @@ TEST(SweepCli, SliderCrankStaticsOverTheCrankTorqueFollowTheClosedForm) {
         EXPECT_NEAR(angle, 0.5 * (lo + hi), 1e-8) << "M = " << M;
         EXPECT_NEAR(torque(angle), M, 1e-8);
         EXPECT_NEAR(std::stod(row[t.column("final(O.coordinate)")]), angle, 1e-8);
+    }
+}
+
+// ---- inverse: a rod driven about a pin, theta = -0.4 + 0.3 sin(2 t), for three masses (its
+// inertia about the centre kept at 1/12): tau = (I + m l^2) theta'' + m g l cos(theta), l = 0.5.
+TEST(SweepCli, InverseSweepOverTheRodMassFollowsTheClosedForm) {
+    const fs::path dir = scratch("inverse");
+    write(dir / "arm.yaml", "dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
+                            "  - {name: rod, mass: 1, inertia: 0.08333333333333333, "
+                            "position: [0.46053049700144255, -0.19470917115432526], angle: -0.4}\n"
+                            "joints:\n  - {name: pin, type: revolute, bodies: [ground, rod], point: [0, 0]}\n"
+                            "drivers:\n  - {name: swing, joint: pin, motion: {type: harmonic, offset: -0.4, "
+                            "amplitude: 0.3, frequency: 2}}\n"
+                            "actuators:\n  - {name: motor, joint: pin}\n");
+    const fs::path study = write(dir / "study.yaml",
+                                 "scene: arm.yaml\nanalysis: {type: inverse, t_end: 1, step: 0.01}\n"
+                                 "parameters:\n  - {path: bodies.rod.mass, values: [0.5, 1, 2]}\n"
+                                 "design: {type: grid}\nmetrics:\n  - final: motor\n  - max: motor\n  - min: motor\n");
+    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
+                           (dir / "r.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Table t = read_table(dir / "r.csv");
+    ASSERT_EQ(t.rows.size(), 3u);
+    for (const auto& row : t.rows) {
+        ASSERT_EQ(row[t.column("status")], "ok") << row[t.column("message")];
+        const double m = std::stod(row[1]), l = 0.5, g = 9.81, I = 1.0 / 12;
+        auto tau = [&](double time) {
+            const double theta = -0.4 + 0.3 * std::sin(2 * time), acceleration = -1.2 * std::sin(2 * time);
+            return (I + m * l * l) * acceleration + m * g * l * std::cos(theta);
+        };
+        double most = -INFINITY, least = INFINITY;
+        for (int k = 0; k <= 100; ++k) most = std::max(most, tau(0.01 * k)), least = std::min(least, tau(0.01 * k));
+        EXPECT_NEAR(std::stod(row[t.column("final(motor)")]), tau(1.0), 1e-9) << "m = " << m;
+        EXPECT_NEAR(std::stod(row[t.column("max(motor)")]), most, 1e-9);
+        EXPECT_NEAR(std::stod(row[t.column("min(motor)")]), least, 1e-9);
     }
 }
 
