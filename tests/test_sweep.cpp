@@ -46,7 +46,8 @@ std::string pendulum_study(long cases, double t_end = 1.0) {
       << "  - {path: \"bodies.bob.position[0]\", distribution: uniform, range: [0.5, 1.5]}\n"
       << "  - {path: bodies.bob.mass, distribution: uniform, range: [0.5, 2.0]}\n"
       << "design: {type: latin_hypercube, cases: " << cases << ", seed: 7}\n"
-      << "metrics:\n  - final: bob.x\n  - final: bob.y\n  - min: bob.y\n  - max: pivot.fy\n";
+      << "metrics:\n  - final: bob.x\n  - final: bob.y\n  - min: bob.y\n  - max: pivot.fy\n"
+      << "series: [t, bob.x, pivot.fy]\n";
     return s.str();
 }
 
@@ -232,6 +233,12 @@ TEST(SweepCli, PendulumLhsSerialThreadsAndMpiAgreeWithSingleSimulations) {
         EXPECT_NEAR(std::stod(row[4]), csv.rows.back()[y], 1e-12);
         EXPECT_NEAR(std::stod(row[5]), min_y, 1e-12);
         EXPECT_NEAR(std::stod(row[6]), max_fy, 1e-12);
+        // the case's time series in the HDF5 file: the same rows as the simulation's CSV
+        const mbd::CaseResult& kept = stored.at(std::stol(row[0])).result;
+        ASSERT_EQ(kept.series_rows, static_cast<long>(csv.rows.size()));
+        const int columns[3] = {csv.column("t"), x, fy};
+        for (size_t i = 0; i < csv.rows.size(); ++i)
+            for (int c = 0; c < 3; ++c) ASSERT_NEAR(kept.series[3 * i + c], csv.rows[i][columns[c]], 1e-12) << "row " << i;
     }
 }
 
