@@ -428,6 +428,22 @@ TEST(SweepCli, InverseSweepOverTheRodMassFollowsTheClosedForm) {
     }
 }
 
+// On a terminal (script(1) gives a pseudo-terminal) a sweep of a few seconds draws its progress
+// bar: cases done of all, elapsed time and time left, each redraw clearing its line.
+TEST(SweepCli, ATerminalShowsTheProgressBarWithTheTimeLeft) {
+    const fs::path dir = scratch("progress");
+    const fs::path study = write(dir / "study.yaml", pendulum_study(600, 20.0));
+    const fs::path log = dir / "terminal.txt";
+    const auto r = run_command("script -qec 'env COLUMNS=100 " MBD_EXECUTABLE " sweep " + study.string() + " -o " +
+                               (dir / "r.h5").string() + "' " + log.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string text = mbd::test::read_text(log);
+    EXPECT_NE(text.find("\r\033[K"), std::string::npos) << "no redraw in a sweep of several seconds";
+    EXPECT_NE(text.find(" / 600 cases"), std::string::npos) << text.substr(0, 400);
+    EXPECT_NE(text.find("left"), std::string::npos) << text.substr(0, 400);
+    EXPECT_NE(text.find("elapsed"), std::string::npos) << text.substr(0, 400);
+}
+
 // ---- bad input
 
 TEST(SweepCli, UnknownParameterPathNamesTheKeyAndNearMatches) {
