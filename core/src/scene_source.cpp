@@ -88,7 +88,7 @@ YAML::Node SceneTreeReader::parse(const std::string& text, const std::string& fi
     } catch (const YAML::Exception& e) {
         const int line = e.mark.is_null() ? 1 : e.mark.line + 1;
         throw InputError(file + ":" + std::to_string(line),
-                         "YAML syntax error: " + e.msg + "; fix the scene file's syntax");
+                         "YAML syntax error: " + e.msg + "; fix the YAML syntax at that line");
     }
 }
 
