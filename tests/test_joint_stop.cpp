@@ -112,6 +112,59 @@ TEST(JointStop, PendulumReboundsToESquaredTimesTheDrop) {
     }
 }
 
+// The spatial pendulum (revolute about world y; the stop's angle about the marker's z axis
+// is zero at the start and phi0 at the bottom, so `upper: phi0` is the bottom) and a block
+// falling a height d on a prismatic guide onto a travel stop (planar and spatial): each
+// rebounds to e^2 times its drop. The block's closed forms: impact at sqrt(2 d / g) at the
+// speed v = sqrt(2 g d), the peak e v / g later.
+TEST(JointStop, SpatialPendulumAndTravelStopsReboundToESquaredTimesTheDrop) {
+    const Pendulum p;
+    const std::string spatial_pendulum =
+        "name: spatial-pendulum-stop\ndimension: spatial\ngravity: [0, 0, -9.81]\n"
+        "bodies:\n  - {name: bob, mass: " + g17(p.m) + ", inertia: [" + g17(p.J) + ", " + g17(p.J) + ", " + g17(p.J) +
+        "], position: [" + g17(p.l * std::sin(p.phi0)) + ", 0, " + g17(-p.l * std::cos(p.phi0)) + "]}\n"
+        "joints:\n  - {name: pivot, type: revolute, bodies: [ground, bob], point: [0, 0, 0], axis: [0, 1, 0]}\n"
+        "forces:\n  - {name: stop, type: joint_stop, bodies: [ground, bob], point: [0, 0, 0], axis: [0, 1, 0], "
+        "upper: " + g17(p.phi0) + ", restitution: " + g17(p.e) + "}\n";
+    {
+        const double t_peak = p.quarter(p.phi0) + p.quarter(p.phi1());
+        const Outcome r = simulate(mbd::test::scene(spatial_pendulum), settings("dopri5", t_peak, t_peak / 500, 1e-11));
+        ASSERT_EQ(r.result.events.size(), 1u);
+        EXPECT_EQ(r.result.events[0].event, "upper");
+        const double height = p.l + r.states.back().q[2];
+        std::printf("spatial pendulum: impact at %.15f (closed form %.15f), rebound height %.12f, e^2 drop %.12f\n",
+                    r.result.events[0].time, p.quarter(p.phi0), height, p.e * p.e * p.drop());
+        EXPECT_NEAR(r.result.events[0].time, p.quarter(p.phi0), 1e-9);
+        EXPECT_NEAR(height, p.e * p.e * p.drop(), 1e-6);
+    }
+    const double d = 0.3, e = 0.7, v = std::sqrt(2 * kG * d);
+    const double t_hit = std::sqrt(2 * d / kG), t_peak = t_hit + e * v / kG;
+    for (const char* dimension : {"planar", "spatial"}) {
+        const bool planar = std::string(dimension) == "planar";
+        const std::string yaml =
+            std::string("name: falling-block-stop\ndimension: ") + dimension + "\ngravity: " +
+            (planar ? "[0, -9.81]" : "[0, 0, -9.81]") + "\nbodies:\n  - {name: block, mass: 2, inertia: " +
+            (planar ? "0.1" : "[0.1, 0.1, 0.1]") + ", position: " + (planar ? "[0.2, 0.3]" : "[0.2, 0, 0.3]") +
+            "}\njoints:\n  - {name: guide, type: prismatic, bodies: [ground, block], point: " +
+            (planar ? "[0.2, 0], axis: [0, 1]" : "[0.2, 0, 0], axis: [0, 0, 1]") +
+            "}\nforces:\n  - {name: stop, type: joint_stop, bodies: [ground, block], coordinate: travel, point: " +
+            (planar ? "[0.2, 0], axis: [0, 1]" : "[0.2, 0, 0], axis: [0, 0, 1]") + ", lower: 0, restitution: " + g17(e) +
+            "}\n";
+        for (const char* integrator : {"dopri5", "cvode"}) {
+            const Outcome r = simulate(mbd::test::scene(yaml), settings(integrator, t_peak, t_peak / 500, 1e-11));
+            ASSERT_EQ(r.result.events.size(), 1u) << dimension << " " << integrator;
+            const double height = r.states.back().q[planar ? 1 : 2];
+            std::printf("%s travel stop, %s: impact at %.15f (closed form %.15f), rate %.12f (closed form %.12f), "
+                        "rebound height %.12f, e^2 drop %.12f\n",
+                        dimension, integrator, r.result.events[0].time, t_hit, r.result.events[0].rate_before, -v,
+                        height, e * e * d);
+            EXPECT_NEAR(r.result.events[0].time, t_hit, 1e-9);
+            EXPECT_NEAR(r.result.events[0].rate_before, -v, 1e-8);
+            EXPECT_NEAR(height, e * e * d, 1e-6);
+        }
+    }
+}
+
 // Every step dopri5 takes ends on the open side of the stop: a step straddling the impact
 // would end past it, at a depth of the order of the step times the approach speed.
 class StepRecorder final : public mbd::OdeProblem {
