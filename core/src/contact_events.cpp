@@ -95,14 +95,27 @@ bool ContactEvents::handle(State& state, const std::vector<int>& crossed, std::v
         EventRecord record{state.t, f.name, f.force->event_name(entry.local), side[event] > 0 ? "open" : "close",
                            G_.dot(state.v), 0.0};
         const double approach = record.rate_before;
-        if (side[event] < 0 && impact.impact && approach < 0.0) {
-            const bool rests = impact.restitution * -approach < impact.rest_velocity;
+        if (side[event] < 0 && impact.impact) {
+            // a closing without approach speed (a grazing touch, or speeds below what the
+            // tolerance resolves) is a rest as well
+            const bool rests = !(approach < 0.0) || impact.restitution * -approach < impact.rest_velocity;
             if (rests && !impact.holds_resting)
                 throw DynamicsError(state.t, describe(event) + " comes to rest at t = " + format_time(state.t) +
-                                                 " (rebound speed " + format_number(impact.restitution * -approach, 3) +
-                                                 " below its rest_velocity " + format_number(impact.rest_velocity, 3) +
-                                                 "): give it a compliant law (law: hunt_crossley with stiffness) to "
+                                                 (approach < 0.0
+                                                      ? " (rebound speed " +
+                                                            format_number(impact.restitution * -approach, 3) +
+                                                            " below its rest_velocity " +
+                                                            format_number(impact.rest_velocity, 3) + ")"
+                                                      : " (it closes without approach speed)") +
+                                                 ": give it a compliant law (law: hunt_crossley with stiffness) to "
                                                  "hold a resting contact, or end the run before it settles");
+            record.kind = rests ? "rest" : "impact";
+            side[event] = rests ? -1 : +1;
+            if (!(approach < 0.0)) {  // nothing to stop: the law takes the contact as it is
+                record.rate_after = approach;
+                log.push_back(record);
+                continue;
+            }
             const double e = rests ? 0.0 : impact.restitution;
             constrained_response(state);
             const double inverse_mass = G_.dot(w_);
@@ -113,8 +126,6 @@ bool ContactEvents::handle(State& state, const std::vector<int>& crossed, std::v
             const double P = -(1.0 + e) * approach / inverse_mass;
             state.v += P * w_;
             changed = true;
-            record.kind = rests ? "rest" : "impact";
-            side[event] = rests ? -1 : +1;
         }
         record.rate_after = G_.dot(state.v);
         log.push_back(record);

@@ -238,7 +238,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     ContactProblem problem(*formulation, system, events, result.events);
     if (events.count() > 0) {
         if (!integrator->locates_events())
-            throw InputError(integrator->name(), integrator->name() + " does not locate events, and " +
+            throw InputError(integrator->name(), "this integrator does not locate events, and " +
                                                      events.first_element() +
                                                      " has them (a stop's closing and opening): use --integrator "
                                                      "dopri5 or cvode");

@@ -9,6 +9,7 @@
 // CVODE returns the interpolated state there; the problem acts on the event and the run
 // restarts at the root (CVodeReInit), so no step of the BDF history straddles an event.
 #include "common.hpp"
+#include "event_locator.hpp"
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_proj.h>
@@ -146,6 +147,7 @@ private:
     long steps_before_ = 0;  // CVodeReInit zeroes CVODE's counters: the steps of earlier segments
     double t_cur_;
     std::vector<int> side_, crossed_, roots_;  // each event's side (+1 open, -1 closed); CVodeGetRootInfo
+    EventPileUpGuard pile_up_;
 };
 
 void CvodeRun::check(int flag, const char* call) const {
@@ -195,6 +197,7 @@ void CvodeRun::create(const Eigen::VectorXd& y, double t_end) {
         roots_.resize(events);
         crossed_.reserve(events);
         check(CVodeRootInit(s_.cvode, events, &root_callback), "CVodeRootInit");
+        pile_up_.reset(t0);
     }
 }
 
@@ -211,6 +214,7 @@ void CvodeRun::handle_events(double t, Eigen::VectorXd& yout) {
         }
     }
     if (crossed_.empty()) return;
+    pile_up_.check(t, problem_, crossed_[0]);
     stats_.events += static_cast<long>(crossed_.size());
     problem_.handle_events(t, yout, crossed_, side_);
     restart(t, yout);

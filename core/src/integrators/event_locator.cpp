@@ -12,8 +12,7 @@ void EventLocator::start(OdeProblem& problem, double t0, const Eigen::VectorXd& 
     candidates_.clear();
     crossed_.reserve(n);
     candidates_.reserve(n);
-    repeats_ = 0;
-    last_time_ = t0;
+    pile_up_.reset(t0);
     if (n == 0) return;
     g_.resize(n);
     y_theta_.resize(y0.size());
@@ -29,14 +28,17 @@ bool EventLocator::left_side(OdeProblem& problem, double t, const Eigen::VectorX
     return !candidates_.empty();
 }
 
-bool EventLocator::handle(OdeProblem& problem, double t, Eigen::VectorXd& y, IntegratorStats& stats) {
-    // events one after another at one time: a chattering contact that would never let time advance
+void EventPileUpGuard::check(double t, const OdeProblem& problem, int event) {
     repeats_ = (t - last_time_ <= 1e-12 * std::max(1.0, std::abs(t))) ? repeats_ + 1 : 0;
     last_time_ = t;
     if (repeats_ > 100)
-        throw DynamicsError(t, "events pile up at t = " + format_time(t) + " (" + problem.describe_event(crossed_[0]) +
+        throw DynamicsError(t, "events pile up at t = " + format_time(t) + " (" + problem.describe_event(event) +
                                    " opens and closes without end): give the stop a compliant law to hold the "
                                    "contact, or a larger rest_velocity");
+}
+
+bool EventLocator::handle(OdeProblem& problem, double t, Eigen::VectorXd& y, IntegratorStats& stats) {
+    pile_up_.check(t, problem, crossed_[0]);
     for (int event : crossed_) side_[event] = -side_[event];
     stats.events += static_cast<long>(crossed_.size());
     return problem.handle_events(t, y, crossed_, side_);

@@ -21,6 +21,21 @@
 
 namespace mbd::integrators {
 
+// Events one after another at (nearly) one time: a contact that chatters without end would
+// never let time advance. check() throws DynamicsError after more than 100 in a row.
+class EventPileUpGuard {
+public:
+    void reset(double t0) {
+        last_time_ = t0;
+        repeats_ = 0;
+    }
+    void check(double t, const OdeProblem& problem, int event);
+
+private:
+    double last_time_ = 0.0;
+    int repeats_ = 0;
+};
+
 class EventLocator {
 public:
     // Sizes the work and takes each event's side at (t0, y0): open (+1) unless g < 0.
@@ -44,8 +59,7 @@ private:
 
     std::vector<int> side_, crossed_, candidates_;
     Eigen::VectorXd g_, y_theta_;
-    double last_time_ = 0.0;
-    int repeats_ = 0;  // events in a row at (nearly) the same time
+    EventPileUpGuard pile_up_;
 };
 
 template <class Interpolant>
