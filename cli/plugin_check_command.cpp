@@ -153,7 +153,8 @@ void report(const std::string& what, const DerivativeErrors& e, double tolerance
                           {"coordinate gradient J_s", e.coordinate_jacobian},
                           {"coordinate gamma_s", e.coordinate_gamma},
                           {"dQ/dv", e.velocity_jacobian},
-                          {"Q = -dV/dq", e.potential}};
+                          {"Q = -dV/dq", e.potential},
+                          {"event gradient G = dg/dq", e.event_gradient}};
     bool ok = e.finite && degenerate_ok;
     for (const Item& item : items) ok = ok && item.value <= tolerance;
     std::printf("%-5s %s\n", ok ? "PASS" : "FAIL", what.c_str());

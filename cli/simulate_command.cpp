@@ -187,6 +187,20 @@ void print_simulate_summary(const SimulateArguments& a, const SimulationResult& 
         std::printf("  formulation %s, integrator %s\n", r.formulation.c_str(), r.integrator.c_str());
         std::printf("  steps %ld, rejected %ld, rhs evaluations %ld, Jacobian evaluations %ld\n", r.stats.steps,
                     r.stats.rejected_steps, r.stats.rhs_evaluations, r.stats.jacobian_evaluations);
+        if (!r.events.empty()) {
+            // the located events, first and last (a resting contact may come after many rebounds)
+            std::printf("  events %zu:", r.events.size());
+            for (size_t k = 0; k < r.events.size(); ++k) {
+                if (k == 3 && r.events.size() > 6) {
+                    std::printf(" ...");
+                    k = r.events.size() - 3;
+                }
+                const EventRecord& e = r.events[k];
+                std::printf("%s %s '%s' (%s) at t = %.9g", k ? "," : "", e.kind.c_str(), e.force.c_str(),
+                            e.event.c_str(), e.time);
+            }
+            std::printf("\n");
+        }
         std::printf("  CPU time %.3f s\n", r.cpu_seconds);
         std::printf("  final constraint violation: position %.3g, velocity %.3g\n", r.final_position_violation,
                     r.final_velocity_violation);

@@ -12,7 +12,8 @@
 namespace mbd {
 
 double DerivativeErrors::worst() const {
-    return std::max({jacobian, gamma, time_derivative, coordinate_jacobian, coordinate_gamma, velocity_jacobian, potential});
+    return std::max({jacobian, gamma, time_derivative, coordinate_jacobian, coordinate_gamma, velocity_jacobian, potential,
+                     event_gradient});
 }
 
 namespace {
@@ -347,9 +348,24 @@ DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance
         poses.update(s);
         return fi.force->potential_energy(poses.view(fi.bodies, s.t));
     };
+    const int events = fi.force->event_count();
+    auto g_at = [&](const State& s) {
+        poses.update(s);
+        Eigen::VectorXd g = Eigen::VectorXd::Zero(events);
+        fi.force->event_values(poses.view(fi.bodies, s.t), g);
+        return g;
+    };
+    Eigen::MatrixXd G(events, n), G_fd(events, n);
     for (int trial = 0; trial < trials; ++trial) {
         const State s = random_check_state(model, rng);
         const Eigen::VectorXd Q = Q_at(s);
+        for (int e = 0; e < events; ++e) {
+            Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
+            poses.update(s);
+            fi.force->event_impact(e, poses.view(fi.bodies, s.t), row);
+            G.row(e) = row.transpose();
+        }
+        G_fd.setZero();
         worst.finite = worst.finite && Q.allFinite();
         Eigen::MatrixXd Kq = Eigen::MatrixXd::Zero(n, n), Kv = Eigen::MatrixXd::Zero(n, n);
         if (fi.force->has_jacobians()) {
@@ -370,6 +386,7 @@ DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance
                 advance_positions(model, minus.q, -dv);
                 Kq_fd.col(nvb * b + c) = (Q_at(plus) - Q_at(minus)) / (2 * h);
                 dV[nvb * b + c] = (V_at(plus) - V_at(minus)) / (2 * h);
+                if (events) G_fd.col(nvb * b + c) = (g_at(plus) - g_at(minus)) / (2 * h);
                 plus = s;
                 minus = s;
                 plus.v += dv;
@@ -384,6 +401,8 @@ DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance
                     m->middleRows(nvb * b, nvb).setZero();
                     m->middleCols(nvb * b, nvb).setZero();
                 }
+                G.middleCols(nvb * b, nvb).setZero();
+                G_fd.middleCols(nvb * b, nvb).setZero();
             }
         const double before = worst.worst();
         if (fi.force->has_jacobians()) {
@@ -395,6 +414,10 @@ DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance
             for (size_t b = 0; b < fi.bodies.size(); ++b)
                 if (fi.bodies[b] == kGround) Qm.segment(nvb * b, nvb).setZero();
             worst.potential = std::max(worst.potential, relative(Qm, -dV));
+        }
+        if (events) {
+            worst.finite = worst.finite && G.allFinite();
+            worst.event_gradient = std::max(worst.event_gradient, (G - G_fd).norm() / std::max(1.0, G_fd.norm()));
         }
         if (worst.worst() > before) worst.worst_state = describe(model, s);
     }

@@ -234,7 +234,20 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         return callback ? callback(sample) : true;
     };
 
-    FormulationProblem problem(*formulation, system);
+    ContactEvents events(system);
+    ContactProblem problem(*formulation, system, events, result.events);
+    if (events.count() > 0) {
+        if (!integrator->locates_events())
+            throw InputError(integrator->name(), "this integrator does not locate events, and " +
+                                                     events.first_element() +
+                                                     " has them (a stop's closing and opening): use --integrator "
+                                                     "dopri5 or cvode");
+        Eigen::VectorXd g;
+        events.values(state, g);
+        std::vector<int> side(g.size());
+        for (Eigen::Index k = 0; k < g.size(); ++k) side[k] = g[k] < 0.0 ? -1 : +1;
+        events.check_start(state, side);
+    }
     const std::clock_t cpu_start = std::clock();
     // A failure or a stop leaves the writer unclosed: its complete rows stay in
     // OUTPUT.partial and the note saying so is kept for the command's message.

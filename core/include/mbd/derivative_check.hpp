@@ -25,6 +25,7 @@ struct DerivativeErrors {
     double coordinate_gamma = 0.0;
     double velocity_jacobian = 0.0;   // forces: dQ/dv
     double potential = 0.0;           // conservative forces: Q + dV/dq
+    double event_gradient = 0.0;      // forces with events: G of event_impact against differences of g
     bool finite = true;               // every value evaluated was finite
     std::string worst_state;          // a description of the state behind the largest error
 

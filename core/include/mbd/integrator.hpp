@@ -31,10 +31,26 @@ public:
     virtual System* index3_system() { return nullptr; }
     virtual void state_from_y(double /*t*/, const Eigen::VectorXd& /*y*/, State& /*state*/) {}
     virtual void y_from_state(const State& /*state*/, Eigen::VectorXd& /*y*/) {}
+
+    // --- events (docs/integrators.md "Events"): functions g(t, y), each >= 0 on its open
+    // side; a sign change is an event (a stop closing or opening). An integrator that
+    // locates events (Integrator::locates_events) ends a step exactly on each.
+    virtual int event_count() const { return 0; }
+    virtual void event_values(double /*t*/, const Eigen::VectorXd& /*y*/, Eigen::VectorXd& /*g*/) {}
+    // At a located event (t, y): side[i] is event i's side (+1 open, -1 closed), already
+    // flipped for the events listed in `crossed`. The problem acts on them (an impact changes
+    // the velocities in y), may set the side an event leaves (a rebound leaves its gap open),
+    // and returns true when it changed y: the integrator then restarts from (t, y).
+    virtual bool handle_events(double /*t*/, Eigen::VectorXd& /*y*/, const std::vector<int>& /*crossed*/,
+                               std::vector<int>& /*side*/) {
+        return false;
+    }
+    // "force 'stop' (lower)", for messages.
+    virtual std::string describe_event(int event) const { return "event " + std::to_string(event); }
 };
 
 // The OdeProblem of a formulation bound to a System.
-class FormulationProblem final : public OdeProblem {
+class FormulationProblem : public OdeProblem {
 public:
     FormulationProblem(Formulation& formulation, System& system) : formulation_(formulation), system_(system) {}
     int size() const override { return formulation_.ode_size(); }
@@ -64,6 +80,7 @@ struct IntegratorStats {
     long rhs_evaluations = 0;
     long jacobian_evaluations = 0;
     long newton_iterations = 0;
+    long events = 0;  // located events (OdeProblem::event_count)
 };
 
 // Called at every output time with y there; returning false stops the run.
@@ -77,6 +94,8 @@ public:
     // Integrates the index-3 form (positions, velocities and multipliers together), which
     // only formulations with supports_index3() have; checked before the formulation binds.
     virtual bool needs_index3() const { return false; }
+    // Locates the problem's events (OdeProblem::event_count) and ends a step on each.
+    virtual bool locates_events() const { return false; }
     // Advance y from t0 through every output time (increasing, the last is the
     // end time). Throws DynamicsError naming the time and the cause.
     virtual void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,

@@ -6,8 +6,11 @@
 // reactions and energy / constraint diagnostics). A conservative scene whose total
 // energy grows far beyond the scale of its motion is stopped as unstable
 // (energy_growth.hpp); a stop signal ends the run at a step boundary (interrupt.hpp).
+// Force elements with events (stops) need an integrator that locates them (dopri5,
+// cvode); contact_events.hpp applies their impacts.
 #pragma once
 
+#include <mbd/contact_events.hpp>
 #include <mbd/integrator.hpp>
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
@@ -58,6 +61,7 @@ struct SimulationResult {
     State final_state;
     double final_position_violation = 0.0;   // max |C| at the last sample
     double final_velocity_violation = 0.0;   // max |J v + C_t| at the last sample
+    std::vector<EventRecord> events;         // the located events (stops closing and opening), in time order
 };
 
 // Column names of the extra CSV columns.

@@ -5,7 +5,11 @@
 // rtol = atol = settings.tolerance. The formulation's projection runs inside
 // CVODE after each step through CVodeSetProjFn (SUNDIALS >= 5.3; Debian 12 ships
 // 6.4), so the BDF history stays on the constraint manifold.
+// Events (OdeProblem::event_count) are CVODE's root functions (CVodeRootInit): at a root
+// CVODE returns the interpolated state there; the problem acts on the event and the run
+// restarts at the root (CVodeReInit), so no step of the BDF history straddles an event.
 #include "common.hpp"
+#include "event_locator.hpp"
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_proj.h>
@@ -24,7 +28,7 @@ namespace {
 // they are stored here and rethrown after CVode returns.
 struct Callback {
     OdeProblem* problem = nullptr;
-    Eigen::VectorXd y, ydot, projected;
+    Eigen::VectorXd y, ydot, projected, g;
     std::exception_ptr error;
     std::string message;  // the last message of CVODE's error handler
 };
@@ -37,6 +41,20 @@ int rhs_callback(realtype t, N_Vector y, N_Vector ydot, void* user) {
         cb->problem->rhs(t, cb->y, cb->ydot);
         Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ydot), n) = cb->ydot;
         return cb->ydot.allFinite() ? 0 : 1;  // recoverable: CVODE retries with a smaller step
+    } catch (...) {
+        cb->error = std::current_exception();
+        return -1;
+    }
+}
+
+int root_callback(realtype t, N_Vector y, realtype* g, void* user) {
+    auto* cb = static_cast<Callback*>(user);
+    const Eigen::Index n = cb->y.size();
+    try {
+        cb->y = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(y), n);
+        cb->problem->event_values(t, cb->y, cb->g);
+        Eigen::Map<Eigen::VectorXd>(g, cb->g.size()) = cb->g;
+        return 0;
     } catch (...) {
         cb->error = std::current_exception();
         return -1;
@@ -116,6 +134,9 @@ private:
     void check(int flag, const char* call) const;
     void restart(double t, const Eigen::VectorXd& y);
     [[noreturn]] void fail(int flag, double t_reached);
+    // At a root CVODE returned at t (the state there in yout): the problem acts on the
+    // events that crossed, and the run restarts at t.
+    void handle_events(double t, Eigen::VectorXd& yout);
 
     OdeProblem& problem_;
     const IntegratorSettings& settings_;
@@ -125,6 +146,8 @@ private:
     Sundials s_;
     long steps_before_ = 0;  // CVodeReInit zeroes CVODE's counters: the steps of earlier segments
     double t_cur_;
+    std::vector<int> side_, crossed_, roots_;  // each event's side (+1 open, -1 closed); CVodeGetRootInfo
+    EventPileUpGuard pile_up_;
 };
 
 void CvodeRun::check(int flag, const char* call) const {
@@ -165,6 +188,36 @@ void CvodeRun::create(const Eigen::VectorXd& y, double t_end) {
     check(CVodeSetMaxStep(s_.cvode, t_end - t0), "CVodeSetMaxStep");
     if (settings_.step > 0.0) check(CVodeSetInitStep(s_.cvode, settings_.step), "CVodeSetInitStep");
     problem_.state_redefined();  // a flag left by an earlier run does not concern this one
+    const int events = problem_.event_count();
+    if (events > 0) {
+        cb_.g.resize(events);
+        problem_.event_values(t0, y, cb_.g);
+        side_.resize(events);
+        for (int k = 0; k < events; ++k) side_[k] = cb_.g[k] < 0.0 ? -1 : +1;
+        roots_.resize(events);
+        crossed_.reserve(events);
+        check(CVodeRootInit(s_.cvode, events, &root_callback), "CVodeRootInit");
+        pile_up_.reset(t0);
+    }
+}
+
+void CvodeRun::handle_events(double t, Eigen::VectorXd& yout) {
+    check(CVodeGetRootInfo(s_.cvode, roots_.data()), "CVodeGetRootInfo");
+    crossed_.clear();
+    for (int k = 0; k < static_cast<int>(roots_.size()); ++k) {
+        const int side = roots_[k] > 0 ? +1 : -1;  // rising: now open
+        // a function that an impact left a round-off on the wrong side of zero crosses back
+        // to the side the impact gave it: no event
+        if (roots_[k] != 0 && side != side_[k]) {
+            side_[k] = side;
+            crossed_.push_back(k);
+        }
+    }
+    if (crossed_.empty()) return;
+    pile_up_.check(t, problem_, crossed_[0]);
+    stats_.events += static_cast<long>(crossed_.size());
+    problem_.handle_events(t, yout, crossed_, side_);
+    restart(t, yout);
 }
 
 void CvodeRun::collect() {
@@ -218,7 +271,11 @@ void CvodeRun::advance_to(double t_out, double eps, Eigen::VectorXd& yout) {
         // the accepted step: the formulation may re-select its coordinates here
         yout = state();
         project_or_throw(problem_, t_reached, yout);
-        if (problem_.state_redefined()) {
+        if (flag == CV_ROOT_RETURN) {
+            problem_.state_redefined();  // the restart at the event covers a re-selection
+            handle_events(t_reached, yout);
+            if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
+        } else if (problem_.state_redefined()) {
             restart(t_reached, yout);
             if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
         }
@@ -238,6 +295,7 @@ class Cvode final : public AdaptiveIntegrator {
 public:
     using AdaptiveIntegrator::AdaptiveIntegrator;
     std::string name() const override { return "cvode"; }
+    bool locates_events() const override { return true; }
 
     void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
                    const OutputCallback& output, IntegratorStats& stats) override {

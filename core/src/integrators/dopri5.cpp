@@ -5,7 +5,12 @@
 // (beta = 0.04) and the 4th-order continuous extension for output between steps.
 // project() runs after every accepted step; if it moves y, the FSAL derivative
 // is recomputed at the projected state.
+// Events (OdeProblem::event_count): after an accepted step the event functions are
+// checked; on a sign change the root is located on the continuous extension and the
+// step re-taken to end on it (event_locator.hpp); after the problem has acted on the
+// event (an impact changes y) the run restarts from the new state (FSAL recomputed).
 #include "common.hpp"
+#include "event_locator.hpp"
 
 #include <cmath>
 
@@ -33,6 +38,7 @@ class Dopri5 final : public AdaptiveIntegrator {
 public:
     using AdaptiveIntegrator::AdaptiveIntegrator;
     std::string name() const override { return "dopri5"; }
+    bool locates_events() const override { return true; }
 
     void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
                    const OutputCallback& output, IntegratorStats& stats) override;
@@ -61,12 +67,20 @@ private:
     bool emit_inside_step(OdeProblem& problem, double t, double h, double t_new, double eps,
                           const std::vector<double>& output_times, size_t& next, const OutputCallback& output,
                           Eigen::VectorXd& y);
+    // The continuous extension of the step of size h from y (after attempt): coefficients
+    // r1_..r5_, and its value at the step fraction theta.
+    void dense_coefficients(const Eigen::VectorXd& y, double h);
+    void dense_at(double theta, Eigen::VectorXd& out) const {
+        const double theta1 = 1.0 - theta;
+        out = r1_ + theta * (r2_ + theta1 * (r3_ + theta * (r4_ + theta1 * r5_)));
+    }
     // Takes the accepted step: y <- y1_, FSAL, blow-up guard, projection.
     void accept(OdeProblem& problem, double t_new, Eigen::VectorXd& y, const BlowUpGuard& guard,
                 IntegratorStats& stats);
 
     Eigen::VectorXd k1_, k2_, k3_, k4_, k5_, k6_, k7_, tmp_, y1_, err_, unprojected_;
     Eigen::VectorXd r1_, r2_, r3_, r4_, r5_, yout_;
+    EventLocator events_;
 };
 
 double Dopri5::initial_step(OdeProblem& problem, double t, const Eigen::VectorXd& y, double hmax,
@@ -138,15 +152,10 @@ bool Dopri5::emit_inside_step(OdeProblem& problem, double t, double h, double t_
     bool have_dense = false;
     while (next < output_times.size() && output_times[next] < t_new - eps) {
         if (!have_dense) {
-            r1_ = y;
-            r2_ = y1_ - y;
-            r3_ = h * k1_ - r2_;
-            r4_ = r2_ - h * k7_ - r3_;
-            r5_ = h * (d1 * k1_ + d3 * k3_ + d4 * k4_ + d5 * k5_ + d6 * k6_ + d7 * k7_);
+            dense_coefficients(y, h);
             have_dense = true;
         }
-        const double theta = (output_times[next] - t) / h, theta1 = 1.0 - theta;
-        yout_ = r1_ + theta * (r2_ + theta1 * (r3_ + theta * (r4_ + theta1 * r5_)));
+        dense_at((output_times[next] - t) / h, yout_);
         project_or_throw(problem, output_times[next], yout_);
         if (output && !output(output_times[next], yout_)) {
             y = yout_;
@@ -155,6 +164,14 @@ bool Dopri5::emit_inside_step(OdeProblem& problem, double t, double h, double t_
         ++next;
     }
     return true;
+}
+
+void Dopri5::dense_coefficients(const Eigen::VectorXd& y, double h) {
+    r1_ = y;
+    r2_ = y1_ - y;
+    r3_ = h * k1_ - r2_;
+    r4_ = r2_ - h * k7_ - r3_;
+    r5_ = h * (d1 * k1_ + d3 * k3_ + d4 * k4_ + d5 * k5_ + d6 * k6_ + d7 * k7_);
 }
 
 void Dopri5::accept(OdeProblem& problem, double t_new, Eigen::VectorXd& y, const BlowUpGuard& guard,
@@ -189,6 +206,7 @@ void Dopri5::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const
     guard.reset(y);
 
     double t = t0;
+    events_.start(problem, t0, y);
     problem.rhs(t, y, k1_);
     ++stats.rhs_evaluations;
     double h = settings_.step > 0.0 ? std::min(settings_.step, hmax) : initial_step(problem, t, y, hmax, stats);
@@ -221,12 +239,25 @@ void Dopri5::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const
         fac = std::max(facc2, std::min(facc1, fac / safe));
         double h_new = h / fac;
         facold = std::max(err, 1e-4);
-        ++stats.steps;
-        if (!emit_inside_step(problem, t, h, t_new, eps, output_times, next, output, y)) return;
-        accept(problem, t_new, y, guard, stats);
-        t = t_new;
-        if (!emit_outputs_up_to(t + eps, y, output_times, next, output)) return;
         if (reject) h_new = std::min(h_new, h);
+        double t_step = t_new, h_step = h;  // the step taken: shortened to end on an event
+        const bool at_event = events_.active() && events_.left_side(problem, t_new, y1_);
+        if (at_event) {
+            dense_coefficients(y, h);
+            const double theta = events_.locate(problem, t, h, [&](double th, Eigen::VectorXd& out) { dense_at(th, out); });
+            h_step = theta * h;
+            t_step = t + h_step;
+            attempt(problem, t, h_step, t_step, y, stats);  // shorter than the accepted step: within tolerance
+        }
+        ++stats.steps;
+        if (!emit_inside_step(problem, t, h_step, t_step, eps, output_times, next, output, y)) return;
+        accept(problem, t_step, y, guard, stats);
+        t = t_step;
+        if (at_event && events_.handle(problem, t, y, stats)) {
+            problem.rhs(t, y, k1_);  // the impact changed y: restart the FSAL derivative there
+            ++stats.rhs_evaluations;
+        }
+        if (!emit_outputs_up_to(t + eps, y, output_times, next, output)) return;
         reject = false;
         h = std::min(h_new, hmax);
     }

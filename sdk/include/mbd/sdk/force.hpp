@@ -7,6 +7,14 @@
 // Forces that can supply them also give the Jacobians dQ/dq (with respect to
 // the velocity-like position increments, as for joints) and dQ/dv, used by
 // implicit integrators and by statics.
+//
+// Events (unilateral stops and contacts, docs/plugin-sdk.md "Events"): an element may
+// declare event functions g_i of its bodies' positions, g_i >= 0 while its gap is open.
+// A sign change of g_i is an event: the integrators that locate events (dopri5, cvode)
+// end a step exactly there, so no step straddles a gap closing or opening. At a closing
+// (g_i turning negative) the element's EventImpact says what happens: nothing but the end
+// of the step (the onset of a compliant force), or an impact with Newton's law of
+// restitution that the core applies on the constrained system.
 #pragma once
 
 #include <mbd/sdk/body_state.hpp>
@@ -18,6 +26,22 @@
 #include <vector>
 
 namespace mbd {
+
+// What a gap closing (g_i turning negative) means, for one event of an element.
+struct EventImpact {
+    // True: an impact with Newton's law, gdot+ = -restitution * gdot- (gdot = G v), by an
+    // impulse along G^T on the constrained system. False: only a kink of the element's own
+    // force (a compliant contact's onset); the state is unchanged.
+    bool impact = false;
+    double restitution = 0.0;  // e in [0, 1]
+    // An impact whose rebound speed e |gdot-| is below rest_velocity ends at rest on the stop
+    // (a plastic impulse, gdot+ = 0), not in a rebound: rebounds of ever smaller height would
+    // otherwise follow one another without end.
+    double rest_velocity = 0.0;
+    // The element's force holds a resting contact (a compliant law acting while g_i < 0); an
+    // element without one cannot rest, and a run that comes to rest on it stops with an error.
+    bool holds_resting = false;
+};
 
 struct ForceSpec {
     std::string name;
@@ -46,6 +70,19 @@ public:
     virtual double potential_energy(const BodyStates& /*bodies*/) const { return 0.0; }
     // True when Q = -dV/dq exactly (no damping, no time-dependent actuation).
     virtual bool is_conservative() const { return false; }
+
+    // --- events (none by default)
+    virtual int event_count() const { return 0; }
+    // "lower", "upper": for messages and the run's event list.
+    virtual std::string event_name(int /*event*/) const { return std::string(); }
+    // g (size event_count()), functions of the positions only, >= 0 while open.
+    virtual void event_values(const BodyStates& /*bodies*/, Eigen::Ref<Eigen::VectorXd> /*g*/) const {}
+    // For event `event`: G = dg/dv (gdot = G v; velocities_per_body * bodies entries, written, not
+    // added) and what its closing means.
+    virtual EventImpact event_impact(int /*event*/, const BodyStates& /*bodies*/,
+                                     Eigen::Ref<Eigen::VectorXd> /*G*/) const {
+        return {};
+    }
 };
 
 }  // namespace mbd
