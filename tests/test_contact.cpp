@@ -122,6 +122,11 @@ TEST(Contact, BounceOnAPlaneLosesTheEnergyOfTheContactOde) {
             const double E0 = b.m * kG * (b.r + drop), E_ode = 0.5 * b.m * v * v + b.m * kG * x;
             // t_end: after the bounce (~0.11 s), before the next touch-down (> 0.2 s for e >= 0.5)
             const auto result = run(model, "dopri5", 0.16, 1e-11);
+            // the contact's onset and end are located events (steps end on them): the touch-down
+            // after the free fall from the drop height, sqrt(2 h / g)
+            ASSERT_EQ(result.events.size(), 2u) << type << ": touch-down and lift-off";
+            EXPECT_NEAR(result.events[0].time, std::sqrt(2 * drop / kG), 1e-9) << type;
+            EXPECT_NEAR(result.events[0].rate_before, -v0, 1e-8) << type;
             const double E_sim = energy(model, result.final_state, b);
             const double rebound_ode = std::sqrt(2 * (E_ode / b.m - kG * b.r));
             const double rebound_sim = std::sqrt(2 * (E_sim / b.m - kG * b.r));

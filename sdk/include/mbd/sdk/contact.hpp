@@ -238,6 +238,40 @@ public:
         return gap_and_rate_of(force_support::spatial_states<double>(b));
     }
     double potential_energy(const BodyStates& b) const override { return normal_.energy(-gap_and_rate(b).gap); }
+
+    // --- the event: the gap, so that no step straddles the onset of the contact force (its
+    // kink at gap = 0); compliant, the state is not changed there, and a resting contact is
+    // held by the normal law.
+    int event_count() const override { return 1; }
+    std::string event_name(int) const override { return "contact"; }
+    void event_values(const BodyStates& b, Eigen::Ref<Eigen::VectorXd> g) const override { g[0] = gap_and_rate(b).gap; }
+    EventImpact event_impact(int, const BodyStates& b, Eigen::Ref<Eigen::VectorXd> G) const override {
+        // the gap's rate is linear in the velocities at given positions: entry k of G = dgdot/dv
+        // is the rate with velocity k at one and the others at zero
+        BodyStates probe = b;
+        if (!b.planar_bodies.empty()) {
+            PlanarBody copy[2] = {b.planar(0), b.planar(1)};
+            probe.planar_bodies = {&copy[0], &copy[1]};
+            for (int k = 0; k < 6; ++k) {
+                for (PlanarBody& body : copy) body.Rdot.setZero(), body.omega = 0.0;
+                PlanarBody& moved = copy[k / 3];
+                if (k % 3 < 2) moved.Rdot[k % 3] = 1.0; else moved.omega = 1.0;
+                G[k] = gap_and_rate(probe).rate;
+            }
+        } else {
+            SpatialBody copy[2] = {b.spatial(0), b.spatial(1)};
+            probe.spatial_bodies = {&copy[0], &copy[1]};
+            for (int k = 0; k < 12; ++k) {
+                for (SpatialBody& body : copy) body.Rdot.setZero(), body.omega_bar.setZero();
+                SpatialBody& moved = copy[k / 6];
+                if (k % 6 < 3) moved.Rdot[k % 6] = 1.0; else moved.omega_bar[k % 6 - 3] = 1.0;
+                G[k] = gap_and_rate(probe).rate;
+            }
+        }
+        EventImpact onset;
+        onset.holds_resting = true;
+        return onset;
+    }
     bool is_conservative() const override { return normal_.damping == 0.0 && friction_.mu_static == 0.0; }
 
     const NormalLaw& normal_law() const { return normal_; }
