@@ -176,6 +176,78 @@ std::string CellOutcome::cell() const {
 
 std::vector<std::string> stability_integrators() { return {"dopri5", "generalized_alpha", "cvode"}; }
 
+// The error measure of a case (its `expect:` key's `measure`), sample by sample: the worst
+// error seen so far in `worst`.
+class CaseMeasure {
+public:
+    CaseMeasure(const Model& model, const Expectation& e, double t_end)
+        : model_(model), e_(e), t_end_(t_end), system_(model),
+          body_(e.body.empty() ? -1 : model.body_index(e.body)) {}
+
+    void sample(const State& st) {
+        const bool planar = model_.dimension == Dimension::Planar;
+        const Model& model = model_;
+        const Expectation& e = e_;
+        const int body = body_;
+        if (e.measure == "oscillator") {
+            const double x = st.q[model.q_offset(body)];
+            worst = std::max(worst, std::abs(x - e.amplitude * std::cos(e.omega * st.t)) / std::abs(e.amplitude));
+        } else if (e.measure == "energy") {
+            const double T = system_.kinetic_energy(st), V = system_.potential_energy(st);
+            if (first_) E0_ = T + V;
+            scale_ = std::max(scale_, T + std::abs(V));
+            if (scale_ > 0.0) worst = std::max(worst, std::abs(T + V - E0_) / scale_);
+        } else if (e.measure == "momentum") {
+            const double T = system_.kinetic_energy(st);
+            Vec3 L = Vec3::Zero();
+            for (int b = 0; b < model.body_count(); ++b) {
+                const int qo = model.q_offset(b), vo = model.v_offset(b);
+                const Vec3 R = st.q.segment<3>(qo), Rdot = st.v.segment<3>(vo), w = st.v.segment<3>(vo + 3);
+                L += model.bodies[b].mass * R.cross(Rdot) + rotation_matrix(st.q, qo) * (model.bodies[b].inertia * w);
+            }
+            if (first_) T0_ = T, L0_ = L;
+            worst = std::max({worst, std::abs(T - T0_) / std::max(T0_, 1e-300), (L - L0_).norm() / std::max(L0_.norm(), 1e-300)});
+        } else if (e.measure == "rotation") {
+            const Mat3 A = rotation_matrix(st.q, model.q_offset(body));
+            const Vec4& p0 = model.bodies[body].euler_parameters;
+            const Mat3 A0 = Eigen::Quaterniond(p0[0], p0[1], p0[2], p0[3]).normalized().toRotationMatrix();
+            const Mat3 exact = Eigen::AngleAxisd(e.omega * st.t, e.axis).toRotationMatrix() * A0;
+            worst = std::max(worst, (A - exact).cwiseAbs().maxCoeff());
+        } else if (e.measure == "a01") {
+            // compound pendulum pinned at the origin: J_O = J + m l^2, w^2 = m g l / J_O
+            const Body& b = model.bodies[body];
+            const double l = e.length, g = std::abs(model.gravity.y());
+            const double w = std::sqrt(b.mass * g * l / (b.inertia(2, 2) + b.mass * l * l));
+            const double k_mod = std::sin(M_PI / 4.0), K = boost::math::ellint_1(k_mod);
+            const double theta = 2.0 * std::asin(k_mod * boost::math::jacobi_sn(k_mod, K - w * st.t));
+            const int qo = model.q_offset(body);
+            const double dx = st.q[qo] - l * std::sin(theta), dy = st.q[qo + 1] + l * std::cos(theta);
+            worst = std::max(worst, std::hypot(dx, dy));
+        } else if (e.measure == "final" && st.t >= t_end_ * (1.0 - 1e-12)) {
+            for (size_t k = 0; k < e.final_bodies.size(); ++k) {
+                const int qo = model.q_offset(model.body_index(e.final_bodies[k]));
+                const Vec3 r = planar ? Vec3(st.q[qo], st.q[qo + 1], 0.0) : Vec3(st.q.segment<3>(qo));
+                worst = std::max(worst, (r - e.final_positions[k]).norm());
+            }
+            reached_end = true;
+        }
+        first_ = false;
+    }
+
+    double worst = 0.0;
+    bool reached_end = false;
+
+private:
+    const Model& model_;
+    const Expectation& e_;
+    double t_end_;
+    ModelSystem system_;
+    int body_;
+    bool first_ = true;
+    double E0_ = 0.0, scale_ = 0.0, T0_ = 0.0;
+    Vec3 L0_ = Vec3::Zero();
+};
+
 CellOutcome run_case(const Model& model, Registry& registry, const Expectation& e, const std::string& formulation,
                      const std::string& integrator, double t_end) {
     CellOutcome out;
@@ -192,65 +264,17 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
     if (integrator == "generalized_alpha" || integrator == "rk4" || integrator == "euler")
         s.integration.step = e.step > 0.0 ? e.step : s.output_step / 10.0;
 
-    ModelSystem system(model);
-    const int body = e.body.empty() ? -1 : model.body_index(e.body);
-    const bool planar = model.dimension == Dimension::Planar;
-    double worst = 0.0, E0 = 0.0, scale = 0.0, T0 = 0.0;
-    Vec3 L0 = Vec3::Zero();
-    bool first = true, over_budget = false, reached_end = false;
+    CaseMeasure measure(model, e, t_end);
+    bool over_budget = false;
     double last_t = 0.0;
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&start] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
-    const double k_mod = std::sin(M_PI / 4.0);
-    const double K = boost::math::ellint_1(k_mod);
 
     auto callback = [&](const SimulationSample& sample) -> bool {
-        const State& st = sample.state;
-        last_t = st.t;
-        if (e.measure == "oscillator") {
-            const double x = st.q[model.q_offset(body)];
-            worst = std::max(worst, std::abs(x - e.amplitude * std::cos(e.omega * st.t)) / std::abs(e.amplitude));
-        } else if (e.measure == "energy") {
-            const double T = system.kinetic_energy(st), V = system.potential_energy(st);
-            if (first) E0 = T + V;
-            scale = std::max(scale, T + std::abs(V));
-            if (scale > 0.0) worst = std::max(worst, std::abs(T + V - E0) / scale);
-        } else if (e.measure == "momentum") {
-            const double T = system.kinetic_energy(st);
-            Vec3 L = Vec3::Zero();
-            for (int b = 0; b < model.body_count(); ++b) {
-                const int qo = model.q_offset(b), vo = model.v_offset(b);
-                const Vec3 R = st.q.segment<3>(qo), Rdot = st.v.segment<3>(vo), w = st.v.segment<3>(vo + 3);
-                L += model.bodies[b].mass * R.cross(Rdot) + rotation_matrix(st.q, qo) * (model.bodies[b].inertia * w);
-            }
-            if (first) T0 = T, L0 = L;
-            worst = std::max({worst, std::abs(T - T0) / std::max(T0, 1e-300), (L - L0).norm() / std::max(L0.norm(), 1e-300)});
-        } else if (e.measure == "rotation") {
-            const Mat3 A = rotation_matrix(st.q, model.q_offset(body));
-            const Vec4& p0 = model.bodies[body].euler_parameters;
-            const Mat3 A0 = Eigen::Quaterniond(p0[0], p0[1], p0[2], p0[3]).normalized().toRotationMatrix();
-            const Mat3 exact = Eigen::AngleAxisd(e.omega * st.t, e.axis).toRotationMatrix() * A0;
-            worst = std::max(worst, (A - exact).cwiseAbs().maxCoeff());
-        } else if (e.measure == "a01") {
-            // compound pendulum pinned at the origin: J_O = J + m l^2, w^2 = m g l / J_O
-            const Body& b = model.bodies[body];
-            const double l = e.length, g = std::abs(model.gravity.y());
-            const double w = std::sqrt(b.mass * g * l / (b.inertia(2, 2) + b.mass * l * l));
-            const double theta = 2.0 * std::asin(k_mod * boost::math::jacobi_sn(k_mod, K - w * st.t));
-            const int qo = model.q_offset(body);
-            const double dx = st.q[qo] - l * std::sin(theta), dy = st.q[qo + 1] + l * std::cos(theta);
-            worst = std::max(worst, std::hypot(dx, dy));
-        } else if (e.measure == "final" && st.t >= t_end * (1.0 - 1e-12)) {
-            for (size_t k = 0; k < e.final_bodies.size(); ++k) {
-                const int qo = model.q_offset(model.body_index(e.final_bodies[k]));
-                const Vec3 r = planar ? Vec3(st.q[qo], st.q[qo + 1], 0.0) : Vec3(st.q.segment<3>(qo));
-                worst = std::max(worst, (r - e.final_positions[k]).norm());
-            }
-            reached_end = true;
-        }
-        first = false;
+        last_t = sample.state.t;
+        measure.sample(sample.state);
         if (elapsed() > e.budget) {
             over_budget = true;
             return false;
@@ -266,8 +290,9 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
             out.time = last_t;
             return out;
         }
-        if (e.measure == "constraints") worst = r.final_position_violation;
-        if (e.measure == "final" && !reached_end) worst = std::numeric_limits<double>::infinity();
+        if (e.measure == "constraints") measure.worst = r.final_position_violation;
+        if (e.measure == "final" && !measure.reached_end) measure.worst = std::numeric_limits<double>::infinity();
+        const double worst = measure.worst;
         out.error = worst;
         out.kind = std::isfinite(worst) && worst <= e.bound ? "pass" : "inaccurate";
         if (!std::isfinite(worst)) out.kind = "blow_up";
