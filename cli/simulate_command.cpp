@@ -30,7 +30,7 @@ namespace {
 struct SimulateArguments {
     std::string scene;
     std::string formulation;
-    std::string integrator = "dopri5";
+    std::string integrator;  // empty: the automatic choice
     double tolerance = 0.0;
     double step = 0.0;
     double t_end = 0.0;
@@ -53,9 +53,11 @@ std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, Simula
     sub->add_option("-o,--output", a.output, "CSV file: t, positions, velocities (+ reactions, diagnostics)")
         ->required();
     sub->add_option("--formulation", a.formulation,
-                    "Formulation plugin (default: the scene's 'formulation', else augmented)");
-    sub->add_option("--integrator", a.integrator, "Integrator: rk4, dopri5, generalized_alpha, cvode")
-        ->capture_default_str();
+                    "Formulation plugin (default: the scene's 'formulation', else the automatic choice: embedding "
+                    "for a tree, augmented for closed loops and drivers; see docs/user-guide.md)");
+    sub->add_option("--integrator", a.integrator,
+                    "Integrator: rk4, dopri5, generalized_alpha, cvode (default: the automatic choice, dopri5, or "
+                    "cvode for a stiff scene; see docs/user-guide.md)");
     CLI::Option* tol =
         sub->add_option("--tol", a.tolerance, "Tolerance of an adaptive integrator, dopri5 or cvode (default 1e-6)")
             ->check(number_between(kSmallestTolerance, 1.0, "below 1e-14 is beneath double-precision round-off"));

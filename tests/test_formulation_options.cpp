@@ -41,6 +41,7 @@ Outcome run(const mbd::Model& model, mbd::SimulationSettings settings = {}) {
     Outcome r;
     settings.t_end = 0.5;
     settings.integration.tolerance = 1e-5;
+    if (settings.integrator.empty()) settings.integrator = "dopri5";  // the messages are the formulation's only
     settings.progress = false;
     settings.messages = mbd::MessageLog([&r](const std::string& line) { r.messages.push_back(line); });
     r.result = mbd::simulate(model, shared_registry(), settings);

@@ -42,7 +42,9 @@ TEST(SimulateCli, WritesTheCsvContractWithReactionsAndDiagnostics) {
                            " --integrator dopri5 --tol 1e-10 --t-end 2 --output-step 0.01 --reactions --diagnostics -o " +
                            out.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_TRUE(contains(r.out, "formulation augmented")) << r.out;
+    // no formulation named and none in the scene: the automatic choice for a tree
+    EXPECT_TRUE(contains(r.out, "formulation embedding")) << r.out;
+    EXPECT_TRUE(contains(r.err, "formulation embedding (automatic: tree of 1 joint")) << r.err;
     EXPECT_TRUE(contains(r.out, "integrator dopri5")) << r.out;
     EXPECT_TRUE(contains(r.out, "rejected")) << r.out;
     EXPECT_TRUE(contains(r.out, "CPU time")) << r.out;

@@ -278,7 +278,8 @@ pid_t rank_process(pid_t root, int rank) {
             std::string text((std::istreambuf_iterator<char>(environ)), std::istreambuf_iterator<char>());
             if (text.find(std::string("OMPI_COMM_WORLD_RANK=") + std::to_string(rank) + '\0') == std::string::npos)
                 continue;
-            if (text.find("MBD_SWEEP_TEST=" + std::to_string(root)) != std::string::npos) return std::stoi(name);
+            // the whole entry (NUL-terminated): root 123 must not match a test of root 1234 beside it
+            if (text.find("MBD_SWEEP_TEST=" + std::to_string(root) + '\0') != std::string::npos) return std::stoi(name);
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }

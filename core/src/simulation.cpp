@@ -4,6 +4,7 @@
 #include <mbd/csv.hpp>
 #include <mbd/formulation_setup.hpp>
 #include <mbd/interrupt.hpp>
+#include <mbd/method_choice.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/output_times.hpp>
 #include <mbd/progress_bar.hpp>
@@ -65,13 +66,35 @@ void require_positive_masses(const Model& model) {
     }
 }
 
-// The run's formulation: the command line's, else the scene's, else augmented; with the
-// scene's keys when it is the scene's formulation, and the command line's choices over them.
+// The run's formulation and integrator: the settings' (the command line's), else for the
+// formulation the scene's, else the automatic choice (method_choice.hpp), which the run's
+// messages report with its reason.
+struct RunMethod {
+    std::string formulation, integrator;
+};
+RunMethod run_method(const Model& model, const SimulationSettings& settings) {
+    RunMethod method{!settings.formulation.empty() ? settings.formulation : model.formulation, settings.integrator};
+    if (!method.formulation.empty() && !method.integrator.empty()) return method;
+    const MethodChoice automatic = automatic_method(model, settings.t_end);
+    if (method.formulation.empty()) {
+        // an integrator that needs the index-3 form (generalized_alpha) takes augmented, the one that has it
+        const bool index3 = !method.integrator.empty() && make_integrator(method.integrator, {})->needs_index3();
+        method.formulation = index3 ? "augmented" : automatic.formulation;
+        settings.messages("formulation " + method.formulation + " (automatic: " +
+                          (index3 ? method.integrator + " needs its index-3 form" : automatic.formulation_reason) + ")");
+    }
+    if (method.integrator.empty()) {
+        method.integrator = automatic.integrator;
+        settings.messages("integrator " + automatic.integrator + " (automatic: " + automatic.integrator_reason + ")");
+    }
+    return method;
+}
+
+// The run's formulation `name`, with the scene's keys when it is the scene's formulation, and
+// the command line's choices over them.
 std::shared_ptr<Formulation> make_run_formulation(const Model& model, Registry& registry,
-                                                  const SimulationSettings& settings, std::string& name,
+                                                  const SimulationSettings& settings, const std::string& name,
                                                   FormulationOptions& options) {
-    name = !settings.formulation.empty() ? settings.formulation
-                                         : (!model.formulation.empty() ? model.formulation : "augmented");
     const bool scene_keys = model.formulation_node && model.formulation == name;
     const std::string where =
         (!settings.formulation.empty() || model.formulation_where.empty()) ? std::string() : model.formulation_where;
@@ -144,12 +167,13 @@ long simulation_rows(const SimulationSettings& settings) {
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
                           const SimulationCallback& callback) {
     SimulationResult result;
-    std::string name;
+    const RunMethod method = run_method(model, settings);
+    const std::string& name = method.formulation;
     FormulationOptions options;
     std::shared_ptr<Formulation> formulation = make_run_formulation(model, registry, settings, name, options);
     result.formulation = name;
     check_integration_settings(settings);  // before any work
-    std::unique_ptr<Integrator> integrator = make_integrator(settings.integrator, settings.integration);
+    std::unique_ptr<Integrator> integrator = make_integrator(method.integrator, settings.integration);
     result.integrator = integrator->name();
     if (integrator->needs_index3() && !formulation->supports_index3())
         throw InputError(integrator->name(), integrator->name() + " needs a formulation that supports index-3 (augmented); '" +

@@ -107,12 +107,13 @@ class Model:
         Raises KinematicsError when the scene cannot be assembled."""
         return CheckReport(**self._handle.check(float(rank_tolerance)))
 
-    def simulate(self, t_end, *, formulation=None, integrator="dopri5", tol=None, step=None, output_step=None,
+    def simulate(self, t_end, *, formulation=None, integrator=None, tol=None, step=None, output_step=None,
                  reactions=False, diagnostics=False, stabilization=None, linear_algebra=None, q0=None, v0=None):
         """Forward dynamics from the scene's initial state (or q0, v0, assembled and made
         consistent) to t_end, as ``mbd simulate``: the formulation (default: the scene's, else
-        augmented), the integrator (dopri5, cvode: tol, default 1e-6; rk4, euler,
-        generalized_alpha: step), rows every output_step (default: the step, else t_end / 1000).
+        the automatic choice: embedding for a tree, augmented otherwise), the integrator
+        (default: the automatic choice, dopri5, or cvode for a stiff scene; dopri5, cvode: tol,
+        default 1e-6; rk4, euler, generalized_alpha: step), rows every output_step (default: the step, else t_end / 1000).
         Returns a SimulationResult; raises DynamicsError (time, joints) when the run fails.
         The engine's messages (what ``mbd simulate`` prints on stderr: the embedding path
         taken, redundant constraints left out, ...) go to the logger "mbd" at level INFO and
@@ -129,7 +130,7 @@ class Model:
         a = _mbd.SimulateArguments()
         a.t_end = float(t_end)
         a.formulation = formulation or ""
-        a.integrator = integrator
+        a.integrator = integrator or ""
         a.tol = None if tol is None else float(tol)
         a.step = None if step is None else float(step)
         a.output_step = None if output_step is None else float(output_step)

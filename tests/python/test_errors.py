@@ -103,7 +103,8 @@ def test_a_massless_body_is_a_dynamics_error_at_t_zero():
 @pytest.mark.parametrize("keywords, where, text", [
     (dict(integrator="rk4"), "step", "give their size with step (e.g. step=1e-3)"),
     (dict(integrator="rk4", step=1e-3, tol=1e-6), "tol", "rk4 takes fixed steps: set them with step"),
-    (dict(step=1e-3), "step", "dopri5 chooses its own steps: set its accuracy with tol"),
+    (dict(step=1e-3), "step", "the automatic integrator (dopri5 or cvode) chooses its own steps: set its accuracy with tol"),
+    (dict(integrator="dopri5", step=1e-3), "step", "dopri5 chooses its own steps: set its accuracy with tol"),
     (dict(tol=0.0), "tol", "expected a number from 1e-14 to 1"),
     (dict(integrator="rk5"), "integrator", "unknown integrator 'rk5'"),
     (dict(output_step=-1.0), "output_step", "must be a positive finite number"),

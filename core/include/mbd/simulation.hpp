@@ -26,8 +26,8 @@
 namespace mbd {
 
 struct SimulationSettings {
-    std::string formulation;          // empty: the scene's `formulation:`, else "augmented"
-    std::string integrator = "dopri5";
+    std::string formulation;          // empty: the scene's `formulation:`, else the automatic choice
+    std::string integrator;           // empty: the automatic choice (method_choice.hpp: dopri5 or cvode)
     IntegratorSettings integration;   // tolerance or fixed step
     double t_end = 1.0;
     double output_step = 0.0;         // 0: the fixed step if one is given, else t_end / 1000

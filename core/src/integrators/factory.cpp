@@ -46,12 +46,17 @@ std::string command_line_spelling(const std::string& option, const std::string& 
 
 void check_integrator_options(const std::string& integrator, bool tolerance_given, double tolerance, bool step_given,
                               double step, double t_end, const OptionSpelling& spell) {
-    const bool adaptive = make_integrator(integrator, IntegratorSettings{})->adaptive();
+    // no integrator named: the automatic choice (method_choice.hpp), always an adaptive one
+    const bool automatic = integrator.empty();
+    const std::string who = automatic ? "the automatic integrator (dopri5 or cvode)" : integrator;
+    const bool adaptive = automatic || make_integrator(integrator, IntegratorSettings{})->adaptive();
     if (adaptive && step_given)
         throw InputError(spell("step", ""), "applies to the fixed-step integrators (rk4, euler, generalized_alpha); " +
-                                                integrator + " chooses its own steps: set its accuracy with " +
+                                                who + " chooses its own steps: set its accuracy with " +
                                                 spell("tol", "") + " and the time between rows with " +
-                                                spell("output-step", ""));
+                                                spell("output-step", "") +
+                                                (automatic ? ", or name a fixed-step one with " + spell("integrator", "rk4")
+                                                           : std::string()));
     if (!adaptive && tolerance_given)
         throw InputError(spell("tol", ""), "applies to the adaptive integrators (dopri5, cvode); " + integrator +
                                                " takes fixed steps: set them with " + spell("step", ""));

@@ -1,0 +1,61 @@
+// The automatic choice of formulation and integrator (method_choice.hpp).
+#include <mbd/method_choice.hpp>
+
+#include <mbd/model_system.hpp>
+#include <mbd/sdk/text.hpp>
+#include <mbd/sdk/topology.hpp>
+
+#include <Eigen/SparseCholesky>
+
+#include <cmath>
+
+namespace mbd {
+
+double fastest_damping_rate(const Model& model) {
+    if (model.forces.empty() || model.body_count() == 0) return 0.0;
+    ModelSystem system(model);
+    const State state = system.initial_state();
+    Eigen::SparseMatrix<double> dQ_dq, dQ_dv;
+    system.force_jacobians(state, dQ_dq, dQ_dv);
+    // the dissipative part: sym(-dQ/dv) (the gyroscopic terms of spatial bodies are skew and
+    // dissipate nothing)
+    const Eigen::SparseMatrix<double> D = -0.5 * (dQ_dv + Eigen::SparseMatrix<double>(dQ_dv.transpose()));
+    if (D.nonZeros() == 0) return 0.0;
+    Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> mass(system.mass_matrix());
+    if (mass.info() != Eigen::Success) return 0.0;  // a massless body: the run itself says so
+    // power iteration on M^-1 D: its eigenvalues are real (D symmetric, M positive definite)
+    // a start with a component along every mode (all ones would be the rigid motion, which
+    // a damper between two bodies does not damp)
+    Eigen::VectorXd x(system.nv()), y;
+    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = std::sin(1.0 + 2.3 * static_cast<double>(i));
+    double rate = 0.0;
+    for (int k = 0; k < 60; ++k) {
+        y = mass.solve(D * x);
+        const double norm = y.norm();
+        if (!(norm > 0.0) || !std::isfinite(norm)) return std::isfinite(norm) ? rate : 0.0;
+        rate = norm / x.norm();
+        x = y / norm;
+    }
+    return rate;
+}
+
+MethodChoice automatic_method(const Model& model, double t_end) {
+    MethodChoice choice;
+    ModelSystem system(model);
+    std::string topology;
+    const bool tree = recursive_embedding_possible(system, &topology);
+    choice.formulation = tree ? "embedding" : "augmented";
+    choice.formulation_reason = tree ? topology + ": the recursive path of embedding" : topology;
+    const double rate = fastest_damping_rate(model);
+    const double scales = rate * t_end;
+    const bool stiff = scales > kStiffDampedTimeScales;
+    choice.integrator = stiff ? "cvode" : "dopri5";
+    choice.integrator_reason =
+        rate > 0.0 ? std::string(stiff ? "stiff" : "not stiff") + ": fastest damping rate " + format_number(rate, 3) +
+                         " 1/s over " + format_time(t_end) + " s = " + format_number(scales, 3) + " time scales (" +
+                         (stiff ? "above " : "at most ") + format_number(kStiffDampedTimeScales) + ")"
+                   : "not stiff: no damping";
+    return choice;
+}
+
+}  // namespace mbd
