@@ -83,6 +83,33 @@ def cost_table(data, rows_by_scene, target):
     return md + [""]
 
 
+def automatic_table(data, rows_by_scene):
+    """The automatic choice of `mbd simulate` (no --formulation / --integrator) for each scene, its
+    cost at each target read off its own series, and that cost over mbd's best of grid."""
+    md = ["### The automatic choice against the best of grid", "",
+          "What `mbd simulate` runs when neither the command line nor the scene names a formulation or an "
+          "integrator (docs/user-guide.md, \"The automatic choice\"), its CPU time at each target error read "
+          "off its own series as above, and that time over mbd's best of grid (1: the automatic choice is the "
+          "best pair; the target of issue 13 is at most 1.5).", "",
+          "| scene | automatic choice | " + " | ".join(f"at {t:g} | / best" for t in TARGETS) + " |",
+          "|---|---|" + "---|---|" * len(TARGETS)]
+    for scene in data["scenes"]:
+        auto = scene.get("automatic")
+        if not auto:
+            continue
+        pair = f"{auto['formulation']} + {auto['integrator']}"
+        rows = [r for r in rows_by_scene.get(scene["scene"], []) if r["engine"] == "mbd"]
+        own = [r for r in rows if series_name(r) == pair]
+        cells = [f"`{scene['scene']}`", pair]
+        for target in TARGETS:
+            mine = cost_cell(engine_cost_at(own, target, series_name), target)
+            best = cost_cell(engine_cost_at(rows, target, series_name), target)
+            cells += [fmt(mine[1]) + ("" if mine[2] else " (<=)") if mine[1] else "not reached",
+                      ratio_cell(mine, best) if own else "not in the grid"]
+        md.append("| " + " | ".join(cells) + " |")
+    return md + [""]
+
+
 def series_name(row):
     return row["formulation"] + " + " + row["integrator"] if row["engine"] == "mbd" else row["integrator"]
 
@@ -204,6 +231,7 @@ def main():
     md.append("")
     for target in TARGETS:
         md += cost_table(data, rows_by_scene, target)
+    md += automatic_table(data, rows_by_scene)
     details = []
     for scene in data["scenes"]:
         rows = rows_by_scene.get(scene["scene"], [])

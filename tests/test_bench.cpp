@@ -214,6 +214,25 @@ TEST(Bench, EveryBenchSceneGridIsFine) {
     EXPECT_GE(series, 40);
 }
 
+// The bench measures the automatic choice of every scene (so its report can set it beside the
+// best of grid): the pair `mbd simulate` picks for the scene is one of the scene's series.
+TEST(Bench, EveryBenchSceneRunsItsAutomaticChoice) {
+    int scenes = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(test::scene_path("bench"))) {
+        if (entry.path().extension() != ".yaml") continue;
+        const Model model = test::load("bench/" + entry.path().filename().string());
+        const BenchSpec spec = load_bench_spec(model);
+        const MethodChoice automatic = automatic_method(model, spec.t_end);
+        bool found = false;
+        for (const BenchSeries& s : spec.runs)
+            found = found || (s.formulation == automatic.formulation && s.integrator == automatic.integrator);
+        EXPECT_TRUE(found) << spec.name << ": " << automatic.formulation << " + " << automatic.integrator << " ("
+                           << automatic.formulation_reason << "; " << automatic.integrator_reason << ")";
+        ++scenes;
+    }
+    EXPECT_GE(scenes, 10);
+}
+
 // A peer engine that is not installed is reported and skipped; the mbd runs still happen.
 TEST(Bench, MissingPeerIsReportedNotFatal) {
     const auto dir = std::filesystem::temp_directory_path() / "mbd_test_bench_peer";

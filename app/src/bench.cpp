@@ -434,6 +434,7 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
     const Model model = load_scene(scene_file, registry);
     out.spec = load_bench_spec(model);
     const BenchSpec& spec = out.spec;
+    out.automatic = automatic_method(model, spec.t_end);
     auto note = [&](const std::string& text) {
         out.notes.push_back(text);
         if (log) log(text);
@@ -527,6 +528,10 @@ std::string bench_json(const std::vector<BenchSceneResult>& results) {
         scenes.push_back({{"scene", r.spec.name},
                           {"file", r.spec.scene},
                           {"t_end", r.spec.t_end},
+                          {"automatic", {{"formulation", r.automatic.formulation},
+                                         {"integrator", r.automatic.integrator},
+                                         {"formulation_reason", r.automatic.formulation_reason},
+                                         {"integrator_reason", r.automatic.integrator_reason}}},
                           {"error_measure", r.spec.measure.describe()},
                           {"reference_kind", r.reference.kind},
                           {"reference", r.reference.description},

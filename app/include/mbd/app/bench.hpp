@@ -8,6 +8,7 @@
 // plus the peer engines' models (bench/peers/). Every run gives one BenchRow.
 #pragma once
 
+#include <mbd/method_choice.hpp>
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/simulation.hpp>
@@ -123,6 +124,7 @@ struct BenchOptions {
 
 struct BenchSceneResult {
     BenchSpec spec;
+    MethodChoice automatic;  // what `mbd simulate` picks for the scene when nothing is named (method_choice.hpp)
     BenchReferenceData reference;
     std::vector<BenchRow> rows;
     std::vector<std::string> notes;  // e.g. "peer simbody: not installed (...); skipped"
