@@ -37,7 +37,8 @@ cmake -S "$source_dir/sdk/examples/coupler" -B "$work/example" -DCMAKE_PREFIX_PA
 cmake --build "$work/example" -j2 >/dev/null
 test -f "$work/example/libmbd_joint_coupler.so"
 export MBD_PLUGIN_PATH="$work/example"
-"$work/prefix/bin/mbd" plugins | grep -q coupler
+# grep reads the whole listing (grep -q would stop early and, under pipefail, fail mbd by SIGPIPE)
+"$work/prefix/bin/mbd" plugins | grep coupler >/dev/null
 "$work/prefix/bin/mbd" kinematics "$source_dir/sdk/examples/coupler/coupler.yaml" --t-end 1 --step 0.25 \
   --output "$work/out.csv"
 # theta_b - 0.5 must equal 2 * theta_a, and theta_a = t (driver), at every row
