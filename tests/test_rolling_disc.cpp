@@ -230,6 +230,16 @@ TEST(RollingDisc, RefusesWhatCannotHoldIt) {
         EXPECT_NE(m.find("flat.yaml:6"), std::string::npos) << m;
         EXPECT_NE(m.find("joint 'roll': rolling_disc is a spatial joint"), std::string::npos) << m;
     }
+    const std::string flat_disc =
+        "name: lying\ndimension: spatial\nbodies:\n  - {name: disc, mass: 1, inertia: [0.25, 0.25, 0.5], "
+        "position: [0, 0, 0.1]}\njoints:\n  - {name: roll, type: rolling_disc, bodies: [ground, disc], axis: [0, 0, 1], "
+        "radius: 0.5}\n";
+    try {
+        mbd::test::scene(flat_disc, "lying.yaml");
+        ADD_FAILURE() << "a disc lying flat was accepted";
+    } catch (const mbd::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("the wheel axis is along the plane normal"), std::string::npos) << e.what();
+    }
     const SteadyCircle c;
     const mbd::Model model = mbd::test::scene(c.scene(), "disc.yaml");
     auto refusal = [&](const std::string& formulation, const std::string& integrator) {
@@ -271,6 +281,27 @@ TEST(RollingDisc, RefusesWhatCannotHoldIt) {
                   std::string::npos)
             << e.what();
     }
+}
+
+// The analyses built on the position constraints alone refuse the example scene by name, with
+// its file:line and a non-zero exit.
+TEST(RollingDisc, HolonomicAnalysesRefuseByName) {
+    const std::string scene = mbd::test::scene_path("examples/spatial-rolling-disc.yaml").string();
+    const std::string out = mbd::test::scratch("rolling-disc-refusals").string();
+    const std::pair<std::string, std::string> cases[] = {
+        {"statics " + scene, "the statics analysis"},
+        {"kinematics " + scene + " --t-end 1 --step 0.1 --output " + out + "/k.csv", "the kinematic analysis"},
+        {"inverse " + scene + " --t-end 1 --step 0.1 --output " + out + "/i.csv", "inverse dynamics"},
+        {"modes " + scene + " --about initial", "the linearisation (mbd modes)"}};
+    for (const auto& [arguments, analysis] : cases) {
+        const auto r = mbd::test::run_mbd(arguments);
+        EXPECT_NE(r.exit_code, 0) << arguments;
+        EXPECT_NE(r.err.find("spatial-rolling-disc.yaml:19: joint 'contact' (type rolling_disc) has 2 velocity-level "
+                             "(nonholonomic) constraint row(s), which " + analysis + " does not handle"),
+                  std::string::npos)
+            << r.err;
+    }
+    EXPECT_FALSE(std::filesystem::exists(out + "/k.csv"));
 }
 
 }  // namespace
