@@ -126,6 +126,10 @@ bool finite_on_degenerate_input(const Model& model) {
             e.resize(j.joint->rows(), nvb * static_cast<int>(j.bodies.size()));
             j.joint->evaluate(poses.view(j.bodies, s.t), e);
             if (!(e.C.allFinite() && e.J.allFinite() && e.C_t.allFinite() && e.gamma.allFinite())) return false;
+            VelocityConstraintEval ve;
+            ve.resize(j.joint->velocity_rows(), nvb * static_cast<int>(j.bodies.size()));
+            if (ve.b.size()) j.joint->evaluate_velocity(poses.view(j.bodies, s.t), ve);
+            if (!(ve.A.allFinite() && ve.b.allFinite() && ve.gamma.allFinite())) return false;
         }
         for (const ForceInstance& f : model.forces) {
             Eigen::VectorXd Q = Eigen::VectorXd::Zero(nvb * static_cast<int>(f.bodies.size()));
@@ -152,6 +156,8 @@ void report(const std::string& what, const DerivativeErrors& e, double tolerance
                           {"C_t (Cdot = J v + C_t)", e.time_derivative},
                           {"coordinate gradient J_s", e.coordinate_jacobian},
                           {"coordinate gamma_s", e.coordinate_gamma},
+                          {"gamma_v (d/dt(A v - b) = A vdot - gamma_v)", e.velocity_gamma},
+                          {"velocity rows' A, b independent of v", e.velocity_dependence},
                           {"dQ/dv", e.velocity_jacobian},
                           {"Q = -dV/dq", e.potential},
                           {"event gradient G = dg/dq", e.event_gradient}};

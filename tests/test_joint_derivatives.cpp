@@ -2,7 +2,8 @@
 // spatial: the Jacobian matches central finite differences of C, and gamma
 // matches the second time derivative of C along random smooth trajectories
 // (Cddot = J vdot - gamma), at states that do NOT satisfy the constraints. The
-// same checks run on the joint coordinate that drivers prescribe. A joint type
+// same checks run on the joint coordinate that drivers prescribe, and on the velocity-level
+// rows (d/dt (A v - b) = A vdot - gamma along the trajectories). A joint type
 // is exercised through the example scenes in scenes/examples/ that use it, so a
 // new joint type gets this test by shipping an example, without writing a test.
 // Each example runs as written and with random joint geometry (random marker
@@ -38,14 +39,16 @@ TEST(JointDerivatives, EveryRegisteredJointTypeMatchesFiniteDifferences) {
         for (const JointInstance& ji : model.joints) {
             SCOPED_TRACE("joint '" + ji.name + "' of type " + ji.type);
             const DerivativeErrors c = check_joint_derivatives(model, ji, rng);
-            std::printf("%-10s %-12s %-14s %-9s J %.1e  gamma %.1e  C_t %.1e  J_s %.1e  gamma_s %.1e\n",
+            std::printf("%-10s %-12s %-14s %-9s J %.1e  gamma %.1e  C_t %.1e  J_s %.1e  gamma_s %.1e  gamma_v %.1e\n",
                         to_string(model.dimension), ji.type.c_str(), ji.name.c_str(), variant, c.jacobian, c.gamma,
-                        c.time_derivative, c.coordinate_jacobian, c.coordinate_gamma);
+                        c.time_derivative, c.coordinate_jacobian, c.coordinate_gamma, c.velocity_gamma);
             EXPECT_LT(c.jacobian, 1e-6);
             EXPECT_LT(c.gamma, 1e-6);
             EXPECT_LT(c.time_derivative, 1e-6);
             EXPECT_LT(c.coordinate_jacobian, 1e-6);
             EXPECT_LT(c.coordinate_gamma, 1e-6);
+            EXPECT_LT(c.velocity_gamma, 1e-6);
+            EXPECT_LT(c.velocity_dependence, 1e-12);
             covered[ji.type].insert(to_string(model.dimension));
         }
     };

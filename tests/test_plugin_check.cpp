@@ -17,6 +17,7 @@ TEST(PluginCheck, StandardJointAndForcePluginsPass) {
         {"libmbd_joint_prismatic.so", ""},
         {"libmbd_joint_universal.so", ""},      // spatial only; random perpendicular `axes`
         {"libmbd_joint_screw.so", " --params 'pitch: 0.02'"},
+        {"libmbd_joint_rolling_disc.so", " --params 'radius: 0.3'"},  // velocity-level rows
         {"libmbd_force_spring_damper.so", " --params 'stiffness: 100' --params 'damping: 2'"},
         {"libmbd_force_point_force.so", " --params 'force: [1, -2]'"},  // planar components: planar only
         {"libmbd_force_gravity.so", ""}};
@@ -47,6 +48,19 @@ TEST(PluginCheck, BrokenGammaFailsForThatReasonOnly) {
     ASSERT_NE(jac, std::string::npos) << r.out;
     const std::string jac_line = r.out.substr(jac, r.out.find('\n', jac) - jac);
     EXPECT_EQ(jac_line.find("exceeds"), std::string::npos) << jac_line;
+}
+
+TEST(PluginCheck, BrokenVelocityRowGammaFailsForThatReasonOnly) {
+    const auto r = test::run_mbd("plugin check " + test_plugin("libmbd_joint_broken_skate.so"));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("FAIL  joint 'broken_skate' (spatial)"), std::string::npos) << r.out;
+    const size_t gamma = r.out.find("gamma_v (d/dt(A v - b) = A vdot - gamma_v)");
+    ASSERT_NE(gamma, std::string::npos) << r.out;
+    EXPECT_NE(r.out.substr(gamma, r.out.find('\n', gamma) - gamma).find("exceeds tolerance"), std::string::npos) << r.out;
+    // A and b do not depend on v: that line is not flagged (absent when zero)
+    const size_t linear = r.out.find("A, b independent of v");
+    if (linear != std::string::npos)
+        EXPECT_EQ(r.out.substr(linear, r.out.find('\n', linear) - linear).find("exceeds"), std::string::npos) << r.out;
 }
 
 TEST(PluginCheck, RandomGeometryIsSeededAndReproducible) {

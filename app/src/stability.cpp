@@ -306,7 +306,11 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
         out.kind = failure_kind(out.message, false);
     } catch (const InputError& x) {
         out.message = x.what();
-        if (out.message.find("index-3") != std::string::npos) {
+        if (out.message.find("velocity-level (nonholonomic)") != std::string::npos) {
+            // a formulation or integrator that does not obey the scene's no-slip rows refuses it
+            out.kind = "not_applicable";
+            out.message = "no velocity-level rows";
+        } else if (out.message.find("index-3") != std::string::npos) {
             out.kind = "not_applicable";
             out.message = "no index-3 form";
         } else if (out.message.find("does not locate events") != std::string::npos) {
@@ -457,7 +461,7 @@ std::string stability_markdown(const std::vector<StabilityCase>& cases, const st
        << "named failure: step-size collapse, Newton divergence, singular constraints / redundant constraints "
        << "(naming the joints), assembly failure, projection failure, blow up (the state grew without bound), "
        << "max steps, solver failure, budget exceeded, singular mass matrix (a massless body), `n/a` (the integrator needs a form the formulation does "
-       << "not have, or event location the integrator lacks), `crashed (signal N)` (an engine defect). A `*` marks the declared pair; `ok`/`WRONG` says "
+       << "not have, event location the integrator lacks, or the pair does not handle the scene's velocity-level rows), `crashed (signal N)` (an engine defect). A `*` marks the declared pair; `ok`/`WRONG` says "
        << "whether the declared pair ended in a declared outcome.\n\n";
     int wrong = 0, crashes = 0;
     md << "| case | expected | declared |";

@@ -35,6 +35,20 @@ bool rows_finite(const ConstraintEval& e) {
     return e.C.allFinite() && e.C_t.allFinite() && e.gamma.allFinite() && e.J.allFinite();
 }
 
+// The same for a joint's velocity-level rows.
+std::string first_non_finite(const Joint& joint, const VelocityConstraintEval& e) {
+    auto describe = [&](const char* what, int row, double value) {
+        return std::string(what) + " of row '" + joint.velocity_row_name(row) + "' = " + format_number(value);
+    };
+    for (int r = 0; r < e.b.size(); ++r) {
+        if (!std::isfinite(e.b[r])) return describe("b", r, e.b[r]);
+        if (!std::isfinite(e.gamma[r])) return describe("gamma", r, e.gamma[r]);
+        for (int c = 0; c < e.A.cols(); ++c)
+            if (!std::isfinite(e.A(r, c))) return describe("A", r, e.A(r, c));
+    }
+    return "no entry";
+}
+
 }  // namespace
 
 std::string RowOwner::describe() const {
@@ -42,8 +56,8 @@ std::string RowOwner::describe() const {
     return "joint '" + element_name + "' (" + row_name + ")";
 }
 
-ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers)
-    : model_(&model), include_drivers_(include_drivers) {
+ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers, bool include_velocity_rows)
+    : model_(&model), include_drivers_(include_drivers), include_velocity_rows_(include_velocity_rows) {
     const int nvb = velocities_per_body(model.dimension);
     // the element rows in evaluation order, each with the bodies its Jacobian row spans
     std::vector<std::pair<int, const std::vector<int>*>> element_rows;
@@ -64,6 +78,19 @@ ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers)
             owners_.push_back({RowOwner::Kind::Driver, static_cast<int>(d), 0, dr.name, "coordinate"});
             element_rows.emplace_back(rows_, &model.joints[dr.joint].bodies);
             ++rows_;
+        }
+    }
+    if (include_velocity_rows_) {
+        for (size_t j = 0; j < model.joints.size(); ++j) {
+            const JointInstance& ji = model.joints[j];
+            const int r = ji.joint->velocity_rows();
+            velocity_offset_.push_back(rows_);
+            for (int k = 0; k < r; ++k) {
+                owners_.push_back({RowOwner::Kind::JointVelocity, static_cast<int>(j), k, ji.name,
+                                   ji.joint->velocity_row_name(k)});
+                element_rows.emplace_back(rows_ + k, &ji.bodies);
+            }
+            rows_ += r;
         }
     }
     // the pattern, then each visited entry's place in it
@@ -166,6 +193,34 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
             out.C_t[row] = -f.df;
             out.gamma[row] = e.gamma + f.ddf;
             scatter(ji.bodies, e.J);
+        }
+    }
+
+    if (include_velocity_rows_) {
+        for (size_t j = 0; j < m.joints.size(); ++j) {
+            const JointInstance& ji = m.joints[j];
+            VelocityConstraintEval& e = data.joint_velocity_rows[j];
+            if (e.b.size() == 0) continue;
+            e.A.setZero();
+            e.b.setZero();
+            e.gamma.setZero();
+            data.poses.fill(ji.bodies, state.t, data.view);
+            ji.joint->evaluate_velocity(data.view, e);
+            if (!(e.A.allFinite() && e.b.allFinite() && e.gamma.allFinite()) && state.q.allFinite() &&
+                state.v.allFinite())
+                throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type +
+                                                 (ji.where.empty() ? "" : ", " + ji.where) +
+                                                 ") gave a non-finite velocity-level value at t = " +
+                                                 format_time(state.t) + " (" + first_non_finite(*ji.joint, e) +
+                                                 ") although the body positions and velocities are finite: its "
+                                                 "equations are undefined in this configuration; check the joint's "
+                                                 "parameters, or its plugin");
+            // A v = b as a row without position residual: C = 0, J = A, C_t = -b (sdk system.hpp)
+            const int r0 = velocity_offset_[j];
+            out.C.segment(r0, e.b.size()).setZero();
+            out.C_t.segment(r0, e.b.size()) = -e.b;
+            out.gamma.segment(r0, e.b.size()) = e.gamma;
+            for (int r = 0; r < e.b.size(); ++r) scatter(ji.bodies, e.A.row(r));
         }
     }
 }

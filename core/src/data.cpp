@@ -23,6 +23,9 @@ Data::Data(const Model& model) : poses(model) {
         ConstraintEval eval;
         eval.resize(j.joint->rows(), nvb * static_cast<int>(j.bodies.size()));
         joint_rows.push_back(std::move(eval));
+        VelocityConstraintEval velocity;
+        velocity.resize(j.joint->velocity_rows(), nvb * static_cast<int>(j.bodies.size()));
+        joint_velocity_rows.push_back(std::move(velocity));
     }
     posed_q_.setZero(model.nq());
     posed_v_.setZero(model.nv());

@@ -12,8 +12,8 @@
 namespace mbd {
 
 double DerivativeErrors::worst() const {
-    return std::max({jacobian, gamma, time_derivative, coordinate_jacobian, coordinate_gamma, velocity_jacobian, potential,
-                     event_gradient});
+    return std::max({jacobian, gamma, time_derivative, coordinate_jacobian, coordinate_gamma, velocity_gamma,
+                     velocity_dependence, velocity_jacobian, potential, event_gradient});
 }
 
 namespace {
@@ -195,6 +195,15 @@ public:
         ce = CoordinateEval{};
         ce.J.setZero(cols);
         if (ji.joint->has_coordinate()) ji.joint->coordinate(poses_.view(ji.bodies, s.t), ce);
+        ve.resize(ji.joint->velocity_rows(), cols);
+        if (ve.b.size()) ji.joint->evaluate_velocity(poses_.view(ji.bodies, s.t), ve);
+    }
+    // A v - b of the velocity-level rows at a state
+    Eigen::VectorXd velocity_residual(const State& s) {
+        eval(s);
+        Eigen::MatrixXd A = ve.A;
+        zero_ground_columns(A);
+        return A * joint_entries(s.v) - ve.b;
     }
     // The state perturbed along velocity direction dv (exponential map for rotations).
     State moved(const State& s, const Eigen::VectorXd& dv) const {
@@ -209,6 +218,10 @@ public:
             if (ji.bodies[b] != kGround) v.segment(nvb * b, nvb) = all.segment(model.v_offset(ji.bodies[b]), nvb);
         return v;
     }
+    void zero_ground_columns(Eigen::MatrixXd& J) const {
+        for (size_t b = 0; b < ji.bodies.size(); ++b)
+            if (ji.bodies[b] == kGround) J.middleCols(nvb * b, nvb).setZero();
+    }
     void zero_ground_columns(Eigen::MatrixXd& J, Eigen::RowVectorXd& J_s) const {
         for (size_t b = 0; b < ji.bodies.size(); ++b)
             if (ji.bodies[b] == kGround) {
@@ -222,6 +235,7 @@ public:
     const int nvb, cols;
     ConstraintEval e;
     CoordinateEval ce;
+    VelocityConstraintEval ve;
 
 private:
     BodyPoses poses_;
@@ -273,6 +287,30 @@ TimeSamples samples_in_time(JointProbe& p, const Trajectory& path, double t, dou
         }
     }
     return out;
+}
+
+// The velocity-level rows at s (on the trajectory, at time t): along the motion
+// d/dt (A v - b) = A vdot - gamma (joint.hpp), by a fourth-order central difference; and A, b
+// evaluated at other velocities must not change (the rows are linear in v).
+void check_velocity_rows(JointProbe& p, const Trajectory& path, const State& s, double t, DerivativeErrors& worst) {
+    p.eval(s);
+    Eigen::MatrixXd A = p.ve.A;
+    p.zero_ground_columns(A);
+    const Eigen::VectorXd b = p.ve.b, gamma = p.ve.gamma;
+    worst.finite = worst.finite && A.allFinite() && b.allFinite() && gamma.allFinite();
+    const double ht = 1e-3;
+    const Eigen::VectorXd rate = (p.velocity_residual(path.state(t - 2 * ht)) - 8 * p.velocity_residual(path.state(t - ht)) +
+                                  8 * p.velocity_residual(path.state(t + ht)) - p.velocity_residual(path.state(t + 2 * ht))) /
+                                 (12 * ht);
+    const Eigen::VectorXd gamma_fd = A * p.joint_entries(path.acceleration(t)) - rate;
+    worst.velocity_gamma = std::max(worst.velocity_gamma, relative(gamma, gamma_fd));
+    State faster = s;
+    faster.v = 2.0 * s.v + Eigen::VectorXd::Constant(s.v.size(), 0.7);
+    p.eval(faster);
+    Eigen::MatrixXd A_faster = p.ve.A;
+    p.zero_ground_columns(A_faster);
+    worst.velocity_dependence =
+        std::max({worst.velocity_dependence, (A_faster - A).norm() / std::max(1.0, A.norm()), relative(p.ve.b, b)});
 }
 
 }  // namespace
@@ -328,6 +366,7 @@ DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance
             worst.coordinate_gamma =
                 std::max(worst.coordinate_gamma, std::abs(gamma_s - gs_fd) / std::max(1.0, std::abs(gs_fd)));
         }
+        if (ji.joint->velocity_rows() > 0) check_velocity_rows(p, path, s, t, worst);
         if (worst.worst() > before) worst.worst_state = describe(model, s);
     }
     return worst;

@@ -135,4 +135,24 @@ std::shared_ptr<Formulation> create_formulation(Registry& registry, const std::s
     throw InputError(map.fields.at(bad).location(), message + " Its keys are " + list);
 }
 
+void require_velocity_rows_handled(const Model& model, const Formulation& formulation, const std::string& name,
+                                   bool needs_index3, const std::string& integrator) {
+    for (const JointInstance& j : model.joints) {
+        if (j.joint->velocity_rows() == 0) continue;
+        const std::string joint = "joint '" + j.name + "' (type " + j.type + ") has " +
+                                  std::to_string(j.joint->velocity_rows()) +
+                                  " velocity-level (nonholonomic) constraint row(s)";
+        if (!formulation.supports_velocity_constraints())
+            throw InputError(j.where, joint + ", which the '" + name +
+                                          "' formulation does not handle; use the augmented or the embedding formulation "
+                                          "(--formulation augmented, or `formulation: augmented` in the scene; "
+                                          "docs/formulations.md)");
+        if (needs_index3)
+            throw InputError(j.where, joint + ", which the " + integrator +
+                                          " integrator does not handle (it solves the index-3 equations of the "
+                                          "holonomic rows only); use dopri5, rk4 or cvode");
+        return;
+    }
+}
+
 }  // namespace mbd

@@ -148,6 +148,8 @@ void run_kinematics(const Model& model, double t_end, double step, const Kinemat
                     const KinematicsOptions& options) {
     // Output times t_k = k h, k = 0..n, the last one exactly t_end (output_times.hpp).
     const long long n = output_intervals(t_end, step, "kinematics: the output step", "kinematics: the end time");
+    // positions from C(q, t) = 0 alone: a no-slip row leaves them to the motion's history
+    require_holonomic(model, "the kinematic analysis", "simulate the motion (`mbd simulate`) instead");
 
     const ConstraintSystem system(model, true);
     Data data(model);

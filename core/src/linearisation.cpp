@@ -134,6 +134,9 @@ void refuse_rotating_spatial_bodies(const ModelSystem& system, const State& refe
 
 LinearModel linearise(ModelSystem& system, const State& start, const std::vector<ActuatorInfo>& actuators,
                       const LinearisationOptions& options) {
+    // the reduced coordinates here are the holonomic ones (v_i of J alone)
+    require_holonomic(system.model(), "the linearisation (mbd modes)",
+                      "simulate the motion (`mbd simulate`) and study it in the time domain instead");
     LinearModel out;
     State reference = start;
     system.assemble(reference, true);

@@ -63,4 +63,13 @@ void normalize_euler_parameters(const Model& model, Eigen::VectorXd& q) {
     for (int k = 0; k < model.body_count(); ++k) q.segment<4>(model.q_offset(k) + 3).normalize();
 }
 
+void require_holonomic(const Model& model, const std::string& analysis, const std::string& instead) {
+    for (const JointInstance& j : model.joints)
+        if (j.joint->velocity_rows() > 0)
+            throw InputError(j.where, "joint '" + j.name + "' (type " + j.type + ") has " +
+                                          std::to_string(j.joint->velocity_rows()) +
+                                          " velocity-level (nonholonomic) constraint row(s), which " + analysis +
+                                          " does not handle (it works on the position constraints only); " + instead);
+}
+
 }  // namespace mbd

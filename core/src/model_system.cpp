@@ -3,7 +3,13 @@
 namespace mbd {
 
 ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
-    : model_(&model), kinematics_(kinematics), with_drivers_(model, true), joints_only_(model, false), data_(model) {
+    : model_(&model),
+      kinematics_(kinematics),
+      with_drivers_(model, true),
+      joints_only_(model, false),
+      with_drivers_and_velocity_rows_(model, true, true),
+      joints_and_velocity_rows_(model, false, true),
+      data_(model) {
     for (const Body& b : model.bodies) {
         BodyInfo info;
         info.name = b.name;
@@ -18,10 +24,12 @@ ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
         }
         bodies_.push_back(info);
     }
-    int row = 0;
+    int row = 0, velocity_row = 0;
     for (const JointInstance& j : model.joints) {
-        joints_.push_back({j.name, j.type, j.bodies, j.markers, row, j.joint->rows(), j.joint});
+        joints_.push_back({j.name, j.type, j.bodies, j.markers, row, j.joint->rows(), j.joint, velocity_row,
+                           j.joint->velocity_rows()});
         row += j.joint->rows();
+        velocity_row += j.joint->velocity_rows();
     }
     for (const Driver& d : model.drivers) drivers_.push_back({d.name, d.joint, row++});
     for (const ForceInstance& f : model.forces) forces_.push_back({f.name, f.type, f.bodies, f.force});
@@ -46,7 +54,9 @@ ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
     mass_.setFromTriplets(t.begin(), t.end());
 }
 
-std::string ModelSystem::describe_row(int row) const { return with_drivers_.owner(row).describe(); }
+std::string ModelSystem::describe_row(int row) const {
+    return with_drivers_and_velocity_rows_.owner(row).describe();
+}
 
 void ModelSystem::advance_positions(Eigen::VectorXd& q, const Eigen::VectorXd& dv) const {
     mbd::advance_positions(*model_, q, dv);
@@ -206,12 +216,17 @@ void ModelSystem::constraints(const State& state, ConstraintValues& out, bool in
     (include_drivers ? with_drivers_ : joints_only_).evaluate(state, data_, out);
 }
 
+void ModelSystem::constraints_with_velocity_rows(const State& state, ConstraintValues& out, bool include_drivers) {
+    (include_drivers ? with_drivers_and_velocity_rows_ : joints_and_velocity_rows_).evaluate(state, data_, out);
+}
+
 void ModelSystem::assemble(State& state, bool include_drivers) {
     assemble_positions(include_drivers ? with_drivers_ : joints_only_, data_, state, kinematics_);
 }
 
 void ModelSystem::consistent_velocities(State& state, bool include_drivers) {
-    solve_velocities(include_drivers ? with_drivers_ : joints_only_, data_, state, kinematics_.newton.algebra);
+    solve_velocities(include_drivers ? with_drivers_and_velocity_rows_ : joints_and_velocity_rows_, data_, state,
+                     kinematics_.newton.algebra);
 }
 
 }  // namespace mbd

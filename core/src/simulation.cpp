@@ -178,6 +178,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     if (integrator->needs_index3() && !formulation->supports_index3())
         throw InputError(integrator->name(), integrator->name() + " needs a formulation that supports index-3 (augmented); '" +
                                                  name + "' has none");
+    require_velocity_rows_handled(model, *formulation, name, integrator->needs_index3(), integrator->name());
 
     // --- bind and assemble a consistent initial state
     require_positive_masses(model);
@@ -223,7 +224,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         if (!sample.state.q.allFinite() || !sample.state.v.allFinite())
             throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
         std::vector<double> row = motion_values(model, sample.state);
-        system.constraints(sample.state, cv, true);
+        system.constraints_with_velocity_rows(sample.state, cv, true);  // their C is 0
         result.final_position_violation = max_abs(cv.C);
         Eigen::VectorXd velocity_residual = cv.C_t;
         if (cv.J.rows() > 0) velocity_residual += cv.J * sample.state.v;

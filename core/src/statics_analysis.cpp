@@ -93,6 +93,9 @@ void check_statics_options(const StaticsOptions& o) {
 
 StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions options, const std::string& solver) {
     check_statics_options(options);
+    // an equilibrium of a nonholonomic system balances the no-slip reactions too (virtual
+    // displacements obey A dq = 0), which the statics solvers do not take
+    require_holonomic(model, "the statics analysis", "simulate the motion (`mbd simulate`) instead");
     StaticsReport report;
     ModelSystem system(model);
     State start = system.initial_state();
@@ -165,6 +168,7 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
 
 void run_inverse(const Model& model, Registry& registry, double t_end, double step, const InverseCallback& callback,
                  InverseOptions options, const std::string& solver) {
+    require_holonomic(model, "inverse dynamics", "simulate the motion (`mbd simulate`) instead");
     ModelSystem system(model);
     if (options.actuators.empty()) options.actuators = scene_actuators(model);
     if (options.actuators.empty())

@@ -27,6 +27,10 @@
 //           the ordering and symbolic analysis are done once in bind() on W's fixed
 //           pattern (every row of a joint touches every velocity column of that joint's
 //           bodies); a rank-deficient S is damped (W W^T + delta I) and refined.
+// Velocity-level (nonholonomic) joint rows A v = b (a wheel's no-slip condition) are rows
+// of J with their own multipliers (the no-slip reactions), written as C = 0, J = A, C_t = -b,
+// gamma = db/dt - (dA/dt) v (System::constraints_with_velocity_rows): they enter the
+// acceleration system and the velocity projection like any row, and restrict no position.
 // Drift (FormulationOptions::stabilization): projection after each accepted step
 // (Newton on C(q, t) = 0 with steps of minimum kinetic-energy norm,
 // dq = -M^-1 J^T S^-1 C, then v <- v - M^-1 J^T S^-1 (J v + C_t)); Baumgarte
@@ -67,6 +71,7 @@ public:
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
     void accelerations(const State& state, Eigen::VectorXd& vdot) override;
     bool supports_index3() const override { return true; }
+    bool supports_velocity_constraints() const override { return true; }
     OptionGroups options_used() const override {
         return kStabilizationOptions | kLinearAlgebraOptions | kSingularityOptions;
     }
@@ -138,7 +143,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     nqb_ = coordinates_per_body(system.dimension());
     nb_ = system.body_count();
     bind_sizes(system);
-    nc_ = system.constraint_rows(true);
+    nc_ = system.constraint_rows(true) + system.velocity_constraint_rows();
     sparse_ = options_.algebra == LinearAlgebra::Sparse ||
               (options_.algebra == LinearAlgebra::Auto && nv_ > options_.sparse_threshold);
 
@@ -183,6 +188,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     for (int j = 0; j < system.joint_count(); ++j) {
         const JointInfo& info = system.joint(j);
         add_rows(info.bodies, info.first_row, info.rows);
+        add_rows(info.bodies, system.constraint_rows(true) + info.velocity_row_offset, info.velocity_rows);
     }
     for (int d = 0; d < system.driver_count(); ++d) {
         const DriverInfo& info = system.driver(d);
@@ -349,7 +355,7 @@ bool Augmented::reselect_dropped_rows(double t) {
 
 void Augmented::solve_dynamics(double t) {
     System& sys = *system_;
-    sys.constraints(state_, cv_, true);
+    sys.constraints_with_velocity_rows(state_, cv_, true);
     if (!redundancy_checked_) find_structural_redundancy(t);
     sys.generalized_forces(state_, Q_);
     check_finite(t, Q_, "generalized forces");
@@ -441,7 +447,7 @@ bool Augmented::project(double t, Eigen::VectorXd& y) {
     if (options_.stabilization != Stabilization::Projection || nc_ == 0) {
         y.head(nq_) = state_.q;
         if (singularity_.active(sys)) {
-            sys.constraints(state_, cv_, true);
+            sys.constraints_with_velocity_rows(state_, cv_, true);
             singularity_.check(sys, t, cv_.J);
         }
         return true;

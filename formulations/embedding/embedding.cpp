@@ -8,7 +8,8 @@
 //   recursive  (formulations/articulated_body/) the joints form a tree, every joint describes its relative
 //              motion and there are no drivers: joint coordinates, O(n) articulated-body
 //              algorithm; no constraint drift by construction.
-//   dense      (partitioned.hpp) anything else (closed loops, drivers, redundant rows):
+//   dense      (partitioned.hpp) anything else (closed loops, drivers, redundant rows,
+//              velocity-level (nonholonomic) rows):
 //              absolute coordinates, independent velocity components chosen by
 //              rank-revealing LU of J (partition.hpp), dependent positions by Newton-Raphson
 //              after each step, re-selection near singular configurations.
@@ -31,12 +32,21 @@ class Embedding final : public Formulation {
 public:
     explicit Embedding(const FormulationSpec& spec);
     OptionGroups options_used() const override { return kPartitionOptions | kNewtonOptions | kSingularityOptions; }
+    // the dense path partitions the velocity-level rows with the others (partitioned.hpp);
+    // a scene with them is no tree of relative joint motions, so auto never takes the recursive one
+    bool supports_velocity_constraints() const override { return true; }
 
     void bind(System& system, const FormulationOptions& options) override {
         std::string reason;
         const bool tree = recursive_embedding_possible(system, &reason);
         const bool recursive = path_ == "recursive" || (path_ == "auto" && tree);
         recursive_ = recursive;
+        const int nonholonomic = system.first_nonholonomic_joint();
+        if (recursive && nonholonomic >= 0)
+            throw InputError("", "embedding formulation, path: recursive: joint '" + system.joint(nonholonomic).name +
+                                     "' (" + system.joint(nonholonomic).type +
+                                     ") has velocity-level (nonholonomic) rows, which the recursive path (joint "
+                                     "coordinates of a tree) cannot hold; use path: dense (or auto)");
         if (recursive)
             impl_ = std::make_unique<articulated::ArticulatedBody>();
         else
@@ -60,7 +70,7 @@ public:
         // the rows of a tree are independent by construction
         if (!recursive_ && singularity_.active(*system_)) {
             impl_->from_ode(t, y, check_state_);
-            system_->constraints(check_state_, check_cv_, true);
+            system_->constraints_with_velocity_rows(check_state_, check_cv_, true);
             singularity_.check(*system_, t, check_cv_.J);
         }
         return true;

@@ -41,7 +41,7 @@ void Partitioned::bind(System& system, const FormulationOptions& options) {
     log_choices_ = options.log_choices.value_or(true) && options.log.enabled();  // no text built for nobody
     nq_ = system.nq();
     nv_ = system.nv();
-    nc_ = system.constraint_rows(true);
+    nc_ = system.constraint_rows(true) + system.velocity_constraint_rows();
     names_ = velocity_names(system);
     M_ = &system.mass_matrix();
     selected_ = false;
@@ -71,7 +71,7 @@ void Partitioned::log_partition(double t, const char* what) const {
 }
 
 void Partitioned::evaluate(const State& state) {
-    system_->constraints(state, cv_, true);
+    system_->constraints_with_velocity_rows(state, cv_, true);  // the joints' A v = b rows partitioned alike
     J_ = cv_.J;  // in place
 }
 

@@ -20,6 +20,12 @@
 // dependent velocities are recomputed from v_i in every evaluation (Eq. 6.169), so the
 // velocity constraints hold exactly and the positions to the Newton tolerance: no drift.
 //
+// Velocity-level (nonholonomic) joint rows A v = b (System::constraints_with_velocity_rows:
+// C = 0, J = A, C_t = -b) are partitioned with the holonomic rows: the independent velocities
+// v_i span the null space of [J; A], fewer than the positions' degrees of freedom, and since
+// all of q is integrated from qdot(q, v) no position is lost; the Newton correction of the
+// dependent positions drives the holonomic C to zero (the velocity rows' C is always 0).
+//
 // Re-selection (Sec. 6.12, L9348-9418): after each accepted step the pivot ratio of J_d
 // (smallest / largest pivot of its complete-pivoting LU) is checked; below
 // `reselect_ratio` the partition is chosen again by complete pivoting on J at the

@@ -1,6 +1,8 @@
 // The assembler of constraint equations: stacks the rows of every joint and
 // driver into C(q, t), the sparse Jacobian C_q (with respect to v), C_t and
 // gamma (book Eqs. 3.108-3.124), and remembers which element owns each row.
+// Optionally the joints' velocity-level (nonholonomic) rows A v = b follow the drivers,
+// written as rows with no position residual (C = 0, J = A, C_t = -b: sdk system.hpp).
 // It is immutable: the Jacobian's sparsity pattern (every body block of every row,
 // zeros included) is fixed when it is built, and each evaluation writes the values
 // in place, into the caller's Data and ConstraintValues.
@@ -17,7 +19,7 @@
 namespace mbd {
 
 struct RowOwner {
-    enum class Kind { Joint, Driver };
+    enum class Kind { Joint, Driver, JointVelocity };  // JointVelocity: a velocity-level row
     Kind kind = Kind::Joint;
     int element = -1;        // index into Model::joints or Model::drivers
     int local_row = 0;
@@ -29,8 +31,9 @@ struct RowOwner {
 
 class ConstraintSystem {
 public:
-    // include_drivers = false gives the joints only (dynamically driven model).
-    explicit ConstraintSystem(const Model& model, bool include_drivers = true);
+    // include_drivers = false gives the joints only (dynamically driven model);
+    // include_velocity_rows adds the joints' velocity-level rows after the drivers.
+    explicit ConstraintSystem(const Model& model, bool include_drivers = true, bool include_velocity_rows = false);
 
     const Model& model() const { return *model_; }
     int rows() const { return rows_; }
@@ -44,9 +47,11 @@ public:
 private:
     const Model* model_;
     bool include_drivers_;
+    bool include_velocity_rows_;
     int rows_ = 0;
     int joint_rows_ = 0;
     std::vector<int> joint_offset_;
+    std::vector<int> velocity_offset_;  // each joint's first velocity-level row
     std::vector<RowOwner> owners_;
     // The Jacobian's fixed pattern, and for each element row and each of its body
     // columns (in the order evaluate() visits them, ground bodies skipped) the index

@@ -1,7 +1,8 @@
 // Finite-difference validation of joint and force plugins: a joint's Jacobian
 // against central differences of C, its gamma against the second time
 // derivative of C along random smooth trajectories (Cddot = J vdot - gamma),
-// the same for its driver coordinate; a force's Jacobians against central
+// the same for its driver coordinate, and its velocity-level rows A v = b (the derivative
+// of A v - b along the trajectory against A vdot - gamma; A and b independent of v); a force's Jacobians against central
 // differences of Q, and Q = -dV/dq for conservative forces. The states are
 // random and off the constraint manifold, and the joint geometry can be made
 // random too (with_random_joint_geometry), so that no term of J or gamma is
@@ -23,6 +24,8 @@ struct DerivativeErrors {
     double time_derivative = 0.0;     // joints: C_t against Cdot - J v
     double coordinate_jacobian = 0.0;
     double coordinate_gamma = 0.0;
+    double velocity_gamma = 0.0;      // velocity-level rows: gamma against A vdot - d/dt (A v - b)
+    double velocity_dependence = 0.0; // velocity-level rows: change of A and b with v (must be 0)
     double velocity_jacobian = 0.0;   // forces: dQ/dv
     double potential = 0.0;           // conservative forces: Q + dV/dq
     double event_gradient = 0.0;      // forces with events: G of event_impact against differences of g

@@ -5,6 +5,7 @@
 // plugin read itself.
 #pragma once
 
+#include <mbd/model.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/sdk/formulation.hpp>
 
@@ -22,5 +23,12 @@ FormulationOptions read_formulation_options(const Param& node);
 // type or key.
 std::shared_ptr<Formulation> create_formulation(Registry& registry, const std::string& name, const Param* node,
                                                 const std::string& where);
+
+// A model with velocity-level (nonholonomic) joint rows needs a formulation that obeys them
+// (Formulation::supports_velocity_constraints) and, when the integrator solves the index-3
+// DAE on the holonomic rows (needs_index3, named `integrator`), refuses that too. Throws
+// InputError naming the first such joint, the formulation and what to use instead.
+void require_velocity_rows_handled(const Model& model, const Formulation& formulation, const std::string& name,
+                                   bool needs_index3, const std::string& integrator);
 
 }  // namespace mbd

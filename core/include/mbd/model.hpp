@@ -125,4 +125,10 @@ Eigen::VectorXd coordinate_rates(const Model& model, const Eigen::VectorXd& q, c
 // Rescale every body's Euler parameters to unit length (spatial); no-op planar.
 void normalize_euler_parameters(const Model& model, Eigen::VectorXd& q);
 
+// Analyses built on the holonomic rows alone (kinematics, statics, inverse dynamics, the
+// linearisation of `mbd modes`) refuse a model whose joints have velocity-level
+// (nonholonomic) rows, which they would silently ignore: throws InputError at the first such
+// joint's file:line, naming it, `analysis` and what to do instead (`instead`).
+void require_holonomic(const Model& model, const std::string& analysis, const std::string& instead);
+
 }  // namespace mbd

@@ -48,6 +48,7 @@ public:
     bool conservative() const override;
 
     void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) override;
+    void constraints_with_velocity_rows(const State& state, ConstraintValues& out, bool include_drivers = true) override;
     void assemble(State& state, bool include_drivers = true) override;
     void consistent_velocities(State& state, bool include_drivers = true) override;
 
@@ -64,6 +65,8 @@ private:
     Eigen::SparseMatrix<double> mass_;
     const ConstraintSystem with_drivers_;
     const ConstraintSystem joints_only_;
+    const ConstraintSystem with_drivers_and_velocity_rows_;
+    const ConstraintSystem joints_and_velocity_rows_;
     Data data_;
 };
 

@@ -59,14 +59,20 @@ public:
     virtual bool state_redefined() { return false; }
 
     // --- results
-    // Lagrange multipliers of every constraint row (joints, then drivers) at a
-    // consistent state: reactions and actuator efforts come from these.
+    // Lagrange multipliers of every constraint row (joints, then drivers, then, for a
+    // formulation that handles them, the joints' velocity-level rows) at a consistent
+    // state: reactions and actuator efforts come from these.
     virtual void multipliers(const State& state, Eigen::VectorXd& lambda) = 0;
     // Accelerations vdot at a state.
     virtual void accelerations(const State& state, Eigen::VectorXd& vdot) = 0;
     // The formulation's conserved quantity where it has one (Hamiltonian: H).
     virtual bool has_hamiltonian() const { return false; }
     virtual double hamiltonian(double /*t*/, const Eigen::VectorXd& /*y*/) { return 0.0; }
+
+    // True if the formulation obeys the joints' velocity-level (nonholonomic) rows A v = b
+    // (joint.hpp; System::constraints_with_velocity_rows). The host refuses a scene with such
+    // rows for a formulation that does not, naming the joint.
+    virtual bool supports_velocity_constraints() const { return false; }
 
     // True if an implicit integrator may solve this formulation's index-3 DAE
     // M vdot + J^T lambda = Q, C(q, t) = 0 on the System directly.

@@ -10,6 +10,16 @@
 //   gamma   the acceleration right side Q_d (book Eq. 3.124: J vdot = gamma),
 // so that along any motion  Cddot = J vdot - gamma.
 // Columns belonging to the ground are written but ignored by the assembler.
+//
+// A joint may also restrict the velocities without restricting the positions
+// (nonholonomic, velocity-level rows: a wheel's no-slip condition, book Sec. 1.4's
+// nonholonomic constraints). For those rows it gives
+//   A       the velocity coefficients (same column layout as J),
+//   b       the right side, so that the constraint is  A(q, t) v = b(q, t),
+//   gamma   the acceleration right side: A vdot = gamma along any motion that keeps
+//           A v = b, i.e. gamma = db/dt - (dA/dt) v, both derivatives total (through
+//           q, whose rate is v, and t),
+// so that along any motion  d/dt (A v - b) = A vdot - gamma.
 #pragma once
 
 #include <mbd/sdk/body_state.hpp>
@@ -34,6 +44,19 @@ struct ConstraintEval {
         C.setZero(rows);
         J.setZero(rows, cols);
         C_t.setZero(rows);
+        gamma.setZero(rows);
+    }
+};
+
+// Preallocated output of a velocity-level (nonholonomic) evaluation, rows x cols.
+struct VelocityConstraintEval {
+    Eigen::MatrixXd A;
+    Eigen::VectorXd b;
+    Eigen::VectorXd gamma;
+
+    void resize(int rows, int cols) {
+        A.setZero(rows, cols);
+        b.setZero(rows);
         gamma.setZero(rows);
     }
 };
@@ -101,6 +124,13 @@ public:
 
     // Joints that are tree edges describe their free relative motions.
     virtual std::optional<RelativeMotion> relative_motion() const { return std::nullopt; }
+
+    // Velocity-level (nonholonomic) rows, A v = b: none unless a joint has them. They
+    // follow every holonomic row and driver in a System's stack (system.hpp).
+    virtual int velocity_rows() const { return 0; }
+    // Evaluate A, b and gamma into `out` (already sized velocity_rows() x cols).
+    virtual void evaluate_velocity(const BodyStates& /*bodies*/, VelocityConstraintEval& /*out*/) const {}
+    virtual std::string velocity_row_name(int row) const { return "velocity row " + std::to_string(row); }
 };
 
 }  // namespace mbd

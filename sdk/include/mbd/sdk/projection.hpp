@@ -8,6 +8,10 @@
 // with System::advance_positions, so Euler parameters stay unit), to `tolerance` on
 // max |C|, and always at least one Newton step when C != 0; then velocities
 // v <- v - M^-1 J^T S^-1 (J v + C_t), so that book Eq. 6.138 (J v + C_t = 0) holds.
+// The joints' velocity-level rows (A v = b, System::constraints_with_velocity_rows) take part
+// with their C = 0: the velocity step projects onto them too; in a position step they add
+// A dq = 0, so the correction of the holonomic rows does not move the no-slip points along
+// the surface, and the positions they leave free stay free (their C is never nonzero).
 // Why at least one step: a projection that leaves violations below the tolerance alone is
 // not a smooth map of the state; inside a multistep integrator (CVODE's CVodeSetProjFn) its
 // corrections, switching on and off at the size of the tolerance, are noise in the BDF
@@ -60,7 +64,7 @@ bool project_onto_constraints(System& system, double t, ProjectionScratch& work,
         system.normalize(state.q);
         bool converged = false;
         for (int iteration = 0; iteration < 25; ++iteration) {
-            system.constraints(state, cv, true);
+            system.constraints_with_velocity_rows(state, cv, true);
             const double violation = cv.C.size() ? cv.C.template lpNorm<Eigen::Infinity>() : 0.0;
             if (!std::isfinite(violation)) break;
             // at least one Newton step whenever C != 0 (see the header)
@@ -77,7 +81,7 @@ bool project_onto_constraints(System& system, double t, ProjectionScratch& work,
             if (!dv.allFinite()) break;
             system.advance_positions(state.q, dv);
             if (dv.template lpNorm<Eigen::Infinity>() <= 1e-3 * tolerance) {
-                system.constraints(state, cv, true);
+                system.constraints_with_velocity_rows(state, cv, true);
                 converged = cv.C.template lpNorm<Eigen::Infinity>() <= 1e3 * tolerance;
                 break;
             }
@@ -102,7 +106,7 @@ class DenseMetricSolver {
 public:
     void bind(System& system) {
         mass_inverse_.bind(system, "coordinate projection");
-        gram_.resize(system.constraint_rows(true), system.nv());
+        gram_.resize(system.constraint_rows(true) + system.velocity_constraint_rows(), system.nv());
     }
     void apply_Minv(const Eigen::VectorXd& x, Eigen::VectorXd& out) const { mass_inverse_.apply(x, out); }
     void factor(const Eigen::SparseMatrix<double>& J, bool robust) {

@@ -9,6 +9,10 @@
 // marker on that body, u_P = A u_bar_P) gives the equipollent force and torque at
 // the joint (Eq. 6.147): F = Q_R, T_P = T_cm - u_P x F (Eq. 6.148 by virtual work).
 //
+// A joint's velocity-level rows (A v = b, a wheel's no-slip condition) carry reactions
+// the same way, Q_c = -A^T mu (their multipliers mu follow the drivers' in lambda), and
+// count in the joint's reaction when lambda has them.
+//
 // A driver's row (s(q) - f(t) = 0) adds the actuator effort; it is reported
 // separately (driver_reactions) so that a joint's reaction is what its bearing carries
 // and the driver's is what the motor supplies.
@@ -19,6 +23,7 @@
 #include <Eigen/Core>
 #include <Eigen/Sparse>
 
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -73,10 +78,17 @@ inline Mat3 marker_axes(System& system, const Marker& m) {
     return m.A_bar;
 }
 
-// Reactions on the bodies of one element from rows [first, first + count) of J and lambda.
+// Rows [first, first + count) of J and lambda.
+struct RowRange {
+    int first = 0;
+    int count = 0;
+};
+
+// Reactions on the bodies of one element from its row ranges of J and lambda.
 inline JointReaction element_reaction(System& system, const State& state,
                                       const Eigen::SparseMatrix<double, Eigen::RowMajor>& J,
-                                      const Eigen::VectorXd& lambda, const JointInfo& joint, int first, int count) {
+                                      const Eigen::VectorXd& lambda, const JointInfo& joint,
+                                      std::initializer_list<RowRange> ranges) {
     const bool planar = system.dimension() == Dimension::Planar;
     const int nvb = velocities_per_body(system.dimension());
     JointReaction out;
@@ -95,10 +107,12 @@ inline JointReaction element_reaction(System& system, const State& state,
         // generalized constraint force -J_k^T lambda_k on this body's columns (Eq. 6.146)
         Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
         const int c0 = body * nvb;
-        for (int row = first; row < first + count; ++row) {
-            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(J, row); it; ++it) {
-                const int c = static_cast<int>(it.col());
-                if (c >= c0 && c < c0 + nvb) g[c - c0] -= it.value() * lambda[row];
+        for (const RowRange& range : ranges) {
+            for (int row = range.first; row < range.first + range.count; ++row) {
+                for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(J, row); it; ++it) {
+                    const int c = static_cast<int>(it.col());
+                    if (c >= c0 && c < c0 + nvb) g[c - c0] -= it.value() * lambda[row];
+                }
             }
         }
         r.generalized = g;
@@ -129,28 +143,45 @@ inline JointReaction element_reaction(System& system, const State& state,
 inline void check_sizes(System& system, const State& state, const Eigen::VectorXd& lambda) {
     if (state.q.size() != system.nq() || state.v.size() != system.nv())
         throw std::invalid_argument("joint_reactions: the state does not match the system");
-    if (lambda.size() != system.constraint_rows(true) && lambda.size() != system.constraint_rows(false))
+    const long n = lambda.size();
+    if (n != system.constraint_rows(true) && n != system.constraint_rows(false) &&
+        n != system.constraint_rows(true) + system.velocity_constraint_rows())
         throw std::invalid_argument("joint_reactions: " + std::to_string(lambda.size()) +
                                     " multipliers for " + std::to_string(system.constraint_rows(true)) +
                                     " constraint rows");
 }
 
+// lambda holds the velocity-level rows' multipliers too
+inline bool has_velocity_rows(System& system, const Eigen::VectorXd& lambda) {
+    return system.velocity_constraint_rows() > 0 &&
+           lambda.size() == system.constraint_rows(true) + system.velocity_constraint_rows();
+}
+
 }  // namespace reactions_detail
 
 // Reactions of every joint on each of its bodies (joint rows only), in scene order.
-// lambda holds one multiplier per constraint row (joints then drivers, or joints only).
+// lambda holds one multiplier per constraint row (joints then drivers, or joints only;
+// or joints, drivers and the velocity-level rows).
 inline std::vector<JointReaction> joint_reactions(System& system, const State& state,
                                                   const Eigen::VectorXd& lambda) {
     reactions_detail::check_sizes(system, state, lambda);
-    const bool drivers = lambda.size() == system.constraint_rows(true) && system.driver_count() > 0;
+    const bool velocity_rows = reactions_detail::has_velocity_rows(system, lambda);
+    const bool drivers = velocity_rows || (lambda.size() == system.constraint_rows(true) && system.driver_count() > 0);
     ConstraintValues cv;
-    system.constraints(state, cv, drivers);
+    if (velocity_rows)
+        system.constraints_with_velocity_rows(state, cv, true);
+    else
+        system.constraints(state, cv, drivers);
     const Eigen::SparseMatrix<double, Eigen::RowMajor> J = cv.J;
+    const int first_velocity_row = system.constraint_rows(true);
     std::vector<JointReaction> out;
     out.reserve(system.joint_count());
     for (int j = 0; j < system.joint_count(); ++j) {
         const JointInfo& info = system.joint(j);
-        JointReaction r = reactions_detail::element_reaction(system, state, J, lambda, info, info.first_row, info.rows);
+        const reactions_detail::RowRange velocity{first_velocity_row + info.velocity_row_offset,
+                                                  velocity_rows ? info.velocity_rows : 0};
+        JointReaction r =
+            reactions_detail::element_reaction(system, state, J, lambda, info, {{info.first_row, info.rows}, velocity});
         r.name = info.name;
         r.element = j;
         out.push_back(std::move(r));
@@ -164,13 +195,16 @@ inline std::vector<JointReaction> driver_reactions(System& system, const State& 
                                                    const Eigen::VectorXd& lambda) {
     reactions_detail::check_sizes(system, state, lambda);
     std::vector<JointReaction> out;
-    if (lambda.size() != system.constraint_rows(true) || system.driver_count() == 0) return out;
+    if (lambda.size() < system.constraint_rows(true) || system.driver_count() == 0) return out;
     ConstraintValues cv;
-    system.constraints(state, cv, true);
+    if (reactions_detail::has_velocity_rows(system, lambda))
+        system.constraints_with_velocity_rows(state, cv, true);
+    else
+        system.constraints(state, cv, true);
     const Eigen::SparseMatrix<double, Eigen::RowMajor> J = cv.J;
     for (int d = 0; d < system.driver_count(); ++d) {
         const DriverInfo& info = system.driver(d);
-        JointReaction r = reactions_detail::element_reaction(system, state, J, lambda, system.joint(info.joint), info.row, 1);
+        JointReaction r = reactions_detail::element_reaction(system, state, J, lambda, system.joint(info.joint), {{info.row, 1}});
         r.name = info.name;
         r.element = d;
         r.driver = true;

@@ -56,7 +56,7 @@ public:
     int qr_count() const { return qr_count_; }  // how many checks needed the QR (diagnostics)
 
     bool active(System& system) const {
-        const double nc = system.constraint_rows(true), nv = system.nv();
+        const double nc = system.constraint_rows(true) + system.velocity_constraint_rows(), nv = system.nv();
         return tolerance > 0.0 && nc > 0 && nc * nv * std::min(nc, nv) <= max_work;
     }
 

@@ -3,7 +3,9 @@
 // only this header, never core headers.
 //
 // Layout: q and v per body as in body_state.hpp; constraint rows are every
-// joint's rows in scene order, then one row per driver. Every Jacobian is with
+// joint's rows in scene order, then one row per driver, then (only where asked for:
+// constraints_with_velocity_rows) every joint's velocity-level (nonholonomic) rows in
+// scene order. Every Jacobian is with
 // respect to v (spatial: (dR, dpi_bar)); position increments are applied with
 // advance_positions().
 //
@@ -38,6 +40,10 @@ struct JointInfo {
     int first_row = 0;              // its rows in the constraint vector
     int rows = 0;
     std::shared_ptr<const Joint> joint;
+    // its velocity-level rows A v = b (joint.hpp), at constraint_rows(include_drivers) +
+    // velocity_row_offset in a stack with velocity rows
+    int velocity_row_offset = 0;
+    int velocity_rows = 0;
 };
 
 struct DriverInfo {
@@ -74,7 +80,20 @@ public:
     virtual const ForceInfo& force(int index) const = 0;
     int joint_rows() const { return joint_count() ? joint(joint_count() - 1).first_row + joint(joint_count() - 1).rows : 0; }
     int constraint_rows(bool include_drivers = true) const { return joint_rows() + (include_drivers ? driver_count() : 0); }
-    // "joint 'O' (x)" or "driver 'motor'", for messages
+    // the joints' velocity-level (nonholonomic) rows, which restrict v but not q
+    int velocity_constraint_rows() const {
+        if (!joint_count()) return 0;
+        const JointInfo& last = joint(joint_count() - 1);
+        return last.velocity_row_offset + last.velocity_rows;
+    }
+    // the first joint with velocity-level rows, -1 if none (for refusals by name)
+    int first_nonholonomic_joint() const {
+        for (int j = 0; j < joint_count(); ++j)
+            if (joint(j).velocity_rows > 0) return j;
+        return -1;
+    }
+    // "joint 'O' (x)" or "driver 'motor'", for messages; rows from constraint_rows(true) on
+    // are the velocity-level rows, as in constraints_with_velocity_rows(state, out, true)
     virtual std::string describe_row(int row) const = 0;
 
     // --- state
@@ -99,9 +118,17 @@ public:
 
     // --- constraints (joints, then drivers when include_drivers)
     virtual void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) = 0;
+    // Every row the velocities obey: the rows of constraints() followed by the joints'
+    // velocity-level rows A v = b, written as rows with no position residual: C = 0, J = A,
+    // C_t = -b, gamma = the joint's gamma, so that J v + C_t = 0 and J vdot = gamma hold for
+    // every row alike (book Eqs. 3.120, 3.124). The same as constraints() when
+    // velocity_constraint_rows() == 0.
+    virtual void constraints_with_velocity_rows(const State& state, ConstraintValues& out,
+                                                bool include_drivers = true) = 0;
 
     // --- kinematics (the core's Newton-Raphson; throws std::runtime_error naming the worst joint)
     virtual void assemble(State& state, bool include_drivers = true) = 0;  // positions
+    // velocities: J v + C_t = 0 for every row, the velocity-level rows included
     virtual void consistent_velocities(State& state, bool include_drivers = true) = 0;
 };
 

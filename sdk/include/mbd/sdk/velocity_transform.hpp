@@ -136,7 +136,10 @@ inline void multipliers_from_dependent_rows(const Eigen::MatrixXd& J, const Coor
 // Dependent positions by Newton-Raphson holding the independent directions:
 // J_d dd = -C (kept rows), q <- q (+) P_d dd (book Sec. 6.12 step 3; Ch. 3 Eq. 3.117),
 // until max |C| on the kept rows <= tolerance. state.q is updated; returns false if
-// the iteration did not converge. cv and J are left at the final q.
+// the iteration did not converge. cv and J are left at the final q. The rows are those of
+// System::constraints_with_velocity_rows (the partition's): a velocity-level row has C = 0, so
+// in a Newton step it only keeps A dd = 0 (the correction does not move a no-slip contact
+// along its surface); without such rows they are the rows of System::constraints.
 inline bool correct_dependent_positions(System& system, State& state, const CoordinatePartition& p,
                                         double tolerance, int iterations, ConstraintValues& cv, Eigen::MatrixXd& J,
                                         VelocityTransformWorkspace& ws) {
@@ -144,7 +147,7 @@ inline bool correct_dependent_positions(System& system, State& state, const Coor
     bool converged = p.rank == 0;
     ws.dv.resize(nv);
     for (int iteration = 0; iteration < iterations && !converged; ++iteration) {
-        system.constraints(state, cv, true);
+        system.constraints_with_velocity_rows(state, cv, true);
         J = cv.J;
         const double violation = max_abs(cv.C, p.rows);
         if (!std::isfinite(violation)) break;
@@ -165,7 +168,7 @@ inline bool correct_dependent_positions(System& system, State& state, const Coor
         scatter(ws.x, p.dependent, ws.dv);
         system.advance_positions(state.q, ws.dv);
     }
-    system.constraints(state, cv, true);
+    system.constraints_with_velocity_rows(state, cv, true);
     J = cv.J;
     return converged;
 }
