@@ -131,9 +131,6 @@ private:
     // (M vdot + J^T lambda = Q, J vdot = gamma): the embedded equations' solution, Eq. 6.95
     void sparse_accelerations(const State& state, Eigen::VectorXd& vdot, Eigen::VectorXd& lambda);
     bool sparse_ = false;  // selector_.sparse(): B never formed (see the header)
-    // the same dependent columns and kept rows (in any order): the same J_d up to permutations
-    bool same_dependent_set(const CoordinatePartition& a, const CoordinatePartition& b);
-    std::vector<char> marks_;
 
     PartitionSettings partition_settings_;
     bool log_choices_ = false;              // FormulationOptions::log_choices, default false
@@ -471,19 +468,10 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     return true;
 }
 
-bool Hamiltonian::same_dependent_set(const CoordinatePartition& a, const CoordinatePartition& b) {
-    if (a.rank != b.rank || a.redundant != b.redundant) return false;
-    marks_.assign(nv_, 0);
-    for (int c : a.dependent) marks_[c] = 1;
-    for (int c : b.dependent)
-        if (!marks_[c]) return false;
-    return true;
-}
-
 double Hamiltonian::pivot_ratio(const Eigen::SparseMatrix<double>& J, const Eigen::MatrixXd& J_dense,
                                 const CoordinatePartition& p) {
     if (!sparse_) return dependent_pivot_ratio(J_dense, p, transform_);
-    if (&p != &part_ && !same_dependent_set(p, part_)) {
+    if (&p != &part_ && !sparse_transform_.same_dependent_columns(p)) {
         candidate_.select(J, p);  // another candidate partition: rare (near a singular J_d)
         return candidate_.factor(J) ? candidate_.pivot_ratio() : 0.0;
     }

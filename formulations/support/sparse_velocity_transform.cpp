@@ -33,6 +33,16 @@ void SparseVelocityTransform::select(const Eigen::SparseMatrix<double>& J, const
     w_m_.setZero(m);
 }
 
+bool SparseVelocityTransform::same_dependent_columns(const CoordinatePartition& other) {
+    const CoordinatePartition& p = *p_;
+    if (other.rank != p.rank || other.redundant != p.redundant) return false;
+    marks_.assign(w_n_.size(), 0);
+    for (int c : p.dependent) marks_[c] = 1;
+    for (int c : other.dependent)
+        if (!marks_[c]) return false;
+    return true;
+}
+
 bool SparseVelocityTransform::factor(const Eigen::SparseMatrix<double>& J) {
     if (p_->rank == 0) return true;
     double* values = Jd_.valuePtr();

@@ -39,6 +39,10 @@ public:
     // to the ratio relative to the one the partition was chosen at
     double relative_pivot_ratio() { return reference_ratio_ > 0.0 ? lu_.pivot_ratio() / reference_ratio_ : 0.0; }
 
+    // whether partition `other` has the selected one's dependent columns and dropped rows (in
+    // any order): the same J_d up to permutations
+    bool same_dependent_columns(const CoordinatePartition& other);
+
     // after factor(): v from v_i (Eq. 6.169); v has size n
     void velocities(const Eigen::SparseMatrix<double>& J, const Eigen::VectorXd& C_t, const Eigen::VectorXd& vi,
                     Eigen::VectorXd& v);
@@ -57,6 +61,7 @@ private:
     double pivoted_ratio_ = 0.0;  // pivot ratio of the last pivoting factorization
     double reference_ratio_ = 0.0;  // pivot ratio at the first factorization of the partition
     Eigen::VectorXd x_, w_n_, w_m_;
+    std::vector<char> marks_;
 };
 
 }  // namespace mbd
