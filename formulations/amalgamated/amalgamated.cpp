@@ -96,7 +96,7 @@ private:
     System* system_ = nullptr;
     FormulationOptions options_;
     int nc_ = 0, nvb_ = 3;
-    Eigen::MatrixXd Mdense_;
+    const Eigen::SparseMatrix<double>* M_ = nullptr;  // the System's M (block diagonal)
     bool sparse_ = false;  // selector_.sparse(): the projection's metric and the pivot ratio sparse
     CoordinatePartition part_;
     bool analysed_ = false;
@@ -131,7 +131,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     bind_sizes(system);
     nc_ = system.constraint_rows(true);
     nvb_ = velocities_per_body(system.dimension());
-    Mdense_ = Eigen::MatrixXd(system.mass_matrix());
+    M_ = &system.mass_matrix();
     selector_.bind(nc_, nv_, options, fresh_);  // a re-selection allocates nothing (dense)
     sparse_ = selector_.sparse();
     if (sparse_)
@@ -188,7 +188,7 @@ void Amalgamated::build_pattern() {
     // M (per-body blocks, explicit zeros kept so that the pattern never changes)
     for (int b = 0; b < n / nvb_; ++b)
         for (int i = 0; i < nvb_; ++i)
-            for (int j = 0; j < nvb_; ++j) triplets_.emplace_back(b * nvb_ + i, b * nvb_ + j, Mdense_(b * nvb_ + i, b * nvb_ + j));
+            for (int j = 0; j < nvb_; ++j) triplets_.emplace_back(b * nvb_ + i, b * nvb_ + j, M_->coeff(b * nvb_ + i, b * nvb_ + j));
     for (int i = 0; i < n; ++i) {
         triplets_.emplace_back(i, n + i, 1.0);           // M vdot + f
         triplets_.emplace_back(n + m + i, n + i, -1.0);  // -f + J^T mu
