@@ -218,7 +218,8 @@ def main():
     md += ["", "### Scenes, error measures and references", ""] + details
     md += ["", "### Per-step cost against body count", "",
            "CPU time of one fixed rk4 step (4 right-hand sides and the formulation's projection) of `mbd simulate` on "
-           "planar chains (0.1 m, 1 kg links, revolute joints, gravity), for every formulation plugin installed, "
+           "planar chains (0.1 m, 1 kg links, revolute joints, gravity) and spatial chains (0.1 m, 1 kg rods on "
+           "spherical joints, gravity, the last link swinging sideways), for every formulation plugin installed, "
            "with log-log slopes fitted over all N and over N >= 100 (`docs/benchmarks/scaling.csv`, "
            "`docs/benchmarks/scaling.png`). The rhs-only breakdown (dense vs sparse, recursive vs dense) is "
            "`bench_augmented` / `bench_embedding` (sections above), rerun by the script into "
