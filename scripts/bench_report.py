@@ -158,9 +158,10 @@ def scaling_section(path, out_dir):
     with open(path) as f:
         for row in csv.DictReader(f):
             if row["cpu_per_step_s"]:
-                data.setdefault(row["formulation"], []).append((int(row["bodies"]), float(row["cpu_per_step_s"])))
+                name = f"{row.get('chain', 'planar')} {row['formulation']}"
+                data.setdefault(name, []).append((int(row["bodies"]), float(row["cpu_per_step_s"])))
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    lines = ["| formulation | " + " | ".join(f"N = {n}" for n in sorted({n for v in data.values() for n, _ in v}))
+    lines = ["| chain, formulation | " + " | ".join(f"N = {n}" for n in sorted({n for v in data.values() for n, _ in v}))
              + " | slope (all N) | slope (N >= 100) |"]
     all_n = sorted({n for v in data.values() for n, _ in v})
     lines.append("|---" * (len(all_n) + 3) + "|")
@@ -172,7 +173,7 @@ def scaling_section(path, out_dir):
         ax.loglog(ns, ts, marker="o", label=f"{name} (slope {s_all:.2f})")
         by_n = dict(pts)
         lines.append(f"| {name} | " + " | ".join(fmt(by_n.get(n)) for n in all_n) + f" | {s_all:.2f} | {s_big:.2f} |")
-    ax.set_xlabel("bodies (planar chain)")
+    ax.set_xlabel("bodies (chain links)")
     ax.set_ylabel("CPU time per rk4 step [s]")
     ax.set_title("per-step cost against body count")
     ax.grid(True, which="both", lw=0.3)
@@ -245,7 +246,8 @@ def main():
     md += ["", "### Scenes, error measures and references", ""] + details
     md += ["", "### Per-step cost against body count", "",
            "CPU time of one fixed rk4 step (4 right-hand sides and the formulation's projection) of `mbd simulate` on "
-           "planar chains (0.1 m, 1 kg links, revolute joints, gravity), for every formulation plugin installed, "
+           "planar chains (0.1 m, 1 kg links, revolute joints, gravity) and spatial chains (0.1 m, 1 kg rods on "
+           "spherical joints, gravity, the last link swinging sideways), for every formulation plugin installed, "
            "with log-log slopes fitted over all N and over N >= 100 (`docs/benchmarks/scaling.csv`, "
            "`docs/benchmarks/scaling.png`). The rhs-only breakdown (dense vs sparse, recursive vs dense) is "
            "`bench_augmented` / `bench_embedding` (sections above), rerun by the script into "

@@ -3,9 +3,10 @@
 
     bench_scaling.py MBD OUT.csv [--sizes 10,30,...] [--budget SECONDS]
 
-For each formulation that `MBD plugins` lists and each chain size N, writes a planar chain of N
-links (0.1 m, 1 kg, revolute joints, gravity; the model of bench/bench_augmented.cpp) to a
-temporary scene and runs `MBD simulate --integrator rk4 --step 1e-4` over a few steps with
+For each formulation that `MBD plugins` lists, each kind of chain and each size N, writes a chain
+of N links to a temporary scene: planar (0.1 m, 1 kg, revolute joints, gravity; the model of
+bench/bench_augmented.cpp) or spatial (0.1 m, 1 kg rods on spherical joints, gravity along -z,
+the last link given a sideways velocity so that the motion is spatial) and runs `MBD simulate --integrator rk4 --step 1e-4` over a few steps with
 --json; the CPU time per step is cpu_s / steps (the integration only: assembly excluded). A
 formulation that fails on a size, or whose last point took longer than the budget, stops there.
 """
@@ -28,6 +29,21 @@ def chain(n):
     return "\n".join(lines) + "\n"
 
 
+def spatial_chain(n):
+    lines = ["name: spatial-chain", "dimension: spatial", "gravity: [0, 0, -9.81]", "bodies:"]
+    lines += [f"  - {{name: l{k}, mass: 1.0, inertia: [1e-4, 0.000833333333333333, 0.000833333333333333], "
+              f"position: [{0.1 * k + 0.05:.6f}, 0, 0]"
+              + (", velocity: [0, 0.1, 0], angular_velocity: [0, 0, 2]" if k == n - 1 else "") + "}"
+              for k in range(n)]
+    lines.append("joints:")
+    lines += [f"  - {{name: j{k}, type: spherical, bodies: [{'ground' if k == 0 else f'l{k - 1}'}, l{k}], "
+              f"point: [{0.1 * k:.6f}, 0, 0]}}" for k in range(n)]
+    return "\n".join(lines) + "\n"
+
+
+CHAINS = {"planar": chain, "spatial": spatial_chain}
+
+
 def formulations(mbd):
     out = subprocess.run([mbd, "plugins"], capture_output=True, text=True).stdout
     names = []
@@ -46,16 +62,21 @@ def main():
     p.add_argument("out")
     p.add_argument("--sizes", default="10,30,100,300,1000,3000,10000")
     p.add_argument("--budget", type=float, default=10.0)
+    p.add_argument("--chains", default="planar,spatial")
+    p.add_argument("--formulations", default="", help="comma-separated (default: every installed plugin)")
     a = p.parse_args()
     sizes = [int(s) for s in a.sizes.split(",")]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         scenes = {}
-        for n in sizes:
-            scenes[n] = os.path.join(tmp, f"chain-{n}.yaml")
-            with open(scenes[n], "w") as f:
-                f.write(chain(n))
-        for name in formulations(a.mbd):
+        kinds = a.chains.split(",")
+        for kind in kinds:
+            for n in sizes:
+                scenes[kind, n] = os.path.join(tmp, f"{kind}-chain-{n}.yaml")
+                with open(scenes[kind, n], "w") as f:
+                    f.write(CHAINS[kind](n))
+        names = a.formulations.split(",") if a.formulations else formulations(a.mbd)
+        for kind, name in [(k, f) for k in kinds for f in names]:
             last = None  # (N, cpu per step) of the previous size
             for n in sizes:
                 steps = max(4, min(400, int(40000 / n)))
@@ -64,11 +85,11 @@ def main():
                     # and stop before a point that would exceed the budget even with 4 steps
                     predicted = last[1] * (n / last[0]) ** 3
                     if 4 * predicted > a.budget:
-                        print(f"scaling: {name} N = {n}: skipped (predicted {predicted:.2g} s per step)",
+                        print(f"scaling: {kind} {name} N = {n}: skipped (predicted {predicted:.2g} s per step)",
                               file=sys.stderr)
                         break
                     steps = max(4, min(steps, int(2.0 / predicted)))
-                cmd = [a.mbd, "simulate", scenes[n], "--formulation", name, "--integrator", "rk4", "--step", "1e-4",
+                cmd = [a.mbd, "simulate", scenes[kind, n], "--formulation", name, "--integrator", "rk4", "--step", "1e-4",
                        "--t-end", f"{steps * 1e-4:.6g}", "--json", "-q", "-o", os.path.join(tmp, "out.csv")]
                 r = None
                 try:
@@ -78,18 +99,19 @@ def main():
                     j = None
                 if not j or not j.get("steps"):
                     msg = "timeout" if j is None and r is None else ((r.stderr.strip().splitlines() or ["?"])[-1])
-                    print(f"scaling: {name} N = {n}: failed ({msg[:120]})", file=sys.stderr)
-                    rows.append({"formulation": name, "bodies": n, "steps": "", "cpu_s": "", "cpu_per_step_s": ""})
+                    print(f"scaling: {kind} {name} N = {n}: failed ({msg[:120]})", file=sys.stderr)
+                    rows.append({"chain": kind, "formulation": name, "bodies": n, "steps": "", "cpu_s": "",
+                                 "cpu_per_step_s": ""})
                     break
                 per = j["cpu_s"] / j["steps"]
                 last = (n, per)
-                rows.append({"formulation": name, "bodies": n, "steps": j["steps"], "cpu_s": j["cpu_s"],
+                rows.append({"chain": kind, "formulation": name, "bodies": n, "steps": j["steps"], "cpu_s": j["cpu_s"],
                              "cpu_per_step_s": per})
-                print(f"scaling: {name:12s} N = {n:6d}: {per:.3e} s per step", file=sys.stderr)
+                print(f"scaling: {kind:7s} {name:12s} N = {n:6d}: {per:.3e} s per step", file=sys.stderr)
                 if j["cpu_s"] > a.budget:
                     break
     with open(a.out, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["formulation", "bodies", "steps", "cpu_s", "cpu_per_step_s"])
+        w = csv.DictWriter(f, fieldnames=["chain", "formulation", "bodies", "steps", "cpu_s", "cpu_per_step_s"])
         w.writeheader()
         w.writerows(rows)
 

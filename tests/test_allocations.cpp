@@ -35,18 +35,6 @@ std::vector<std::string> allocation_scenes() {
     return scenes;
 }
 
-// chain-500 with amalgamated or hamiltonian is left out, the one gap in this test: there the
-// partitioned formulations factor J_d (1000 x 1000) by Eigen's dense blocked LU, whose matrix
-// products take their blocking buffers from the heap at that size (20 and 71 allocations per
-// rhs, measured on 2026-12-02), and their set-up and steps cost O(n^2.4) in the bodies, about
-// 150 s per pair. The sparse J_d of issue 14 removes both; the same code at small sizes is
-// covered (chain-50).
-const char* exclusion(const std::string& path, const std::string& type) {
-    if (path == "bench/chain-500.yaml" && (type == "amalgamated" || type == "hamiltonian"))
-        return "dense blocked LU of J_d allocates at this size (issue 14)";
-    return nullptr;
-}
-
 // A formulation bound to its own System, at the scene's assembled and projected initial state.
 struct Bound {
     std::unique_ptr<mbd::ModelSystem> system;
@@ -158,24 +146,21 @@ const std::vector<std::string> kFormulations = {"augmented", "embedding", "amalg
 
 TEST(Allocations, NoneAfterWarmUpPerRhsAndPerStep) {
     ASSERT_TRUE(mbd::test::allocation_counting_works()) << "the allocation counter sees no allocation at all";
-    int pairs = 0, excluded = 0, skipped = 0;
+    int pairs = 0, skipped = 0;
     for (const std::string& path : allocation_scenes()) {
         const mbd::Model model = mbd::test::load(path);
         for (const std::string& type : kFormulations) {
             if (!selected(path, type)) {
                 ++skipped;
-            } else if (const char* reason = exclusion(path, type)) {
-                std::printf("%-30s %-12s excluded: %s\n", path.c_str(), type.c_str(), reason);
-                ++excluded;
             } else {
                 expect_pair_allocates_nothing(model, path, type);
                 ++pairs;
             }
         }
     }
-    std::printf("%d scene x formulation pairs covered, %d excluded\n", pairs, excluded);
-    EXPECT_EQ(pairs + excluded + skipped, 4 * static_cast<int>(allocation_scenes().size()));
-    EXPECT_EQ(excluded, skipped ? excluded : 2);
+    // every pair, chain-500 with amalgamated and hamiltonian too (issue 14: J_d sparse there)
+    std::printf("%d scene x formulation pairs covered\n", pairs);
+    EXPECT_EQ(pairs + skipped, 4 * static_cast<int>(allocation_scenes().size()));
     EXPECT_EQ(skipped, 0) << "MBD_ALLOCATION_PAIRS left pairs out";
 }
 

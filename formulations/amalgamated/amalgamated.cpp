@@ -6,30 +6,39 @@
 //     vdot = B vdot_i + gamma'              (Eq. 4.18; rows of the independent components
 //                                            are the identification rows vdot_sel = vdot_i)
 //     B^T Q_c = 0                           (Eq. 4.19)
-// assembled as ONE sparse symmetric (indefinite) system (Eq. 4.20)
-//     [ M     I     0  ] [ vdot   ]   [ Q      ]
-//     [ I     0    -B  ] [ -Q_c   ] = [ gamma' ]
-//     [ 0   -B^T    0  ] [ vdot_i ]   [ 0      ]
-// of size 2 n_v + k and solved by sparse LU with pivoting (KLU, fixed_pattern_lu.hpp), never
-// reduced by hand to the embedding equations. B and gamma' come
-// from a coordinate partition of J (partition.hpp, velocity_transform.hpp; book
-// Eqs. 6.80-6.94). The matrix is symmetric but indefinite (its inertia has n_v + k
-// negative eigenvalues), so an LDL^T without pivoting (CHOLMOD) is not valid; KLU's LU
-// with threshold pivoting is. The pattern is fixed for the run (M's body blocks, the
-// identities, and B as a dense n_v x k block, explicit zeros kept: a re-selection of the
-// partition moves B's identity and zero rows but never leaves that block): it is ordered
-// once, factored with pivoting once, and at the following evaluations, across
-// re-selections, refactored in place with the same pivots (nothing is allocated),
-// pivoting again only when the solution's backward error shows that those pivots no
-// longer fit.
+// with B = [I; B_d] at the independent / dependent components, B_d = -J_d^-1 J_i (a coordinate
+// partition of J, partition.hpp; book Eqs. 6.80-6.94). B is never formed: it is dense (n_v x k)
+// in absolute coordinates, O(n^2) on a chain. Instead Eq. 4.20 is solved in the equivalent
+// sparse form that B's definition gives:
+//   - Eq. 4.18: on the independent components vdot_sel = vdot_i (the identification rows); on
+//     the dependent ones vdot_d = B_d vdot_i + gamma'_d, i.e. (times J_d, gamma'_d = J_d^-1
+//     gamma) J_d vdot_d + J_i vdot_sel = gamma: J vdot = gamma on the kept rows;
+//   - Eq. 4.19: B^T Q_c = Q_c,i - J_i^T J_d^-T Q_c,d = 0, i.e. with mu = -J_d^-T Q_c,d,
+//     Q_c = -J^T mu on the kept rows (range(J^T) is the orthogonal complement of range(B)).
+// The unknowns x = [vdot; f = -Q_c; mu] (vdot_i is vdot at the independent components) solve
+//     [ M   I    0   ] [ vdot ]   [ Q     ]
+//     [ J   0    0   ] [ f    ] = [ gamma ]          (kept rows; a dropped row: mu_r = 0)
+//     [ 0  -I   J^T  ] [ mu   ]   [ 0     ]
+// of size 2 n_v + n_c, as sparse as J, factored by sparse LU with pivoting (KLU,
+// fixed_pattern_lu.hpp), never reduced by hand to the embedding equations (Eq. 6.95: dense
+// B^T M B) or to the Schur complement J M^-1 J^T (the augmented formulation's route).
+// The matrix is indefinite, so an LDL^T without pivoting (CHOLMOD) is not valid; KLU's LU
+// with threshold pivoting is. The pattern is fixed for the life of the System (M's body
+// blocks, the identities, J's pattern twice and a diagonal slot per constraint row, which
+// decouples the rows the partition drops, explicit zeros kept): a re-selection changes values
+// only. It is ordered once, factored with pivoting once, and at the following evaluations
+// refactored in place with the same pivots (nothing is allocated), pivoting again only when
+// the solution's backward error shows that those pivots no longer fit. mu are the multipliers
+// of the kept rows (Q_c = -J^T lambda, book Eq. 6.128).
 //
 // State y = [q; v] as the augmented formulation; drift: the same projection after each
 // accepted step (sdk/include/mbd/sdk/projection.hpp), or Baumgarte terms in gamma, or
-// none. Reactions: lambda from Q_c = -J^T lambda (book Eq. 6.128) on the kept rows,
-// J_d^T lambda = -Q_c,d (redundant rows get zero).
-#include "fixed_pattern_lu.hpp"
-
+// none (the projection's S = J M^-1 J^T dense or sparse by size: projection.hpp,
+// sparse_metric.hpp). Reactions: lambda = mu (redundant rows get zero).
 #include <coordinate_selector.hpp>
+#include <fixed_pattern_lu.hpp>
+#include <sparse_metric.hpp>
+#include <sparse_velocity_transform.hpp>
 
 #include <mbd/sdk/coordinate_rates.hpp>
 #include <mbd/sdk/formulation.hpp>
@@ -66,15 +75,19 @@ public:
 
     // for tests
     const CoordinatePartition& partition() const { return part_; }
-    int block_size() const { return 2 * nv_ + static_cast<int>(part_.independent.size()); }
+    int block_size() const { return 2 * nv_ + nc_; }
 
 private:
     // state_ -> cv_, J_, Q_, vdot_, Qc_ (the block system, Eq. 4.20)
     void solve_dynamics(double t);
     void select(const State& state, bool initial);
     void build_pattern();
-    // B's current entries into K_'s values (the pattern of build_pattern(), all of B)
-    void fill_B();
+    // J's current entries (and the dropped rows' decoupling) into K_'s values
+    void fill_J();
+    // J_d's pivot ratio for partition p at cv_.J (dense: complete pivoting; sparse: its sparse
+    // LU relative to the partition's first, sparse_velocity_transform.hpp)
+    double pivot_ratio(const CoordinatePartition& p);
+    void mark_dropped_rows();
     // the normwise backward error of x as a solution of K_ x = rhs_, with r_ = rhs_ - K_ x
     double backward_error();
 
@@ -83,24 +96,29 @@ private:
     System* system_ = nullptr;
     FormulationOptions options_;
     int nc_ = 0, nvb_ = 3;
-    Eigen::MatrixXd Mdense_;
+    const Eigen::SparseMatrix<double>* M_ = nullptr;  // the System's M (block diagonal)
+    bool sparse_ = false;  // selector_.sparse(): the projection's metric and the pivot ratio sparse
     CoordinatePartition part_;
     bool analysed_ = false;
 
     // scratch, sized in bind() or by the first evaluation: rhs() and project() allocate nothing
     State state_;
     ConstraintValues cv_;
-    Eigen::MatrixXd J_, B_;
-    Eigen::VectorXd Q_, gamma_s_, Jv_, gamma_prime_, vdot_, Qc_, rhs_, x_, r_, dx_;
+    Eigen::MatrixXd J_;
+    Eigen::VectorXd Q_, gamma_s_, Jv_, vdot_, Qc_, mu_, rhs_, x_, r_, dx_;
     Eigen::VectorXd row_sums_;
     std::vector<Eigen::Triplet<double>> triplets_;
     Eigen::SparseMatrix<double> K_;
-    std::vector<int> b_slots_;  // per column c and row of B: the value indices of -B and -B^T in K_
+    std::vector<int> j_slots_;         // per entry of J (storage order): its places in K_ (J and J^T)
+    std::vector<int> decouple_slots_;  // per constraint row: the diagonal slot (row, mu_row) in K_
+    std::vector<char> dropped_;        // per constraint row: dropped by the partition
     FixedPatternLU lu_;
     VelocityTransformWorkspace transform_;
     CoordinateSelector selector_;     // dense or sparse by size (coordinate_selector.hpp)
     CoordinatePartition fresh_;
     DenseMetricSolver metric_;
+    SparseMetricSolver sparse_metric_;
+    SparseVelocityTransform sparse_transform_, candidate_;
     ProjectionScratch projection_;
     SingularityMonitor singularity_;  // rank drop of J after an accepted step (singularity.hpp)
 };
@@ -113,9 +131,14 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     bind_sizes(system);
     nc_ = system.constraint_rows(true);
     nvb_ = velocities_per_body(system.dimension());
-    Mdense_ = Eigen::MatrixXd(system.mass_matrix());
-    metric_.bind(system);
-    singularity_.metric_distortion = metric_.metric_distortion();
+    M_ = &system.mass_matrix();
+    selector_.bind(nc_, nv_, options, fresh_);  // a re-selection allocates nothing (dense)
+    sparse_ = selector_.sparse();
+    if (sparse_)
+        sparse_metric_.bind(system);
+    else
+        metric_.bind(system);
+    singularity_.metric_distortion = sparse_ ? sparse_metric_.metric_distortion() : metric_.metric_distortion();
     singularity_.reset();
     state_.q.setZero(nq_);
     state_.v.setZero(nv_);
@@ -123,7 +146,8 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     vdot_.setZero(nv_);
     Qc_.setZero(nv_);
     projection_.resize(nq_, nv_, nc_);
-    selector_.bind(nc_, nv_, options, fresh_);  // a re-selection allocates nothing (dense)
+    mu_.setZero(nc_);
+    dropped_.assign(nc_, 0);
     analysed_ = false;
     // the partition at the assembled initial state (the run assembles the same way)
     select(assembled_initial_state(system), true);
@@ -131,53 +155,75 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
 
 void Amalgamated::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
-    J_ = cv_.J;
     part_ = selector_.select(cv_.J, initial ? options_.partition.pivot_threshold : 1.0, options_.partition.rank_tolerance);
-    analysed_ = false;
+    if (sparse_) sparse_transform_.select(cv_.J, part_);
+    mark_dropped_rows();
     if (initial && !part_.redundant.empty())
         options_.log("amalgamated: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
 }
 
-// The block matrix of Eq. 4.20 with unknowns x = [vdot; -Q_c; vdot_i].
+double Amalgamated::pivot_ratio(const CoordinatePartition& p) {
+    if (!sparse_) {
+        J_ = cv_.J;
+        return dependent_pivot_ratio(J_, p, transform_);
+    }
+    if (&p != &part_ && !sparse_transform_.same_dependent_columns(p)) {
+        candidate_.select(cv_.J, p);  // another candidate partition: rare (near a singular J_d)
+        return candidate_.factor(cv_.J) ? candidate_.pivot_ratio() : 0.0;
+    }
+    return sparse_transform_.factor(cv_.J) ? sparse_transform_.pivot_ratio() : 0.0;
+}
+
+void Amalgamated::mark_dropped_rows() {
+    std::fill(dropped_.begin(), dropped_.end(), 0);
+    for (int r : part_.redundant) dropped_[r] = 1;
+}
+
+// The sparse form of Eq. 4.20 (see the header) with unknowns x = [vdot; f = -Q_c; mu].
 void Amalgamated::build_pattern() {
-    const int n = nv_, k = static_cast<int>(part_.independent.size());
+    const int n = nv_, m = nc_;
+    const Eigen::SparseMatrix<double>& J = cv_.J;
     triplets_.clear();
-    triplets_.reserve(static_cast<size_t>(n * nvb_ + 2 * n + 2 * n * k));
+    triplets_.reserve(static_cast<size_t>(n * nvb_ + 2 * n + 2 * J.nonZeros() + m));
     // M (per-body blocks, explicit zeros kept so that the pattern never changes)
     for (int b = 0; b < n / nvb_; ++b)
         for (int i = 0; i < nvb_; ++i)
-            for (int j = 0; j < nvb_; ++j) triplets_.emplace_back(b * nvb_ + i, b * nvb_ + j, Mdense_(b * nvb_ + i, b * nvb_ + j));
-    // the identities coupling vdot and -Q_c
+            for (int j = 0; j < nvb_; ++j) triplets_.emplace_back(b * nvb_ + i, b * nvb_ + j, M_->coeff(b * nvb_ + i, b * nvb_ + j));
     for (int i = 0; i < n; ++i) {
-        triplets_.emplace_back(i, n + i, 1.0);
-        triplets_.emplace_back(n + i, i, 1.0);
+        triplets_.emplace_back(i, n + i, 1.0);           // M vdot + f
+        triplets_.emplace_back(n + m + i, n + i, -1.0);  // -f + J^T mu
     }
-    // -B and -B^T, every row: B's rows of the independent components are the identification
-    // rows (vdot_row - vdot_i,c = 0: a 1 in column c, zeros elsewhere), the others dependent
-    for (int c = 0; c < k; ++c)
-        for (int row = 0; row < n; ++row) {
-            triplets_.emplace_back(n + row, 2 * n + c, -B_(row, c));
-            triplets_.emplace_back(2 * n + c, n + row, -B_(row, c));
+    for (int c = 0; c < n; ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
+            triplets_.emplace_back(n + static_cast<int>(it.row()), c, 0.0);          // J vdot
+            triplets_.emplace_back(n + m + c, 2 * n + static_cast<int>(it.row()), 0.0);  // J^T mu
         }
-    K_.resize(2 * n + k, 2 * n + k);
+    for (int r = 0; r < m; ++r) triplets_.emplace_back(n + r, 2 * n + r, 0.0);  // mu_r = 0 when dropped
+    K_.resize(2 * n + m, 2 * n + m);
     K_.setFromTriplets(triplets_.begin(), triplets_.end());
-    b_slots_.clear();
-    for (int c = 0; c < k; ++c)
-        for (int row = 0; row < n; ++row) {
-            b_slots_.push_back(static_cast<int>(&K_.coeffRef(n + row, 2 * n + c) - K_.valuePtr()));
-            b_slots_.push_back(static_cast<int>(&K_.coeffRef(2 * n + c, n + row) - K_.valuePtr()));
+    K_.makeCompressed();
+    auto slot = [&](int row, int col) { return static_cast<int>(&K_.coeffRef(row, col) - K_.valuePtr()); };
+    j_slots_.clear();
+    for (int c = 0; c < n; ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
+            j_slots_.push_back(slot(n + static_cast<int>(it.row()), c));
+            j_slots_.push_back(slot(n + m + c, 2 * n + static_cast<int>(it.row())));
         }
+    decouple_slots_.resize(m);
+    for (int r = 0; r < m; ++r) decouple_slots_[r] = slot(n + r, 2 * n + r);
 }
 
-void Amalgamated::fill_B() {
-    const int k = static_cast<int>(part_.independent.size());
+void Amalgamated::fill_J() {
+    const Eigen::SparseMatrix<double>& J = cv_.J;
     double* values = K_.valuePtr();
-    size_t slot = 0;
-    for (int c = 0; c < k; ++c)
-        for (int row = 0; row < nv_; ++row) {
-            values[b_slots_[slot++]] = -B_(row, c);
-            values[b_slots_[slot++]] = -B_(row, c);
+    size_t e = 0;
+    for (int c = 0; c < J.outerSize(); ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
+            const double value = dropped_[it.row()] ? 0.0 : it.value();
+            values[j_slots_[e++]] = value;
+            values[j_slots_[e++]] = value;
         }
+    for (int r = 0; r < nc_; ++r) values[decouple_slots_[r]] = dropped_[r] ? 1.0 : 0.0;
 }
 
 double Amalgamated::backward_error() {
@@ -191,7 +237,6 @@ double Amalgamated::backward_error() {
 void Amalgamated::solve_dynamics(double t) {
     System& sys = *system_;
     sys.constraints(state_, cv_, true);
-    J_ = cv_.J;
     sys.generalized_forces(state_, Q_);
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged (try a smaller tolerance or step)");
     gamma_s_ = cv_.gamma;
@@ -202,22 +247,19 @@ void Amalgamated::solve_dynamics(double t) {
         gamma_s_ -= 2.0 * a * Jv_;
         gamma_s_ -= b * b * cv_.C;
     }
-    // B and gamma' (Eqs. 4.18, 6.80-6.94) from the partition
-    if (!velocity_transform(J_, gamma_s_, part_, B_, gamma_prime_, transform_))
-        throw DynamicsError(t, "amalgamated: the dependent sub-Jacobian J_d is singular");
-    const int n = nv_, k = static_cast<int>(part_.independent.size());
+    const int n = nv_, m = nc_;
     bool pivot = false;
     if (!analysed_) {  // the first evaluation: the pattern
         build_pattern();
         if (!lu_.analyze(K_)) throw DynamicsError(t, "amalgamated: the block system of Eq. 4.20 could not be ordered");
         analysed_ = true;
         pivot = true;
-    } else {
-        fill_B();
     }
-    rhs_.setZero(2 * n + k);
+    fill_J();
+    rhs_.setZero(2 * n + m);
     rhs_.head(n) = Q_;
-    rhs_.segment(n, n) = gamma_prime_;
+    rhs_.segment(n, m) = gamma_s_;
+    for (int r : part_.redundant) rhs_[n + r] = 0.0;
     for (;;) {
         if (!lu_.factor(K_, pivot)) {
             if (!pivot) {
@@ -241,6 +283,7 @@ void Amalgamated::solve_dynamics(double t) {
     if (!x_.allFinite()) throw DynamicsError(t, "amalgamated: non-finite solution of the block system (Eq. 4.20)");
     vdot_ = x_.head(n);
     Qc_ = -x_.segment(n, n);
+    mu_ = x_.tail(m);
 }
 
 void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
@@ -258,19 +301,26 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     sys.normalize(state_.q);
     const bool projected = options_.stabilization == Stabilization::Projection && nc_ > 0;
     if (projected) {
-        // the augmented formulation's projection (projection.hpp), dense S = J M^-1 J^T
+        // the augmented formulation's projection (projection.hpp), S = J M^-1 J^T dense or sparse
         projection_.q0 = state_.q;
         projection_.v0 = state_.v;
-        const bool ok = project_onto_constraints(
-            sys, t, projection_, options_.projection_tolerance, state_, cv_,
-            [&](bool robust) { metric_.factor(cv_.J, robust); }, [&](Eigen::VectorXd& x) { metric_.solve(x); },
-            [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { metric_.apply_Minv(x, out); });
+        const bool ok = sparse_ ? project_onto_constraints(
+                                      sys, t, projection_, options_.projection_tolerance, state_, cv_,
+                                      [&](bool robust) { sparse_metric_.factor(cv_.J, robust); },
+                                      [&](Eigen::VectorXd& x) { sparse_metric_.solve(x); },
+                                      [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { sparse_metric_.apply_Minv(x, out); })
+                                : project_onto_constraints(
+                                      sys, t, projection_, options_.projection_tolerance, state_, cv_,
+                                      [&](bool robust) { metric_.factor(cv_.J, robust); },
+                                      [&](Eigen::VectorXd& x) { metric_.solve(x); },
+                                      [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { metric_.apply_Minv(x, out); });
         if (!ok) return false;
     }
     if (singularity_.active(sys)) {
         if (!projected) sys.constraints(state_, cv_, true);
         // cv_ at the (projected) positions, where the velocity projection last factored S
-        singularity_.check(sys, t, cv_.J, projected ? metric_.least_relative_pivot() : 0.0);
+        const double pivot = sparse_ ? sparse_metric_.least_relative_pivot() : metric_.least_relative_pivot();
+        singularity_.check(sys, t, cv_.J, projected ? pivot : 0.0);
     }
     y.head(nq_) = state_.q;
     y.tail(nv_) = state_.v;
@@ -278,13 +328,16 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     // not depend on the partition, so this can happen at any projection
     if (part_.rank > 0) {
         system_->constraints(state_, cv_, true);
-        J_ = cv_.J;
-        const double ratio = dependent_pivot_ratio(J_, part_, transform_);
+        const double raw_ratio = pivot_ratio(part_);
+        // sparse: relative to the ratio the partition was chosen at (sparse_velocity_transform.hpp)
+        const double ratio = sparse_ ? sparse_transform_.relative_pivot_ratio() : raw_ratio;
         if (ratio < options_.partition.reselect_ratio) {
             CoordinatePartition& fresh = fresh_;
             selector_.select(cv_.J, 1.0, options_.partition.rank_tolerance, {}, fresh);
-            if (fresh.rank == part_.rank && dependent_pivot_ratio(J_, fresh, transform_) > ratio) {
+            if (fresh.rank == part_.rank && pivot_ratio(fresh) > raw_ratio) {
                 part_ = fresh;  // the same rank: K keeps its pattern and size
+                if (sparse_) sparse_transform_.select(cv_.J, part_);
+                mark_dropped_rows();
                 if (log_choices_) options_.log("amalgamated: t = " + format_time(t) + ": new coordinate partition");
             }
         }
@@ -301,8 +354,7 @@ void Amalgamated::accelerations(const State& state, Eigen::VectorXd& vdot) {
 void Amalgamated::multipliers(const State& state, Eigen::VectorXd& lambda) {
     state_ = state;
     solve_dynamics(state.t);
-    // Q_c = -J^T lambda (book Eq. 6.128): J_d^T lambda_kept = -Q_c,d
-    multipliers_from_dependent_rows(J_, part_, Eigen::VectorXd(-Qc_), lambda, transform_);
+    lambda = mu_;  // Q_c = -J^T mu on the kept rows (book Eq. 6.128); dropped rows 0
 }
 
 }  // namespace

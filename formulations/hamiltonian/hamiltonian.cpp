@@ -26,6 +26,20 @@
 // where lambda(v, w) is zero except in the rotational components of spatial bodies,
 // omega_v x omega_w (the Lie bracket of the body-axis angular-velocity fields).
 //
+// Sparse path (above the sparse threshold, coordinate_selector.hpp): B is never formed (it is
+// dense, n_v x k, in absolute coordinates; B^T M B is dense k x k on a chain). The velocities
+// follow from p through the saddle-point system of the kept rows,
+//     M v - J^T mu = E_i p,   J v = -C_t        (E_i p: p at the independent components)
+// whose first rows give B^T M v = p (multiply by B^T: B^T J^T = 0, B^T E_i = I) and whose
+// dependent rows give mu = J_d^-T (M v)_d, the mu of Bdot^T M v above; it is solved through the
+// sparse S = J M^-1 J^T (sparse_gram.hpp): S mu = -C_t - J M^-1 E_i p, v = M^-1 (E_i p + J^T mu).
+// Then pdot = B^T (Q - Jdot^T mu) with B^T x = x_i - J_i^T J_d^-T x_d through a sparse LU of J_d
+// (sparse_velocity_transform.hpp) and Jdot^T mu by a coloured polarization of gamma
+// (jdot_transpose.hpp): a fixed number of constraint evaluations instead of 2k, O(n) per rhs.
+// Momentum scale on that path: diag(M) at the independent components (diag(Mbar) needs all of
+// B; diag(M) <= diag(Mbar) for diagonal body blocks, so the state's momenta are at least as
+// large as in velocity units and the absolute tolerance no looser).
+//
 // ODE state y = [q; p / m] (all coordinates; the k momenta, each divided by the diagonal
 // entry m_j of Mbar when the partition was selected, so that the state holds them in
 // velocity units). The integrators' tolerances are relative plus absolute (atol = rtol =
@@ -46,6 +60,11 @@
 #include <mbd/sdk/velocity_transform.hpp>
 
 #include <coordinate_selector.hpp>
+#include <jdot_transpose.hpp>
+#include <sparse_gram.hpp>
+#include <sparse_velocity_transform.hpp>
+
+#include <mbd/sdk/block_mass_inverse.hpp>
 
 #include <Eigen/Dense>
 
@@ -101,6 +120,17 @@ private:
     }
     // momentum_scale_ = diag(Mbar) at q, for the current partition
     void set_momentum_scale(double t, const Eigen::VectorXd& q);
+    // sparse path: the kept rows' S = J M^-1 J^T at cv_.J (redundant rows decoupled)
+    void factor_gram(double t);
+    // sparse path: v and mu (the kept rows' multipliers) from p at the J, C_t of transform()
+    void sparse_velocities(const Eigen::VectorXd& p);
+    // the pivot ratio of J_d for partition p at J (dense: complete pivoting of the gathered J_d;
+    // sparse: its sparse LU, sparse_velocity_transform.hpp)
+    double pivot_ratio(const Eigen::SparseMatrix<double>& J, const Eigen::MatrixXd& J_dense, const CoordinatePartition& p);
+    // sparse path: vdot and the multipliers at a state from the kept rows' saddle-point system
+    // (M vdot + J^T lambda = Q, J vdot = gamma): the embedded equations' solution, Eq. 6.95
+    void sparse_accelerations(const State& state, Eigen::VectorXd& vdot, Eigen::VectorXd& lambda);
+    bool sparse_ = false;  // selector_.sparse(): B never formed (see the header)
 
     PartitionSettings partition_settings_;
     bool log_choices_ = false;              // FormulationOptions::log_choices, default false
@@ -129,6 +159,13 @@ private:
     CoordinateSelector selector_;     // dense or sparse by size (coordinate_selector.hpp)
     CoordinatePartition fresh_;
     Eigen::VectorXd v_before_;
+    // sparse path
+    BlockMassInverse mass_inverse_;
+    SparseGram gram_;
+    SparseVelocityTransform sparse_transform_, candidate_;
+    JdotTranspose jdot_;
+    std::vector<char> redundant_;  // per row: dropped by the partition
+    Eigen::VectorXd u_, w_, jt_mu_;
 };
 
 void Hamiltonian::bind(System& system, const FormulationOptions& options) {
@@ -158,14 +195,29 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     corrected_.q.setZero(nq_);
     corrected_.v.setZero(nv_);
     lambda_.setZero(nv_);
+    sparse_ = selector_.sparse();
+    if (sparse_) {
+        mass_inverse_.bind(system, "hamiltonian formulation");
+        if (nc_ > 0) gram_.analyze(system);
+        jdot_.bind(system);
+        u_.setZero(nv_);
+        w_.setZero(nv_);
+        mu_.setZero(nc_);
+        b_.setZero(nc_);
+    }
     select(assembled_initial_state(system), true);
 }
 
 void Hamiltonian::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
-    J_ = cv_.J;
+    if (!sparse_) J_ = cv_.J;
     part_ = selector_.select(cv_.J, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     selected_ = true;
+    if (sparse_) {
+        sparse_transform_.select(cv_.J, part_);
+        redundant_.assign(nc_, 0);
+        for (int r : part_.redundant) redundant_[r] = 1;
+    }
     set_momentum_scale(state.t, state.q);
     if (initial && !part_.redundant.empty())
         log_("hamiltonian: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
@@ -173,7 +225,39 @@ void Hamiltonian::select(const State& state, bool initial) {
 
 void Hamiltonian::set_momentum_scale(double t, const Eigen::VectorXd& q) {
     transform(t, q);
-    momentum_scale_ = Mbar_.diagonal();  // positive: Mbar is positive definite
+    if (!sparse_) {
+        momentum_scale_ = Mbar_.diagonal();  // positive: Mbar is positive definite
+        return;
+    }
+    momentum_scale_.resize(static_cast<Eigen::Index>(part_.independent.size()));
+    for (size_t c = 0; c < part_.independent.size(); ++c)
+        momentum_scale_[c] = M_->coeff(part_.independent[c], part_.independent[c]);  // see the header
+}
+
+void Hamiltonian::factor_gram(double t) {
+    if (nc_ == 0) return;
+    gram_.fill(cv_.J, mass_inverse_, &redundant_);
+    if (!gram_.factor(0.0))
+        throw DynamicsError(t, "hamiltonian: the kept constraint rows are dependent here (J M^-1 J^T is singular at " +
+                                   system_->describe_row(gram_.failed_row()) + ")");
+}
+
+void Hamiltonian::sparse_velocities(const Eigen::VectorXd& p) {
+    // M v - J^T mu = E_i p, J v = -C_t (see the header)
+    w_.setZero();
+    for (size_t c = 0; c < part_.independent.size(); ++c) w_[part_.independent[c]] = p[c];
+    mu_.setZero();
+    if (nc_ > 0) {
+        mass_inverse_.apply(w_, u_);
+        b_.noalias() = cv_.J * u_;
+        mu_ = -cv_.C_t - b_;
+        for (int r : part_.redundant) mu_[r] = 0.0;
+        gram_.solve(mu_, 0);
+        w_.noalias() += cv_.J.transpose() * mu_;
+    }
+    mass_inverse_.apply(w_, state_.v);
+    vi_.resize(static_cast<Eigen::Index>(part_.independent.size()));
+    for (size_t c = 0; c < part_.independent.size(); ++c) vi_[c] = state_.v[part_.independent[c]];
 }
 
 void Hamiltonian::transform(double t, const Eigen::VectorXd& q) {
@@ -181,6 +265,12 @@ void Hamiltonian::transform(double t, const Eigen::VectorXd& q) {
     state_.q = q;
     state_.v.setZero(nv_);
     system_->constraints(state_, cv_, true);  // J and C_t do not depend on v
+    if (sparse_) {
+        if (!sparse_transform_.factor(cv_.J))
+            throw DynamicsError(t, "hamiltonian: the dependent sub-Jacobian J_d is singular");
+        factor_gram(t);
+        return;
+    }
     J_ = cv_.J;
     if (!velocity_transform(J_, cv_.gamma, part_, B_, gamma_prime_, transform_))
         throw DynamicsError(t, "hamiltonian: the dependent sub-Jacobian J_d is singular");
@@ -197,6 +287,10 @@ void Hamiltonian::transform(double t, const Eigen::VectorXd& q) {
 
 void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p) {
     transform(t, q);
+    if (sparse_) {
+        sparse_velocities(p);
+        return;
+    }
     const int k = static_cast<int>(part_.independent.size());
     // qdot_i = dH/dp = Mbar^-1 (p - B^T M c)
     if (k > 0) {
@@ -245,6 +339,12 @@ void Hamiltonian::to_ode(const State& state, Eigen::VectorXd& y) {
     const int k = static_cast<int>(part_.independent.size());
     y.resize(nq_ + k);
     y.head(nq_) = state.q;
+    if (sparse_) {
+        Mx_.noalias() = *M_ * state.v;
+        sparse_transform_.transpose_times(cv_.J, Mx_, Bx_);
+        store_momenta(Bx_, y);
+        return;
+    }
     store_momenta(B_.transpose() * (*M_ * state.v), y);  // p = B^T M v
 }
 
@@ -271,6 +371,17 @@ void Hamiltonian::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
     ydot.resize(nq_ + k);
     write_coordinate_rates(system_->dimension(), state_.q, state_.v, ydot.head(nq_));  // from qdot_i = dH/dp
     if (k == 0) return;
+    if (sparse_) {
+        // pdot = B^T (Q - Jdot^T mu), mu from sparse_velocities() (see the header)
+        if (part_.rank > 0) {
+            jdot_.apply(*system_, state_, cv_.J, mu_, jt_mu_);
+            Q_ -= jt_mu_;
+        }
+        sparse_transform_.transpose_times(cv_.J, Q_, pdot_);
+        if (!pdot_.allFinite()) throw DynamicsError(t, "non-finite momentum rates: the motion diverged");
+        ydot.tail(k) = pdot_.cwiseQuotient(momentum_scale_);
+        return;
+    }
     // pdot = -dH/dq_i + Q_nc = B^T Q + Bdot^T M v,  Bdot^T M v = -(Jdot B)^T mu
     pdot_.noalias() = B_.transpose() * Q_;
     if (part_.rank > 0) {
@@ -300,7 +411,16 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     s.v.setZero(nv_);
     sys.normalize(s.q);
     const double tol = newton_.tolerance * std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
-    if (!correct_dependent_positions(sys, s, part_, tol, newton_.iterations, cv, J, transform_)) return false;
+    if (sparse_) {
+        const bool converged = correct_dependent_positions_with(
+            sys, s, part_, tol, newton_.iterations, cv, transform_.dv, [&](const ConstraintValues& at, Eigen::VectorXd& dv) {
+                b_ = -at.C;
+                return sparse_transform_.factor(at.J) && sparse_transform_.solve_dependent(b_, dv);
+            });
+        if (!converged) return false;
+    } else if (!correct_dependent_positions(sys, s, part_, tol, newton_.iterations, cv, J, transform_)) {
+        return false;
+    }
     singularity_.check(sys, t, cv.J);  // cv at the corrected positions
     // re-selection near a singular J_d (book Sec. 6.12), only at the end of an accepted step.
     // B = -J_d^-1 J_i grows as J_d approaches singularity, and with it the local error of a
@@ -310,7 +430,10 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     // as soon as its pivot ratio is twice as good (below reselect_ratio: as soon as it is
     // better); the factor 2 keeps the two selections from alternating.
     if (t >= last_rhs_t_ && part_.rank > 0) {
-        const double ratio = dependent_pivot_ratio(J, part_, transform_);
+        const double raw_ratio = pivot_ratio(cv.J, J, part_);
+        // the sparse LU's pivots carry the rows' geometric scale (partial pivoting): measured
+        // against their ratio when the partition was chosen (sparse_velocity_transform.hpp)
+        const double ratio = sparse_ ? sparse_transform_.relative_pivot_ratio() : raw_ratio;
         if (ratio < 10.0 * partition_settings_.reselect_ratio) {
             momenta(y, p_);
             kinematics(t, s.q, p_);
@@ -321,12 +444,20 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
                 throw DynamicsError(t, "hamiltonian: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(part_.rank));
             const double gain = ratio < partition_settings_.reselect_ratio ? 1.0 : 2.0;
-            if (dependent_pivot_ratio(J, fresh, transform_) > gain * ratio) {
+            if (pivot_ratio(cv.J, J, fresh) > gain * raw_ratio) {
                 const Eigen::VectorXd& v = v_before_;
                 part_ = fresh;
+                if (sparse_) {
+                    sparse_transform_.select(cv.J, part_);
+                    redundant_.assign(nc_, 0);
+                    for (int r : part_.redundant) redundant_[r] = 1;
+                }
                 set_momentum_scale(t, s.q);
                 Mx_.noalias() = *M_ * v;  // the same velocities in the new momenta
-                Bx_.noalias() = B_.transpose() * Mx_;
+                if (sparse_)
+                    sparse_transform_.transpose_times(cv_.J, Mx_, Bx_);
+                else
+                    Bx_.noalias() = B_.transpose() * Mx_;
                 store_momenta(Bx_, y);
                 redefined_ = true;
                 if (log_choices_) log_("hamiltonian: t = " + format_time(t) + ": new coordinate partition");
@@ -335,6 +466,35 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     }
     y.head(nq_) = s.q;
     return true;
+}
+
+double Hamiltonian::pivot_ratio(const Eigen::SparseMatrix<double>& J, const Eigen::MatrixXd& J_dense,
+                                const CoordinatePartition& p) {
+    if (!sparse_) return dependent_pivot_ratio(J_dense, p, transform_);
+    if (&p != &part_ && !sparse_transform_.same_dependent_columns(p)) {
+        candidate_.select(J, p);  // another candidate partition: rare (near a singular J_d)
+        return candidate_.factor(J) ? candidate_.pivot_ratio() : 0.0;
+    }
+    return sparse_transform_.factor(J) ? sparse_transform_.pivot_ratio() : 0.0;
+}
+
+void Hamiltonian::sparse_accelerations(const State& state, Eigen::VectorXd& vdot, Eigen::VectorXd& lambda) {
+    system_->constraints(state, cv_, true);
+    system_->generalized_forces(state, Q_);
+    lambda.setZero(nc_);
+    if (nc_ > 0) {
+        factor_gram(state.t);
+        // S lambda = J M^-1 Q - gamma (the kept rows; dropped rows get 0)
+        mass_inverse_.apply(Q_, u_);
+        lambda.noalias() = cv_.J * u_;
+        lambda -= cv_.gamma;
+        for (int r : part_.redundant) lambda[r] = 0.0;
+        gram_.solve(lambda, 0);
+    }
+    w_ = Q_;
+    if (nc_ > 0) w_.noalias() -= cv_.J.transpose() * lambda;
+    vdot.resize(nv_);
+    mass_inverse_.apply(w_, vdot);
 }
 
 void Hamiltonian::solve_accelerations(double t, const CoordinatePartition& p, const State& state,
@@ -354,6 +514,10 @@ void Hamiltonian::solve_accelerations(double t, const CoordinatePartition& p, co
 }
 
 void Hamiltonian::accelerations(const State& state, Eigen::VectorXd& vdot) {
+    if (sparse_) {
+        sparse_accelerations(state, vdot, b_);
+        return;
+    }
     system_->constraints(state, cv_, true);
     J_ = cv_.J;
     CoordinatePartition p = part_;
@@ -362,6 +526,10 @@ void Hamiltonian::accelerations(const State& state, Eigen::VectorXd& vdot) {
 }
 
 void Hamiltonian::multipliers(const State& state, Eigen::VectorXd& lambda) {
+    if (sparse_) {
+        sparse_accelerations(state, Mx_, lambda);
+        return;
+    }
     system_->constraints(state, cv_, true);
     J_ = cv_.J;
     CoordinatePartition p = part_;

@@ -136,19 +136,19 @@ inline void multipliers_from_dependent_rows(const Eigen::MatrixXd& J, const Coor
 // Dependent positions by Newton-Raphson holding the independent directions:
 // J_d dd = -C (kept rows), q <- q (+) P_d dd (book Sec. 6.12 step 3; Ch. 3 Eq. 3.117),
 // until max |C| on the kept rows <= tolerance. state.q is updated; returns false if
-// the iteration did not converge. cv and J are left at the final q. The rows are those of
+// the iteration did not converge; cv is left at the final q. The rows are those of
 // System::constraints_with_velocity_rows (the partition's): a velocity-level row has C = 0, so
 // in a Newton step it only keeps A dd = 0 (the correction does not move a no-slip contact
-// along its surface); without such rows they are the rows of System::constraints.
-inline bool correct_dependent_positions(System& system, State& state, const CoordinatePartition& p,
-                                        double tolerance, int iterations, ConstraintValues& cv, Eigen::MatrixXd& J,
-                                        VelocityTransformWorkspace& ws) {
-    const int nv = system.nv();
+// along its surface); without such rows they are the rows of System::constraints. The linear algebra is the
+// caller's: step(cv, dv) sets dv (size n_v, zero at the independent components) to the
+// Newton step J_d dv_d = -C[rows] at cv and returns false when it is not finite.
+template <class NewtonStep>
+bool correct_dependent_positions_with(System& system, State& state, const CoordinatePartition& p, double tolerance,
+                                      int iterations, ConstraintValues& cv, Eigen::VectorXd& dv, NewtonStep&& step) {
     bool converged = p.rank == 0;
-    ws.dv.resize(nv);
+    dv.resize(system.nv());
     for (int iteration = 0; iteration < iterations && !converged; ++iteration) {
         system.constraints_with_velocity_rows(state, cv, true);
-        J = cv.J;
         const double violation = max_abs(cv.C, p.rows);
         if (!std::isfinite(violation)) break;
         // at least one Newton step whenever C != 0, so that the correction is a smooth map of the
@@ -158,17 +158,30 @@ inline bool correct_dependent_positions(System& system, State& state, const Coor
             converged = true;
             break;
         }
-        gather(J, p.rows, p.dependent, ws.Jd);
-        ws.lu.compute(ws.Jd);
-        gather(cv.C, p.rows, ws.b);
-        ws.b = -ws.b;
-        ws.x = ws.lu.solve(ws.b);
-        if (!ws.x.allFinite()) break;
-        ws.dv.setZero();
-        scatter(ws.x, p.dependent, ws.dv);
-        system.advance_positions(state.q, ws.dv);
+        dv.setZero();
+        if (!step(cv, dv)) break;
+        system.advance_positions(state.q, dv);
     }
     system.constraints_with_velocity_rows(state, cv, true);
+    return converged;
+}
+
+// The same with a dense LU of J_d; J is left at the final q.
+inline bool correct_dependent_positions(System& system, State& state, const CoordinatePartition& p,
+                                        double tolerance, int iterations, ConstraintValues& cv, Eigen::MatrixXd& J,
+                                        VelocityTransformWorkspace& ws) {
+    const bool converged = correct_dependent_positions_with(
+        system, state, p, tolerance, iterations, cv, ws.dv, [&](const ConstraintValues& at, Eigen::VectorXd& dv) {
+            J = at.J;
+            gather(J, p.rows, p.dependent, ws.Jd);
+            ws.lu.compute(ws.Jd);
+            gather(at.C, p.rows, ws.b);
+            ws.b = -ws.b;
+            ws.x = ws.lu.solve(ws.b);
+            if (!ws.x.allFinite()) return false;
+            scatter(ws.x, p.dependent, dv);
+            return true;
+        });
     J = cv.J;
     return converged;
 }

@@ -4,8 +4,59 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 namespace mbd {
+
+void SparseGram::analyze(System& system) {
+    const int bodies = system.body_count(), nvb = velocities_per_body(system.dimension());
+    std::vector<std::vector<int>> rows_of_body(bodies);
+    auto add_rows = [&](const std::vector<int>& connected, int first, int count) {
+        for (int body : connected)
+            if (body >= 0)
+                for (int r = first; r < first + count; ++r) rows_of_body[body].push_back(r);
+    };
+    for (int j = 0; j < system.joint_count(); ++j) add_rows(system.joint(j).bodies, system.joint(j).first_row, system.joint(j).rows);
+    for (int d = 0; d < system.driver_count(); ++d)
+        add_rows(system.joint(system.driver(d).joint).bodies, system.driver(d).row, 1);
+    std::vector<std::vector<int>> rows_of_column(bodies * nvb);
+    for (int b = 0; b < bodies; ++b) {
+        auto& rows = rows_of_body[b];
+        std::sort(rows.begin(), rows.end());
+        rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+        for (int c = 0; c < nvb; ++c) rows_of_column[b * nvb + c] = rows;
+    }
+    analyze(system.constraint_rows(true), bodies * nvb, rows_of_column);
+}
+
+void SparseGram::fill(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& mass_inverse,
+                      const std::vector<char>* left_out) {
+    const int nvb = mass_inverse.velocities_per_body();
+    double* wx = W_.valuePtr();
+    const int* wp = W_.outerIndexPtr();
+    const int* wi = W_.innerIndexPtr();
+    std::fill(wx, wx + W_.nonZeros(), 0.0);
+    left_out_.assign(W_.rows(), 0);
+    if (left_out) left_out_ = *left_out;
+    for (int c = 0; c < J.outerSize(); ++c) {
+        const int b = c / nvb, i = c % nvb;
+        for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
+            if (left_out_[it.row()]) continue;
+            for (int j = 0; j <= i; ++j) {
+                const double l = mass_inverse.factor(b)(i, j);
+                if (l == 0.0) continue;
+                const int col = b * nvb + j;
+                const int* begin = wi + wp[col];
+                const int* end = wi + wp[col + 1];
+                const int* pos = std::lower_bound(begin, end, static_cast<int>(it.row()));
+                if (pos == end || *pos != it.row())
+                    throw std::logic_error("sparse J M^-1 J^T: a Jacobian entry outside its joint's bodies (row " +
+                                           std::to_string(it.row()) + ")");
+                wx[pos - wi] += it.value() * l;
+            }
+        }
+    }
+}
 
 void SparseGram::analyze(int rows, int cols, const std::vector<std::vector<int>>& rows_of_column) {
     // W's pattern
@@ -73,6 +124,9 @@ bool SparseGram::factor(double delta) {
     for (const Product& p : products_) s[p.slot] += w[p.a] * w[p.b];
     max_diagonal_ = 0.0;
     for (int slot : diagonal_) max_diagonal_ = std::max(max_diagonal_, s[slot]);
+    // a decoupled row keeps S's scale (its right-hand side is the caller's, zero for dropped rows)
+    for (size_t r = 0; r < left_out_.size(); ++r)
+        if (left_out_[r]) s[diagonal_[r]] = max_diagonal_ > 0.0 ? max_diagonal_ : 1.0;
     if (delta != 0.0)
         for (int slot : diagonal_) s[slot] += delta;
     ldlt_.factorize_preordered_matrix(S_);

@@ -7,6 +7,9 @@
 // 128 KiB, i.e. 16,000 constraint rows).
 #pragma once
 
+#include <mbd/sdk/block_mass_inverse.hpp>
+#include <mbd/sdk/system.hpp>
+
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
@@ -30,8 +33,17 @@ public:
     // W is rows x cols; rows_of_column[c]: the rows column c may hold, sorted and unique.
     void analyze(int rows, int cols, const std::vector<std::vector<int>>& rows_of_column);
 
+    // The pattern of W = J Lm of a System: column c of body b holds every row of every joint
+    // or driver that connects body b (J keeps that pattern for the life of the System).
+    void analyze(System& system);
+
     // W's values in place (column-major, in the pattern's order), for the caller to fill.
     Eigen::SparseMatrix<double>& W() { return W_; }
+    // W = J Lm (M^-1 = Lm Lm^T, per body); the rows marked in `left_out` (when given) are left
+    // zero in W and decoupled in S (unit diagonal), so that their multipliers are their
+    // right-hand sides (zero for rows that are dropped).
+    void fill(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& mass_inverse,
+              const std::vector<char>* left_out = nullptr);
 
     // Factor S = W W^T + delta I. False when S is not numerically positive definite: a
     // pivot at or below 1e-14 of S's largest diagonal entry (dependent rows).
@@ -61,6 +73,7 @@ private:
     std::vector<Product> products_;
     std::vector<int> diagonal_;       // S_'s diagonal slot of each original row
     std::vector<int> original_row_;   // the original row of each row of S_
+    std::vector<char> left_out_;      // rows decoupled by fill()
     PreorderedLDLT ldlt_;
     Eigen::VectorXd b_, y_, r_, w_, correction_;
     int failed_row_ = -1;

@@ -1,5 +1,5 @@
 // Sparse LU of a square matrix whose sparsity pattern is fixed while its values change
-// (the amalgamated formulation's block system, Eq. 4.20), with KLU (SuiteSparse, a
+// (the amalgamated formulation's block system, Eq. 4.20; J_d of a coordinate partition), with KLU (SuiteSparse, a
 // third-party library): the pattern is ordered once (klu_analyze), factored with partial
 // pivoting when asked (klu_factor, which allocates the factors), and otherwise refactored
 // in place with the same pivot sequence (klu_refactor), which allocates nothing; solves are
@@ -18,6 +18,12 @@ namespace mbd {
 class FixedPatternLU {
 public:
     FixedPatternLU() { klu_defaults(&common_); }
+    // partial_pivoting: every pivot is the largest entry of its column (KLU's tol = 1), so that
+    // the pivots measure the matrix's conditioning (pivot_ratio()); otherwise KLU's default
+    // threshold (diagonal preferred unless below 1e-3 of the column's largest entry)
+    explicit FixedPatternLU(bool partial_pivoting) : FixedPatternLU() {
+        if (partial_pivoting) common_.tol = 1.0, common_.scale = 0;
+    }
     FixedPatternLU(const FixedPatternLU&) = delete;
     FixedPatternLU& operator=(const FixedPatternLU&) = delete;
     ~FixedPatternLU() { clear(); }
@@ -44,6 +50,16 @@ public:
     // x <- K^-1 x
     bool solve(Eigen::VectorXd& x) {
         return numeric_ && klu_solve(symbolic_, numeric_, static_cast<int>(x.size()), 1, x.data(), &common_) != 0;
+    }
+    // x <- K^-T x
+    bool solve_transpose(Eigen::VectorXd& x) {
+        return numeric_ && klu_tsolve(symbolic_, numeric_, static_cast<int>(x.size()), 1, x.data(), &common_) != 0;
+    }
+    // smallest / largest magnitude of the pivots (U's diagonal, of the row-scaled matrix) of
+    // the current factorization; 0 without one
+    double pivot_ratio() {
+        if (!numeric_ || !klu_rcond(symbolic_, numeric_, &common_)) return 0.0;
+        return common_.rcond;
     }
 
 private:

@@ -1,0 +1,83 @@
+// Jdot^T mu by coloured polarization of gamma: see jdot_transpose.hpp.
+#include "jdot_transpose.hpp"
+
+#include <algorithm>
+
+namespace mbd {
+
+void JdotTranspose::bind(System& system) {
+    planar_ = system.dimension() == Dimension::Planar;
+    nvb_ = velocities_per_body(system.dimension());
+    const int bodies = system.body_count();
+    rows_of_body_.assign(bodies, {});
+    std::vector<std::vector<int>> neighbours(bodies);
+    auto add_rows = [&](const std::vector<int>& connected, int first, int count) {
+        for (int b : connected) {
+            if (b < 0) continue;
+            for (int r = first; r < first + count; ++r) rows_of_body_[b].push_back(r);
+            for (int other : connected)
+                if (other >= 0 && other != b) neighbours[b].push_back(other);
+        }
+    };
+    for (int j = 0; j < system.joint_count(); ++j) add_rows(system.joint(j).bodies, system.joint(j).first_row, system.joint(j).rows);
+    for (int d = 0; d < system.driver_count(); ++d)
+        add_rows(system.joint(system.driver(d).joint).bodies, system.driver(d).row, 1);
+    // greedy colouring in body order: the least colour no neighbour has
+    std::vector<int> colour(bodies, -1);
+    colours_ = 0;
+    std::vector<char> taken;
+    for (int b = 0; b < bodies; ++b) {
+        if (rows_of_body_[b].empty()) continue;  // a free body: gamma does not depend on it
+        taken.assign(colours_ + 1, 0);
+        for (int other : neighbours[b])
+            if (colour[other] >= 0) taken[colour[other]] = 1;
+        int c = 0;
+        while (taken[c]) ++c;
+        colour[b] = c;
+        colours_ = std::max(colours_, c + 1);
+    }
+    bodies_of_colour_.assign(colours_, {});
+    for (int b = 0; b < bodies; ++b)
+        if (colour[b] >= 0) bodies_of_colour_[colour[b]].push_back(b);
+    probe_.q.setZero(system.nq());
+    probe_.v.setZero(system.nv());
+    gamma_plus_.setZero(system.constraint_rows(true));
+    Jt_mu_.setZero(system.nv());
+}
+
+void JdotTranspose::apply(System& system, const State& state, const Eigen::SparseMatrix<double>& J,
+                          const Eigen::VectorXd& mu, Eigen::VectorXd& out) {
+    out.setZero(state.v.size());
+    probe_.t = state.t;
+    probe_.q = state.q;
+    // the polarization step: exact for any s (gamma is quadratic in v); s of the size of v keeps
+    // the round-off of gamma(v +- w) relative to D w near machine precision
+    const double s = std::max(state.v.lpNorm<Eigen::Infinity>(), 1e-3);
+    for (int colour = 0; colour < colours_; ++colour)
+        for (int component = 0; component < nvb_; ++component) {
+            probe_.v = state.v;
+            for (int b : bodies_of_colour_[colour]) probe_.v[b * nvb_ + component] += s;
+            system.constraints(probe_, cv_, true);
+            gamma_plus_ = cv_.gamma;
+            probe_.v = state.v;
+            for (int b : bodies_of_colour_[colour]) probe_.v[b * nvb_ + component] -= s;
+            system.constraints(probe_, cv_, true);
+            // row r of D w / s is D(r, c) for the one column c of this group that row r holds
+            const double scale = -0.25 / s;  // -D^T mu / 2, D w = (gamma(v + w) - gamma(v - w)) / 2
+            for (int b : bodies_of_colour_[colour]) {
+                double sum = 0.0;
+                for (int r : rows_of_body_[b]) sum += (gamma_plus_[r] - cv_.gamma[r]) * mu[r];
+                out[b * nvb_ + component] += scale * sum;
+            }
+        }
+    if (planar_) return;
+    // - (omega_v x (J^T mu)_rot) / 2 per body
+    Jt_mu_.noalias() = J.transpose() * mu;
+    for (int b = 0; b < static_cast<int>(out.size()) / 6; ++b) {
+        const Eigen::Vector3d w = state.v.segment<3>(6 * b + 3);
+        const Eigen::Vector3d y = Jt_mu_.segment<3>(6 * b + 3);
+        out.segment<3>(6 * b + 3) -= 0.5 * w.cross(y);
+    }
+}
+
+}  // namespace mbd

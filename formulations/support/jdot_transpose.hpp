@@ -1,0 +1,50 @@
+// Jdot^T mu for a vector mu of constraint-row weights, in O(n) constraint evaluations' work
+// (a fixed number of them, independent of the number of bodies), from gamma alone: the joints
+// give J and gamma (Cddot = J vdot - gamma, book Eq. 3.124), not J's time derivative.
+//
+// gamma is quadratic in v: gamma(q, v) = G(v, v) (+ terms without v: C_tt of drivers), so
+// D = d gamma / d v = 2 G(v, .) and, for any w, exactly (polarization)
+//     D w = (gamma(q, v + w) - gamma(q, v - w)) / 2.
+// With the body-axis angular velocities of spatial bodies (quasi-velocities) the time
+// derivative of J v is not J-dot v alone: Jdot w = -D w / 2 + J Lambda(v) w / 2 with
+// Lambda(v) w = omega_v x omega_w in each body's rotational components (the Lie bracket of the
+// body-axis angular-velocity fields; the form the Hamiltonian formulation uses column by column,
+// hamiltonian.cpp). Hence
+//     Jdot^T mu = -D^T mu / 2 - (omega_v x (J^T mu)_rot) / 2      per body, Lambda^T = -[omega_v]x.
+// D has J's pattern (a row of a joint depends on the velocities of the joint's bodies only), so
+// it is found column group by column group (Curtis-Powell-Reid): the bodies are coloured so
+// that no two bodies of a colour share a row, and one polarization with w = s (sum of the unit
+// vectors of one velocity component of every body of a colour) gives, on each row, the entry of
+// the one column of the group that the row holds. A chain needs 2 colours: 2 x 3 (planar) or
+// 2 x 6 (spatial) groups, 2 constraint evaluations each, whatever its length.
+#pragma once
+
+#include <mbd/sdk/system.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <vector>
+
+namespace mbd {
+
+class JdotTranspose {
+public:
+    // the colouring of the System's bodies (by the rows they share)
+    void bind(System& system);
+    int groups() const { return colours_ * nvb_; }
+
+    // out = Jdot^T mu at state (t, q, v); J at that state (J does not depend on v)
+    void apply(System& system, const State& state, const Eigen::SparseMatrix<double>& J, const Eigen::VectorXd& mu,
+               Eigen::VectorXd& out);
+
+private:
+    int nvb_ = 3, colours_ = 0;
+    bool planar_ = true;
+    std::vector<std::vector<int>> bodies_of_colour_, rows_of_body_;
+    State probe_;
+    ConstraintValues cv_;
+    Eigen::VectorXd gamma_plus_, Jt_mu_;
+};
+
+}  // namespace mbd
