@@ -282,7 +282,7 @@ TEST(CliProgress, TheBarRedrawsItsWholeLineWithElapsedTimeAndTimeLeft) {
     const fs::path log = dir / "terminal.txt";
     const auto r = run_command("script -qec 'env -u MBD_PLUGIN_PATH COLUMNS=100 " + std::string(MBD_EXECUTABLE) +
                                " simulate " + scene("dynamics/pendulum-a01.yaml") +
-                               " --t-end 5000 --tol 1e-10 --output-step 0.1 -o " + (dir / "p.csv").string() + "' " +
+                               " --formulation augmented --t-end 20000 --tol 1e-10 --output-step 0.1 -o " + (dir / "p.csv").string() + "' " +
                                log.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::ifstream in(log);
