@@ -111,7 +111,7 @@ class Model:
                  reactions=False, diagnostics=False, stabilization=None, linear_algebra=None, q0=None, v0=None):
         """Forward dynamics from the scene's initial state (or q0, v0, assembled and made
         consistent) to t_end, as ``mbd simulate``: the formulation (default: the scene's, else
-        augmented), the integrator (dopri5, cvode: tol, default 1e-6; rk4, euler,
+        augmented), the integrator (dopri5, dop853, cvode: tol, default 1e-6; rk4, euler,
         generalized_alpha: step), rows every output_step (default: the step, else t_end / 1000).
         Returns a SimulationResult; raises DynamicsError (time, joints) when the run fails.
         The engine's messages (what ``mbd simulate`` prints on stderr: the embedding path

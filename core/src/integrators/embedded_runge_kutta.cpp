@@ -97,7 +97,9 @@ void EmbeddedRungeKutta::integrate(OdeProblem& problem, double t0, Eigen::Vector
     const double t_end = output_times.back();
     const double eps = time_epsilon(t0, t_end);
     const double span = t_end - t0;
-    const double hmax = std::max(span, eps);
+    if (!(settings_.max_step >= 0.0) || !std::isfinite(settings_.max_step))
+        throw InputError(name(), "needs a non-negative max_step (0: no limit), got " + format_time(settings_.max_step));
+    const double hmax = settings_.max_step > 0.0 ? std::min(settings_.max_step, std::max(span, eps)) : std::max(span, eps);
     BlowUpGuard guard;
     guard.reset(y);
 
