@@ -1,6 +1,6 @@
 // mbd simulate SCENE --t-end T --output out.csv: forward dynamics (book Secs. 6.6-6.12)
 // with a formulation plugin (default: the scene's, else augmented) and an integrator
-// (rk4, dopri5, generalized_alpha, cvode), written in the CSV contract of mbd/csv.hpp,
+// (euler, rk4, dopri5, dop853, generalized_alpha, cvode), written in the CSV contract of mbd/csv.hpp,
 // optionally with joint reactions and energy / constraint diagnostics.
 #include "commands.hpp"
 #include "options.hpp"
@@ -56,10 +56,10 @@ std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, Simula
                     "Formulation plugin (default: the scene's 'formulation', else the automatic choice: embedding "
                     "for a tree, augmented for closed loops and drivers; see docs/user-guide.md)");
     sub->add_option("--integrator", a.integrator,
-                    "Integrator: rk4, dopri5, generalized_alpha, cvode (default: the automatic choice, dopri5, or "
-                    "cvode for a stiff scene; see docs/user-guide.md)");
+                    "Integrator: euler, rk4, dopri5, dop853, generalized_alpha, cvode (default: the automatic "
+                    "choice, dopri5, or cvode for a stiff scene; see docs/user-guide.md)");
     CLI::Option* tol =
-        sub->add_option("--tol", a.tolerance, "Tolerance of an adaptive integrator, dopri5 or cvode (default 1e-6)")
+        sub->add_option("--tol", a.tolerance, "Tolerance of an adaptive integrator, dopri5, dop853 or cvode (default 1e-6)")
             ->check(number_between(kSmallestTolerance, 1.0, "below 1e-14 is beneath double-precision round-off"));
     CLI::Option* step =
         sub->add_option("--step", a.step, "Fixed step of rk4, euler or generalized_alpha [s]")->check(positive_number());

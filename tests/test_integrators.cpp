@@ -111,11 +111,13 @@ FunctionProblem oscillator() {
 
 TEST(IntegratorFactory, KnowsItsIntegratorsAndListsThemForUnknownNames) {
     const std::vector<std::string> names = mbd::integrator_names();
-    for (const char* expected : {"euler", "rk4", "dopri5", "generalized_alpha", "cvode"}) {
+    for (const char* expected : {"euler", "rk4", "dopri5", "dop853", "generalized_alpha", "cvode"}) {
         EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
         EXPECT_EQ(mbd::make_integrator(expected, {})->name(), expected);
     }
     EXPECT_TRUE(mbd::make_integrator("dopri5", {})->adaptive());
+    EXPECT_TRUE(mbd::make_integrator("dop853", {})->adaptive());
+    EXPECT_TRUE(mbd::make_integrator("dop853", {})->locates_events());
     EXPECT_FALSE(mbd::make_integrator("rk4", {})->adaptive());
     try {
         mbd::make_integrator("rk45", {});

@@ -217,7 +217,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     EnergyGrowthWatch energy(model.drivers.empty() && system.conservative());
     const std::string energy_advice =
         integrator->adaptive() ? "use a tighter tolerance (--tol)"
-                               : "use a smaller step (--step), or an adaptive integrator (--integrator dopri5 or cvode)";
+                               : "use a smaller step (--step), or an adaptive integrator (--integrator dopri5, dop853 or cvode)";
 
     auto emit = [&](double t, const Eigen::VectorXd& yt) -> bool {
         formulation->from_ode(t, yt, sample.state);
@@ -266,7 +266,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
             throw InputError(integrator->name(), "this integrator does not locate events, and " +
                                                      events.first_element() +
                                                      " has them (a stop's closing and opening): use --integrator "
-                                                     "dopri5 or cvode");
+                                                     "dopri5, dop853 or cvode");
         Eigen::VectorXd g;
         events.values(state, g);
         std::vector<int> side(g.size());

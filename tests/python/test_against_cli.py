@@ -1,5 +1,5 @@
 """Python's results are the mbd command's results: every number of a simulation bit for bit
-(planar, spatial and looped scenes, four formulations and three integrators), the same CSV
+(planar, spatial and looped scenes, four formulations and four integrators), the same CSV
 bytes from to_csv, the statics report of `mbd statics --json`, the efforts of `mbd inverse`;
 and, where a closed form exists, the right number."""
 
@@ -27,6 +27,9 @@ RUNS = [
     ("dynamics/rssr-gravity.yaml",  # spatial loop, implicit integrator
      dict(formulation="amalgamated", integrator="cvode", tol=1e-7, output_step=0.01),
      ["--formulation", "amalgamated", "--integrator", "cvode", "--tol", "1e-7", "--output-step", "0.01"], 0.5),
+    ("dynamics/pendulum-a01.yaml",  # the 8th-order pair, its rows from the continuous extension
+     dict(formulation="augmented", integrator="dop853", tol=1e-9, diagnostics=True),
+     ["--formulation", "augmented", "--integrator", "dop853", "--tol", "1e-9", "--diagnostics"], 2.0),
 ]
 
 

@@ -70,6 +70,7 @@ struct IntegratorSettings {
     double tolerance = 1e-6;    // relative and absolute tolerance of adaptive integrators
     double step = 0.0;          // fixed step (rk4, generalized_alpha); initial step guess for adaptive ones (0: automatic)
     double min_step = 1e-12;    // below this an adaptive integrator stops with "step size collapse"
+    double max_step = 0.0;      // largest step of the explicit pairs dopri5, dop853 (0: the run's span)
     long max_steps = 50000000;
     double rho_infinity = 0.8;  // generalized-alpha spectral radius at infinity
 };
@@ -102,7 +103,7 @@ public:
                            const OutputCallback& output, IntegratorStats& stats) = 0;
 };
 
-// Known names: rk4, dopri5, generalized_alpha, cvode. Throws InputError listing them.
+// Known names: euler, rk4, dopri5, dop853, generalized_alpha, cvode. Throws InputError listing them.
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const IntegratorSettings& settings);
 std::vector<std::string> integrator_names();
 

@@ -7,7 +7,7 @@
 // energy grows far beyond the scale of its motion is stopped as unstable
 // (energy_growth.hpp); a stop signal ends the run at a step boundary (interrupt.hpp).
 // Force elements with events (stops) need an integrator that locates them (dopri5,
-// cvode); contact_events.hpp applies their impacts.
+// dop853, cvode); contact_events.hpp applies their impacts.
 #pragma once
 
 #include <mbd/contact_events.hpp>

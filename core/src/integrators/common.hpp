@@ -21,6 +21,7 @@ namespace mbd::integrators {
 std::unique_ptr<Integrator> make_euler(const IntegratorSettings& settings);
 std::unique_ptr<Integrator> make_rk4(const IntegratorSettings& settings);
 std::unique_ptr<Integrator> make_dopri5(const IntegratorSettings& settings);
+std::unique_ptr<Integrator> make_dop853(const IntegratorSettings& settings);
 std::unique_ptr<Integrator> make_generalized_alpha(const IntegratorSettings& settings);
 std::unique_ptr<Integrator> make_cvode(const IntegratorSettings& settings);
 
@@ -31,7 +32,7 @@ void check_output_times(const std::string& integrator, double t0, const std::vec
 void require_fixed_step(const std::string& integrator, const IntegratorSettings& settings);
 void require_state_size(const std::string& integrator, const OdeProblem& problem, const Eigen::VectorXd& y);
 
-// The opening of an adaptive run (dopri5, cvode): checks the output times, the
+// The opening of an adaptive run (dopri5, dop853, cvode): checks the output times, the
 // tolerance and the state size, then reports the outputs at the start time. Returns
 // the index of the first output time still to integrate to; output_times.size() when
 // nothing is left (no output times, all at t0, or the callback stopped the run).
@@ -98,7 +99,7 @@ void march_fixed_steps(const std::string& integrator, const IntegratorSettings& 
     }
 }
 
-// An adaptive integrator (dopri5, cvode): it chooses its own steps for
+// An adaptive integrator (dopri5, dop853, cvode): it chooses its own steps for
 // settings.tolerance; its run opens with open_adaptive_run.
 class AdaptiveIntegrator : public Integrator {
 public:

@@ -20,6 +20,7 @@ const Entry kIntegrators[] = {
     {"euler", &integrators::make_euler},
     {"rk4", &integrators::make_rk4},
     {"dopri5", &integrators::make_dopri5},
+    {"dop853", &integrators::make_dop853},
     {"generalized_alpha", &integrators::make_generalized_alpha},
     {"cvode", &integrators::make_cvode},
 };
@@ -58,13 +59,13 @@ void check_integrator_options(const std::string& integrator, bool tolerance_give
                                                 (automatic ? ", or name a fixed-step one with " + spell("integrator", "rk4")
                                                            : std::string()));
     if (!adaptive && tolerance_given)
-        throw InputError(spell("tol", ""), "applies to the adaptive integrators (dopri5, cvode); " + integrator +
+        throw InputError(spell("tol", ""), "applies to the adaptive integrators (dopri5, dop853, cvode); " + integrator +
                                                " takes fixed steps: set them with " + spell("step", ""));
     if (!adaptive && !step_given)
         throw InputError(spell("step", ""), integrator + " takes fixed steps: give their size with " +
                                                 spell("step", "") + " (e.g. " + spell("step", "1e-3") +
                                                 "), or choose an adaptive integrator (" +
-                                                spell("integrator", "dopri5") + " or cvode)");
+                                                spell("integrator", "dopri5") + ", dop853 or cvode)");
     if (tolerance_given && !(tolerance >= kSmallestTolerance && tolerance <= 1.0))
         throw InputError(spell("tol", ""), "expected a number from 1e-14 to 1 (below 1e-14 is beneath "
                                            "double-precision round-off), got " + format_number(tolerance));

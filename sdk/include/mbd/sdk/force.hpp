@@ -10,7 +10,7 @@
 //
 // Events (unilateral stops and contacts, docs/plugin-sdk.md "Events"): an element may
 // declare event functions g_i of its bodies' positions, g_i >= 0 while its gap is open.
-// A sign change of g_i is an event: the integrators that locate events (dopri5, cvode)
+// A sign change of g_i is an event: the integrators that locate events (dopri5, dop853, cvode)
 // end a step exactly there, so no step straddles a gap closing or opening. At a closing
 // (g_i turning negative) the element's EventImpact says what happens: nothing but the end
 // of the step (the onset of a compliant force), or an impact with Newton's law of
