@@ -1,7 +1,8 @@
 // SUNDIALS CVODE (Hindmarsh et al., "SUNDIALS: Suite of nonlinear and
 // differential/algebraic equation solvers", ACM TOMS 31, 2005): variable-order
-// (1-5), variable-step BDF with Newton iteration, a dense direct linear solver and
-// CVODE's internal difference-quotient Jacobian, on the formulation's ODE.
+// (1-5), variable-step BDF with Newton iteration, a dense direct linear solver (Eigen's LU,
+// cvode_dense_lu.hpp) and CVODE's internal difference-quotient Jacobian, on the
+// formulation's ODE.
 // rtol = atol = settings.tolerance. The formulation's projection runs inside
 // CVODE after each step through CVodeSetProjFn (SUNDIALS >= 5.3; Debian 12 ships
 // 6.4), so the BDF history stays on the constraint manifold. That is the one projection
@@ -12,13 +13,13 @@
 // CVODE returns the interpolated state there; the problem acts on the event and the run
 // restarts at the root (CVodeReInit), so no step of the BDF history straddles an event.
 #include "common.hpp"
+#include "cvode_dense_lu.hpp"
 #include "event_locator.hpp"
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_proj.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <cmath>
@@ -182,7 +183,7 @@ void CvodeRun::create(const Eigen::VectorXd& y, double t_end) {
     check(CVodeSetUserData(s_.cvode, &cb_), "CVodeSetUserData");
     check(CVodeSStolerances(s_.cvode, settings_.tolerance, settings_.tolerance), "CVodeSStolerances");
     s_.A = SUNDenseMatrix(n, n, s_.context);
-    s_.solver = SUNLinSol_Dense(s_.y, s_.A, s_.context);
+    s_.solver = make_dense_lu_solver(n, s_.context);
     if (!s_.A || !s_.solver) throw DynamicsError(t0, "cvode: cannot create the dense linear solver");
     check(CVodeSetLinearSolver(s_.cvode, s_.solver, s_.A), "CVodeSetLinearSolver");  // no Jacobian fn: internal DQ
     check(CVodeSetProjFn(s_.cvode, &projection_callback), "CVodeSetProjFn");
