@@ -69,6 +69,7 @@ public:
     bool project(double t, Eigen::VectorXd& y) override;
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
     void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+    bool may_redefine_state() const override { return false; }  // y = [q; v] does not depend on the partition
     OptionGroups options_used() const override {
         return kStabilizationOptions | kPartitionOptions | kSingularityOptions;
     }

@@ -63,6 +63,7 @@ public:
     void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
     bool project(double t, Eigen::VectorXd& y) override;
+    bool may_redefine_state() const override { return false; }  // joint coordinates: nothing to re-select
     void multipliers(const State& state, Eigen::VectorXd& lambda) override;
     void accelerations(const State& state, Eigen::VectorXd& vdot) override;
 

@@ -72,6 +72,7 @@ public:
     void accelerations(const State& state, Eigen::VectorXd& vdot) override;
     bool supports_index3() const override { return true; }
     bool supports_velocity_constraints() const override { return true; }
+    bool may_redefine_state() const override { return false; }  // y = [q; v] whatever rows are kept
     OptionGroups options_used() const override {
         return kStabilizationOptions | kLinearAlgebraOptions | kSingularityOptions;
     }

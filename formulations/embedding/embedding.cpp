@@ -76,6 +76,7 @@ public:
         return true;
     }
     bool state_redefined() override { return impl_->state_redefined(); }
+    bool may_redefine_state() const override { return !impl_ || impl_->may_redefine_state(); }
     void multipliers(const State& state, Eigen::VectorXd& lambda) override { impl_->multipliers(state, lambda); }
     void accelerations(const State& state, Eigen::VectorXd& vdot) override { impl_->accelerations(state, vdot); }
 

@@ -25,6 +25,9 @@ public:
     // True once after project() changed the meaning of part of y (the call clears it): a
     // multistep integrator then discards its history and restarts from the current (t, y).
     virtual bool state_redefined() { return false; }
+    // Whether project() can ever redefine y (Formulation::may_redefine_state); false lets an
+    // integrator that projects inside its steps skip the projection after an accepted step.
+    virtual bool may_redefine_state() const { return true; }
     // The index-3 DAE M vdot + J^T lambda = Q, C(q, t) = 0 behind y, for integrators that
     // solve it directly (generalized_alpha): its System, or null when y has none; and the
     // conversions between y and the System's state.
@@ -57,6 +60,7 @@ public:
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { formulation_.rhs(t, y, ydot); }
     bool project(double t, Eigen::VectorXd& y) override { return formulation_.project(t, y); }
     bool state_redefined() override { return formulation_.state_redefined(); }
+    bool may_redefine_state() const override { return formulation_.may_redefine_state(); }
     System* index3_system() override { return formulation_.supports_index3() ? &system_ : nullptr; }
     void state_from_y(double t, const Eigen::VectorXd& y, State& state) override { formulation_.from_ode(t, y, state); }
     void y_from_state(const State& state, Eigen::VectorXd& y) override { formulation_.to_ode(state, y); }

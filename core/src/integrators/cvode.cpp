@@ -1,21 +1,25 @@
 // SUNDIALS CVODE (Hindmarsh et al., "SUNDIALS: Suite of nonlinear and
 // differential/algebraic equation solvers", ACM TOMS 31, 2005): variable-order
-// (1-5), variable-step BDF with Newton iteration, a dense direct linear solver and
-// CVODE's internal difference-quotient Jacobian, on the formulation's ODE.
+// (1-5), variable-step BDF with Newton iteration, a dense direct linear solver (Eigen's LU,
+// cvode_dense_lu.hpp) and CVODE's internal difference-quotient Jacobian, on the
+// formulation's ODE.
 // rtol = atol = settings.tolerance. The formulation's projection runs inside
 // CVODE after each step through CVodeSetProjFn (SUNDIALS >= 5.3; Debian 12 ships
-// 6.4), so the BDF history stays on the constraint manifold.
+// 6.4), so the BDF history stays on the constraint manifold. That is the one projection
+// of a step: only a problem that can redefine its state (OdeProblem::may_redefine_state,
+// a re-selection of coordinates, which must wait until CVODE has accepted the step) is
+// projected once more after it, and an event's interpolated state is projected there.
 // Events (OdeProblem::event_count) are CVODE's root functions (CVodeRootInit): at a root
 // CVODE returns the interpolated state there; the problem acts on the event and the run
 // restarts at the root (CVodeReInit), so no step of the BDF history straddles an event.
 #include "common.hpp"
+#include "cvode_dense_lu.hpp"
 #include "event_locator.hpp"
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_proj.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <cmath>
@@ -121,7 +125,8 @@ public:
     double time() const { return t_cur_; }
     // Integrates from the current time to the output time t_out.
     void advance_to(double t_out, double eps, Eigen::VectorXd& yout);
-    // The state at the current output time t_out, pulled onto the manifold as well.
+    // The state at the current output time t_out (a step end, already on the manifold; for a
+    // problem that can redefine its state, projected again: a chance to re-select).
     void output_state(double t_out, Eigen::VectorXd& yout);
     // Adds CVODE's counters to the run's statistics.
     void collect();
@@ -146,6 +151,7 @@ private:
     Sundials s_;
     long steps_before_ = 0;  // CVodeReInit zeroes CVODE's counters: the steps of earlier segments
     double t_cur_;
+    bool on_manifold_ = true;  // state() is a projected step end or a restart's state, not a root's interpolant
     std::vector<int> side_, crossed_, roots_;  // each event's side (+1 open, -1 closed); CVodeGetRootInfo
     EventPileUpGuard pile_up_;
 };
@@ -177,7 +183,7 @@ void CvodeRun::create(const Eigen::VectorXd& y, double t_end) {
     check(CVodeSetUserData(s_.cvode, &cb_), "CVodeSetUserData");
     check(CVodeSStolerances(s_.cvode, settings_.tolerance, settings_.tolerance), "CVodeSStolerances");
     s_.A = SUNDenseMatrix(n, n, s_.context);
-    s_.solver = SUNLinSol_Dense(s_.y, s_.A, s_.context);
+    s_.solver = make_dense_lu_solver(n, s_.context);
     if (!s_.A || !s_.solver) throw DynamicsError(t0, "cvode: cannot create the dense linear solver");
     check(CVodeSetLinearSolver(s_.cvode, s_.solver, s_.A), "CVodeSetLinearSolver");  // no Jacobian fn: internal DQ
     check(CVodeSetProjFn(s_.cvode, &projection_callback), "CVodeSetProjFn");
@@ -242,6 +248,7 @@ void CvodeRun::restart(double t, const Eigen::VectorXd& y) {
     steps_before_ += nst;
     collect();
     state() = y;
+    on_manifold_ = true;
     check(CVodeReInit(s_.cvode, t, s_.y), "CVodeReInit");
     t_cur_ = t;
 }
@@ -267,17 +274,23 @@ void CvodeRun::advance_to(double t_out, double eps, Eigen::VectorXd& yout) {
         const int flag = CVode(s_.cvode, t_out, s_.y, &t_reached, CV_ONE_STEP);
         if (flag < 0) fail(flag, t_reached);
         t_cur_ = t_reached;
+        on_manifold_ = flag != CV_ROOT_RETURN;
         const bool at_output = flag == CV_TSTOP_RETURN || t_reached >= t_out - eps;
-        // the accepted step: the formulation may re-select its coordinates here
-        yout = state();
-        project_or_throw(problem_, t_reached, yout);
         if (flag == CV_ROOT_RETURN) {
+            // the state at a root is interpolated, not projected
+            yout = state();
+            project_or_throw(problem_, t_reached, yout);
             problem_.state_redefined();  // the restart at the event covers a re-selection
             handle_events(t_reached, yout);
             if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
-        } else if (problem_.state_redefined()) {
-            restart(t_reached, yout);
-            if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
+        } else if (problem_.may_redefine_state()) {
+            // the accepted step: the formulation may re-select its coordinates here
+            yout = state();
+            project_or_throw(problem_, t_reached, yout);
+            if (problem_.state_redefined()) {
+                restart(t_reached, yout);
+                if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
+            }
         }
         if (at_output) break;
         stop_if_interrupted(t_reached);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
@@ -287,6 +300,7 @@ void CvodeRun::advance_to(double t_out, double eps, Eigen::VectorXd& yout) {
 
 void CvodeRun::output_state(double t_out, Eigen::VectorXd& yout) {
     yout = state();
+    if (on_manifold_ && !problem_.may_redefine_state()) return;
     project_or_throw(problem_, t_out, yout);
     if (problem_.state_redefined()) restart(t_out, yout);  // that projection re-selected: go on from it
 }

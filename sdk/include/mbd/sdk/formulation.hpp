@@ -57,6 +57,12 @@ public:
     // the independent coordinates); the call clears it. A multistep integrator must
     // then discard its history and restart from the current (t, y).
     virtual bool state_redefined() { return false; }
+    // Whether project() can ever redefine y (a formulation whose y is written in coordinates it
+    // re-selects). An integrator that projects inside its steps, where a re-selection has to
+    // wait until the step is accepted (CVODE), projects once more after an accepted step only
+    // for a formulation that can; for the others that second projection would change nothing.
+    // The default is the safe answer.
+    virtual bool may_redefine_state() const { return true; }
 
     // --- results
     // Lagrange multipliers of every constraint row (joints, then drivers, then, for a
