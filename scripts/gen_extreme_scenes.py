@@ -147,6 +147,6 @@ if __name__ == "__main__":
           "# Masses 1, 1e-6, 1, 1e6 kg along the chain: neighbouring ratios 1e-6 and 1e6 (1e12 overall).\n")
     chain("chain-200", 200, [1.0], 1.0, 1e-4, 20, 0.05,
           "A long chain of 200 links")
-    chain("chain-1000", 1000, [1.0], 0.2, 1e-4, 20, 0.005,
+    chain("chain-1000", 1000, [1.0], 0.2, 1e-4, 30, 0.005,
           "A long chain of 1,000 links")
     spatial_chain("spatial-chain-50", 50, 1.0, 1e-6, 15, 0.1)
