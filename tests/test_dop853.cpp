@@ -11,6 +11,7 @@
 //    y' = -y + sin t (closed form) and the projected rotation on the unit circle.
 // Event location and the allocation-free steps are tested with dopri5's tests
 // (tests/test_joint_stop.cpp, tests/test_allocations.cpp), run for dop853 as well.
+#include "support/function_problem.hpp"
 #include "support/test_support.hpp"
 
 #include "dop853_tableau.hpp"
@@ -218,46 +219,14 @@ namespace {
 
 using Eigen::VectorXd;
 
-class FunctionProblem : public mbd::OdeProblem {
-public:
-    using Rhs = std::function<void(double, const VectorXd&, VectorXd&)>;
-    using Project = std::function<bool(double, VectorXd&)>;
-    FunctionProblem(int n, Rhs f, Project p = {}) : n_(n), f_(std::move(f)), p_(std::move(p)) {}
-    int size() const override { return n_; }
-    void rhs(double t, const VectorXd& y, VectorXd& ydot) override {
-        ydot.resize(n_);
-        f_(t, y, ydot);
-        ++calls;
-    }
-    bool project(double t, VectorXd& y) override { return p_ ? p_(t, y) : true; }
-    long calls = 0;
-
-private:
-    int n_;
-    Rhs f_;
-    Project p_;
-};
-
-struct Outcome {
-    std::vector<double> t;
-    std::vector<VectorXd> y;
-    mbd::IntegratorStats stats;
-};
+using mbd::test::FunctionProblem;
+using Outcome = mbd::test::RunResult;
 
 Outcome integrate(const std::string& name, double tol, mbd::OdeProblem& problem, VectorXd y0,
-              const std::vector<double>& outputs) {
-    Outcome r;
+                  const std::vector<double>& outputs) {
     mbd::IntegratorSettings s;
     s.tolerance = tol;
-    mbd::make_integrator(name, s)->integrate(
-        problem, 0.0, y0, outputs,
-        [&](double t, const VectorXd& y) {
-            r.t.push_back(t);
-            r.y.push_back(y);
-            return true;
-        },
-        r.stats);
-    return r;
+    return mbd::test::run(name, s, problem, 0.0, std::move(y0), outputs);
 }
 
 // y' = -y + sin t, y(0) = 2: y = 5/2 e^-t + (sin t - cos t)/2

@@ -10,6 +10,7 @@
 //     index-3 DAE by generalized_alpha and compared with the 1-DOF pendulum
 //     equation J_O phi'' = -m g c sin(phi) written here.
 // No expected number comes from the engine's own output.
+#include "support/function_problem.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/integrator.hpp>
@@ -34,47 +35,9 @@ namespace {
 
 using Eigen::VectorXd;
 
-// An OdeProblem from a lambda; optional projection.
-class FunctionProblem : public mbd::OdeProblem {
-public:
-    using Rhs = std::function<void(double, const VectorXd&, VectorXd&)>;
-    using Project = std::function<bool(double, VectorXd&)>;
-    FunctionProblem(int n, Rhs f, Project p = {}) : n_(n), f_(std::move(f)), p_(std::move(p)) {}
-    int size() const override { return n_; }
-    void rhs(double t, const VectorXd& y, VectorXd& ydot) override {
-        ydot.resize(n_);
-        f_(t, y, ydot);
-        ++calls;
-    }
-    bool project(double t, VectorXd& y) override { return p_ ? p_(t, y) : true; }
-    long calls = 0;
-
-private:
-    int n_;
-    Rhs f_;
-    Project p_;
-};
-
-struct RunResult {
-    std::vector<double> t;
-    std::vector<VectorXd> y;
-    mbd::IntegratorStats stats;
-};
-
-RunResult run(const std::string& name, const mbd::IntegratorSettings& settings, mbd::OdeProblem& problem, double t0,
-        VectorXd y0, const std::vector<double>& outputs) {
-    RunResult r;
-    auto integrator = mbd::make_integrator(name, settings);
-    integrator->integrate(
-        problem, t0, y0, outputs,
-        [&](double t, const VectorXd& y) {
-            r.t.push_back(t);
-            r.y.push_back(y);
-            return true;
-        },
-        r.stats);
-    return r;
-}
+using mbd::test::FunctionProblem;
+using mbd::test::RunResult;
+using mbd::test::run;
 
 std::vector<double> grid(double t0, double t1, int n) {
     std::vector<double> out;
