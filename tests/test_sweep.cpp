@@ -94,6 +94,14 @@ Table read_table(const fs::path& path) {
     return t;
 }
 
+// `mbd sweep STUDY` into DIR/r.h5 with its CSV table, which is returned (the run must succeed).
+Table sweep_table(const fs::path& study, const fs::path& dir) {
+    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
+                           (dir / "r.csv").string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return read_table(dir / "r.csv");
+}
+
 // The parameter and metric cells of every row (cpu_s left out: it is a measurement).
 std::vector<std::vector<std::string>> numbers(const Table& t) {
     const int last = t.column("cpu_s");
@@ -381,10 +389,7 @@ TEST(SweepCli, SliderCrankStaticsOverTheCrankTorqueFollowTheClosedForm) {
                                  "scene: slider-crank.yaml\nanalysis: {type: statics, tolerance: 1.0e-12}\n"
                                  "parameters:\n  - {path: forces.motor.torque, range: [0.2, 3.0], count: 8}\n"
                                  "design: {type: grid}\nmetrics:\n  - final: crank.angle\n  - final: O.coordinate\n");
-    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
-                           (dir / "r.csv").string());
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    const Table t = read_table(dir / "r.csv");
+    const Table t = sweep_table(study, dir);
     ASSERT_EQ(t.rows.size(), 8u);
     for (const auto& row : t.rows) {
         ASSERT_EQ(row[t.column("status")], "ok") << row[t.column("message")];
@@ -413,10 +418,7 @@ TEST(SweepCli, InverseSweepOverTheRodMassFollowsTheClosedForm) {
                                  "scene: arm.yaml\nanalysis: {type: inverse, t_end: 1, step: 0.01}\n"
                                  "parameters:\n  - {path: bodies.rod.mass, values: [0.5, 1, 2]}\n"
                                  "design: {type: grid}\nmetrics:\n  - final: motor\n  - max: motor\n  - min: motor\n");
-    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
-                           (dir / "r.csv").string());
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    const Table t = read_table(dir / "r.csv");
+    const Table t = sweep_table(study, dir);
     ASSERT_EQ(t.rows.size(), 3u);
     for (const auto& row : t.rows) {
         ASSERT_EQ(row[t.column("status")], "ok") << row[t.column("message")];
@@ -481,10 +483,7 @@ TEST(SweepCli, NegativeMassGivesFailedCasesWithTheMessage) {
                                                          "\nanalysis: {type: simulate, t_end: 0.2}\nparameters:\n"
                                                          "  - {path: bodies.bob.mass, values: [-1, 1, -2]}\n"
                                                          "design: {type: grid}\nmetrics: [{final: bob.y}]\n");
-    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
-                           (dir / "r.csv").string());
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    const Table t = read_table(dir / "r.csv");
+    const Table t = sweep_table(study, dir);
     ASSERT_EQ(t.rows.size(), 3u);
     for (int k : {0, 2}) {
         EXPECT_EQ(t.rows[k][t.column("status")], "failed");
@@ -526,10 +525,7 @@ TEST(SweepCli, PendulumModesOverTheLengthFollowTheCompoundPendulumFrequency) {
                                                          "  - {path: \"bodies.bob.position[0]\", values: [0.5, 1, 2]}\n"
                                                          "design: {type: grid}\n"
                                                          "metrics: [{final: mode1.natural_frequency}]\n");
-    const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string() + " --csv " +
-                           (dir / "r.csv").string());
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    const Table t = read_table(dir / "r.csv");
+    const Table t = sweep_table(study, dir);
     ASSERT_EQ(t.rows.size(), 3u);
     for (const auto& row : t.rows) {
         ASSERT_EQ(row[t.column("status")], "ok") << row[t.column("message")];
