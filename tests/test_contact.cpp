@@ -487,12 +487,7 @@ TEST(Contact, BadInputIsNamedWithItsKey) {
     Ball b;
     const std::string good = drop_scene("sphere_plane", b, 0.2, ", damping: 10");
     ASSERT_EQ(error_of(good), "");
-    auto with = [&](const std::string& from, const std::string& to) {
-        std::string y = good;
-        const size_t at = y.find(from);
-        EXPECT_NE(at, std::string::npos) << from;
-        return y.replace(at, from.size(), to);
-    };
+    auto with = [&](const std::string& from, const std::string& to) { return mbd::test::replaced(good, from, to); };
     const struct {
         std::string yaml, expected;
     } cases[] = {

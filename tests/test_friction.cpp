@@ -286,12 +286,7 @@ std::string error_of(const std::string& yaml) {
 TEST(CoulombFriction, BadInputIsNamedWithItsKey) {
     const Oscillator o;
     const std::string good = oscillator_scene(o, 1e-6);
-    auto with = [&](const std::string& from, const std::string& to) {
-        std::string y = good;
-        const size_t at = y.find(from);
-        EXPECT_NE(at, std::string::npos) << from;
-        return y.replace(at, from.size(), to);
-    };
+    auto with = [&](const std::string& from, const std::string& to) { return mbd::test::replaced(good, from, to); };
     const struct {
         std::string from, to, expected;
     } cases[] = {

@@ -154,4 +154,10 @@ Eigen::Vector2d a01_bob_position(double t) {
     return Eigen::Vector2d(l * std::sin(theta), -l * std::cos(theta));
 }
 
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << "'" << from << "' is not in the text";
+    return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
 }  // namespace mbd::test

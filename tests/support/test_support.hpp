@@ -55,6 +55,10 @@ Eigen::Vector2d a01_bob_position(double t);
 // All 17 significant digits, for numbers written into scene text.
 std::string g17(double x);
 
+// `text` with its first `from` replaced by `to` (a bad-input variant of a good scene); a test
+// failure when `from` is not in it.
+std::string replaced(std::string text, const std::string& from, const std::string& to);
+
 struct CommandResult {
     int exit_code = -1;
     std::string out;
