@@ -2,7 +2,9 @@
 // edge), the velocity of the marker origin P on body j along the marker's y axis is zero,
 // y . (Rdot_j + omega_j x u_P) = 0 (one nonholonomic row, no holonomic row). Its A is right;
 // its gamma leaves out the velocity-quadratic terms (the right one is
-// -(ydot . V_P + y . (omega x (omega x u_P)))). Test-only.
+// -(ydot . V_P + y . (omega x (omega x u_P)))). A fixture, not a test: it holds no assertions
+// itself; tests/test_plugin_check.cpp (PluginCheck) runs `mbd plugin check` on it and asserts
+// the FAIL line of exactly that gamma.
 #include <mbd/sdk/plugin.hpp>
 
 namespace {
