@@ -277,33 +277,7 @@ TEST(Dop853, MeetsTightToleranceWithFewerStepsThanDopri5AndInterpolatesAccuratel
     EXPECT_LT(3 * steps[0], steps[1]);  // an 8th-order step is much longer at this tolerance
 }
 
-TEST(Dop853, ProjectionKeepsTheInvariantAndRestartsFsal) {
-    // rotation on the unit circle, projected back to |y| = 1 after each step
-    long projections = 0;
-    FunctionProblem problem(
-        2,
-        [](double, const VectorXd& y, VectorXd& f) {
-            f[0] = -y[1];
-            f[1] = y[0];
-        },
-        [&](double, VectorXd& y) {
-            ++projections;
-            y.normalize();
-            return true;
-        });
-    VectorXd y0(2);
-    y0 << 1.0, 0.0;
-    std::vector<double> outputs;
-    for (int k = 1; k <= 40; ++k) outputs.push_back(0.5 * k);
-    const Outcome r = integrate("dop853", 1e-7, problem, y0, outputs);
-    ASSERT_EQ(r.t.size(), outputs.size());
-    for (size_t k = 0; k < r.t.size(); ++k) {
-        EXPECT_NEAR(r.y[k].norm(), 1.0, 1e-14);
-        EXPECT_NEAR(r.y[k][0], std::cos(r.t[k]), 1e-6);
-    }
-    EXPECT_GE(projections, r.stats.steps);
-    EXPECT_EQ(r.stats.rhs_evaluations, problem.calls);
-}
+// (the projection test of both explicit pairs is in test_integrators.cpp)
 
 TEST(Dop853, TheMaximumStepCountNamesTheIntegrator) {
     FunctionProblem problem = smooth();
