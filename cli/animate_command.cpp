@@ -26,15 +26,14 @@ struct AnimateArguments {
 }  // namespace
 
 void add_animate_command(CLI::App& app, Commands& commands) {
-    auto args = std::make_shared<AnimateArguments>();
-    CLI::App* sub = add_scene_subcommand(
+    const auto [args, sub] = scene_subcommand<AnimateArguments>(
         app, "animate", "Write the motion of a result CSV as a glTF 2.0 binary (.glb) or a browser viewer (.html)",
-        args->scene, "Scene file (YAML) the result was computed from");
+        "Scene file (YAML) the result was computed from");
     sub->add_option("RESULT", args->result, "Result CSV of mbd simulate or mbd kinematics")->required();
     sub->add_option("-o,--output", args->output, "out.glb (glTF 2.0 binary) or out.html (viewer)")->required();
     sub->add_option("--plot", args->plot, "HTML: the column plotted when the page opens (default: the first body's x)");
 
-    commands[sub] = [args] {
+    commands[sub] = [args = args] {
         viewer::animation_format(args->output);  // a bad name fails before any work
         Registry registry;
         const Model model = load_scene(args->scene, registry);

@@ -18,17 +18,10 @@ using Commands = std::map<const CLI::App*, Action>;
 // All of the subcommands below, and exactly one of them required (cli/command_line.cpp).
 void add_commands(CLI::App& app, Commands& commands);
 
-void add_plugins_command(CLI::App& app, Commands& commands);
-void add_check_command(CLI::App& app, Commands& commands);
-void add_kinematics_command(CLI::App& app, Commands& commands);
-void add_statics_command(CLI::App& app, Commands& commands);
-void add_inverse_command(CLI::App& app, Commands& commands);
-void add_simulate_command(CLI::App& app, Commands& commands);
-void add_plugin_check_command(CLI::App& app, Commands& commands);
-void add_bench_command(CLI::App& app, Commands& commands);
-void add_stability_command(CLI::App& app, Commands& commands);
-void add_animate_command(CLI::App& app, Commands& commands);
-void add_modes_command(CLI::App& app, Commands& commands);
-void add_sweep_command(CLI::App& app, Commands& commands);
+// Each subcommand's registration, one file each (cli/<name>_command.cpp).
+using AddCommand = void(CLI::App& app, Commands& commands);
+AddCommand add_plugins_command, add_check_command, add_kinematics_command, add_statics_command,
+    add_inverse_command, add_simulate_command, add_plugin_check_command, add_bench_command,
+    add_stability_command, add_animate_command, add_modes_command, add_sweep_command;
 
 }  // namespace mbd::cli

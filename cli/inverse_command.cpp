@@ -30,16 +30,15 @@ struct InverseArguments {
 }  // namespace
 
 void add_inverse_command(CLI::App& app, Commands& commands) {
-    auto args = std::make_shared<InverseArguments>();
-    CLI::App* sub = add_scene_subcommand(
+    const auto [args, sub] = scene_subcommand<InverseArguments>(
         app, "inverse", "Inverse dynamics: actuator efforts for the motion the drivers prescribe, at t = 0, h, ..., t_end",
-        args->scene, "Scene file (YAML) with drivers and 'actuators:'");
+        "Scene file (YAML) with drivers and 'actuators:'");
     add_time_grid_options(sub, args->grid);
     sub->add_option("-o,--output", args->output, "CSV file: t, one column per actuator (and reactions)");
     sub->add_flag("--reactions", args->reactions, "Add JOINT.fx JOINT.fy JOINT.tz (planar; 6 columns spatial)");
     sub->add_option("--solver", args->solver, "Inverse-dynamics plugin type")->capture_default_str();
 
-    commands[sub] = [args] {
+    commands[sub] = [args = args] {
         args->grid.intervals();  // the row count, before any work
         Registry registry;
         const Model model = load_scene(args->scene, registry);

@@ -53,12 +53,10 @@ void print_table(const std::vector<std::string>& columns, const std::vector<std:
 }  // namespace
 
 void add_kinematics_command(CLI::App& app, Commands& commands) {
-    auto args = std::make_shared<KinematicsArguments>();
-    CLI::App* sub = add_scene_subcommand(
+    const auto [args, sub] = scene_subcommand<KinematicsArguments>(
         app, "kinematics",
         "Kinematically driven motion: positions and velocities of every body at t = 0, h, 2h, ..., t_end "
-        "(Newton-Raphson assembly at each time)",
-        args->scene);
+        "(Newton-Raphson assembly at each time)");
     add_time_grid_options(sub, args->grid);
     sub->add_option("-o,--output", args->output,
                     "CSV file (columns: t, positions, velocities per body); without it a short table is printed");
@@ -75,7 +73,7 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
         ->capture_default_str()
         ->check(CLI::Range(2, 100000));
 
-    commands[sub] = [args] {
+    commands[sub] = [args = args] {
         args->grid.intervals();  // the row count, before any work
         KinematicsOptions options;
         options.newton.tolerance = args->tolerance;

@@ -165,11 +165,10 @@ void write_file(const std::string& path, const std::string& text) {
 }  // namespace
 
 void add_modes_command(CLI::App& app, Commands& commands) {
-    auto args = std::make_shared<ModesArguments>();
-    CLI::App* sub = add_scene_subcommand(app, "modes",
-                                         "Linearised equations of motion: eigenvalues, natural frequencies, damping "
-                                         "ratios, mode shapes, state-space A and B",
-                                         args->scene);
+    const auto [args, sub] = scene_subcommand<ModesArguments>(
+        app, "modes",
+        "Linearised equations of motion: eigenvalues, natural frequencies, damping "
+        "ratios, mode shapes, state-space A and B");
     sub->add_option("--about", args->about,
                     "statics (the static equilibrium found by the statics plugin) or initial (the scene's initial "
                     "state, taken as an equilibrium or steady motion)")
@@ -187,7 +186,7 @@ void add_modes_command(CLI::App& app, Commands& commands) {
         ->capture_default_str()
         ->check(positive_number());
 
-    commands[sub] = [args] {
+    commands[sub] = [args = args] {
         Registry registry;
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");

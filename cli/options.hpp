@@ -9,7 +9,9 @@
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mbd::cli {
@@ -23,11 +25,22 @@ CLI::Validator finite_number();
 // A finite number in [lo, hi]; `why` (may be empty) explains the range in the error.
 CLI::Validator number_between(double lo, double hi, const std::string& why = "");
 
-
 // A subcommand that reads one scene: NAME with its description, on `app`, and its required
 // SCENE positional bound to `scene`.
 CLI::App* add_scene_subcommand(CLI::App& app, const std::string& name, const std::string& description,
                                std::string& scene, const std::string& scene_help = "Scene file (YAML)");
+
+// The same, with the subcommand's arguments made here (shared with the action it registers):
+// `const auto [args, sub] = scene_subcommand<SimulateArguments>(app, "simulate", "...");`.
+// The positional binds to Arguments::scene unless `file` names another member.
+template <class Arguments>
+std::pair<std::shared_ptr<Arguments>, CLI::App*> scene_subcommand(CLI::App& app, const std::string& name,
+                                                                  const std::string& description,
+                                                                  const std::string& scene_help = "Scene file (YAML)",
+                                                                  std::string Arguments::*file = &Arguments::scene) {
+    auto args = std::make_shared<Arguments>();
+    return {args, add_scene_subcommand(app, name, description, (*args).*file, scene_help)};
+}
 
 // The scene file and every `base:` file it inherits from.
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model);

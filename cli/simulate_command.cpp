@@ -216,13 +216,11 @@ void print_simulate_summary(const SimulateArguments& a, const SimulationResult& 
 }  // namespace
 
 void add_simulate_command(CLI::App& app, Commands& commands) {
-    auto args = std::make_shared<SimulateArguments>();
-    CLI::App* sub = add_scene_subcommand(
-        app, "simulate", "Forward dynamics: integrate the equations of motion from the scene's initial state to t_end",
-        args->scene);
+    const auto [args, sub] = scene_subcommand<SimulateArguments>(
+        app, "simulate", "Forward dynamics: integrate the equations of motion from the scene's initial state to t_end");
     const auto [tol, step] = add_simulate_options(sub, *args);
 
-    commands[sub] = [args, tol = tol, step = step] {
+    commands[sub] = [args = args, tol = tol, step = step] {
         args->tolerance_given = tol->count() > 0;
         args->step_given = step->count() > 0;
         check_integrator_options(args->integrator, args->tolerance_given, args->tolerance, args->step_given, args->step,

@@ -88,10 +88,8 @@ void print_report(const std::string& scene, const Model& model, const StaticsRep
 }  // namespace
 
 void add_statics_command(CLI::App& app, Commands& commands) {
-    auto args = std::make_shared<StaticsArguments>();
-    CLI::App* sub = add_scene_subcommand(
-        app, "statics", "Static equilibrium (virtual work / minimum potential, Ipopt): configuration, reactions, stability",
-        args->scene);
+    const auto [args, sub] = scene_subcommand<StaticsArguments>(
+        app, "statics", "Static equilibrium (virtual work / minimum potential, Ipopt): configuration, reactions, stability");
     sub->add_flag("--json", args->json, "Print one JSON object instead of the report");
     sub->add_option("-o,--output", args->output, "Write the equilibrium as a scene file (positions replaced)");
     sub->add_option("--time", args->time, "Time at which the drivers hold their joints")
@@ -115,7 +113,7 @@ void add_statics_command(CLI::App& app, Commands& commands) {
     sub->add_option("--animation", args->animation, "Show the equilibrium as a glTF 2.0 binary (.glb) or a browser "
                                                      "viewer (.html)");
 
-    commands[sub] = [args] {
+    commands[sub] = [args = args] {
         Registry registry;
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");

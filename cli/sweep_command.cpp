@@ -97,12 +97,11 @@ int run_sweep(const SweepArguments& a, const MpiRole& role) {
 }  // namespace
 
 void add_sweep_command(CLI::App& app, Commands& commands) {
-    auto args = std::make_shared<SweepArguments>();
-    CLI::App* sub = add_scene_subcommand(
+    const auto [args, sub] = scene_subcommand<SweepArguments>(
         app, "sweep",
         "Parameter study: run the study file's analysis over a grid, Latin hypercube or Monte Carlo design of "
         "scene parameters, in threads or MPI ranks (mpirun -np N mbd sweep ...); results in one HDF5 file",
-        args->study, "Study file (YAML, docs/sweep.md)");
+        "Study file (YAML, docs/sweep.md)", &SweepArguments::study);
     sub->add_option("-o,--output", args->output, "Results file (HDF5)")->required();
     sub->add_option("--csv", args->csv, "Also write the table of parameters and metrics as CSV");
     sub->add_option("--threads", args->threads, "Threads in this process (one Model, a Data per thread)")
@@ -116,7 +115,7 @@ void add_sweep_command(CLI::App& app, Commands& commands) {
         ->check(positive_number());
     sub->add_flag("-q,--quiet", args->quiet, "No progress bar and no summary");
 
-    commands[sub] = [args] {
+    commands[sub] = [args = args] {
         const MpiRole role = mpi_role();
         if (role.launched && role.rank != 0) {
             Registry registry;

@@ -86,18 +86,19 @@ StudyAnalysis read_analysis(const Param& node) {
     case AnalysisType::Simulate:
         check_keys(node, "analysis (simulate)",
                    {"type", "t_end", "formulation", "integrator", "tol", "step", "output_step"});
-        a.t_end = positive(required(node, "t_end", "analysis (simulate)"), "t_end");
-        if (const Param* p = field(node, "formulation")) a.formulation = word(*p, "formulation");
-        if (const Param* p = field(node, "integrator")) a.integrator = word(*p, "integrator");
-        if (const Param* p = field(node, "tol")) a.tolerance = positive(*p, "tol");
-        if (const Param* p = field(node, "step")) a.step = positive(*p, "step");
-        if (const Param* p = field(node, "output_step")) a.output_step = positive(*p, "output_step");
-        if (a.tolerance > 0.0 && a.step > 0.0) node.fail("analysis: give 'tol' (adaptive) or 'step' (fixed), not both");
+        a.run.t_end = positive(required(node, "t_end", "analysis (simulate)"), "t_end");
+        if (const Param* p = field(node, "formulation")) a.run.formulation = word(*p, "formulation");
+        if (const Param* p = field(node, "integrator")) a.run.integrator = word(*p, "integrator");
+        if (const Param* p = field(node, "tol")) a.run.integration.tolerance = positive(*p, "tol");
+        if (const Param* p = field(node, "step")) a.run.integration.step = positive(*p, "step");
+        if (const Param* p = field(node, "output_step")) a.run.output_step = positive(*p, "output_step");
+        if (field(node, "tol") && field(node, "step"))
+            node.fail("analysis: give 'tol' (adaptive) or 'step' (fixed), not both");
         break;
     case AnalysisType::Inverse:
         check_keys(node, "analysis (inverse)", {"type", "t_end", "step", "solver"});
-        a.t_end = positive(required(node, "t_end", "analysis (inverse)"), "t_end");
-        a.step = positive(required(node, "step", "analysis (inverse)"), "step");
+        a.run.t_end = positive(required(node, "t_end", "analysis (inverse)"), "t_end");
+        a.run.integration.step = positive(required(node, "step", "analysis (inverse)"), "step");
         if (const Param* p = field(node, "solver")) a.solver = word(*p, "solver");
         break;
     case AnalysisType::Statics:

@@ -77,14 +77,7 @@ private:
 };
 
 void run_simulate(const Study& study, const Model& model, Registry& registry, CaseResult& out) {
-    const StudyAnalysis& a = study.analysis;
-    SimulationSettings s;
-    s.formulation = a.formulation;
-    s.integrator = a.integrator;
-    if (a.tolerance > 0.0) s.integration.tolerance = a.tolerance;
-    s.integration.step = a.step;
-    s.t_end = a.t_end;
-    s.output_step = a.output_step;
+    SimulationSettings s = study.analysis.run;
     s.reactions = uses_any(study, reaction_columns(model));
     s.diagnostics = uses_any(study, diagnostic_columns());
     s.progress = false;
@@ -148,7 +141,7 @@ void run_statics_case(const Study& study, const Model& model, Registry& registry
 
 void run_inverse_case(const Study& study, const Model& model, Registry& registry, CaseResult& out) {
     CaseTable table(study, inverse_columns(model, true));
-    run_inverse(model, registry, study.analysis.t_end, study.analysis.step,
+    run_inverse(model, registry, study.analysis.run.t_end, study.analysis.run.integration.step,
                 [&](const InverseSample& sample, System& system) {
                     table.add(inverse_row(sample, system, true));
                     stop_if_interrupted(sample.state.t);

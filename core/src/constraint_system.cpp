@@ -6,24 +6,40 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <initializer_list>
+#include <string>
+#include <utility>
 
 namespace mbd {
 
 namespace {
 
-// The first non-finite entry of a joint's output, described ("C of row 'x' = nan").
-std::string first_non_finite(const Joint& joint, const ConstraintEval& e) {
+// The first non-finite entry of a joint's output, row by row ("C of row 'x' = nan"): the
+// per-row vectors in their order, then the row of the matrix.
+std::string first_non_finite(const std::function<std::string(int)>& row_name,
+                             std::initializer_list<std::pair<const char*, const Eigen::VectorXd*>> vectors,
+                             const char* matrix_name, const Eigen::MatrixXd& matrix) {
     auto describe = [&](const char* what, int row, double value) {
-        return std::string(what) + " of row '" + joint.row_name(row) + "' = " + format_number(value);
+        return std::string(what) + " of row '" + row_name(row) + "' = " + format_number(value);
     };
-    for (int r = 0; r < e.C.size(); ++r) {
-        if (!std::isfinite(e.C[r])) return describe("C", r, e.C[r]);
-        if (!std::isfinite(e.C_t[r])) return describe("C_t", r, e.C_t[r]);
-        if (!std::isfinite(e.gamma[r])) return describe("gamma", r, e.gamma[r]);
-        for (int c = 0; c < e.J.cols(); ++c)
-            if (!std::isfinite(e.J(r, c))) return describe("the Jacobian", r, e.J(r, c));
+    for (int r = 0; r < matrix.rows(); ++r) {
+        for (const auto& [what, v] : vectors)
+            if (!std::isfinite((*v)[r])) return describe(what, r, (*v)[r]);
+        for (int c = 0; c < matrix.cols(); ++c)
+            if (!std::isfinite(matrix(r, c))) return describe(matrix_name, r, matrix(r, c));
     }
     return "no entry";
+}
+
+std::string first_non_finite(const Joint& joint, const ConstraintEval& e) {
+    return first_non_finite([&](int r) { return joint.row_name(r); }, {{"C", &e.C}, {"C_t", &e.C_t}, {"gamma", &e.gamma}},
+                            "the Jacobian", e.J);
+}
+
+std::string first_non_finite(const Joint& joint, const VelocityConstraintEval& e) {
+    return first_non_finite([&](int r) { return joint.velocity_row_name(r); }, {{"b", &e.b}, {"gamma", &e.gamma}}, "A",
+                            e.A);
 }
 
 // Every entry of a joint's output finite. A NaN or an infinity in any entry makes the sum
@@ -33,20 +49,6 @@ bool rows_finite(const ConstraintEval& e) {
     const double sum = e.C.sum() + e.C_t.sum() + e.gamma.sum() + e.J.sum();
     if (std::isfinite(sum)) return true;
     return e.C.allFinite() && e.C_t.allFinite() && e.gamma.allFinite() && e.J.allFinite();
-}
-
-// The same for a joint's velocity-level rows.
-std::string first_non_finite(const Joint& joint, const VelocityConstraintEval& e) {
-    auto describe = [&](const char* what, int row, double value) {
-        return std::string(what) + " of row '" + joint.velocity_row_name(row) + "' = " + format_number(value);
-    };
-    for (int r = 0; r < e.b.size(); ++r) {
-        if (!std::isfinite(e.b[r])) return describe("b", r, e.b[r]);
-        if (!std::isfinite(e.gamma[r])) return describe("gamma", r, e.gamma[r]);
-        for (int c = 0; c < e.A.cols(); ++c)
-            if (!std::isfinite(e.A(r, c))) return describe("A", r, e.A(r, c));
-    }
-    return "no entry";
 }
 
 }  // namespace

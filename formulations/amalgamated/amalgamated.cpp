@@ -64,11 +64,7 @@ class Amalgamated final : public CoordinateVelocityFormulation {
 public:
     Amalgamated() = default;
 
-    void bind(System& system, const FormulationOptions& options) override;
-    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
-    bool project(double t, Eigen::VectorXd& y) override;
-    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
-    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+    MBD_FORMULATION_CALLS;
     bool may_redefine_state() const override { return false; }  // y = [q; v] does not depend on the partition
     OptionGroups options_used() const override {
         return kStabilizationOptions | kPartitionOptions | kSingularityOptions;
@@ -141,8 +137,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
         metric_.bind(system);
     singularity_.metric_distortion = sparse_ ? sparse_metric_.metric_distortion() : metric_.metric_distortion();
     singularity_.reset();
-    state_.q.setZero(nq_);
-    state_.v.setZero(nv_);
+    state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);
     vdot_.setZero(nv_);
     Qc_.setZero(nv_);

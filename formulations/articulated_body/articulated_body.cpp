@@ -159,8 +159,7 @@ void ArticulatedBody::bind(System& system, const FormulationOptions& /*options*/
             body.J = blocks[e.body].bottomRightCorner<3, 3>();
         }
     }
-    state_.q.setZero(nq_);
-    state_.v.setZero(nv_);
+    state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);
     udot_.setZero(nu_);
     s_.setZero(ns_);

@@ -57,15 +57,10 @@ using VecX6 = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
 class ArticulatedBody final : public Formulation {
 public:
-    void bind(System& system, const FormulationOptions& options) override;
+    MBD_FORMULATION_CALLS;
+    MBD_FORMULATION_STATE_CONVERSIONS;
     int ode_size() const override { return ns_ + nu_; }
-    void to_ode(const State& state, Eigen::VectorXd& y) override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
-    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
-    bool project(double t, Eigen::VectorXd& y) override;
     bool may_redefine_state() const override { return false; }  // joint coordinates: nothing to re-select
-    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
-    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
 
 private:
     struct Freedom {

@@ -65,11 +65,7 @@ public:
     Augmented(const Augmented&) = delete;
     Augmented& operator=(const Augmented&) = delete;
 
-    void bind(System& system, const FormulationOptions& options) override;
-    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
-    bool project(double t, Eigen::VectorXd& y) override;
-    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
-    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
+    MBD_FORMULATION_CALLS;
     bool supports_index3() const override { return true; }
     bool supports_velocity_constraints() const override { return true; }
     bool may_redefine_state() const override { return false; }  // y = [q; v] whatever rows are kept
@@ -152,9 +148,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     mass_inverse_.bind(system, "augmented formulation");
     singularity_.metric_distortion = mass_inverse_.distortion();
 
-    state_.t = 0.0;
-    state_.q.setZero(nq_);
-    state_.v.setZero(nv_);
+    state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);
     vdot_.setZero(nv_);
     lambda_.setZero(nc_);
@@ -260,30 +254,8 @@ void Augmented::factor(double t, const char* what, bool robust) {
         }
         return;
     }
-    // sparse: W = J Lm on W's fixed pattern
-    Eigen::SparseMatrix<double>& W = sparse_gram_.W();
-    double* wx = W.valuePtr();
-    const int* wp = W.outerIndexPtr();
-    const int* wi = W.innerIndexPtr();
-    std::fill(wx, wx + W.nonZeros(), 0.0);
-    for (int c = 0; c < J.outerSize(); ++c) {
-        const int b = c / nvb_, i = c % nvb_;
-        for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
-            if (is_dropped_[it.row()]) continue;
-            for (int j = 0; j <= i; ++j) {
-                const double l = mass_inverse_.factor(b)(i, j);
-                if (l == 0.0) continue;
-                const int col = b * nvb_ + j;
-                const int* begin = wi + wp[col];
-                const int* end = wi + wp[col + 1];
-                const int* pos = std::lower_bound(begin, end, static_cast<int>(it.row()));
-                if (pos == end || *pos != it.row())
-                    throw std::logic_error("augmented formulation: a Jacobian entry outside its joint's bodies (row " +
-                                           system_->describe_row(static_cast<int>(it.row())) + ")");
-                wx[pos - wi] += it.value() * l;
-            }
-        }
-    }
+    // sparse: W = J Lm on W's fixed pattern, the dropped rows decoupled (their multipliers are 0)
+    sparse_gram_.fill(J, mass_inverse_, &is_dropped_);
     if (!robust && sparse_gram_.factor(0.0)) return;
     // rank deficient: damped least squares (W W^T + delta I), refined and checked by the caller
     if (!sparse_gram_.factor(1e-12 * std::max(sparse_gram_.max_diagonal(), 1e-300))) redundant_rows_error(t, what);

@@ -48,8 +48,7 @@ void Partitioned::bind(System& system, const FormulationOptions& options) {
     reselections_ = 0;
     redefined_ = false;
     last_rhs_t_ = -std::numeric_limits<double>::infinity();
-    state_.q.setZero(nq_);
-    state_.v.setZero(nv_);
+    state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);
     v_before_.setZero(nv_);
     selector_.bind(nc_, nv_, options, fresh_);  // a re-selection allocates nothing (dense)

@@ -56,14 +56,9 @@ public:
     // `independent`: the velocity components to prefer as independent ("crank.angle"), if any
     explicit Partitioned(std::vector<std::string> independent) : independent_(std::move(independent)) {}
 
-    void bind(System& system, const FormulationOptions& options) override;
+    MBD_FORMULATION_CALLS;
+    MBD_FORMULATION_STATE_CONVERSIONS;
     int ode_size() const override;
-    void to_ode(const State& state, Eigen::VectorXd& y) override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
-    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
-    bool project(double t, Eigen::VectorXd& y) override;
-    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
-    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
 
     // For tests and diagnostics.
     const CoordinatePartition& partition() const { return part_; }

@@ -82,14 +82,9 @@ class Hamiltonian final : public Formulation {
 public:
     Hamiltonian() = default;
 
-    void bind(System& system, const FormulationOptions& options) override;
+    MBD_FORMULATION_CALLS;
+    MBD_FORMULATION_STATE_CONVERSIONS;
     int ode_size() const override { return nq_ + static_cast<int>(part_.independent.size()); }
-    void to_ode(const State& state, Eigen::VectorXd& y) override;
-    void from_ode(double t, const Eigen::VectorXd& y, State& state) override;
-    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override;
-    bool project(double t, Eigen::VectorXd& y) override;
-    void multipliers(const State& state, Eigen::VectorXd& lambda) override;
-    void accelerations(const State& state, Eigen::VectorXd& vdot) override;
     bool state_redefined() override {
         const bool r = redefined_;
         redefined_ = false;
@@ -107,6 +102,8 @@ private:
     void kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p);
     // kinematics() at y's q and momenta (copied into q_, p_)
     void kinematics(double t, const Eigen::VectorXd& y);
+    // the constraints at a state and a partition valid there (re-selected when near singular)
+    CoordinatePartition partition_at(const State& state);
     // vdot at a state for partition p (and Q_ there)
     void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot);
     // Jdot w on all rows (polarization of gamma, see the header)
@@ -184,8 +181,7 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     redefined_ = false;
     singularity_.reset();
     last_rhs_t_ = -std::numeric_limits<double>::infinity();
-    state_.q.setZero(nq_);
-    state_.v.setZero(nv_);
+    state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);
     Mx_.setZero(nv_);
     v_before_.setZero(nv_);
@@ -513,16 +509,22 @@ void Hamiltonian::solve_accelerations(double t, const CoordinatePartition& p, co
     vdot = B * vdot_i + g;
 }
 
+// The constraints at `state` (J_, cv_) and a partition valid there: the current one, or a
+// fresh choice when its dependent block is near singular.
+CoordinatePartition Hamiltonian::partition_at(const State& state) {
+    system_->constraints(state, cv_, true);
+    J_ = cv_.J;
+    CoordinatePartition p = part_;
+    if (dependent_pivot_ratio(J_, p, transform_) < partition_settings_.reselect_ratio) p = selector_.select(cv_.J, 1.0, partition_settings_.rank_tolerance);
+    return p;
+}
+
 void Hamiltonian::accelerations(const State& state, Eigen::VectorXd& vdot) {
     if (sparse_) {
         sparse_accelerations(state, vdot, b_);
         return;
     }
-    system_->constraints(state, cv_, true);
-    J_ = cv_.J;
-    CoordinatePartition p = part_;
-    if (dependent_pivot_ratio(J_, p, transform_) < partition_settings_.reselect_ratio) p = selector_.select(cv_.J, 1.0, partition_settings_.rank_tolerance);
-    solve_accelerations(state.t, p, state, vdot);
+    solve_accelerations(state.t, partition_at(state), state, vdot);
 }
 
 void Hamiltonian::multipliers(const State& state, Eigen::VectorXd& lambda) {
@@ -530,10 +532,7 @@ void Hamiltonian::multipliers(const State& state, Eigen::VectorXd& lambda) {
         sparse_accelerations(state, Mx_, lambda);
         return;
     }
-    system_->constraints(state, cv_, true);
-    J_ = cv_.J;
-    CoordinatePartition p = part_;
-    if (dependent_pivot_ratio(J_, p, transform_) < partition_settings_.reselect_ratio) p = selector_.select(cv_.J, 1.0, partition_settings_.rank_tolerance);
+    const CoordinatePartition p = partition_at(state);
     Eigen::VectorXd vdot;
     solve_accelerations(state.t, p, state, vdot);
     multipliers_from_dependent_rows(J_, p, Eigen::VectorXd(Q_ - *M_ * vdot), lambda, transform_);

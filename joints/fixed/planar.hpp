@@ -7,11 +7,8 @@
 #include <mbd/sdk/planar_primitives.hpp>
 
 #include <memory>
-#include <optional>
-#include <string>
 
-namespace mbd {
-namespace planar {
+namespace mbd::planar {
 
 class FixedJoint final : public FramePairJoint {
 public:
@@ -32,8 +29,7 @@ public:
     std::optional<RelativeMotion> relative_motion() const override { return RelativeMotion{}; }
 };
 
-}  // namespace planar
-}  // namespace mbd
+}  // namespace mbd::planar
 
 inline std::unique_ptr<mbd::Joint> make_planar_fixed(const mbd::JointSpec& spec) {
     return mbd::planar::make_frame_pair_joint<mbd::planar::FixedJoint>(spec);

@@ -9,8 +9,7 @@
 
 #include <memory>
 
-namespace mbd {
-namespace spatial {
+namespace mbd::spatial {
 
 class SpatialFixed : public PrimitiveJoint {
 public:
@@ -23,8 +22,7 @@ public:
     }
 };
 
-}  // namespace spatial
-}  // namespace mbd
+}  // namespace mbd::spatial
 
 inline std::unique_ptr<mbd::Joint> make_spatial_fixed(const mbd::JointSpec& spec) {
     mbd::spatial::require_spatial_pair(spec, "use the planar fixed variant");

@@ -9,11 +9,8 @@
 #include <mbd/sdk/planar_primitives.hpp>
 
 #include <memory>
-#include <optional>
-#include <string>
 
-namespace mbd {
-namespace planar {
+namespace mbd::planar {
 
 class PrismaticJoint final : public FramePairJoint {
 public:
@@ -39,8 +36,7 @@ public:
     }
 };
 
-}  // namespace planar
-}  // namespace mbd
+}  // namespace mbd::planar
 
 inline std::unique_ptr<mbd::Joint> make_planar_prismatic(const mbd::JointSpec& spec) {
     return mbd::planar::make_frame_pair_joint<mbd::planar::PrismaticJoint>(spec);

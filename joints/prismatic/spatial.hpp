@@ -9,8 +9,7 @@
 
 #include <memory>
 
-namespace mbd {
-namespace spatial {
+namespace mbd::spatial {
 
 class SpatialPrismatic : public PrimitiveJoint {
 public:
@@ -29,8 +28,7 @@ public:
     }
 };
 
-}  // namespace spatial
-}  // namespace mbd
+}  // namespace mbd::spatial
 
 inline std::unique_ptr<mbd::Joint> make_spatial_prismatic(const mbd::JointSpec& spec) {
     mbd::spatial::require_spatial_pair(spec, "use the planar prismatic variant");

@@ -6,11 +6,8 @@
 #include <mbd/sdk/planar_primitives.hpp>
 
 #include <memory>
-#include <optional>
-#include <string>
 
-namespace mbd {
-namespace planar {
+namespace mbd::planar {
 
 class RevoluteJoint final : public Joint {
 public:
@@ -38,8 +35,7 @@ private:
     Vec2 u_bar_i_, u_bar_j_;
 };
 
-}  // namespace planar
-}  // namespace mbd
+}  // namespace mbd::planar
 
 inline std::unique_ptr<mbd::Joint> make_planar_revolute(const mbd::JointSpec& spec) {
     mbd::planar::check_spec(spec, 2, 2, true);

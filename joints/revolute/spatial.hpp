@@ -8,8 +8,7 @@
 
 #include <memory>
 
-namespace mbd {
-namespace spatial {
+namespace mbd::spatial {
 
 class SpatialRevolute : public PrimitiveJoint {
 public:
@@ -26,8 +25,7 @@ public:
     }
 };
 
-}  // namespace spatial
-}  // namespace mbd
+}  // namespace mbd::spatial
 
 inline std::unique_ptr<mbd::Joint> make_spatial_revolute(const mbd::JointSpec& spec) {
     mbd::spatial::require_spatial_pair(spec, "use the planar revolute variant");

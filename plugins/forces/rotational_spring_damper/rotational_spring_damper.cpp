@@ -21,12 +21,9 @@
 // (planar and spatial) by automatic differentiation of the same expressions.
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
-#include <mbd/sdk/time_function.hpp>
 
 #include <cmath>
 #include <memory>
-#include <string>
-#include <vector>
 
 namespace {
 

@@ -16,12 +16,9 @@
 // simulation passing through coincident points continues.
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
-#include <mbd/sdk/time_function.hpp>
 
 #include <cmath>
 #include <memory>
-#include <string>
-#include <vector>
 
 namespace {
 

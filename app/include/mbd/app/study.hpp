@@ -7,6 +7,7 @@
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/sdk/params.hpp>
+#include <mbd/simulation.hpp>
 
 #include <filesystem>
 #include <memory>
@@ -38,12 +39,18 @@ struct StudyDesign {
 
 enum class AnalysisType { Simulate, Statics, Inverse, Modes };
 
+// A simulate analysis's run before the study's keys are read: dopri5 at its default tolerance.
+inline SimulationSettings simulate_defaults() {
+    SimulationSettings s;
+    s.integrator = "dopri5";
+    return s;
+}
+
 struct StudyAnalysis {
     AnalysisType type = AnalysisType::Simulate;
-    // simulate
-    std::string formulation, integrator = "dopri5";
-    double tolerance = 0.0, step = 0.0, t_end = 1.0, output_step = 0.0;
-    // inverse: t_end and the output `step` (required there)
+    // simulate: the run (its integrator "dopri5" unless the study names one); inverse: run.t_end
+    // and the output step, run.integration.step (required there)
+    SimulationSettings run = simulate_defaults();
     // statics (and modes about the statics)
     double time = 0.0, statics_tolerance = 1e-10;
     int max_iterations = 500;

@@ -103,3 +103,16 @@ using FormulationFactory = std::unique_ptr<Formulation>(const FormulationSpec& s
 }  // namespace mbd
 
 #define MBD_FORMULATION_PLUGIN(type, factory) MBD_REGISTER_PLUGIN(formulation, type, factory)
+
+// The calls every formulation implements, declared once for the class bodies that implement
+// them (a change of the interface is one edit here): bind, rhs, project, multipliers and
+// accelerations; a formulation whose ODE state is not y = [q; v] adds the conversions.
+#define MBD_FORMULATION_CALLS                                                      \
+    void bind(System& system, const FormulationOptions& options) override;        \
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override; \
+    bool project(double t, Eigen::VectorXd& y) override;                          \
+    void multipliers(const State& state, Eigen::VectorXd& lambda) override;       \
+    void accelerations(const State& state, Eigen::VectorXd& vdot) override
+#define MBD_FORMULATION_STATE_CONVERSIONS                        \
+    void to_ode(const State& state, Eigen::VectorXd& y) override; \
+    void from_ode(double t, const Eigen::VectorXd& y, State& state) override

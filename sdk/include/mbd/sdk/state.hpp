@@ -11,6 +11,13 @@ struct State {
     double t = 0.0;
     Eigen::VectorXd q;
     Eigen::VectorXd v;
+
+    // t = 0 and zero coordinates and velocities of these sizes: a workspace made ready once
+    void set_zero(int nq, int nv) {
+        t = 0.0;
+        q.setZero(nq);
+        v.setZero(nv);
+    }
 };
 
 // C(q, t), its Jacobian with respect to v, C_t and gamma for every row of a
