@@ -3,12 +3,14 @@
 // for elements without them), and the energies, against independent sums.
 #include "support/test_support.hpp"
 
+#include <mbd/data.hpp>
 #include <mbd/derivative_check.hpp>
 #include <mbd/model_system.hpp>
 
 #include <gtest/gtest.h>
 
 #include <random>
+#include <string>
 
 namespace mbd {
 namespace {
@@ -130,6 +132,38 @@ bodies:
     ModelSystem system(model);
     EXPECT_NEAR(system.potential_energy(model.initial_state()), 2 * 9.81 * 1.5 + 3 * 9.81 * -2, 1e-12);
     EXPECT_TRUE(system.conservative());
+}
+
+// Gravity is one element over every body whose load is constant: the square Jacobian
+// workspace of Data is sized by the widest other element (two bodies, 12 x 12 spatial), not
+// by N (a 2,000-link chain would otherwise hold two 12,000 x 12,000 matrices, 2.3 GB), and
+// gravity's zero Jacobians are not evaluated.
+TEST(ModelSystem, DataWorkspaceIsLinearInTheBodiesWithGravityOverAll) {
+    const int n = 2000;
+    std::string scene = "dimension: spatial\ngravity: [0, 0, -9.81]\nbodies:\n";
+    for (int k = 0; k < n; ++k)
+        scene += "  - {name: l" + std::to_string(k) + ", mass: 1, inertia: [1e-4, 1e-3, 1e-3], position: [" +
+                 std::to_string(0.1 * k + 0.05) + ", 0, 0]}\n";
+    scene += "joints:\n";
+    for (int k = 0; k < n; ++k)
+        scene += "  - {name: j" + std::to_string(k) + ", type: spherical, bodies: [" +
+                 (k == 0 ? std::string("ground") : "l" + std::to_string(k - 1)) + ", l" + std::to_string(k) +
+                 "], point: [" + std::to_string(0.1 * k) + ", 0, 0]}\n";
+    scene += "forces:\n  - {type: spring_damper, bodies: [l0, l1], stiffness: 10, damping: 1}\n";
+    Model model = test::scene(scene, "long-chain.yaml");
+    const Data data(model);
+    EXPECT_EQ(data.force_dQ_dq.rows(), 12);
+    EXPECT_EQ(data.force_dQ_dv.cols(), 12);
+    ModelSystem system(model);
+    Eigen::SparseMatrix<double> Kq, Kv;
+    const State s = model.initial_state();
+    system.force_jacobians(s, Kq, Kv);
+    EXPECT_EQ(Kq.rows(), 6 * n);
+    // the spring at rest between l0 and l1 is the only stiffness: its 12 x 12 block at most
+    EXPECT_LE(Kq.nonZeros(), 144);
+    Eigen::VectorXd Q;
+    system.generalized_forces(s, Q);
+    EXPECT_NEAR(Q[6 * (n - 1) + 2], -9.81, 1e-12);  // m g on the last link, along -z
 }
 
 TEST(ModelSystem, RowDescriptionsNameJointsAndDrivers) {

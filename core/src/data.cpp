@@ -6,17 +6,20 @@ namespace mbd {
 
 Data::Data(const Model& model) : poses(model) {
     const int nvb = velocities_per_body(model.dimension);
-    size_t widest = 1;
-    for (const ForceInstance& f : model.forces) widest = std::max(widest, f.bodies.size());
+    size_t widest = 1, widest_varying = 1;  // the widest element; the widest whose load varies
+    for (const ForceInstance& f : model.forces) {
+        widest = std::max(widest, f.bodies.size());
+        if (!f.constant_load) widest_varying = std::max(widest_varying, f.bodies.size());
+    }
     for (const JointInstance& j : model.joints) widest = std::max(widest, j.bodies.size());
     view.planar_bodies.reserve(widest);
     view.spatial_bodies.reserve(widest);
-    const int n = nvb * static_cast<int>(widest);
+    const int n = nvb * static_cast<int>(widest), n_varying = nvb * static_cast<int>(widest_varying);
     force_Q.setZero(n);
-    force_plus.setZero(n);
-    force_minus.setZero(n);
-    force_dQ_dq.setZero(n, n);
-    force_dQ_dv.setZero(n, n);
+    force_plus.setZero(n_varying);
+    force_minus.setZero(n_varying);
+    force_dQ_dq.setZero(n_varying, n_varying);
+    force_dQ_dv.setZero(n_varying, n_varying);
     probe.q.setZero(model.nq());
     probe.v.setZero(model.nv());
     for (const JointInstance& j : model.joints) {

@@ -161,6 +161,7 @@ void ModelSystem::force_jacobians(const State& state, Eigen::SparseMatrix<double
     std::vector<Eigen::Triplet<double>> tq, tv;
     data_.pose(state);
     for (const ForceInstance& f : m.forces) {
+        if (f.constant_load) continue;  // zero Jacobians
         const int n = nvb * static_cast<int>(f.bodies.size());
         auto element_dq = data_.force_dQ_dq.topLeftCorner(n, n), element_dv = data_.force_dQ_dv.topLeftCorner(n, n);
         element_dq.setZero();

@@ -30,6 +30,7 @@ void Loader::add_gravity() {
     force.name = "gravity";
     force.type = "gravity";
     force.where = key_where(root_, "gravity");
+    force.constant_load = true;
     ForceSpec spec;
     spec.name = force.name;
     spec.type = force.type;

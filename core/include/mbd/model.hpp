@@ -54,6 +54,10 @@ struct ForceInstance {
     std::vector<Marker> markers;
     std::shared_ptr<const Force> force;
     std::string where;
+    // Q depends on neither q nor v (the core's gravity element: m g at every mass centre), so
+    // its Jacobians are zero and never evaluated. Such an element may span every body: the
+    // square Jacobian workspace of Data is sized by the other elements (linear in N).
+    bool constant_load = false;
 };
 
 // A driver prescribes the coordinate of a 1-DOF joint: s(q) - f(t) = 0.
