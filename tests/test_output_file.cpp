@@ -9,11 +9,14 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "support/test_support.hpp"
 
@@ -72,6 +75,33 @@ TEST(OutputFile, NoRecordMeansNoFileLeftBehind) {
     { mbd::OutputFile file(dir / "result.csv", "t,x\n"); }
     EXPECT_TRUE(fs::is_empty(dir));
     EXPECT_TRUE(mbd::take_kept_output_notes().empty());
+}
+
+// A device or FIFO (-o /dev/null, a pipe to another program) is written in place: there is no
+// final name to complete, so no NAME.partial appears beside it, even when the run stops.
+TEST(OutputFile, ADeviceOrPipeIsWrittenInPlace) {
+    const fs::path dir = scratch("fifo");
+    const fs::path fifo = dir / "rows";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::string received;
+    std::thread reader([&] { received = read_text(fifo); });
+    {
+        mbd::OutputFile file(fifo, "t,x\n");
+        file.write_record("0,1\n");
+        file.write_record("1,2\n");
+        // destroyed without commit(): a stopped run
+    }
+    reader.join();
+    EXPECT_EQ(received, "t,x\n0,1\n1,2\n");
+    EXPECT_FALSE(fs::exists(dir / "rows.partial"));
+    EXPECT_TRUE(mbd::take_kept_output_notes().empty());
+    {
+        mbd::OutputFile null("/dev/null", "t,x\n");
+        null.write_record("0,1\n");
+        null.commit();
+    }
+    EXPECT_FALSE(fs::exists("/dev/null.partial"));
+    EXPECT_TRUE(fs::exists("/dev/null"));
 }
 
 TEST(OutputFile, ReplaceKeepsOnlyTheLatestDocumentAndSaysWhatItHolds) {

@@ -80,7 +80,12 @@ void check_output_path(const fs::path& output, const std::vector<fs::path>& inpu
 OutputFile::OutputFile(fs::path path, std::string_view header)
     : path_(std::move(path)), partial_(path_.string() + ".partial"), buffer_(header),
       last_flush_(std::chrono::steady_clock::now()) {
-    fd_ = ::open(partial_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    // a device or FIFO is no file to complete under its final name: it is written in place
+    std::error_code ec;
+    const fs::file_status status = fs::status(path_, ec);
+    stream_ = !ec && fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status);
+    if (stream_) partial_ = path_;
+    fd_ = ::open(partial_.c_str(), O_WRONLY | O_CREAT | (stream_ ? 0 : O_TRUNC) | O_CLOEXEC, 0666);
     if (fd_ < 0) throw OutputError(path_, std::string(std::strerror(errno)) + " (creating " + quoted(partial_) + ")");
 }
 
@@ -109,11 +114,12 @@ void OutputFile::replace(std::string_view document, const std::string& contents)
     if (finished_) throw std::logic_error("OutputFile: write after commit() or abandon() of " + quoted(path_));
     buffer_.clear();
     try {
-        if (::ftruncate(fd_, 0) != 0 || ::lseek(fd_, 0, SEEK_SET) < 0) throw OutputError(partial_, std::strerror(errno));
+        if (!stream_ && (::ftruncate(fd_, 0) != 0 || ::lseek(fd_, 0, SEEK_SET) < 0))
+            throw OutputError(partial_, std::strerror(errno));
         write_all(fd_, document.data(), document.size(), partial_);
     } catch (const std::exception& e) {
         // no half document: nothing is kept
-        if (::ftruncate(fd_, 0) == 0) ::lseek(fd_, 0, SEEK_SET);
+        if (!stream_ && ::ftruncate(fd_, 0) == 0) ::lseek(fd_, 0, SEEK_SET);
         records_ = 0;
         write_failure_ = e.what();
         throw;
@@ -153,7 +159,7 @@ void OutputFile::flush_buffer() {
         write_all(fd_, buffer_.data(), buffer_.size(), partial_);
     } catch (const std::exception& e) {
         // keep the file at its last whole record (a full disk may have taken part of a block)
-        if (complete >= 0 && ::ftruncate(fd_, complete) == 0) ::lseek(fd_, complete, SEEK_SET);
+        if (!stream_ && complete >= 0 && ::ftruncate(fd_, complete) == 0) ::lseek(fd_, complete, SEEK_SET);
         buffer_.clear();
         records_ -= buffered_records_;
         buffered_records_ = 0;
@@ -181,6 +187,7 @@ void OutputFile::commit() {
         close_descriptor();
         throw;
     }
+    if (stream_) return;
     std::error_code ec;
     fs::rename(partial_, path_, ec);
     if (ec) throw OutputError(path_, ec.message() + " (renaming " + quoted(partial_) + ")");
@@ -200,6 +207,7 @@ void OutputFile::abandon(const std::string& what) {
     } catch (const std::exception& e) {
         if (problem.empty()) problem = e.what();
     }
+    if (stream_) return;  // nothing to keep or remove: the device had the bytes
     std::error_code ec;
     if (records_ == 0 || document_) {
         fs::remove(partial_, ec);

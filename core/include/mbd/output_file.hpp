@@ -88,6 +88,7 @@ private:
     std::string write_failure_;  // a failed write: PATH.partial holds only the records before it
     bool finished_ = false;
     bool document_ = false;  // written by write_document_part: nothing kept when abandoned
+    bool stream_ = false;    // PATH is a device or FIFO (/dev/null, /dev/stdout): written in place
     std::chrono::steady_clock::time_point last_flush_;
 };
 
