@@ -77,6 +77,10 @@ void add_check_command(CLI::App& app, Commands& commands) {
                   << " joint equations, " << mobility.driver_rows << " driver equations\n";
         std::cout << "degrees of freedom (Gruebler count): " << mobility.gruebler_dof << '\n';
         std::cout << "degrees of freedom (rank of C_q): " << mobility.rank_dof << "  (rank " << mobility.rank << ")\n";
+        if (mobility.velocity_rows > 0)
+            std::cout << "velocity constraints (nonholonomic): " << mobility.velocity_rows
+                      << " rows; degrees of freedom of the velocities (rank of [C_q; A]): " << mobility.velocity_dof
+                      << '\n';
         if (!mobility.redundant.empty()) {
             std::cout << "redundant constraint rows (" << mobility.redundant.size() << "):\n";
             for (const RowOwner& o : mobility.redundant) std::cout << "  " << o.describe() << '\n';

@@ -19,6 +19,7 @@
 // g sin(theta)) t. Equating, with omega_a = Omega R_G / r:
 //     Omega^2 cos(theta) (r sin(theta) / 4 - 3 R_G / 2) = g sin(theta).
 #include <mbd/derivative_check.hpp>
+#include <mbd/mobility.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/reactions.hpp>
 #include <mbd/simulation.hpp>
@@ -179,6 +180,23 @@ TEST(RollingDisc, RowsAreTheContactHeightAndTheContactPointVelocity) {
 // Off the steady circle (the spin cut by 40%: the disc wobbles, turns and falls further over),
 // augmented and embedding (independent velocities from the null space of [J; A], 3 of 6) follow
 // the same motion; neither slips.
+// A thin disc on a plane: 6 velocities, 1 holonomic row (contact height) and 2 no-slip rows,
+// so 5 freedoms of position and 3 of velocity (spin, lean rate, heading rate); mbd check says so.
+TEST(RollingDisc, MobilityCountsTheFreedomsOfPositionAndOfVelocity) {
+    const mbd::Model model = mbd::test::load("examples/spatial-rolling-disc.yaml");
+    const mbd::MobilityReport m = mbd::analyse_mobility(model, model.initial_state());
+    EXPECT_EQ(m.rank_dof, 5);
+    EXPECT_EQ(m.velocity_rows, 2);
+    EXPECT_EQ(m.velocity_dof, 3);
+    const mbd::test::CommandResult r =
+        mbd::test::run_mbd("check " + mbd::test::scene_path("examples/spatial-rolling-disc.yaml").string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("velocity constraints (nonholonomic): 2 rows; degrees of freedom of the velocities "
+                            "(rank of [C_q; A]): 3"),
+              std::string::npos)
+        << r.out;
+}
+
 TEST(RollingDisc, AugmentedAndEmbeddingAgreeOffTheSteadyCircle) {
     SteadyCircle c;
     const mbd::Model model = mbd::test::scene(c.scene());

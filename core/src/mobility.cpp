@@ -23,12 +23,22 @@ MobilityReport analyse_mobility(const Model& model, const State& state, double r
     report.gruebler_dof = report.coordinates - report.constraint_rows;
     report.rank = 0;
     report.rank_dof = report.coordinates;
-    if (system.rows() == 0 || report.coordinates == 0) return report;
-
+    for (const JointInstance& j : model.joints) report.velocity_rows += j.joint->velocity_rows();
+    report.velocity_dof = report.coordinates;
+    if (report.coordinates == 0) return report;
     State s = state;
     if (s.v.size() != model.nv()) s.v = Eigen::VectorXd::Zero(model.nv());
-    ConstraintValues values;
     Data data(model);
+    if (report.velocity_rows > 0) {
+        ConstraintValues all;
+        ConstraintSystem(model, false, true).evaluate(s, data, all);
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr{Eigen::MatrixXd(all.J)};
+        qr.setThreshold(rank_tolerance);
+        report.velocity_dof = report.coordinates - static_cast<int>(qr.rank());
+    }
+    if (system.rows() == 0) return report;
+
+    ConstraintValues values;
     system.evaluate(s, data, values);
     const Eigen::MatrixXd J(values.J);
 

@@ -1,5 +1,6 @@
 // Degrees of freedom by the Gruebler count and by the rank of C_q, and the
-// names of redundant constraint rows when the two differ.
+// names of redundant constraint rows when the two differ; with velocity-level
+// rows, also the freedoms of the velocities.
 #pragma once
 
 #include <mbd/constraint_system.hpp>
@@ -17,6 +18,10 @@ struct MobilityReport {
     int rank = 0;                 // rank of the joint Jacobian
     int rank_dof = 0;             // coordinates - rank
     std::vector<RowOwner> redundant;  // rows dependent on earlier rows
+    // nonholonomic joints: their velocity-level rows A v = b, and the freedoms of the
+    // velocities, coordinates - rank [C_q; A] (a rolling disc: 5 of position, 3 of velocity)
+    int velocity_rows = 0;
+    int velocity_dof = 0;
 };
 
 MobilityReport analyse_mobility(const Model& model, const State& state, double rank_tolerance = 1e-9);
