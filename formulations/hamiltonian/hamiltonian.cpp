@@ -426,10 +426,10 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     // as soon as its pivot ratio is twice as good (below reselect_ratio: as soon as it is
     // better); the factor 2 keeps the two selections from alternating.
     if (t >= last_rhs_t_ && part_.rank > 0) {
-        // the pivot ratio of J_d itself, sparse or dense: measured against the ratio when the
-        // partition was chosen (relative_pivot_ratio), the sparse path switched early and, on
-        // A02 with 40 loops, once to a partition that stalled dopri5 at t = 2.687 (stability matrix)
-        const double ratio = pivot_ratio(cv.J, J, part_);
+        const double raw_ratio = pivot_ratio(cv.J, J, part_);
+        // the sparse LU's pivots carry the rows' geometric scale (partial pivoting): measured
+        // against their ratio when the partition was chosen (sparse_velocity_transform.hpp)
+        const double ratio = sparse_ ? sparse_transform_.relative_pivot_ratio() : raw_ratio;
         if (ratio < 10.0 * partition_settings_.reselect_ratio) {
             momenta(y, p_);
             kinematics(t, s.q, p_);
@@ -440,7 +440,7 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
                 throw DynamicsError(t, "hamiltonian: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(part_.rank));
             const double gain = ratio < partition_settings_.reselect_ratio ? 1.0 : 2.0;
-            if (pivot_ratio(cv.J, J, fresh) > gain * ratio) {
+            if (pivot_ratio(cv.J, J, fresh) > gain * raw_ratio) {
                 const Eigen::VectorXd& v = v_before_;
                 part_ = fresh;
                 if (sparse_) {
