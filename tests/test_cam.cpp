@@ -16,6 +16,7 @@
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/reactions.hpp>
 #include <mbd/simulation.hpp>
+#include <mbd/statics_analysis.hpp>
 
 #include <gtest/gtest.h>
 
@@ -254,6 +255,26 @@ TEST(Cam, SpringLoadedFollowerWarnsWhereItsContactForceReachesZero) {
         if (line.find("warning: joint 'contact' (contact): the contact force reaches zero at t = ") != std::string::npos)
             ++warnings;
     EXPECT_EQ(warnings, 1);
+}
+
+// Statics: the free cam (no driver) settles where the spring-loaded flat face is lowest,
+// theta = -pi/2 (y = R - e), and the contact force is then the spring's push plus the
+// follower's weight, N = m g + k (L0 - H + R - e), along +y.
+TEST(Cam, StaticsFindsTheLowestFollowerAndItsContactForce) {
+    const SpringLoaded c;
+    std::string yaml = mbd::test::replaced(c.scene(), "drivers:\n  - {name: motor, joint: O, motion: {type: linear, initial: 0, rate: " +
+                                                          g17(c.w) + "}}\n",
+                                           "");
+    yaml = mbd::test::replaced(yaml, "position: [0, 0]}", "position: [0, 0], angle: -1.2}");
+    const mbd::Model model = mbd::test::scene(yaml);
+    const mbd::StaticsReport rep = mbd::run_statics(model, shared_registry(), mbd::StaticsOptions{});
+    ASSERT_TRUE(rep.result.converged) << rep.result.message;
+    EXPECT_EQ(rep.result.stability, "stable");
+    EXPECT_NEAR(rep.result.state.q[2], -M_PI / 2, 1e-7);
+    EXPECT_NEAR(rep.result.state.q[4], kR - kE, 1e-10);
+    const double N = c.m * c.g + c.k * (c.L0 - c.H + kR - kE);
+    EXPECT_NEAR(rep.reactions[2].force.y(), N, 1e-7 * N);
+    EXPECT_NEAR(rep.reactions[2].force.x(), 0.0, 1e-7 * N);
 }
 
 TEST(Cam, BadKeysAreNamed) {
