@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <string>
 
 #include "support/test_support.hpp"
@@ -83,6 +84,8 @@ TEST(SphereSurface, BallInABowlRunsTheConicalPendulumWithOneNormalMultiplier) {
     EXPECT_LE(spin, 1e-8);
     EXPECT_LE(force, 1e-8 * b.N());
     EXPECT_LE(violation, 1e-10);
+    std::cout << "ball in bowl: centre error " << position << " m, spin error " << spin << " rad/s, normal force error "
+              << force << " N (N = " << b.N() << "), max |C| " << violation << "\n";
 }
 
 // The multiplier is the normal force: the contact row's lambda is -N (compression_sign -1).
