@@ -284,6 +284,26 @@ TEST(Cam, StaticsFindsTheLowestFollowerAndItsContactForce) {
     EXPECT_NEAR(rep.reactions[2].force.x(), 0.0, 1e-7 * N);
 }
 
+// Every formulation treats the contact as one holonomic row (tests/test_cross_formulation.cpp
+// runs scenes/examples/planar-cam.yaml with each); only the recursive embedding path, which needs
+// a tree of joints with relative coordinates, refuses it by name (docs/formulations.md).
+TEST(Cam, TheRecursiveEmbeddingPathRefusesTheCamByName) {
+    const std::string yaml = mbd::test::read_text(mbd::test::scene_path("examples/planar-cam.yaml")) +
+                             "formulation: {type: embedding, path: recursive}\n";
+    const mbd::Model model = mbd::test::scene(yaml);
+    mbd::SimulationSettings settings;
+    settings.t_end = 0.1;
+    settings.progress = false;
+    settings.messages = mbd::MessageLog::silent();
+    try {
+        mbd::simulate(model, shared_registry(), settings);
+        ADD_FAILURE() << "the recursive path ran a scene with a cam joint";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("recursive path needs a tree"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("cut joint 'contact'"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Cam, BadKeysAreNamed) {
     const std::string good = cam_scene("{type: eccentric, radius: 0.1, eccentricity: 0.02}",
                                        "follower: roller, radius: 0.03, follower_point: [0, 0]", 0.13, 1.0);
