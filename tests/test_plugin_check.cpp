@@ -36,6 +36,27 @@ TEST(PluginCheck, GearPairNeedsItsKeysAndPassesWithThem) {
     EXPECT_EQ(with.exit_code, 0) << with.out << with.err;
 }
 
+// The contact joints with surface parameters eliminated inside (cam, sphere_surface): every
+// follower and profile type on random states off the constraint manifold.
+TEST(PluginCheck, ContactJointsPassForEveryFollowerAndSurface) {
+    const std::string spline = " --params 'profile: {type: spline, radii: [0.3, 0.31, 0.33, 0.32, 0.3, 0.29, 0.28, 0.29]}'";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"libmbd_joint_cam.so", " --params 'follower: knife_edge' --params 'follower_point: [0.1, 0]'"
+                                " --params 'profile: {type: harmonic, base: 0.3, cos: [0.03, 0.01], sin: [0, 0.005]}'"},
+        {"libmbd_joint_cam.so", " --params 'follower: roller' --params 'radius: 0.05' --params 'follower_point: [0, 0]'"
+                                " --params 'profile: {type: eccentric, radius: 0.3, eccentricity: 0.05}'"},
+        {"libmbd_joint_cam.so", " --params 'follower: roller' --params 'radius: 0.05' --params 'follower_point: [0, 0]'" + spline},
+        {"libmbd_joint_cam.so", " --params 'follower: flat_face' --params 'face_normal: [0.3, -1]'"
+                                " --params 'follower_point: [0, 0.1]'" + spline},
+        {"libmbd_joint_sphere_surface.so", " --params 'radius: 0.1' --params 'surface: {type: paraboloid, curvatures: [0.5, -0.3]}'"},
+        {"libmbd_joint_sphere_surface.so", " --params 'radius: 0.1' --params 'surface: {type: bowl, radius: 3}'"}};
+    for (const auto& [lib, params] : cases) {
+        const auto r = test::run_mbd("plugin check " + plugin(lib) + params);
+        EXPECT_EQ(r.exit_code, 0) << lib << params << "\n" << r.out << r.err;
+        EXPECT_NE(r.out.find("2 checked, 0 failed"), std::string::npos) << r.out;
+    }
+}
+
 TEST(PluginCheck, BrokenGammaFailsForThatReasonOnly) {
     const auto r = test::run_mbd("plugin check " + test_plugin("libmbd_joint_broken_pin.so"));
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;

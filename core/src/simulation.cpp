@@ -12,6 +12,7 @@
 #include <mbd/sdk/text.hpp>
 
 #include "energy_growth.hpp"
+#include "lift_off.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -214,6 +215,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     ProgressBar progress(settings.progress);
     const std::string end_text = " / " + format_time(settings.t_end) + " s";
     // a conservative scene: no energy may enter (energy_growth.hpp)
+    LiftOffWatch lift_off(system);  // contact rows that can only push (a cam follower)
     EnergyGrowthWatch energy(model.drivers.empty() && system.conservative());
     const std::string energy_advice =
         integrator->adaptive() ? "use a tighter tolerance (--tol)"
@@ -230,11 +232,12 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         if (cv.J.rows() > 0) velocity_residual += cv.J * sample.state.v;
         result.final_velocity_violation = max_abs(velocity_residual);
         sample.lambda = nullptr;
+        if (settings.reactions || lift_off.active()) formulation->multipliers(sample.state, lambda);
         if (settings.reactions) {
-            formulation->multipliers(sample.state, lambda);
             sample.lambda = &lambda;
             append_reactions(system, sample.state, lambda, row);
         }
+        if (lift_off.active()) lift_off.check(t, lambda, settings.messages, result.lift_offs);
         const bool watch_energy = energy.active();
         const double kinetic = settings.diagnostics || watch_energy ? system.kinetic_energy(sample.state) : 0.0;
         const double potential = settings.diagnostics || watch_energy ? system.potential_energy(sample.state) : 0.0;

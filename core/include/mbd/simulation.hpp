@@ -51,6 +51,13 @@ struct SimulationSample {
     const std::vector<double>* row = nullptr;  // the output row, in SimulationResult::columns (as the CSV has it)
 };
 
+// A contact force that passed through zero (Joint::compression_sign): where the bodies would separate.
+struct LiftOffRecord {
+    double time = 0.0;   // interpolated between the output samples around the sign change
+    std::string joint;   // the joint's name
+    std::string row;     // its row's name ("contact")
+};
+
 struct SimulationResult {
     std::string formulation;
     std::string integrator;
@@ -62,6 +69,7 @@ struct SimulationResult {
     double final_position_violation = 0.0;   // max |C| at the last sample
     double final_velocity_violation = 0.0;   // max |J v + C_t| at the last sample
     std::vector<EventRecord> events;         // the located events (stops closing and opening), in time order
+    std::vector<LiftOffRecord> lift_offs;    // contact forces through zero, in time order (also warned of in messages)
 };
 
 // Column names of the extra CSV columns.

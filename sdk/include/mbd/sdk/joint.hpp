@@ -131,6 +131,13 @@ public:
     // Evaluate A, b and gamma into `out` (already sized velocity_rows() x cols).
     virtual void evaluate_velocity(const BodyStates& /*bodies*/, VelocityConstraintEval& /*out*/) const {}
     virtual std::string velocity_row_name(int row) const { return "velocity row " + std::to_string(row); }
+
+    // A contact row that can only push in reality (a cam and its spring-loaded follower): the
+    // sign its multiplier has while the contact is in compression (-1 or +1); 0 for an ordinary
+    // row. The row itself stays bilateral; a forward-dynamics run warns, with the time, where
+    // the multiplier changes sign: the contact force passes through zero and the bodies would
+    // separate there (core lift_off.hpp).
+    virtual int compression_sign(int /*row*/) const { return 0; }
 };
 
 }  // namespace mbd
