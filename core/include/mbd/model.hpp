@@ -54,6 +54,7 @@ struct ForceInstance {
     std::vector<Marker> markers;
     std::shared_ptr<const Force> force;
     std::string where;
+    int load_joint = -1;  // Force::load_joint() as an index into Model::joints, -1 none
 };
 
 // A driver prescribes the coordinate of a 1-DOF joint: s(q) - f(t) = 0.
