@@ -4,8 +4,8 @@
 // E_f is integrated by the run's integrator to its tolerance, like the motion, and for a
 // scene whose other forces are conservative  E(0) - E(t) = E_f(t)  holds to that tolerance
 // (the diagnostics column friction_dissipated, docs/formulations.md "Diagnostics").
-// It is added for every scene with friction (not only with --diagnostics), so that the motion
-// does not depend on whether the column is written.
+// It is added only with --diagnostics: the extra state takes part in the integrator's error
+// control, so a run without the column keeps the steps it had (docs/formulations.md).
 #pragma once
 
 #include <mbd/integrator.hpp>

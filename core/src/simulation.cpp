@@ -206,10 +206,10 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         for (auto& c : diagnostic_columns()) columns.push_back(c);
     const bool write_H = settings.diagnostics && formulation->has_hamiltonian();  // the formulation's H (e.g. hamiltonian)
     if (write_H) columns.push_back("H");
-    // the energy friction dissipated, as one more ODE state (friction_dissipation.hpp); an
-    // index-3 integrator works on the System's DAE, which has no room for it
-    const bool integrate_dissipation = system.has_friction() && !integrator->needs_index3();
-    const bool write_dissipation = settings.diagnostics && integrate_dissipation;
+    // the energy friction dissipated, as one more ODE state (friction_dissipation.hpp), with the
+    // diagnostics only; an index-3 integrator works on the System's DAE, which has no room for it
+    const bool integrate_dissipation = settings.diagnostics && system.has_friction() && !integrator->needs_index3();
+    const bool write_dissipation = integrate_dissipation;
     if (write_dissipation) columns.push_back(kFrictionDissipatedColumn);
     if (settings.diagnostics && system.has_friction() && !integrate_dissipation)
         settings.messages("no column " + std::string(kFrictionDissipatedColumn) + ": the " + integrator->name() +
