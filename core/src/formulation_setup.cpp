@@ -155,4 +155,23 @@ void require_velocity_rows_handled(const Model& model, const Formulation& formul
     }
 }
 
+void require_reaction_loads_handled(const Model& model, const Formulation& formulation, const std::string& name,
+                                    bool needs_index3, const std::string& integrator) {
+    for (const ForceInstance& f : model.forces) {
+        if (f.load_joint < 0) continue;
+        const std::string force = "force '" + f.name + "' (type " + f.type + ") takes its load from the reaction of joint '" +
+                                  model.joints[f.load_joint].name + "'";
+        if (!formulation.supports_reaction_loads())
+            throw InputError(f.where, force + ", which the '" + name +
+                                          "' formulation does not solve with its multipliers; use the augmented "
+                                          "formulation (--formulation augmented, or `formulation: augmented` in the "
+                                          "scene; docs/formulations.md)");
+        if (needs_index3)
+            throw InputError(f.where, force + ", which the " + integrator +
+                                          " integrator does not solve (it works on the index-3 equations directly); "
+                                          "use dopri5, dop853, rk4 or cvode");
+        return;
+    }
+}
+
 }  // namespace mbd

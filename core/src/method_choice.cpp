@@ -46,6 +46,12 @@ MethodChoice automatic_method(const Model& model, double t_end) {
     const bool tree = recursive_embedding_possible(system, &topology);
     choice.formulation = tree ? "embedding" : "augmented";
     choice.formulation_reason = tree ? topology + ": the recursive path of embedding" : topology;
+    for (const ForceInstance& f : model.forces)
+        if (f.load_joint >= 0 && tree) {  // only augmented solves a load from a reaction (reaction_loads.hpp)
+            choice.formulation = "augmented";
+            choice.formulation_reason = "force '" + f.name + "' takes its load from a joint's reaction";
+            break;
+        }
     const double rate = fastest_damping_rate(model);
     const double scales = rate * t_end;
     const bool stiff = scales > kStiffDampedTimeScales;

@@ -1,5 +1,8 @@
 #include <mbd/model_system.hpp>
 
+#include <stdexcept>
+#include <string>
+
 namespace mbd {
 
 ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
@@ -32,7 +35,14 @@ ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
         velocity_row += j.joint->velocity_rows();
     }
     for (const Driver& d : model.drivers) drivers_.push_back({d.name, d.joint, row++});
-    for (const ForceInstance& f : model.forces) forces_.push_back({f.name, f.type, f.bodies, f.force});
+    for (const ForceInstance& f : model.forces) {
+        const int index = static_cast<int>(forces_.size());
+        forces_.push_back({f.name, f.type, f.bodies, f.force, f.load_joint});
+        load_slot_.push_back(f.load_joint >= 0 ? static_cast<int>(reaction_loaded_.size()) : -1);
+        if (f.load_joint >= 0) reaction_loaded_.push_back(index);
+        if (f.force->is_friction()) friction_.push_back(index);
+    }
+    loads_.setZero(static_cast<int>(reaction_loaded_.size()));
 
     // constant block-diagonal mass matrix
     std::vector<Eigen::Triplet<double>> t;
@@ -97,18 +107,25 @@ void scatter_matrix(const Model& m, const std::vector<int>& bodies, const Eigen:
 
 }  // namespace
 
+// After data_.pose(state).
+Eigen::Ref<Eigen::VectorXd> ModelSystem::element_force(int f, double t) {
+    const ForceInstance& force = model_->forces[f];
+    auto element = data_.force_Q.head(velocities_per_body(model_->dimension) * static_cast<int>(force.bodies.size()));
+    element.setZero();
+    data_.poses.fill(force.bodies, t, data_.view);
+    if (load_slot_[f] >= 0)
+        force.force->evaluate_at_load(data_.view, loads_[load_slot_[f]], element);
+    else
+        force.force->evaluate(data_.view, element);
+    return element;
+}
+
 void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
     const Model& m = *model_;
-    const int nvb = velocities_per_body(m.dimension);
     Q.setZero(m.nv());
     data_.pose(state);
-    for (const ForceInstance& f : m.forces) {
-        auto element = data_.force_Q.head(nvb * static_cast<int>(f.bodies.size()));
-        element.setZero();
-        data_.poses.fill(f.bodies, state.t, data_.view);
-        f.force->evaluate(data_.view, element);
-        scatter_vector(m, f.bodies, element, Q);
-    }
+    for (size_t f = 0; f < m.forces.size(); ++f)
+        scatter_vector(m, m.forces[f].bodies, element_force(static_cast<int>(f), state.t), Q);
     if (m.dimension == Dimension::Spatial) {
         // gyroscopic moment in body axes, -wbar x (Jbar wbar) (book Eq. 7.155, Q_v)
         for (int k = 0; k < m.body_count(); ++k) {
@@ -116,6 +133,49 @@ void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
             Q.segment<3>(m.v_offset(k) + 3) -= w.cross(m.bodies[k].inertia * w);
         }
     }
+}
+
+void ModelSystem::set_reaction_loads(const Eigen::VectorXd& loads) {
+    if (loads.size() != loads_.size())
+        throw std::invalid_argument("set_reaction_loads: " + std::to_string(loads.size()) + " loads for " +
+                                    std::to_string(loads_.size()) + " reaction-loaded force elements");
+    loads_ = loads;
+}
+
+void ModelSystem::reaction_load_directions(const State& state, Eigen::MatrixXd& G, std::vector<Vec3>& axes) {
+    const Model& m = *model_;
+    const int count = static_cast<int>(reaction_loaded_.size());
+    G.setZero(m.nv(), count);
+    axes.resize(count);
+    data_.pose(state);
+    for (int k = 0; k < count; ++k) {
+        const ForceInstance& f = m.forces[reaction_loaded_[k]];
+        const int n = velocities_per_body(m.dimension) * static_cast<int>(f.bodies.size());
+        auto one = data_.force_plus.head(n), zero = data_.force_minus.head(n);
+        one.setZero();
+        zero.setZero();
+        data_.poses.fill(f.bodies, state.t, data_.view);
+        f.force->evaluate_at_load(data_.view, 1.0, one);  // Q is affine in N: dQ/dN = Q(1) - Q(0)
+        f.force->evaluate_at_load(data_.view, 0.0, zero);
+        Eigen::VectorXd column = Eigen::VectorXd::Zero(m.nv());
+        scatter_vector(m, f.bodies, one - zero, column);
+        G.col(k) = column;
+        axes[k] = f.force->load_axis(data_.view);
+    }
+}
+
+double ModelSystem::friction_power(const State& state) {
+    const Model& m = *model_;
+    const int nvb = velocities_per_body(m.dimension);
+    data_.pose(state);
+    double power = 0.0;
+    for (int f : friction_) {
+        const auto element = element_force(f, state.t);
+        const std::vector<int>& bodies = m.forces[f].bodies;
+        for (size_t b = 0; b < bodies.size(); ++b)
+            if (bodies[b] != kGround) power += element.segment(nvb * b, nvb).dot(state.v.segment(m.v_offset(bodies[b]), nvb));
+    }
+    return power;
 }
 
 // One force element's Jacobians by central differences over its own bodies.

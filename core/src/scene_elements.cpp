@@ -2,6 +2,8 @@
 // force (see scene.cpp and docs/scene-format.md).
 #include "scene_loader.hpp"
 
+#include <algorithm>
+
 namespace mbd::scene_detail {
 
 int Loader::coordinate_joint(const Param& joint, const std::string& what, const std::string& purpose) const {
@@ -141,7 +143,36 @@ void Loader::load_force(const Param& node, int index) {
     const std::string at = key_where(node, "type");
     force.force = create_checked(params, node, what, [&] { return registry_.create_force(spec, at); });
     if (!force.force) type.fail(what + ": the plugin for type " + quote(force.type) + " created no force");
+    force.load_joint = reaction_load_joint(node, what, force);
     model_.forces.push_back(std::move(force));
+}
+
+// The joint whose reaction loads a force element (Force::load_joint(), the plugin's key
+// `load_joint`): a joint of the scene that connects the element's two bodies.
+int Loader::reaction_load_joint(const Param& node, const std::string& what, const ForceInstance& force) const {
+    const std::string name = force.force->load_joint();
+    if (name.empty()) return -1;
+    const Param* key = find(node, "load_joint");
+    auto fail = [&](const std::string& message) {
+        if (key) key->fail(message);
+        node.fail(message);
+    };
+    int index = -1;
+    for (int k = 0; k < static_cast<int>(model_.joints.size()); ++k)
+        if (model_.joints[k].name == name) index = k;
+    if (index < 0) {
+        std::vector<std::string> names;
+        for (const auto& j : model_.joints) names.push_back(j.name);
+        fail(what + ": 'load_joint' names undefined joint " + quote(name) + " (joints are listed before forces: " +
+             (names.empty() ? std::string("none") : join_quoted(names)) + ")");
+    }
+    std::vector<int> mine = force.bodies, theirs = model_.joints[index].bodies;
+    std::sort(mine.begin(), mine.end());
+    std::sort(theirs.begin(), theirs.end());
+    if (mine != theirs)
+        fail(what + ": 'load_joint' " + quote(name) + " does not connect the force's bodies; the friction of a "
+             "joint acts between the two bodies the joint connects, so list the same bodies");
+    return index;
 }
 
 // ---------------------------------------------------------------- drivers

@@ -12,6 +12,7 @@
 #include <mbd/sdk/text.hpp>
 
 #include "energy_growth.hpp"
+#include "friction_dissipation.hpp"
 #include "lift_off.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -180,6 +181,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         throw InputError(integrator->name(), integrator->name() + " needs a formulation that supports index-3 (augmented); '" +
                                                  name + "' has none");
     require_velocity_rows_handled(model, *formulation, name, integrator->needs_index3(), integrator->name());
+    require_reaction_loads_handled(model, *formulation, name, integrator->needs_index3(), integrator->name());
 
     // --- bind and assemble a consistent initial state
     require_positive_masses(model);
@@ -205,6 +207,16 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         for (auto& c : diagnostic_columns()) columns.push_back(c);
     const bool write_H = settings.diagnostics && formulation->has_hamiltonian();  // the formulation's H (e.g. hamiltonian)
     if (write_H) columns.push_back("H");
+    // the energy friction dissipated, as one more ODE state (friction_dissipation.hpp), with the
+    // diagnostics only; an index-3 integrator works on the System's DAE, which has no room for it
+    const bool integrate_dissipation = settings.diagnostics && system.has_friction() && !integrator->needs_index3();
+    const bool write_dissipation = integrate_dissipation;
+    if (write_dissipation) columns.push_back(kFrictionDissipatedColumn);
+    if (settings.diagnostics && system.has_friction() && !integrate_dissipation)
+        settings.messages("no column " + std::string(kFrictionDissipatedColumn) + ": the " + integrator->name() +
+                          " integrator works on the index-3 equations, which have no state for it");
+    const int motion_size = formulation->ode_size();
+    Eigen::VectorXd motion_y;
     result.columns = columns;
     std::unique_ptr<CsvWriter> writer;
     if (!settings.output.empty()) writer = std::make_unique<CsvWriter>(settings.output, columns);
@@ -221,7 +233,9 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         integrator->adaptive() ? "use a tighter tolerance (--tol)"
                                : "use a smaller step (--step), or an adaptive integrator (--integrator dopri5, dop853 or cvode)";
 
-    auto emit = [&](double t, const Eigen::VectorXd& yt) -> bool {
+    auto emit = [&](double t, const Eigen::VectorXd& y_run) -> bool {
+        motion_y = y_run.head(motion_size);
+        const Eigen::VectorXd& yt = motion_y;
         formulation->from_ode(t, yt, sample.state);
         if (!sample.state.q.allFinite() || !sample.state.v.allFinite())
             throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
@@ -249,6 +263,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
             row.push_back(result.final_velocity_violation);
         }
         if (write_H) row.push_back(formulation->hamiltonian(t, yt));
+        if (write_dissipation) row.push_back(y_run[motion_size]);
         for (size_t k = 0; k < row.size(); ++k)
             if (!std::isfinite(row[k]))
                 throw DynamicsError(t, "non-finite value in output column '" + columns[k] +
@@ -276,10 +291,16 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
         for (Eigen::Index k = 0; k < g.size(); ++k) side[k] = g[k] < 0.0 ? -1 : +1;
         events.check_start(state, side);
     }
+    FrictionDissipationProblem dissipation(problem, *formulation, system);
+    OdeProblem& ode = integrate_dissipation ? static_cast<OdeProblem&>(dissipation) : problem;
+    if (integrate_dissipation) {
+        y.conservativeResize(motion_size + 1);
+        y[motion_size] = 0.0;  // E_f(0)
+    }
     const std::clock_t cpu_start = std::clock();
     // A failure or a stop leaves the writer unclosed: its complete rows stay in
     // OUTPUT.partial and the note saying so is kept for the command's message.
-    if (emit(0.0, y)) integrator->integrate(problem, 0.0, y, times, emit, result.stats);
+    if (emit(0.0, y)) integrator->integrate(ode, 0.0, y, times, emit, result.stats);
     result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     progress.finish();
     if (writer) writer->close();

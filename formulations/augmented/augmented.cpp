@@ -40,6 +40,7 @@
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/ode_state.hpp>
 #include <mbd/sdk/projection.hpp>
+#include <mbd/sdk/reaction_loads.hpp>
 #include <mbd/sdk/singularity.hpp>
 #include <mbd/sdk/text.hpp>
 
@@ -68,14 +69,19 @@ public:
     MBD_FORMULATION_CALLS;
     bool supports_index3() const override { return true; }
     bool supports_velocity_constraints() const override { return true; }
+    bool supports_reaction_loads() const override { return true; }
     bool may_redefine_state() const override { return false; }  // y = [q; v] whatever rows are kept
     OptionGroups options_used() const override {
         return kStabilizationOptions | kLinearAlgebraOptions | kSingularityOptions;
     }
 
 private:
-    // state_ -> cv_, Q_, vdot_, lambda_
+    // state_ -> cv_, Q_, vdot_, lambda_ (and the reaction loads, solved with lambda_)
     void solve_dynamics(double t);
+    // lambda_, vdot_ from cv_, Q_ and the right-hand side b_ = gamma_s (Eqs. 6.142-6.145)
+    void solve_multipliers(double t, double gamma_norm);
+    // the loads from joint reactions and the multipliers together (reaction_loads.hpp)
+    void solve_reaction_loads(double t);
     // solve_dynamics() at a given state (copied into state_ without reallocating)
     void solve_at(const State& state);
     // factor S = J M^-1 J^T from cv_.J (dense or sparse); throws DynamicsError if singular
@@ -118,6 +124,7 @@ private:
     SparseGram sparse_gram_;
     // rank drop of J after an accepted step: a singular configuration (sdk singularity.hpp)
     SingularityMonitor singularity_;
+    ReactionLoadSolver reaction_loads_;
     // Structurally redundant rows (dependent at the assembled initial state, e.g. the Bricard's
     // sixth joint) are left out of S with zero multipliers on the dense path, as the embedding
     // formulation drops them: off the manifold such a row is only NEARLY dependent, and its tiny
@@ -146,6 +153,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
 
     // M^-1 per body and its Cholesky factor (M is constant: book Eqs. 6.61-6.63)
     mass_inverse_.bind(system, "augmented formulation");
+    reaction_loads_.bind(system);
     singularity_.metric_distortion = mass_inverse_.distortion();
 
     state_.set_zero(nq_, nv_);
@@ -330,6 +338,7 @@ void Augmented::solve_dynamics(double t) {
     System& sys = *system_;
     sys.constraints_with_velocity_rows(state_, cv_, true);
     if (!redundancy_checked_) find_structural_redundancy(t);
+    reaction_loads_.clear();  // Q_0: the reaction-loaded elements at N = 0
     sys.generalized_forces(state_, Q_);
     check_finite(t, Q_, "generalized forces");
 
@@ -345,7 +354,23 @@ void Augmented::solve_dynamics(double t) {
     // keep the right-hand side gamma_s in vdot-space check below
     const double gamma_norm = nc_ ? lambda_.lpNorm<Eigen::Infinity>() : 0.0;
     b_ = lambda_;  // gamma_s
+    solve_multipliers(t, gamma_norm);
+    if (reaction_loads_.active()) solve_reaction_loads(t);
+}
 
+void Augmented::solve_reaction_loads(double t) {
+    reaction_loads_.solve(t, state_, cv_.J, Q_, lambda_, [&](const Eigen::VectorXd& dQ, Eigen::VectorXd& dlambda) {
+        apply_Minv(dQ, tmp_nv_);  // dlambda = S^-1 J M^-1 dQ: lambda's part linear in Q
+        dlambda.noalias() = cv_.J * tmp_nv_;
+        solve_S(dlambda);
+    });
+    tmp_nv2_.noalias() = cv_.J.transpose() * lambda_;
+    tmp_nv2_ = Q_ - tmp_nv2_;
+    apply_Minv(tmp_nv2_, vdot_);
+    check_finite(t, vdot_, "accelerations");
+}
+
+void Augmented::solve_multipliers(double t, double gamma_norm) {
     // Schur complement: S lambda = J M^-1 Q - gamma_s (block inverse of Eq. 6.141, Eqs. 6.142-6.145)
     apply_Minv(Q_, tmp_nv_);
     if (nc_ == 0) {

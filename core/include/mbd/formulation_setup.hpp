@@ -31,4 +31,11 @@ std::shared_ptr<Formulation> create_formulation(Registry& registry, const std::s
 void require_velocity_rows_handled(const Model& model, const Formulation& formulation, const std::string& name,
                                    bool needs_index3, const std::string& integrator);
 
+// A model with force elements loaded by a joint's reaction (Force::load_joint) needs a
+// formulation that solves those loads with its multipliers (supports_reaction_loads) and an
+// integrator that works through the formulation (not needs_index3). Throws InputError naming
+// the first such element.
+void require_reaction_loads_handled(const Model& model, const Formulation& formulation, const std::string& name,
+                                    bool needs_index3, const std::string& integrator);
+
 }  // namespace mbd

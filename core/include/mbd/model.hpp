@@ -58,6 +58,7 @@ struct ForceInstance {
     // its Jacobians are zero and never evaluated. Such an element may span every body: the
     // square Jacobian workspace of Data is sized by the other elements (linear in N).
     bool constant_load = false;
+    int load_joint = -1;  // Force::load_joint() as an index into Model::joints, -1 none
 };
 
 // A driver prescribes the coordinate of a 1-DOF joint: s(q) - f(t) = 0.

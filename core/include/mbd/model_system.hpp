@@ -47,12 +47,21 @@ public:
     double potential_energy(const State& state) override;
     bool conservative() const override;
 
+    const std::vector<int>& reaction_loaded_forces() const override { return reaction_loaded_; }
+    void set_reaction_loads(const Eigen::VectorXd& loads) override;
+    const Eigen::VectorXd& reaction_loads() const override { return loads_; }
+    void reaction_load_directions(const State& state, Eigen::MatrixXd& G, std::vector<Vec3>& axes) override;
+    bool has_friction() const override { return !friction_.empty(); }
+    double friction_power(const State& state) override;
+
     void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) override;
     void constraints_with_velocity_rows(const State& state, ConstraintValues& out, bool include_drivers = true) override;
     void assemble(State& state, bool include_drivers = true) override;
     void consistent_velocities(State& state, bool include_drivers = true) override;
 
 private:
+    // element f's Q into data_.force_Q (its body blocks), at its reaction load if it has one
+    Eigen::Ref<Eigen::VectorXd> element_force(int f, double t);
     void force_differences(const ForceInstance& f, const State& state, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
                            Eigen::Ref<Eigen::MatrixXd> dQ_dv);
 
@@ -68,6 +77,10 @@ private:
     const ConstraintSystem with_drivers_and_velocity_rows_;
     const ConstraintSystem joints_and_velocity_rows_;
     Data data_;
+    std::vector<int> reaction_loaded_;  // force indices with a load_joint, in scene order
+    std::vector<int> load_slot_;        // per force: its index in loads_, -1 none
+    Eigen::VectorXd loads_;             // their loads N (set_reaction_loads)
+    std::vector<int> friction_;         // force indices of the dry-friction elements
 };
 
 }  // namespace mbd

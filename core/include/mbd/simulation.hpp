@@ -74,6 +74,9 @@ struct SimulationResult {
 
 // Column names of the extra CSV columns.
 std::vector<std::string> reaction_columns(const Model& model);
+// With --diagnostics, a scene with friction elements (Force::is_friction) also gets this column,
+// last: the energy the friction dissipated since t = 0 (friction_dissipation.hpp).
+constexpr const char* kFrictionDissipatedColumn = "friction_dissipated";
 std::vector<std::string> diagnostic_columns();  // kinetic_energy potential_energy constraint_position_violation constraint_velocity_violation
 
 // The output rows of a complete run: t = 0, then every output step to t_end (the last

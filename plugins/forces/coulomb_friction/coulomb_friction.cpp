@@ -11,7 +11,10 @@
 // (L6355). Generalized forces as for a point force (Eqs. 5.45-5.46; spatial 7.111-7.115).
 //
 // Keys: normal_force F_n (>= 0; a number or a time function: the load pressing the two
-// surfaces together, e.g. m g cos(alpha) for a block on an incline), static_friction
+// surfaces together, e.g. m g cos(alpha) for a block on an incline), or instead load_joint:
+// the prismatic (or other) joint between the two bodies whose reaction force normal to the
+// contact line is F_n, solved with the multipliers (friction in a guide: F = mu_k N with N
+// the normal reaction; sdk reaction_loads.hpp), static_friction
 // mu_s, kinetic_friction mu_k (0 <= mu_k <= mu_s), stiction_velocity v_s (> 0, default
 // 1e-6 m/s), and the frame: `point` with `axis` (world, at t = 0: the contact point and
 // the direction of the contact line). Not conservative; exact Jacobians.
@@ -19,7 +22,6 @@
 
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
-#include <mbd/sdk/time_function.hpp>
 
 #include <memory>
 #include <string>
@@ -36,7 +38,9 @@ S cross2(const V2<S>& a, const V2<S>& b) {
 
 class CoulombFriction final : public LoadedForce<CoulombFriction, 2> {
 public:
-    explicit CoulombFriction(const ForceSpec& spec) : LoadedForce(spec, "two bodies [i, j]"), name_(spec.name) {
+    explicit CoulombFriction(const ForceSpec& spec)
+        : LoadedForce(spec, "two bodies [i, j]"),
+          normal_(spec, "the load pressing the surfaces together, N; e.g. m g cos(angle)") {
         const Marker& m = marker_or_centre(spec, 0);
         u_ = m.u_bar;
         t_bar_ = dim_ == Dimension::Planar ? m.axis_x() : m.axis_z();  // along `axis`, as for a joint
@@ -44,12 +48,6 @@ public:
             u_.z() = 0.0;
             t_bar_.z() = 0.0;
         }
-        if (!spec.params.has("normal_force"))
-            fail(spec, "missing key 'normal_force' (the load pressing the surfaces together, N; e.g. m g cos(angle))");
-        normal_ = make_time_function(spec.params.at("normal_force"), "force '" + spec.name + "' normal_force");
-        if (normal_->evaluate(0.0).f < 0.0)
-            fail(spec, "'normal_force' must not be negative (the load pressing the surfaces together)",
-                 &spec.params.at("normal_force"));
         law_.mu_static = non_negative(spec, "static_friction");
         law_.mu_kinetic = non_negative(spec, "kinetic_friction");
         if (law_.mu_kinetic > law_.mu_static)
@@ -62,14 +60,17 @@ public:
                  &spec.params.at("stiction_velocity"));
     }
 
-    // the normal load F_n(t)
-    double load(double t) const {
-        const double n = normal_->evaluate(t).f;
-        if (n < 0.0)
-            throw InputError("force '" + name_ + "'", "force '" + name_ + "': normal_force is negative (" +
-                                                          std::to_string(n) + " N) at t = " + std::to_string(t) +
-                                                          ": a contact cannot pull; keep the load >= 0");
-        return n;
+    // the given normal load F_n(t) (0 with a load_joint: then evaluate_at_load carries it)
+    double load(double t) const { return normal_.at(t); }
+    std::string load_joint() const override { return normal_.joint(); }
+    bool is_friction() const override { return true; }
+    Vec3 load_axis(const BodyStates& b) const override {  // the contact line t, world
+        if (dim_ == Dimension::Spatial) return spatial_states<double>(b)[0].A * t_bar_;
+        const V2<double> t = planar_states<double>(b)[0].A * t_bar_.head<2>();
+        return Vec3(t.x(), t.y(), 0.0);
+    }
+    void evaluate_at_load(const BodyStates& b, double normal, Eigen::Ref<Eigen::VectorXd> Q) const override {
+        add_value(b, [&](const auto& s) { return generalized(s, normal); }, Q);
     }
 
     template <class S>
@@ -102,9 +103,8 @@ private:
     static double number_or(const ForceSpec& spec, const std::string& key, double fallback) {
         return number(spec, key, &fallback);
     }
-    std::string name_;
+    friction::NormalLoad normal_;
     Vec3 u_, t_bar_;
-    std::shared_ptr<const TimeFunction> normal_;
     friction::CoulombLaw law_;
 };
 

@@ -10,13 +10,15 @@
 //   c rises to M_s = mu_s r F_n + M_p within the stiction angular velocity, and falls to
 //   M_k = mu_k r F_n + M_p while slipping.
 // Keys: radius r (m, >= 0), normal_force F_n (N, >= 0, a number or a time function: the
-// load the pin or clutch carries), static_friction mu_s, kinetic_friction mu_k
+// load the pin or clutch carries) or instead load_joint: the revolute (or other) joint between
+// the two bodies whose reaction force transverse to the axis (the pin's radial load; planar:
+// the whole reaction force) is F_n, solved with the multipliers (sdk reaction_loads.hpp),
+// static_friction mu_s, kinetic_friction mu_k
 // (0 <= mu_k <= mu_s), preload M_p (N m, >= 0, default 0), stiction_velocity (rad/s, > 0,
 // default 1e-6). Not conservative; exact Jacobians.
 #include <mbd/sdk/coulomb_law.hpp>
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
-#include <mbd/sdk/time_function.hpp>
 
 #include <memory>
 #include <string>
@@ -29,14 +31,9 @@ using namespace mbd::force_support;
 class RotationalFriction final : public LoadedForce<RotationalFriction, 2> {
 public:
     explicit RotationalFriction(const ForceSpec& spec)
-        : LoadedForce(spec, "two bodies [i, j]"), name_(spec.name) {
+        : LoadedForce(spec, "two bodies [i, j]"), normal_(spec, "the load the pin or clutch carries, N") {
         axis_bar_ = marker_or_centre(spec, 0).axis_z();
         radius_ = non_negative(spec, "radius");
-        if (!spec.params.has("normal_force"))
-            fail(spec, "missing key 'normal_force' (the load the pin or clutch carries, N)");
-        normal_ = make_time_function(spec.params.at("normal_force"), "force '" + spec.name + "' normal_force");
-        if (normal_->evaluate(0.0).f < 0.0)
-            fail(spec, "'normal_force' must not be negative", &spec.params.at("normal_force"));
         mu_s_ = non_negative(spec, "static_friction");
         mu_k_ = non_negative(spec, "kinetic_friction");
         if (mu_k_ > mu_s_)
@@ -49,16 +46,24 @@ public:
                  &spec.params.at("stiction_velocity"));
     }
 
-    // the friction law at t: static and kinetic moment capacities for the load F_n(t)
-    friction::CoulombLaw load(double t) const {
-        const double n = normal_->evaluate(t).f;
-        if (n < 0.0)
-            throw InputError("force '" + name_ + "'", "force '" + name_ + "': normal_force is negative (" +
-                                                          std::to_string(n) + " N) at t = " + std::to_string(t));
+    // the friction law at t: static and kinetic moment capacities for the given load F_n(t)
+    // (0 with a load_joint: then evaluate_at_load carries it)
+    friction::CoulombLaw load(double t) const { return law_at(normal_.at(t)); }
+    friction::CoulombLaw law_at(double n) const {
         friction::CoulombLaw law = law_;
-        law.mu_static = mu_s_ * radius_ * n + preload_;
+        law.mu_static = mu_s_ * radius_ * n + preload_;  // affine in the load, as evaluate_at_load needs
         law.mu_kinetic = mu_k_ * radius_ * n + preload_;
         return law;
+    }
+    std::string load_joint() const override { return normal_.joint(); }
+    bool is_friction() const override { return true; }
+    Vec3 load_axis(const BodyStates& b) const override {  // the axis a, world (planar: the plane normal)
+        if (dim_ == Dimension::Spatial) return spatial_states<double>(b)[0].A * axis_bar_;
+        return Vec3::UnitZ();
+    }
+    void evaluate_at_load(const BodyStates& b, double n, Eigen::Ref<Eigen::VectorXd> Q) const override {
+        const friction::CoulombLaw law = law_at(n);
+        add_value(b, [&](const auto& s) { return generalized(s, law); }, Q);
     }
 
     template <class S>
@@ -80,10 +85,9 @@ public:
     }
 
 private:
-    std::string name_;
+    friction::NormalLoad normal_;
     Vec3 axis_bar_;
     double radius_ = 0, mu_s_ = 0, mu_k_ = 0, preload_ = 0;
-    std::shared_ptr<const TimeFunction> normal_;
     friction::CoulombLaw law_;
 };
 

@@ -18,8 +18,11 @@
 #pragma once
 
 #include <mbd/sdk/force_support.hpp>
+#include <mbd/sdk/time_function.hpp>
 
 #include <cmath>
+#include <memory>
+#include <string>
 
 namespace mbd::friction {
 
@@ -54,6 +57,47 @@ struct CoulombLaw {
         const S speed = sqrt(speed_squared);
         return coefficient(speed) / speed;
     }
+};
+
+// The normal load of a friction element, from its keys: `normal_force` (N, >= 0; a number or a
+// time function: a given load), or `load_joint` (the name of the joint between the element's two
+// bodies whose reaction force transverse to the element's axis is the load, solved with the
+// multipliers: Force::load_joint, sdk reaction_loads.hpp). `what` says what the load is, for the
+// message when both are missing.
+class NormalLoad {
+public:
+    NormalLoad(const ForceSpec& spec, const std::string& what) : name_(spec.name) {
+        if (spec.params.has("load_joint")) {
+            joint_ = spec.params.string("load_joint");
+            if (spec.params.has("normal_force"))
+                force_support::fail(spec, "give either 'normal_force' or 'load_joint' (the joint whose reaction is the "
+                                          "load), not both", &spec.params.at("normal_force"));
+            return;
+        }
+        if (!spec.params.has("normal_force"))
+            force_support::fail(spec, "missing key 'normal_force' (" + what +
+                                          "), or 'load_joint' (the joint whose reaction is the load)");
+        given_ = make_time_function(spec.params.at("normal_force"), "force '" + spec.name + "' normal_force");
+        if (given_->evaluate(0.0).f < 0.0)
+            force_support::fail(spec, "'normal_force' must not be negative (the load pressing the surfaces together)",
+                                &spec.params.at("normal_force"));
+    }
+    // the joint whose reaction is the load, "" for a given load
+    const std::string& joint() const { return joint_; }
+    // the given load at t; 0 with a load_joint (its load comes through Force::evaluate_at_load)
+    double at(double t) const {
+        if (!given_) return 0.0;
+        const double n = given_->evaluate(t).f;
+        if (n < 0.0)
+            throw InputError("force '" + name_ + "'", "force '" + name_ + "': normal_force is negative (" +
+                                                          std::to_string(n) + " N) at t = " + std::to_string(t) +
+                                                          ": a contact cannot pull; keep the load >= 0");
+        return n;
+    }
+
+private:
+    std::string name_, joint_;
+    std::shared_ptr<const TimeFunction> given_;
 };
 
 }  // namespace mbd::friction

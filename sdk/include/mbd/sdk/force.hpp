@@ -71,6 +71,24 @@ public:
     // True when Q = -dV/dq exactly (no damping, no time-dependent actuation).
     virtual bool is_conservative() const { return false; }
 
+    // --- a load from a joint's reaction (docs/plugin-sdk.md "Loads from joint reactions")
+    // The name of the joint whose reaction presses this element's surfaces together, or "" (the
+    // default): friction in a pin or a guide. The element's load N is then the magnitude of that
+    // joint's reaction force transverse to load_axis() (a pin's radial load, a guide's normal
+    // reaction), which a formulation that supports such loads solves together with the
+    // multipliers (Formulation::supports_reaction_loads); the host refuses the others by name.
+    virtual std::string load_joint() const { return std::string(); }
+    // The unit axis the load is transverse to, world axes (the contact line, the pin's axis).
+    virtual Vec3 load_axis(const BodyStates& /*bodies*/) const { return Vec3::Zero(); }
+    // Q at load N, added into; it must be affine in N. For an element with a load_joint(),
+    // evaluate() and jacobians() are this at N = 0.
+    virtual void evaluate_at_load(const BodyStates& bodies, double /*load*/, Eigen::Ref<Eigen::VectorXd> Q) const {
+        evaluate(bodies, Q);
+    }
+    // Dry friction: the diagnostics integrate -Q^T v of these elements as the energy friction
+    // dissipated (docs/formulations.md "Diagnostics").
+    virtual bool is_friction() const { return false; }
+
     // --- events (none by default)
     virtual int event_count() const { return 0; }
     // "lower", "upper": for messages and the run's event list.

@@ -80,6 +80,12 @@ public:
     // rows for a formulation that does not, naming the joint.
     virtual bool supports_velocity_constraints() const { return false; }
 
+    // True if the formulation solves the loads of force elements loaded by a joint's reaction
+    // (Force::load_joint, friction in pins and guides) together with its multipliers
+    // (reaction_loads.hpp). The host refuses such a scene for a formulation that does not,
+    // naming the force element.
+    virtual bool supports_reaction_loads() const { return false; }
+
     // True if an implicit integrator may solve this formulation's index-3 DAE
     // M vdot + J^T lambda = Q, C(q, t) = 0 on the System directly.
     virtual bool supports_index3() const { return false; }

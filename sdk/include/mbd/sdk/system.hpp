@@ -57,6 +57,7 @@ struct ForceInfo {
     std::string type;
     std::vector<int> bodies;
     std::shared_ptr<const Force> force;
+    int load_joint = -1;            // the joint whose reaction is its load (Force::load_joint), -1 none
 };
 
 class MBD_SDK_API System {
@@ -115,6 +116,22 @@ public:
     virtual double kinetic_energy(const State& state) const = 0;
     virtual double potential_energy(const State& state) = 0;  // conservative parts
     virtual bool conservative() const = 0;                          // every force conservative
+
+    // --- loads from joint reactions (Force::load_joint: friction in pins and guides) and friction
+    // The force indices of the elements whose load is a joint's reaction, in scene order.
+    virtual const std::vector<int>& reaction_loaded_forces() const = 0;
+    // The loads N (one per reaction-loaded element, in that order) that generalized_forces()
+    // applies: a formulation solves them together with the multipliers (sdk reaction_loads.hpp)
+    // and sets them; 0 until set.
+    virtual void set_reaction_loads(const Eigen::VectorXd& loads) = 0;
+    virtual const Eigen::VectorXd& reaction_loads() const = 0;
+    // dQ/dN of each reaction-loaded element at a state: column k of G (nv x count) for element k
+    // (Q is affine in N), and the element's load axis (Force::load_axis, world).
+    virtual void reaction_load_directions(const State& state, Eigen::MatrixXd& G, std::vector<Vec3>& axes) = 0;
+    // Whether a force element is dry friction (Force::is_friction), and the power of those elements,
+    // sum Q_f^T v at the current reaction loads (<= 0: the rate friction dissipates energy).
+    virtual bool has_friction() const = 0;
+    virtual double friction_power(const State& state) = 0;
 
     // --- constraints (joints, then drivers when include_drivers)
     virtual void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) = 0;
