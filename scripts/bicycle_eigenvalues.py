@@ -60,7 +60,7 @@ def eigenvalues(mbd, text, v):
 def crossing(speeds, values):
     for k in range(1, len(values)):
         a, b = values[k - 1], values[k]
-        if a is not None and b is not None and a > 0 >= b:
+        if a is not None and b is not None and (a < 0) != (b < 0):
             return speeds[k - 1] + (speeds[k] - speeds[k - 1]) * a / (a - b)
     return None
 
@@ -75,7 +75,7 @@ def main():
     rows = [eigenvalues(args.mbd, text, v) for v in speeds]
     weave = [next((z.real for z in row if z.imag > 1e-6), None) for row in rows]
     capsize = [min((z.real for z in row if z.imag == 0 and abs(z.real) < 2), key=abs, default=None) for row in rows]
-    v_w, v_c = crossing(speeds, [-x if x is not None else None for x in weave]), crossing(speeds, capsize)
+    v_w, v_c = crossing(speeds, weave), crossing(speeds, capsize)
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for v, row in zip(speeds, rows):
