@@ -111,6 +111,12 @@ TEST(Bicycle, TheModelHasSevenPositionsAndThreeVelocities) {
     // zero by symmetry: position on the ground (2), heading, the two wheels' spin angles
     EXPECT_EQ(b.analysis.ignorable.size(), 5u);
     EXPECT_EQ(b.eigenvalues.size(), 5u);
+    // one of them the free forward speed, lambda = 0
+    ASSERT_FALSE(b.analysis.modes.empty());
+    EXPECT_TRUE(b.analysis.modes[0].free_velocity);
+    EXPECT_EQ(std::count_if(b.analysis.modes.begin(), b.analysis.modes.end(),
+                            [](const mbd::Mode& m) { return m.free_velocity; }),
+              1);
 }
 
 // The four eigenvalues of mbd's linearisation against those of the published matrices.
@@ -185,6 +191,18 @@ double capsize(std::vector<Complex> l, int count) {
     return sum;
 }
 
+// v at lambda = 0 of the polynomial v(lambda) through the points (lambda_i, v_i) (Lagrange).
+double inverse_interpolated_root(const std::vector<double>& v, const std::vector<double>& lambda) {
+    double root = 0.0;
+    for (size_t i = 0; i < v.size(); ++i) {
+        double weight = 1.0;
+        for (size_t j = 0; j < v.size(); ++j)
+            if (j != i) weight *= (0.0 - lambda[j]) / (lambda[i] - lambda[j]);
+        root += weight * v[i];
+    }
+    return root;
+}
+
 TEST(Bicycle, WeaveAndCapsizeSpeedsMatchThePublishedMatrices) {
     const Benchmark benchmark;
     const double tolerance = 1e-12;
@@ -204,25 +222,11 @@ TEST(Bicycle, WeaveAndCapsizeSpeedsMatchThePublishedMatrices) {
         speeds.push_back(capsize_oracle + dv);
         lambdas.push_back(capsize(linearise_bicycle(capsize_oracle + dv).eigenvalues, 2));
     }
-    double capsize_mbd = 0.0;  // Lagrange interpolation of v(lambda) at lambda = 0
-    for (size_t i = 0; i < speeds.size(); ++i) {
-        double weight = 1.0;
-        for (size_t j = 0; j < speeds.size(); ++j)
-            if (j != i) weight *= (0.0 - lambdas[j]) / (lambdas[i] - lambdas[j]);
-        capsize_mbd += weight * speeds[i];
-    }
+    const double capsize_mbd = inverse_interpolated_root(speeds, lambdas);
     // the oracle's own inverse interpolation from the same speeds reproduces its root
-    double capsize_check = 0.0;
-    {
-        std::vector<double> l;
-        for (double v : speeds) l.push_back(capsize(benchmark.eigenvalues(v), 1));
-        for (size_t i = 0; i < speeds.size(); ++i) {
-            double weight = 1.0;
-            for (size_t j = 0; j < speeds.size(); ++j)
-                if (j != i) weight *= (0.0 - l[j]) / (l[i] - l[j]);
-            capsize_check += weight * speeds[i];
-        }
-    }
+    std::vector<double> oracle_lambdas;
+    for (double v : speeds) oracle_lambdas.push_back(capsize(benchmark.eigenvalues(v), 1));
+    const double capsize_check = inverse_interpolated_root(speeds, oracle_lambdas);
     EXPECT_NEAR(capsize_check, capsize_oracle, 1e-11);
     std::printf("weave speed %.12f (oracle %.12f), capsize speed %.12f (oracle %.12f)\n", weave, weave_oracle,
                 capsize_mbd, capsize_oracle);

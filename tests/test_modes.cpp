@@ -157,6 +157,7 @@ TEST(Modes, FreeCoordinateIsIgnorable) {
     // what is left: the free velocity (lambda = 0, a rigid-body mode)
     ASSERT_EQ(a.modes.size(), 1u);
     EXPECT_NEAR(a.modes[0].natural_frequency, 0.0, 1e-12);
+    EXPECT_TRUE(a.modes[0].free_velocity);
 }
 
 // A spatial body hanging from a spherical joint: small swings about the body's x and y axes
