@@ -36,7 +36,7 @@ struct ModesArguments {
     int statics_iterations = 500;
 };
 
-const char* kind_of(const Mode& m) { return m.oscillatory ? "oscillatory" : "real"; }
+const char* kind_of(const Mode& m) { return m.oscillatory ? "oscillatory" : m.free_velocity ? "free_velocity" : "real"; }
 
 std::string number(double x) { return format_number(x, 17); }
 
@@ -60,10 +60,10 @@ std::string mode_table(const LinearModel& linear, const ModeAnalysis& analysis) 
             s << ',' << number(m.joint_shape[j].real()) << ',' << number(m.joint_shape[j].imag());
         s << '\n';
     }
-    for (int c : analysis.ignorable) {
+    for (const IgnorableDirection& d : analysis.ignorable) {
         s << index++ << ",0,1,0,0,0,0,0";
-        for (size_t i = 0; i < linear.coordinates.size(); ++i) s << ',' << (static_cast<int>(i) == c ? 1 : 0) << ",0";
-        for (Eigen::Index j = 0; j < linear.joint_map.rows(); ++j) s << ',' << number(linear.joint_map(j, c)) << ",0";
+        for (Eigen::Index c = 0; c < d.shape.size(); ++c) s << ',' << number(d.shape[c]) << ",0";
+        for (Eigen::Index j = 0; j < d.joint_shape.size(); ++j) s << ',' << number(d.joint_shape[j]) << ",0";
         s << '\n';
     }
     return s.str();
@@ -72,7 +72,7 @@ std::string mode_table(const LinearModel& linear, const ModeAnalysis& analysis) 
 std::vector<std::string> state_names(const LinearModel& linear) {
     std::vector<std::string> out;
     for (const std::string& c : linear.coordinates) out.push_back(c);
-    for (const std::string& c : linear.coordinates) out.push_back(c + "_rate");
+    for (const std::string& c : linear.velocity_coordinates) out.push_back(c + "_rate");
     return out;
 }
 
@@ -115,6 +115,7 @@ Json modes_json(const std::string& about, const LinearModel& linear, const ModeA
     doc["about"] = about;
     doc["residual"] = linear.residual;
     doc["coordinates"] = linear.coordinates;
+    doc["velocity_coordinates"] = linear.velocity_coordinates;
     doc["joint_coordinates"] = linear.joint_coordinates;
     doc["states"] = state_names(linear);
     doc["inputs"] = linear.inputs;
@@ -132,7 +133,7 @@ Json modes_json(const std::string& about, const LinearModel& linear, const ModeA
     }
     doc["modes"] = modes;
     Json ignorable = Json::array();
-    for (int c : analysis.ignorable) ignorable.push_back(linear.coordinates[c]);
+    for (const IgnorableDirection& d : analysis.ignorable) ignorable.push_back(describe(d, linear.coordinates));
     doc["ignorable"] = ignorable;
     doc["A"] = matrix_json(linear.A);
     doc["B"] = matrix_json(linear.B);
@@ -145,15 +146,19 @@ void print_report(const std::string& scene, const std::string& about, const Line
                 about == "statics" ? "the static equilibrium" : "the initial state", linear.residual);
     std::printf("independent coordinates:");
     for (const std::string& c : linear.coordinates) std::printf(" %s", c.c_str());
-    std::printf("\n\n  mode  %-12s %26s %16s %14s %12s\n", "kind", "eigenvalue (1/s)", "omega_n (rad/s)", "f_n (Hz)",
+    if (linear.velocity_coordinates != linear.coordinates) {
+        std::printf("\nindependent velocities:");
+        for (const std::string& c : linear.velocity_coordinates) std::printf(" %s", c.c_str());
+    }
+    std::printf("\n\n  mode  %-13s %26s %16s %14s %12s\n", "kind", "eigenvalue (1/s)", "omega_n (rad/s)", "f_n (Hz)",
                 "damping");
     int index = 1;
     for (const Mode& m : analysis.modes)
-        std::printf("  %4d  %-12s %12.8g %+12.8gi %16.10g %14.8g %12.8g\n", index++, kind_of(m), m.eigenvalue.real(),
+        std::printf("  %4d  %-13s %12.8g %+12.8gi %16.10g %14.8g %12.8g\n", index++, kind_of(m), m.eigenvalue.real(),
                     m.eigenvalue.imag(), m.natural_frequency, m.natural_frequency / (2 * M_PI), m.damping_ratio);
-    for (int c : analysis.ignorable)
-        std::printf("  %4d  %-12s zero by symmetry: the dynamics do not depend on %s\n", index++, "ignorable",
-                    linear.coordinates[c].c_str());
+    for (const IgnorableDirection& d : analysis.ignorable)
+        std::printf("  %4d  %-13s zero by symmetry: the dynamics do not depend on %s%s\n", index++, "ignorable",
+                    d.single ? "" : "the combination ", describe(d, linear.coordinates).c_str());
 }
 
 void write_file(const std::string& path, const std::string& text) {

@@ -1,6 +1,8 @@
 // Linearised equations of motion in independent coordinates: see linearisation.hpp.
 #include <mbd/linearisation.hpp>
 
+#include "reference_motion.hpp"
+
 #include <mbd/body_poses.hpp>
 #include <mbd/sdk/partition.hpp>
 #include <mbd/sdk/text.hpp>
@@ -24,31 +26,37 @@ std::string column_name(const Model& model, int column) {
            (planar ? planar_names[column % per_body] : spatial_names[column % per_body]);
 }
 
-// The reduced equations of motion of linearisation.hpp on one partition, with the
-// actuators' generalized forces Q_u = J_s^T u (efforts along the joint coordinates).
+// The reduced equations of motion of linearisation.hpp on a position partition (of the
+// holonomic J) and a velocity partition (of every velocity row), with the actuators'
+// generalized forces Q_u = J_s^T u (efforts along the joint coordinates).
 class ReducedDynamics {
 public:
-    ReducedDynamics(ModelSystem& system, const State& reference, const CoordinatePartition& partition,
-                    const Eigen::MatrixXd& actuator_forces)
-        : system_(system), reference_(reference), partition_(partition), actuator_forces_(actuator_forces) {}
+    ReducedDynamics(ModelSystem& system, const State& reference, const CoordinatePartition& positions,
+                    const CoordinatePartition& velocities, const Eigen::MatrixXd& actuator_forces)
+        : system_(system), reference_(reference), positions_(positions), velocities_(velocities),
+          actuator_forces_(actuator_forces) {}
 
-    // The full consistent state at independent increments z and independent velocities w.
+    // The full consistent state at independent increments z and independent velocities w
+    // (in the reference axes: v = T^T u with u_i = w, [J; A_nh] T^T u + C_t = 0).
     State state_at(const Eigen::VectorXd& z, const Eigen::VectorXd& w) {
         State s = reference_;
         Eigen::VectorXd dv = Eigen::VectorXd::Zero(system_.nv());
-        scatter(z, partition_.independent, dv);
+        scatter(z, positions_.independent, dv);
         system_.advance_positions(s.q, dv);
         Eigen::MatrixXd J;
-        correct_dependent_positions(system_, s, partition_, 1e-14, 30, cv_, J, ws_);
-        dependent_velocities(J, cv_.C_t, partition_, w, s.v, ws_);
+        correct_dependent_positions(system_, s, positions_, 1e-14, 30, cv_, J, ws_);
+        const Eigen::MatrixXd T = reference_axes(system_.model(), s.q, reference_.q);
+        Eigen::VectorXd u;
+        dependent_velocities(Eigen::MatrixXd(J * T.transpose()), cv_.C_t, velocities_, w, u, ws_);
+        s.v = T.transpose() * u;
         return s;
     }
 
-    // vdot from [M J^T; J 0] [vdot; lambda] = [Q + Q_u u; gamma] (Eq. 6.128); minimum-norm
-    // in lambda, so redundant constraints are accepted.
+    // vdot from [M J^T; J 0] [vdot; lambda] = [Q + Q_u u; gamma] over every row (Eq. 6.128);
+    // minimum-norm in lambda, so redundant constraints are accepted.
     Eigen::VectorXd accelerations(const State& s, const Eigen::VectorXd& u) {
         const int nv = system_.nv();
-        system_.constraints(s, cv_, true);
+        system_.constraints_with_velocity_rows(s, cv_, true);
         const int m = static_cast<int>(cv_.J.rows());
         Eigen::VectorXd Q(nv);
         system_.generalized_forces(s, Q);
@@ -63,18 +71,23 @@ public:
         return Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(K).solve(rhs).head(nv);
     }
 
-    // w' = vdot_i at (z, w, u)
-    Eigen::VectorXd independent_accelerations(const Eigen::VectorXd& z, const Eigen::VectorXd& w,
-                                              const Eigen::VectorXd& u) {
-        Eigen::VectorXd a_i;
-        gather(accelerations(state_at(z, w), u), partition_.independent, a_i);
-        return a_i;
+    // (z', w') at (z, w, u): z' = (v - v0)_i, w' = (T vdot)_i (linearisation.hpp)
+    Eigen::VectorXd rates(const Eigen::VectorXd& z, const Eigen::VectorXd& w, const Eigen::VectorXd& u) {
+        const State s = state_at(z, w);
+        const Eigen::VectorXd a = reference_axes(system_.model(), s.q, reference_.q) * accelerations(s, u);
+        Eigen::VectorXd zdot, wdot;
+        gather(Eigen::VectorXd(s.v - reference_.v), positions_.independent, zdot);
+        gather(a, velocities_.independent, wdot);
+        Eigen::VectorXd out(zdot.size() + wdot.size());
+        out << zdot, wdot;
+        return out;
     }
 
 private:
     ModelSystem& system_;
     const State& reference_;
-    const CoordinatePartition& partition_;
+    const CoordinatePartition& positions_;
+    const CoordinatePartition& velocities_;
     const Eigen::MatrixXd& actuator_forces_;
     ConstraintValues cv_;
     VelocityTransformWorkspace ws_;
@@ -114,81 +127,86 @@ void joint_coordinate_rows(ModelSystem& system, const State& state, LinearModel&
     rows = actuator_force_map(system, state, along).transpose();
 }
 
-// Fourth-order central difference of f along one coordinate: (-f2 + 8 f1 - 8 f_1 + f_2) / 12h.
+// Sixth-order central difference of f along one coordinate:
+// (f3 - 9 f2 + 45 f1 - 45 f_1 + 9 f_2 - f_3) / 60h.
 template <class F>
 Eigen::VectorXd central_difference(F&& f, double h) {
-    return (-f(2 * h) + 8 * f(h) - 8 * f(-h) + f(-2 * h)) / (12 * h);
+    return (f(3 * h) - 9 * f(2 * h) + 45 * f(h) - 45 * f(-h) + 9 * f(-2 * h) - f(-3 * h)) / (60 * h);
 }
 
-void refuse_rotating_spatial_bodies(const ModelSystem& system, const State& reference) {
-    if (system.dimension() != Dimension::Spatial) return;
-    for (int b = 0; b < system.body_count(); ++b)
-        if (reference.v.segment<3>(6 * b + 3).norm() > 0.0)
-            throw LinearisationError("body '" + system.model().bodies[b].name +
-                                     "' rotates in the reference state: linearising about a steady motion with "
-                                     "rotating spatial bodies is not supported; linearise about a static "
-                                     "equilibrium (--about statics) instead");
+// The partition of J and its velocity map (Eq. 6.80); throws when J is singular there.
+CoordinatePartition partition_with_map(const ConstraintValues& cv, Eigen::MatrixXd& map, const char* rows) {
+    const Eigen::MatrixXd J(cv.J);
+    const CoordinatePartition partition = partition_coordinates(J);
+    Eigen::VectorXd gamma_prime;
+    VelocityTransformWorkspace ws;
+    if (!velocity_transform(J, cv.gamma, partition, map, gamma_prime, ws))
+        throw LinearisationError(std::string("the ") + rows +
+                                 " constraints are singular at the reference state: no independent coordinates");
+    return partition;
 }
 
 }  // namespace
 
 LinearModel linearise(ModelSystem& system, const State& start, const std::vector<ActuatorInfo>& actuators,
                       const LinearisationOptions& options) {
-    // the reduced coordinates here are the holonomic ones (v_i of J alone)
-    require_holonomic(system.model(), "the linearisation (mbd modes)",
-                      "simulate the motion (`mbd simulate`) and study it in the time domain instead");
     LinearModel out;
     State reference = start;
     system.assemble(reference, true);
     system.consistent_velocities(reference, true);
-    refuse_rotating_spatial_bodies(system, reference);
     out.reference = reference;
 
-    ConstraintValues cv;
-    system.constraints(reference, cv, true);
-    const Eigen::MatrixXd J(cv.J);
-    const CoordinatePartition partition = partition_coordinates(J);
-    const int k = static_cast<int>(partition.independent.size());
-    out.columns = partition.independent;
-    for (int c : partition.independent) out.coordinates.push_back(column_name(system.model(), c));
-    Eigen::VectorXd gamma_prime;
-    VelocityTransformWorkspace ws;
-    if (!velocity_transform(J, cv.gamma, partition, out.velocity_map, gamma_prime, ws))
-        throw LinearisationError("the constraints are singular at the reference state: no independent coordinates");
+    // positions: the holonomic rows; velocities: those and the velocity-level (nonholonomic) rows
+    ConstraintValues holonomic, all_rows;
+    system.constraints(reference, holonomic, true);
+    system.constraints_with_velocity_rows(reference, all_rows, true);
+    const CoordinatePartition positions = partition_with_map(holonomic, out.position_map, "position");
+    const CoordinatePartition velocities = partition_with_map(all_rows, out.velocity_map, "velocity");
+    const int kz = static_cast<int>(positions.independent.size());
+    const int kw = static_cast<int>(velocities.independent.size());
+    out.columns = positions.independent;
+    out.velocity_columns = velocities.independent;
+    for (int c : positions.independent) out.coordinates.push_back(column_name(system.model(), c));
+    for (int c : velocities.independent) out.velocity_coordinates.push_back(column_name(system.model(), c));
     Eigen::MatrixXd joint_rows;
     joint_coordinate_rows(system, reference, out, joint_rows);
-    out.joint_map = joint_rows * out.velocity_map;
+    out.joint_map = joint_rows * out.position_map;
 
     const Eigen::MatrixXd Qu = actuator_force_map(system, reference, actuators);
     for (const ActuatorInfo& a : actuators) out.inputs.push_back(a.name);
-    ReducedDynamics dynamics(system, reference, partition, Qu);
-    const Eigen::VectorXd z0 = Eigen::VectorXd::Zero(k), u0 = Eigen::VectorXd::Zero(Qu.cols());
+    ReducedDynamics dynamics(system, reference, positions, velocities, Qu);
+    const Eigen::VectorXd z0 = Eigen::VectorXd::Zero(kz), u0 = Eigen::VectorXd::Zero(Qu.cols());
     Eigen::VectorXd w0;
-    gather(reference.v, partition.independent, w0);
+    gather(reference.v, velocities.independent, w0);
 
-    // a steady motion keeps its independent velocities: vdot_i = 0
-    const Eigen::VectorXd a_i0 = dynamics.independent_accelerations(z0, w0, u0);
-    out.residual = k ? a_i0.cwiseAbs().maxCoeff() : 0.0;
+    // a steady motion keeps its independent velocities: w' = 0
+    const Eigen::VectorXd rates0 = dynamics.rates(z0, w0, u0);
+    out.residual = kw ? rates0.tail(kw).cwiseAbs().maxCoeff() : 0.0;
     if (!(out.residual <= options.residual_tolerance))
         throw LinearisationError("the reference state is not an equilibrium or steady motion: the accelerations are " +
                                  format_number(out.residual) + " (max |vdot| of the independent coordinates, tolerance " +
                                  format_number(options.residual_tolerance) +
                                  "); start from a static equilibrium (--about statics) or a steady motion");
+    require_steady_motion(
+        system, reference, [&](const State& s) { return dynamics.accelerations(s, u0); }, options.residual_tolerance);
 
-    out.A = Eigen::MatrixXd::Zero(2 * k, 2 * k);
-    out.A.topRightCorner(k, k).setIdentity();  // z' = w
-    for (int c = 0; c < k; ++c) {
-        Eigen::VectorXd e = Eigen::VectorXd::Unit(k, c);
-        out.A.block(k, c, k, 1) = central_difference(
-            [&](double d) { return dynamics.independent_accelerations(z0 + d * e, w0, u0); }, options.step);
-        const double hv = options.step * std::max(1.0, std::abs(w0[c]));
-        out.A.block(k, k + c, k, 1) = central_difference(
-            [&](double d) { return dynamics.independent_accelerations(z0, w0 + d * e, u0); }, hv);
+    const int n = kz + kw;
+    out.A = Eigen::MatrixXd::Zero(n, n);
+    for (int c = 0; c < kz; ++c) {
+        const Eigen::VectorXd e = Eigen::VectorXd::Unit(kz, c);
+        out.A.col(c) = central_difference([&](double d) { return dynamics.rates(z0 + d * e, w0, u0); }, options.step);
     }
-    out.B = Eigen::MatrixXd::Zero(2 * k, Qu.cols());
+    for (int c = 0; c < kw; ++c) {
+        const Eigen::VectorXd e = Eigen::VectorXd::Unit(kw, c);
+        const double hv = options.velocity_step * std::max(1.0, std::abs(w0[c]));
+        out.A.block(kz, kz + c, kw, 1) = central_difference(
+            [&](double d) { return Eigen::VectorXd(dynamics.rates(z0, w0 + d * e, u0).tail(kw)); }, hv);
+    }
+    // z' = (v - v0)_i is linear in w at the reference: the rows of the velocity map
+    for (int r = 0; r < kz; ++r) out.A.block(r, kz, 1, kw) = out.velocity_map.row(positions.independent[r]);
+    out.B = Eigen::MatrixXd::Zero(n, Qu.cols());
     for (int a = 0; a < Qu.cols(); ++a)
-        out.B.block(k, a, k, 1) =
-            dynamics.independent_accelerations(z0, w0, Eigen::VectorXd::Unit(Qu.cols(), a)) - a_i0;
+        out.B.block(kz, a, kw, 1) = dynamics.rates(z0, w0, Eigen::VectorXd::Unit(Qu.cols(), a)).tail(kw) - rates0.tail(kw);
     return out;
 }
 

@@ -1,7 +1,10 @@
 // Modes of a linearised system: see modes.hpp.
 #include <mbd/modes.hpp>
 
+#include <mbd/sdk/text.hpp>
+
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
@@ -18,48 +21,133 @@ Eigen::VectorXcd normalised(const Eigen::VectorXcd& x) {
     return std::abs(x[largest]) > 0.0 ? Eigen::VectorXcd(x / x[largest]) : x;
 }
 
+// The column space (orthonormal) and the null space of X, singular values above
+// tolerance counting as non-zero.
+void column_and_null_space(const Eigen::MatrixXd& X, double tolerance, Eigen::MatrixXd& range, Eigen::MatrixXd& null) {
+    if (X.size() == 0) {  // no rows or no columns: nothing spanned, every column direction null
+        range.resize(X.rows(), 0);
+        null = Eigen::MatrixXd::Identity(X.cols(), X.cols());
+        return;
+    }
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(X, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    int rank = 0;
+    for (Eigen::Index i = 0; i < svd.singularValues().size(); ++i)
+        if (svd.singularValues()[i] > tolerance) ++rank;
+    range = svd.matrixU().leftCols(rank);
+    null = svd.matrixV().rightCols(X.cols() - rank);
+}
+
+// Orthonormal basis (n x s) of the states on which A is nilpotent, the kernel of A^n:
+// S_0 = {}, S_j = {x : A x in S_(j-1)}, until it stops growing.
+Eigen::MatrixXd zero_eigenspace(const Eigen::MatrixXd& A, double tolerance) {
+    const Eigen::Index n = A.rows();
+    Eigen::MatrixXd S(n, 0), range, null;
+    for (Eigen::Index step = 0; step <= n; ++step) {
+        const Eigen::MatrixXd projected = A - S * (S.transpose() * A);  // (I - S S^T) A
+        column_and_null_space(projected, tolerance, range, null);
+        if (null.cols() == S.cols()) return null;
+        S = null;
+    }
+    return S;
+}
+
+// The basis rows brought to reduced row-echelon form: each direction has a pivot entry 1 and
+// zeros at the others' pivots (so that a single ignorable coordinate reads as itself).
+std::vector<IgnorableDirection> echelon(const Eigen::MatrixXd& S, const Eigen::MatrixXd& joint_map) {
+    Eigen::MatrixXd R = S.transpose();  // s x kz
+    std::vector<IgnorableDirection> out;
+    std::vector<char> used(R.cols(), 0);
+    std::vector<Eigen::Index> pivots;
+    for (Eigen::Index r = 0; r < R.rows(); ++r) {
+        Eigen::Index p = 0;
+        double best = -1.0;
+        for (Eigen::Index c = 0; c < R.cols(); ++c)
+            if (!used[c] && std::abs(R(r, c)) > best) best = std::abs(R(r, c)), p = c;
+        used[p] = 1;
+        pivots.push_back(p);
+        R.row(r) /= R(r, p);
+        for (Eigen::Index o = 0; o < R.rows(); ++o)
+            if (o != r) R.row(o) -= R(o, p) * R.row(r);
+    }
+    for (Eigen::Index r = 0; r < R.rows(); ++r) {
+        IgnorableDirection d;
+        d.shape = R.row(r).transpose();
+        for (Eigen::Index c = 0; c < d.shape.size(); ++c)
+            if (std::abs(d.shape[c]) < 1e-8) d.shape[c] = 0.0;  // the differences' noise
+        d.coordinate = static_cast<int>(pivots[r]);
+        d.shape[d.coordinate] = 1.0;
+        d.single = (d.shape.array() != 0.0).count() == 1;
+        d.joint_shape = joint_map * d.shape;
+        out.push_back(d);
+    }
+    return out;
+}
+
+Mode make_mode(std::complex<double> eigenvalue, bool oscillatory, const Eigen::VectorXcd& shape,
+               const Eigen::MatrixXd& joint_map) {
+    Mode m;
+    m.oscillatory = oscillatory;
+    m.eigenvalue = oscillatory ? eigenvalue : std::complex<double>(eigenvalue.real(), 0.0);
+    m.natural_frequency = std::abs(m.eigenvalue);
+    m.damped_frequency = std::abs(m.eigenvalue.imag());
+    m.damping_ratio = m.natural_frequency > 0.0 ? -m.eigenvalue.real() / m.natural_frequency : 0.0;
+    m.shape = normalised(shape);
+    m.joint_shape = joint_map.cast<std::complex<double>>() * m.shape;
+    return m;
+}
+
 }  // namespace
 
+std::string describe(const IgnorableDirection& direction, const std::vector<std::string>& coordinates) {
+    std::string out = coordinates[direction.coordinate];
+    for (Eigen::Index c = 0; c < direction.shape.size(); ++c) {
+        const double x = direction.shape[c];
+        if (c == direction.coordinate || x == 0.0) continue;
+        out += (x < 0 ? " - " : " + ") + format_number(std::abs(x), 6) + " " + coordinates[c];
+    }
+    return out;
+}
+
+
+// The zero eigenvalues are set apart first: on their eigenspace S (the kernel of A^n) A is
+// nilpotent, and in a basis [S, C] (C its orthogonal complement) A is block triangular, so
+// that the eigenvalues of C^T A C are the others. The position parts of S are the ignorable
+// directions (a coordinate the dynamics do not depend on, or the heading, whose rate only
+// moves such a coordinate); S's states with no position part are free velocities (a
+// neighbouring steady motion: a free body's speed, a bicycle's forward speed), each a mode
+// with lambda = 0 whose shape is the position rates it gives.
 ModeAnalysis modes_of(const LinearModel& linear, double ignorable_tolerance) {
     ModeAnalysis out;
     const Eigen::MatrixXd& A = linear.A;
-    const int k = static_cast<int>(A.rows()) / 2;
+    const int n = static_cast<int>(A.rows());
+    const int kz = static_cast<int>(linear.coordinates.size());
     const double scale = A.size() ? A.cwiseAbs().maxCoeff() : 0.0;
-    std::vector<int> kept;  // states of A without the ignorable positions
-    for (int c = 0; c < k; ++c) {
-        if (A.col(c).cwiseAbs().maxCoeff() <= ignorable_tolerance * scale) out.ignorable.push_back(c);
-        else kept.push_back(c);
+    const double tolerance = ignorable_tolerance * std::max(scale, 1e-300);
+    const Eigen::MatrixXd S = zero_eigenspace(A, tolerance);
+    Eigen::MatrixXd positions, free_velocities;
+    column_and_null_space(S.topRows(kz), 1e-8, positions, free_velocities);
+    out.ignorable = echelon(positions, linear.joint_map);
+    const Eigen::MatrixXd position_rates = A.topRows(kz);
+    for (Eigen::Index c = 0; c < free_velocities.cols(); ++c) {
+        out.modes.push_back(make_mode(0.0, false, (position_rates * (S * free_velocities.col(c))).cast<std::complex<double>>(),
+                                      linear.joint_map));
+        out.modes.back().free_velocity = true;
     }
-    const int positions = static_cast<int>(kept.size());
-    for (int c = 0; c < k; ++c) kept.push_back(k + c);
-    // Removing an ignorable position's row and column leaves the other eigenvalues: nothing
-    // depends on it (its column is zero), and its own eigenvalue is the zero set apart.
-    Eigen::MatrixXd reduced(kept.size(), kept.size());
-    for (size_t j = 0; j < kept.size(); ++j)
-        for (size_t i = 0; i < kept.size(); ++i) reduced(i, j) = A(kept[i], kept[j]);
-    if (reduced.size() == 0) return out;
-    const Eigen::EigenSolver<Eigen::MatrixXd> eigen(reduced, true);
-    const Eigen::VectorXcd lambda = eigen.eigenvalues();
-    const Eigen::MatrixXcd vectors = eigen.eigenvectors();
-    const double zero = 1e-12 * std::max(1.0, scale);
-    for (Eigen::Index i = 0; i < lambda.size(); ++i) {
-        const std::complex<double> l = lambda[i];
-        if (l.imag() < -zero) continue;  // its conjugate stands for the pair
-        Mode m;
-        m.oscillatory = l.imag() > zero;
-        m.eigenvalue = m.oscillatory ? l : std::complex<double>(l.real(), 0.0);
-        m.natural_frequency = std::abs(m.eigenvalue);
-        m.damped_frequency = std::abs(m.eigenvalue.imag());
-        m.damping_ratio = m.natural_frequency > 0.0 ? -m.eigenvalue.real() / m.natural_frequency : 0.0;
-        // position part of the eigenvector, back on all k independent coordinates; a mode
-        // with no position part (a free velocity, lambda = 0) keeps its velocity part
-        Eigen::VectorXcd shape = Eigen::VectorXcd::Zero(k);
-        for (int p = 0; p < positions; ++p) shape[kept[p]] = vectors(p, i);
-        if (shape.cwiseAbs().maxCoeff() <= 1e-12 * vectors.col(i).cwiseAbs().maxCoeff())
-            for (int c = 0; c < k; ++c) shape[c] = vectors(positions + c, i);
-        m.shape = normalised(shape);
-        m.joint_shape = linear.joint_map.cast<std::complex<double>>() * m.shape;
-        out.modes.push_back(m);
+    Eigen::MatrixXd C = Eigen::MatrixXd::Identity(n, n);
+    if (S.cols() > 0) {
+        const Eigen::JacobiSVD<Eigen::MatrixXd> svd(S, Eigen::ComputeFullU);
+        C = svd.matrixU().rightCols(n - S.cols());
+    }
+    const Eigen::MatrixXd reduced = C.transpose() * A * C;
+    if (reduced.size() > 0) {
+        const Eigen::EigenSolver<Eigen::MatrixXd> eigen(reduced, true);
+        const Eigen::VectorXcd lambda = eigen.eigenvalues();
+        const Eigen::MatrixXcd vectors = C.cast<std::complex<double>>() * eigen.eigenvectors();
+        const double zero = 1e-12 * std::max(1.0, scale);
+        for (Eigen::Index i = 0; i < lambda.size(); ++i) {
+            if (lambda[i].imag() < -zero) continue;  // its conjugate stands for the pair
+            out.modes.push_back(make_mode(lambda[i], lambda[i].imag() > zero, vectors.col(i).head(kz), linear.joint_map));
+        }
     }
     std::stable_sort(out.modes.begin(), out.modes.end(), [](const Mode& a, const Mode& b) {
         return a.natural_frequency < b.natural_frequency;

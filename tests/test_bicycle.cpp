@@ -1,0 +1,309 @@
+// The Whipple bicycle benchmark (scenes/reference/whipple-bicycle.yaml) linearised by
+// `mbd modes` about its upright straight motion, against the published linearised equations
+//     M q'' + v C1 q' + (g K0 + v^2 K2) q = 0,   q = (lean, steer)
+// of Meijaard, Papadopoulos, Ruina & Schwab, Proc. R. Soc. A 463 (2007) 1955-1982, Eq. (A 21)
+// with the numbers of their Sec. 5 (14 digits), as reproduced in J. K. Moore's
+// BicycleParameters (benchmark_matrices()) and in the published tests of other bicycle codes;
+// and against the eigenvalues of their Table 2 at 0, 4, 5 and 10 m/s. A simulation of the
+// nonlinear model checks the stable and unstable speeds in the time domain.
+#include "support/test_support.hpp"
+
+#include <mbd/linearisation.hpp>
+#include <mbd/model_system.hpp>
+#include <mbd/modes.hpp>
+#include <mbd/scene_parameters.hpp>
+#include <mbd/sdk/rotation.hpp>
+#include <mbd/sdk/text.hpp>
+#include <mbd/simulation.hpp>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <functional>
+#include <vector>
+
+namespace {
+
+using Complex = std::complex<double>;
+const double g = 9.81;
+
+// The published matrices (Meijaard et al. 2007, Sec. 5).
+struct Benchmark {
+    Eigen::Matrix2d M, C1, K0, K2;
+    Benchmark() {
+        M << 80.81722, 2.31941332208709, 2.31941332208709, 0.29784188199686;
+        C1 << 0.0, 33.86641391492494, -0.85035641456978, 1.68540397397560;
+        K0 << -80.95, -2.59951685249872, -2.59951685249872, -0.80329488458618;
+        K2 << 0.0, 76.59734589573222, 0.0, 2.65431523794604;
+    }
+    // the four eigenvalues of the first-order form at speed v
+    std::vector<Complex> eigenvalues(double v) const {
+        Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+        A.topRightCorner<2, 2>().setIdentity();
+        const Eigen::Matrix2d Minv = M.inverse();
+        A.bottomLeftCorner<2, 2>() = -Minv * (g * K0 + v * v * K2);
+        A.bottomRightCorner<2, 2>() = -Minv * (v * C1);
+        const Eigen::Vector4cd l = Eigen::EigenSolver<Eigen::Matrix4d>(A).eigenvalues();
+        return {l.data(), l.data() + 4};
+    }
+};
+
+// The benchmark scene at forward speed v: every body at [v, 0, 0], the wheels turning at v / r.
+mbd::Model bicycle(double v) {
+    const mbd::Model base = mbd::test::load("reference/whipple-bicycle.yaml");
+    mbd::SceneParameterValues values;
+    for (const char* body : {"rear_wheel", "rear_frame", "front_frame", "front_wheel"})
+        values.push_back({std::string("bodies.") + body + ".velocity[0]", v});
+    values.push_back({"bodies.rear_wheel.angular_velocity[1]", v / 0.3});
+    values.push_back({"bodies.front_wheel.angular_velocity[1]", v / 0.35});
+    return mbd::with_scene_parameters(base, values, mbd::test::shared_registry());
+}
+
+struct Linearised {
+    mbd::LinearModel linear;
+    mbd::ModeAnalysis analysis;
+    std::vector<Complex> eigenvalues;  // every eigenvalue of the non-ignorable part, pairs expanded
+};
+
+Linearised linearise_bicycle(double v) {
+    const mbd::Model model = bicycle(v);
+    mbd::ModelSystem system(model);
+    Linearised out;
+    out.linear = mbd::linearise(system, model.initial_state(), {});
+    out.analysis = mbd::modes_of(out.linear);
+    for (const mbd::Mode& m : out.analysis.modes) {
+        out.eigenvalues.push_back(m.eigenvalue);
+        if (m.oscillatory) out.eigenvalues.push_back(std::conj(m.eigenvalue));
+    }
+    return out;
+}
+
+// The four of `got` nearest to `want` (each used once), and the largest distance.
+double largest_distance(std::vector<Complex> got, const std::vector<Complex>& want) {
+    double worst = 0.0;
+    for (const Complex& w : want) {
+        auto nearest = std::min_element(got.begin(), got.end(),
+                                        [&](const Complex& a, const Complex& b) { return std::abs(a - w) < std::abs(b - w); });
+        worst = std::max(worst, std::abs(*nearest - w));
+        got.erase(nearest);
+    }
+    return worst;
+}
+
+// The eigenvalue of the 5 left after the four that match the benchmark: the free forward speed.
+Complex leftover(std::vector<Complex> got, const std::vector<Complex>& want) {
+    for (const Complex& w : want)
+        got.erase(std::min_element(got.begin(), got.end(),
+                                   [&](const Complex& a, const Complex& b) { return std::abs(a - w) < std::abs(b - w); }));
+    return got.size() == 1 ? got[0] : Complex(NAN, NAN);
+}
+
+TEST(Bicycle, TheModelHasSevenPositionsAndThreeVelocities) {
+    const Linearised b = linearise_bicycle(5.0);
+    // 24 body velocities - 17 holonomic rows (three revolutes, two contact heights) = 7 positions;
+    // the four no-slip rows leave 3 velocities: lean, steer and forward speed
+    EXPECT_EQ(b.linear.coordinates.size(), 7u);
+    EXPECT_EQ(b.linear.velocity_coordinates.size(), 3u);
+    EXPECT_EQ(b.linear.A.rows(), 10);
+    // zero by symmetry: position on the ground (2), heading, the two wheels' spin angles
+    EXPECT_EQ(b.analysis.ignorable.size(), 5u);
+    EXPECT_EQ(b.eigenvalues.size(), 5u);
+    // one of them the free forward speed, lambda = 0
+    ASSERT_FALSE(b.analysis.modes.empty());
+    EXPECT_TRUE(b.analysis.modes[0].free_velocity);
+    EXPECT_EQ(std::count_if(b.analysis.modes.begin(), b.analysis.modes.end(),
+                            [](const mbd::Mode& m) { return m.free_velocity; }),
+              1);
+}
+
+// The four eigenvalues of mbd's linearisation against those of the published matrices.
+TEST(Bicycle, EigenvaluesMatchThePublishedMatricesAcrossSpeeds) {
+    const Benchmark benchmark;
+    for (double v : {0.0, 1.0, 2.0, 3.0, 4.0, 4.5, 5.0, 6.0, 7.0, 8.0, 10.0}) {
+        const Linearised b = linearise_bicycle(v);
+        ASSERT_EQ(b.eigenvalues.size(), 5u) << "v = " << v;
+        const std::vector<Complex> want = benchmark.eigenvalues(v);
+        const double error = largest_distance(b.eigenvalues, want);
+        std::printf("v = %4.1f m/s: largest eigenvalue error %.2e\n", v, error);
+        EXPECT_LT(error, 1e-8) << "v = " << v;
+        // the fifth: a neighbouring forward speed is as steady (lambda = 0)
+        EXPECT_LT(std::abs(leftover(b.eigenvalues, want)), 1e-8) << "v = " << v;
+    }
+}
+
+// Table 2 of the paper (14 digits) at 0, 4, 5 and 10 m/s.
+TEST(Bicycle, EigenvaluesMatchThePublishedTable) {
+    const std::vector<std::pair<double, std::vector<Complex>>> table = {
+        {0.0, {-5.53094371765393, -3.13164324790656, 3.13164324790656, 5.53094371765393}},
+        {4.0,
+         {-12.15861426576447, -1.42944427361326, {0.41325331521125, 3.07910818603206},
+          {0.41325331521125, -3.07910818603206}}},
+        {5.0,
+         {-14.07838969279822, -0.32286642900409, {-0.77534188219585, 4.46486771378823},
+          {-0.77534188219585, -4.46486771378823}}},
+        {10.0,
+         {-24.62459635017404, 0.16105338653172, {-3.72016840437287, 10.90681139476287},
+          {-3.72016840437287, -10.90681139476287}}},
+    };
+    const Benchmark benchmark;
+    for (const auto& [v, published] : table) {
+        // the oracle matrices reproduce their own table, to its printed digits
+        EXPECT_LT(largest_distance(benchmark.eigenvalues(v), published), 1e-12) << "v = " << v;
+        EXPECT_LT(largest_distance(linearise_bicycle(v).eigenvalues, published), 1e-8) << "v = " << v;
+    }
+}
+
+// A root of f in [a, b] (f(a), f(b) of opposite signs) by bisection then secant steps.
+double root(const std::function<double(double)>& f, double a, double b, double tolerance) {
+    double fa = f(a), fb = f(b);
+    EXPECT_LT(fa * fb, 0.0) << "no sign change in [" << a << ", " << b << "]";
+    for (int k = 0; k < 60 && b - a > tolerance; ++k) {
+        // a secant point kept inside the bracket, bisection when it would stall
+        double m = b - fb * (b - a) / (fb - fa);
+        if (!(m > a + 0.1 * (b - a) && m < b - 0.1 * (b - a))) m = 0.5 * (a + b);
+        const double fm = f(m);
+        if (fm == 0.0) return m;
+        if ((fm < 0) == (fa < 0)) a = m, fa = fm;
+        else b = m, fb = fm;
+    }
+    return 0.5 * (a + b);
+}
+
+// The real part of the weave pair (the oscillatory mode), and the sum of the `count` real
+// eigenvalues nearest zero: the capsize eigenvalue, with mbd's (near-)zero of the free
+// forward speed when count = 2 (the sum, because the two meet at the capsize speed).
+double weave_real(const std::vector<Complex>& l) {
+    double re = NAN;
+    for (const Complex& x : l)
+        if (x.imag() > 1e-6) re = x.real();
+    return re;
+}
+double capsize(std::vector<Complex> l, int count) {
+    std::vector<double> real;
+    for (const Complex& x : l)
+        if (x.imag() == 0.0) real.push_back(x.real());
+    std::sort(real.begin(), real.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+    double sum = 0.0;
+    for (int k = 0; k < count && k < static_cast<int>(real.size()); ++k) sum += real[k];
+    return sum;
+}
+
+// v at lambda = 0 of the polynomial v(lambda) through the points (lambda_i, v_i) (Lagrange).
+double inverse_interpolated_root(const std::vector<double>& v, const std::vector<double>& lambda) {
+    double root = 0.0;
+    for (size_t i = 0; i < v.size(); ++i) {
+        double weight = 1.0;
+        for (size_t j = 0; j < v.size(); ++j)
+            if (j != i) weight *= (0.0 - lambda[j]) / (lambda[i] - lambda[j]);
+        root += weight * v[i];
+    }
+    return root;
+}
+
+TEST(Bicycle, WeaveAndCapsizeSpeedsMatchThePublishedMatrices) {
+    const Benchmark benchmark;
+    const double tolerance = 1e-12;
+    const double weave_oracle =
+        root([&](double v) { return weave_real(benchmark.eigenvalues(v)); }, 4.0, 4.5, tolerance);
+    const double capsize_oracle =
+        root([&](double v) { return capsize(benchmark.eigenvalues(v), 1); }, 5.5, 6.5, tolerance);
+    // the paper's v_w = 4.292382 and v_c = 6.024262 m/s (Sec. 5)
+    EXPECT_NEAR(weave_oracle, 4.292382, 1e-6);
+    EXPECT_NEAR(capsize_oracle, 6.024262, 1e-6);
+    const double weave = root([&](double v) { return weave_real(linearise_bicycle(v).eigenvalues); }, 4.0, 4.5, tolerance);
+    // The capsize eigenvalue meets the free speed's zero at v_c, where the two cannot be told
+    // apart: its root is read off the polynomial through its values at six speeds around the
+    // oracle's root (|lambda| >= 1.5e-3 there), in inverse (v as a function of lambda).
+    std::vector<double> speeds, lambdas;
+    for (double dv : {-0.015, -0.01, -0.005, 0.005, 0.01, 0.015}) {
+        speeds.push_back(capsize_oracle + dv);
+        lambdas.push_back(capsize(linearise_bicycle(capsize_oracle + dv).eigenvalues, 2));
+    }
+    const double capsize_mbd = inverse_interpolated_root(speeds, lambdas);
+    // the oracle's own inverse interpolation from the same speeds reproduces its root
+    std::vector<double> oracle_lambdas;
+    for (double v : speeds) oracle_lambdas.push_back(capsize(benchmark.eigenvalues(v), 1));
+    const double capsize_check = inverse_interpolated_root(speeds, oracle_lambdas);
+    EXPECT_NEAR(capsize_check, capsize_oracle, 1e-11);
+    std::printf("weave speed %.12f (oracle %.12f), capsize speed %.12f (oracle %.12f)\n", weave, weave_oracle,
+                capsize_mbd, capsize_oracle);
+    EXPECT_NEAR(weave, weave_oracle, 1e-9);
+    // the capsize eigenvalue is a small difference of large terms near v_c: mbd's differences
+    // give it to ~2e-9 there (the weave pair to ~1e-11), so its root to ~1e-8
+    EXPECT_NEAR(capsize_mbd, capsize_oracle, 1e-8);
+}
+
+// The lean angle envelope of the nonlinear model (embedding formulation, dopri5) after a
+// small lean-rate kick: max |lean| over the first and the last second of the run.
+std::pair<double, double> lean_envelope(double v, double kick, double t_end) {
+    const mbd::Model model = mbd::with_scene_parameters(
+        bicycle(v), {{"bodies.rear_frame.angular_velocity[0]", kick}}, mbd::test::shared_registry());
+    mbd::SimulationSettings settings;
+    settings.formulation = "embedding";
+    settings.integrator = "dopri5";
+    settings.integration.tolerance = 1e-10;
+    settings.t_end = t_end;
+    settings.output_step = 0.01;
+    settings.progress = false;
+    settings.messages = mbd::MessageLog::silent();
+    const int frame = 1;  // rear_frame
+    double first = 0.0, last = 0.0;
+    mbd::simulate(model, mbd::test::shared_registry(), settings, [&](const mbd::SimulationSample& sample) {
+        const mbd::State& s = sample.state;
+        const mbd::Mat3 A = mbd::rotation_from_euler_parameters(s.q.segment<4>(model.q_offset(frame) + 3).normalized());
+        const double lean = std::abs(std::asin(A(2, 1)));  // the frame's lateral axis, up from the ground
+        if (s.t <= 1.0) first = std::max(first, lean);
+        if (s.t >= t_end - 1.0) last = std::max(last, lean);
+        return true;
+    });
+    return {first, last};
+}
+
+// Inside the self-stable range (v_w < 5 < v_c) a lean kick dies out, the slowest mode being
+// capsize at -0.323 1/s: over 7 s, a factor e^-2.26 = 0.10. Below the weave speed (3 m/s, weave
+// at +1.707 +- 2.316i 1/s) it grows, by e^(1.707 * 2) = 30 between the first and last second of 3 s.
+TEST(Bicycle, LeanKickDecaysAtFiveAndGrowsAtThreeMetresPerSecond) {
+    const auto [first5, last5] = lean_envelope(5.0, 0.01, 8.0);
+    std::printf("5 m/s: lean envelope %.3e -> %.3e\n", first5, last5);
+    EXPECT_GT(first5, 1e-4);
+    EXPECT_LT(last5, 0.2 * first5);
+    const auto [first3, last3] = lean_envelope(3.0, 1e-4, 3.0);
+    std::printf("3 m/s: lean envelope %.3e -> %.3e\n", first3, last3);
+    EXPECT_GT(last3, 10.0 * first3);
+}
+
+// A state that is not steady (the bicycle at 5 m/s with a lean rate) is refused with its
+// residual: the largest independent acceleration, here checked against the accelerations of
+// the augmented formulation plugin at the same consistent state.
+TEST(Bicycle, NotASteadyMotionIsRefusedWithItsResidual) {
+    const Linearised steady = linearise_bicycle(5.0);
+    const mbd::Model model =
+        mbd::with_scene_parameters(bicycle(5.0), {{"bodies.rear_frame.angular_velocity[0]", 0.3}}, mbd::test::shared_registry());
+    mbd::ModelSystem system(model);
+    mbd::State s = model.initial_state();
+    system.assemble(s, true);
+    system.consistent_velocities(s, true);
+    mbd::Param node;
+    auto formulation = mbd::test::make_formulation("augmented", node);
+    formulation->bind(system, mbd::FormulationOptions{});
+    Eigen::VectorXd vdot;
+    formulation->accelerations(s, vdot);
+    double residual = 0.0;
+    for (int c : steady.linear.velocity_columns) residual = std::max(residual, std::abs(vdot[c]));
+    ASSERT_GT(residual, 1e-3);
+    try {
+        mbd::linearise(system, model.initial_state(), {});
+        FAIL() << "linearised about a state that is not steady";
+    } catch (const mbd::LinearisationError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("not an equilibrium or steady motion"), std::string::npos) << what;
+        const size_t at = what.find("accelerations are ");
+        ASSERT_NE(at, std::string::npos) << what;
+        EXPECT_NEAR(std::stod(what.substr(at + 18)), residual, 1e-5 * residual) << what;
+    }
+}
+
+}  // namespace
