@@ -86,6 +86,17 @@ Param as_map(const Param& node) {
     return map;
 }
 
+// An element of the scene the chosen pair must handle: refused, naming `element`, when the
+// formulation does not (`formulation_remedy` says what to do) or the integrator solves the index-3
+// equations (`integrator_remedy`).
+void require_handled(const std::string& where, const std::string& element, bool formulation_handles,
+                     const std::string& name, const std::string& formulation_remedy, bool needs_index3,
+                     const std::string& integrator, const std::string& integrator_remedy) {
+    if (!formulation_handles)
+        throw InputError(where, element + ", which the '" + name + "' formulation " + formulation_remedy);
+    if (needs_index3) throw InputError(where, element + ", which the " + integrator + " integrator " + integrator_remedy);
+}
+
 }  // namespace
 
 FormulationOptions read_formulation_options(const Param& node) {
@@ -142,15 +153,12 @@ void require_velocity_rows_handled(const Model& model, const Formulation& formul
         const std::string joint = "joint '" + j.name + "' (type " + j.type + ") has " +
                                   std::to_string(j.joint->velocity_rows()) +
                                   " velocity-level (nonholonomic) constraint row(s)";
-        if (!formulation.supports_velocity_constraints())
-            throw InputError(j.where, joint + ", which the '" + name +
-                                          "' formulation does not handle; use the augmented or the embedding formulation "
-                                          "(--formulation augmented, or `formulation: augmented` in the scene; "
-                                          "docs/formulations.md)");
-        if (needs_index3)
-            throw InputError(j.where, joint + ", which the " + integrator +
-                                          " integrator does not handle (it solves the index-3 equations of the "
-                                          "holonomic rows only); use dopri5, rk4 or cvode");
+        require_handled(j.where, joint, formulation.supports_velocity_constraints(), name,
+                        "does not handle; use the augmented or the embedding formulation (--formulation augmented, "
+                        "or `formulation: augmented` in the scene; docs/formulations.md)",
+                        needs_index3, integrator,
+                        "does not handle (it solves the index-3 equations of the holonomic rows only); use dopri5, "
+                        "rk4 or cvode");
         return;
     }
 }
@@ -161,15 +169,12 @@ void require_reaction_loads_handled(const Model& model, const Formulation& formu
         if (f.load_joint < 0) continue;
         const std::string force = "force '" + f.name + "' (type " + f.type + ") takes its load from the reaction of joint '" +
                                   model.joints[f.load_joint].name + "'";
-        if (!formulation.supports_reaction_loads())
-            throw InputError(f.where, force + ", which the '" + name +
-                                          "' formulation does not solve with its multipliers; use the augmented "
-                                          "formulation (--formulation augmented, or `formulation: augmented` in the "
-                                          "scene; docs/formulations.md)");
-        if (needs_index3)
-            throw InputError(f.where, force + ", which the " + integrator +
-                                          " integrator does not solve (it works on the index-3 equations directly); "
-                                          "use dopri5, dop853, rk4 or cvode");
+        require_handled(f.where, force, formulation.supports_reaction_loads(), name,
+                        "does not solve with its multipliers; use the augmented formulation (--formulation "
+                        "augmented, or `formulation: augmented` in the scene; docs/formulations.md)",
+                        needs_index3, integrator,
+                        "does not solve (it works on the index-3 equations directly); use dopri5, dop853, rk4 or "
+                        "cvode");
         return;
     }
 }
