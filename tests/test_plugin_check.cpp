@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace mbd {
 namespace {
 
@@ -36,8 +38,18 @@ TEST(PluginCheck, GearPairNeedsItsKeysAndPassesWithThem) {
     EXPECT_EQ(with.exit_code, 0) << with.out << with.err;
 }
 
-// The contact joints with surface parameters eliminated inside (cam, sphere_surface): every
+// The contact joints with surface parameters eliminated inside (cam, sphere_surface, wheel_rail): every
 // follower and profile type on random states off the constraint manifold.
+// 25 points [x, f] of a circular arc of radius 0.3 with its top f = top at x = 0, |x| <= 0.29.
+std::string circle_points(double top) {
+    std::string out = "[";
+    for (int k = -12; k <= 12; ++k) {
+        const double x = 0.29 * k / 12.0;
+        out += (k == -12 ? "[" : ", [") + test::g17(x) + ", " + test::g17(top - 0.3 + std::sqrt(0.09 - x * x)) + "]";
+    }
+    return out + "]";
+}
+
 TEST(PluginCheck, ContactJointsPassForEveryFollowerAndSurface) {
     const std::string spline = " --params 'profile: {type: spline, radii: [0.3, 0.31, 0.33, 0.32, 0.3, 0.29, 0.28, 0.29]}'";
     const std::vector<std::pair<std::string, std::string>> cases = {
@@ -49,7 +61,17 @@ TEST(PluginCheck, ContactJointsPassForEveryFollowerAndSurface) {
         {"libmbd_joint_cam.so", " --params 'follower: flat_face' --params 'face_normal: [0.3, -1]'"
                                 " --params 'follower_point: [0, 0.1]'" + spline},
         {"libmbd_joint_sphere_surface.so", " --params 'radius: 0.1' --params 'surface: {type: paraboloid, curvatures: [0.5, -0.3]}'"},
-        {"libmbd_joint_sphere_surface.so", " --params 'radius: 0.1' --params 'surface: {type: bowl, radius: 3}'"}};
+        {"libmbd_joint_sphere_surface.so", " --params 'radius: 0.1' --params 'surface: {type: bowl, radius: 3}'"},
+        {"libmbd_joint_wheel_rail.so", " --params 'wheel: {type: cone, radius: 0.45, cone_angle: 0.05}'"
+                                       " --params 'rail: {type: arc, radius: 0.3}'"},
+        {"libmbd_joint_wheel_rail.so", " --params 'wheel: {type: cone, radius: 0.45}' --params 'rail: {type: arc, radius: 0.3}'"
+                                       " --params 'wheel_centre: [0.8, -0.2, 0.3]' --params 'axle: [0.1, 1, 0.2]'"},
+        // a toroidal tread (crown radius 0.3 m) on a flat head, and a cone on a spline crown: the
+        // splines span slopes beyond the random states' tilts (past their ends they are straight)
+        {"libmbd_joint_wheel_rail.so", " --params 'wheel: {type: spline, points: " + circle_points(0.45) + "}'"
+                                       " --params 'rail: {type: flat}'"},
+        {"libmbd_joint_wheel_rail.so", " --params 'wheel: {type: cone, radius: 0.45, cone_angle: -0.1}'"
+                                       " --params 'rail: {type: spline, points: " + circle_points(0.0) + "}'"}};
     for (const auto& [lib, params] : cases) {
         const auto r = test::run_mbd("plugin check " + plugin(lib) + params);
         EXPECT_EQ(r.exit_code, 0) << lib << params << "\n" << r.out << r.err;

@@ -189,7 +189,16 @@ private:
         const Vec3 o = bi.point(o_), T = bi.A * A_m_.col(0), U = bi.A * A_m_.col(2);
         const Vec3 centre = bj.point(c_), axle = bj.A * a_;
         const Vec3 on_centre_line = o + T * T.dot(centre - o);
-        const double s0 = wheel_->clamp(axle.dot(on_centre_line - centre));
+        double s0 = wheel_->clamp(axle.dot(on_centre_line - centre));
+        {
+            // the wheel section whose normal opposes the head's normal over the centre line:
+            // nu_w = e - r' a (normalized) = -nu_r gives r' = -(nu_w . a) / |nu_w - (nu_w . a) a|
+            const double eta = rail_->clamp(A_m_.col(1).dot(bi.A.transpose() * (on_centre_line - bi.R) - o_));
+            const double h1 = rail_->at(eta).f1;
+            const Vec3 nu_r = bi.A * (A_m_ * Vec3(0.0, -h1, 1.0)).normalized();
+            const double along = -nu_r.dot(axle);
+            if (std::abs(along) < 1.0) s0 = wheel_->where_slope(-along / std::sqrt(1.0 - along * along), s0);
+        }
         const Vec3 b1 = bj.A * b1_, b2 = bj.A * b2_;
         const double theta0 = std::atan2(-b2.dot(U), -b1.dot(U));
         Vec4 p(theta0, s0, 0.0, 0.0);
