@@ -55,6 +55,7 @@ const std::vector<Case> kDrivenAndGeared = {
     {"examples/planar-rack-pinion.yaml"},      // fully driven, rack travel r w
     {"examples/planar-distance.yaml"},         // distance rod, free under gravity
     {"examples/planar-cam.yaml"},              // cam joint: a free cam and a spring-loaded roller
+    {"examples/spatial-wheelset.yaml"},        // wheel_rail: a wheelset on two crowned rails
     {"examples/spatial-revolute.yaml"},        // spatial pendulum: reaction torques
     {"bench/a05-flyball.yaml", 0.05},          // driven spatial, stiff springs (costly: short)
     {"bench/car-axis.yaml"},                   // rheonomic caraxis_bump + distance joint
