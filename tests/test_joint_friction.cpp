@@ -10,6 +10,7 @@
 //    against mu_k N times the distance slid (Ex. 5.6 and the incline).
 #include "support/test_support.hpp"
 
+#include <mbd/linearisation.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/simulation.hpp>
@@ -17,6 +18,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -231,6 +234,26 @@ TEST(JointFriction, PendulumComesToRestWithItsEnergyDissipatedByThePin) {
     EXPECT_GT(r.dissipated.back(), 0.5 * r.energy.front() - 0.5 * r.energy.back());
 }
 
+// ------------------------------------------------------------------ a stuck pin's creep
+// scenes/extreme/pin-friction-holds.yaml: a 2 kg link on a pin whose friction holds it against
+// gravity, creeping within the stiction band (a stiff relaxation, rate ~1e8 1/s). cvode at
+// 1e-10 with the dissipation column used to fail its error test at t = 0.024 (the column's
+// own test; it is a quadrature left out of cvode's error control now): the run reaches 2 s,
+// and the column equals the energy the link lost, E(0) - E(t) (no driver, no other
+// non-conservative force), at every sample.
+TEST(JointFriction, StuckPinCreepDissipationByCvodeAtTightTolerance) {
+    const Motion r = run(mbd::test::load("extreme/pin-friction-holds.yaml"), 2.0, 0.01, 1e-10);
+    ASSERT_EQ(r.states.size(), 201u);
+    double worst = 0.0;
+    for (size_t k = 0; k < r.states.size(); ++k)
+        worst = std::max(worst, std::abs(r.energy.front() - r.energy[k] - r.dissipated[k]));
+    const double lost = r.energy.front() - r.energy.back();
+    std::printf("stuck pin: E0 - E(2 s) %.6e J, dissipated %.6e J, worst |E0 - E - dissipated| %.2e J\n", lost,
+                r.dissipated.back(), worst);
+    EXPECT_GT(lost, 0.0);  // it creeps: the balance is not 0 = 0
+    EXPECT_LT(worst, 1e-9 * lost);  // measured 2.5e-16 J of 1.5e-6 J
+}
+
 // ------------------------------------------------------------------ Ex. 5.6's energy
 // The digest's oscillator (tests/test_friction.cpp): 5 kg, k = 5e3 N/m, mu_k = 0.1, x0 = 0.03 m,
 // 15 half cycles; F_f = mu m g slides the distance sum_n (A_n + A_(n+1)).
@@ -317,6 +340,38 @@ TEST(JointFriction, RefusedWhereTheLoopIsNotSolvedAndBadInputNamed) {
         with("bodies: [wheel, ground], point: [0, 0], radius", "bodies: [wheel, hub], point: [0, 0], radius") +
         "  - {name: hub-drive, type: point_torque, body: hub, torque: 0}\n");
     EXPECT_NE(m.find("does not connect the force's bodies"), std::string::npos) << m;
+}
+
+// mbd modes does not solve the reaction loads (its accelerations would take the friction at
+// load 0): it refuses the element by name, before any statics, and writes nothing; with a
+// fixed normal_force in its place the same scene is linearised.
+TEST(JointFriction, ModesRefusesAFrictionLoadedByAJointReaction) {
+    const std::string message = "force 'bearing' (type rotational_friction) takes its load from the reaction of joint 'axle'";
+    const mbd::Model model = mbd::test::scene(pin_scene(0.0), "joint-friction.yaml");
+    mbd::ModelSystem system(model);
+    try {
+        mbd::linearise(system, model.initial_state(), {});
+        ADD_FAILURE() << "linearised a scene with a reaction-loaded friction";
+    } catch (const mbd::LinearisationError& e) {
+        EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("joint-friction.yaml:"), std::string::npos) << e.what();
+    }
+    const auto dir = std::filesystem::temp_directory_path() / "mbd_test_joint_friction_modes";
+    std::filesystem::create_directories(dir);
+    const std::string file = (dir / "pin.yaml").string(), csv = (dir / "modes.csv").string();
+    std::filesystem::remove(csv);
+    std::ofstream(file) << pin_scene(0.0);
+    for (const char* about : {"statics", "initial"}) {
+        const mbd::test::CommandResult r =
+            mbd::test::run_mbd("modes '" + file + "' --about " + about + " --output '" + csv + "'");
+        EXPECT_NE(r.exit_code, 0) << about;
+        EXPECT_NE(r.err.find(message), std::string::npos) << about << ": " << r.err;
+        EXPECT_NE(r.err.find("pin.yaml:"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(csv)) << about;
+    }
+    std::ofstream(file) << mbd::test::replaced(pin_scene(0.0), "load_joint: axle", "normal_force: 19.62");
+    const mbd::test::CommandResult fixed = mbd::test::run_mbd("modes '" + file + "' --about initial");
+    EXPECT_EQ(fixed.exit_code, 0) << fixed.err;
 }
 
 }  // namespace
