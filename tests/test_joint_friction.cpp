@@ -278,7 +278,7 @@ TEST(JointFriction, BookExample5_6DissipatedEnergyColumn) {
     std::printf("Ex. 5.6: friction_dissipated %.10f J, F_f x path %.10f J, worst |E0 - E - dissipated| %.3e J\n",
                 r.dissipated.back(), Ff * path, worst);
     // 2.25 J dissipated; the balance holds to the integration error of the spring's energy
-    // (cvode at 1e-12 over 15 half cycles: measured 2.7e-8 J)
+    // (cvode at 1e-12 over 15 half cycles: measured 1.0e-8 J)
     EXPECT_NEAR(r.dissipated.back(), Ff * path, 1e-7);
     EXPECT_LT(worst, 5e-8);
     // after the half cycle ending at rest: F_f times the distance slid so far, at each turning point
