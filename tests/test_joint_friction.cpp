@@ -158,6 +158,57 @@ TEST(JointFriction, PinLoadedByItsReactionHoldsBelowBreakawayAndSlipsAbove) {
     }
 }
 
+// ------------------------------------------------------------------ a spatial hinge
+// The spatial path: a flywheel (m = 3 kg, J = diag(0.3, 0.3, 0.5) kg m^2, body z along the
+// hinge) on a revolute whose axis a is tilted by 0.5 rad from the vertical, its mass centre on
+// the axis. Turning at a constant rate or at rest, a_G = 0, so the hinge's reaction is -m g and
+// its part transverse to a, the load, is N = m g sin(0.5) (the axial part is not). Pin radius
+// 0.02 m, mu_s 0.3, mu_k 0.2, preload 0.5 N m: breakaway M_s = 0.3 * 0.02 N + 0.5, slipping
+// M_k = 0.2 * 0.02 N + 0.5; a motor torque T about a: held below M_s, else J_zz w' = T - M_k.
+std::string spatial_hinge_scene(double torque) {
+    const std::string axis = "[0, " + g17(-std::sin(0.5)) + ", " + g17(std::cos(0.5)) + "]";
+    return "name: spatial-hinge\ndimension: spatial\ngravity: [0, 0, " + g17(-kG) + "]\n"
+           "bodies:\n  - {name: flywheel, mass: 3, inertia: [0.3, 0.3, 0.5], position: [0, 0, 0],"
+           " orientation: {axis: [1, 0, 0], angle: 0.5}}\n"
+           "joints:\n  - {name: hinge, type: revolute, bodies: [ground, flywheel], point: [0, 0, 0], axis: " + axis + "}\n"
+           "forces:\n"
+           "  - {name: motor, type: point_torque, body: flywheel, torque: [0, 0, " + g17(torque) + "], frame: body}\n"
+           "  - {name: bearing, type: rotational_friction, bodies: [flywheel, ground], point: [0, 0, 0], axis: " + axis +
+           ", radius: 0.02, load_joint: hinge, static_friction: 0.3, kinetic_friction: 0.2, preload: 0.5,"
+           " stiction_velocity: 1e-9}\n";
+}
+
+TEST(JointFriction, SpatialHingeLoadedByItsTransverseReaction) {
+    const double N = 3.0 * kG * std::sin(0.5), breakaway = 0.3 * 0.02 * N + 0.5, kinetic = 0.2 * 0.02 * N + 0.5;
+    for (double torque : {0.3, 0.99 * breakaway, -0.99 * breakaway}) {
+        const mbd::Model model = mbd::test::scene(spatial_hinge_scene(torque));
+        const Motion r = run(model, 1.0, 0.05, 1e-12);
+        double turned = 0.0;  // |w| integrated: at most the stiction rate times 1 s
+        for (const auto& st : r.states) turned = std::max(turned, st.v.tail<3>().norm());
+        std::printf("spatial hinge, torque %.4f N m (breakaway %.4f): largest rate %.3e rad/s\n", torque, breakaway,
+                    turned);
+        EXPECT_LT(turned, 1e-9) << torque;
+        // the load the formulation solved: the transverse reaction, the axial part left out
+        mbd::ModelSystem system(model);
+        mbd::Param node;
+        auto augmented = mbd::test::make_formulation("augmented", node);
+        augmented->bind(system, {});
+        Eigen::VectorXd vdot;
+        augmented->accelerations(r.states.back(), vdot);
+        ASSERT_EQ(system.reaction_loads().size(), 1);
+        EXPECT_NEAR(system.reaction_loads()[0], N, 1e-11 * N) << torque;
+    }
+    for (double torque : {2.0, -3.0}) {
+        const Motion r = run(mbd::test::scene(spatial_hinge_scene(torque)), 1.0, 0.05, 1e-12);
+        const mbd::State &a = r.states[4], &b = r.states.back();
+        const double measured = (b.v[5] - a.v[5]) / (b.t - a.t);  // body z: along the hinge
+        const double exact = (torque - (torque > 0 ? kinetic : -kinetic)) / 0.5;
+        std::printf("spatial hinge, torque %.2f: %.12f rad/s^2, closed form %.12f\n", torque, measured, exact);
+        EXPECT_NEAR(measured, exact, 1e-8) << torque;
+        EXPECT_LT(b.v.head<3>().norm() + b.v.segment<2>(3).norm(), 1e-9) << torque;  // only the turn about a
+    }
+}
+
 // ------------------------------------------------------------------ the loop: a pendulum
 // A bar (m = 3 kg, centroidal J_c = 0.05 kg m^2) pinned to the ground at O = (0, 0), its mass
 // centre at (l, 0) = (0.4, 0), turning at w = 5 rad/s (counter-clockwise, slipping: mu = mu_k),
