@@ -196,6 +196,7 @@ void add_modes_command(CLI::App& app, Commands& commands) {
         const Model model = load_scene(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         check_output_path(args->state_space, scene_files(args->scene, model), "--state-space");
+        require_linearisable(model);  // before the statics
         State reference = model.initial_state();
         if (args->about == "statics") {
             StaticsOptions statics;

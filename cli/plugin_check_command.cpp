@@ -160,7 +160,8 @@ void report(const std::string& what, const DerivativeErrors& e, double tolerance
                           {"velocity rows' A, b independent of v", e.velocity_dependence},
                           {"dQ/dv", e.velocity_jacobian},
                           {"Q = -dV/dq", e.potential},
-                          {"event gradient G = dg/dq", e.event_gradient}};
+                          {"event gradient G = dg/dq", e.event_gradient},
+                          {"Q affine in the load (evaluate_at_load)", e.load_affinity}};
     bool ok = e.finite && degenerate_ok;
     for (const Item& item : items) ok = ok && item.value <= tolerance;
     std::printf("%-5s %s\n", ok ? "PASS" : "FAIL", what.c_str());

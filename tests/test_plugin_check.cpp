@@ -106,6 +106,26 @@ TEST(PluginCheck, BrokenVelocityRowGammaFailsForThatReasonOnly) {
         EXPECT_EQ(r.out.substr(linear, r.out.find('\n', linear) - linear).find("exceeds"), std::string::npos) << r.out;
 }
 
+// A friction element's moment must be affine in its load (Force::evaluate_at_load): the
+// shipped ones are, a fixture whose moment grows with the square of the load is caught by that
+// check alone.
+TEST(PluginCheck, FrictionLoadMustBeAffine) {
+    for (const char* lib : {"libmbd_force_rotational_friction.so"}) {
+        const auto r = test::run_mbd("plugin check " + plugin(lib) +
+                                     " --params 'radius: 0.05' --params 'normal_force: 20' --params 'static_friction: 0.3'"
+                                     " --params 'kinetic_friction: 0.2' --params 'preload: 0.1'");
+        EXPECT_EQ(r.exit_code, 0) << lib << "\n" << r.out << r.err;
+        EXPECT_NE(r.out.find(" 0 failed"), std::string::npos) << r.out;
+    }
+    const auto r = test::run_mbd("plugin check " + test_plugin("libmbd_force_broken_load_friction.so"));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("FAIL  force 'broken_load_friction' (planar)"), std::string::npos) << r.out;
+    const size_t load = r.out.find("Q affine in the load (evaluate_at_load)");
+    ASSERT_NE(load, std::string::npos) << r.out;
+    EXPECT_NE(r.out.substr(load, r.out.find('\n', load) - load).find("exceeds tolerance"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("dQ/dv"), std::string::npos) << r.out;  // no Jacobians: nothing else flagged
+}
+
 TEST(PluginCheck, RandomGeometryIsSeededAndReproducible) {
     // the same seed gives the same report, digit for digit; another seed other states and geometry
     const std::string lib = plugin("libmbd_joint_distance.so");

@@ -13,7 +13,7 @@ namespace mbd {
 
 double DerivativeErrors::worst() const {
     return std::max({jacobian, gamma, time_derivative, coordinate_jacobian, coordinate_gamma, velocity_gamma,
-                     velocity_dependence, velocity_jacobian, potential, event_gradient});
+                     velocity_dependence, velocity_jacobian, potential, event_gradient, load_affinity});
 }
 
 namespace {
@@ -457,6 +457,21 @@ DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance
         if (events) {
             worst.finite = worst.finite && G.allFinite();
             worst.event_gradient = std::max(worst.event_gradient, (G - G_fd).norm() / std::max(1.0, G_fd.norm()));
+        }
+        if (fi.force->is_friction()) {
+            // Q(N) must be affine in the load N (Force::evaluate_at_load): the reaction-load
+            // solver takes G = Q(1) - Q(0) as its direction (sdk reaction_loads.hpp), so a
+            // curved Q(N) would be solved at a wrong load. Second differences at 0, N1, 2 N1.
+            poses.update(s);
+            const double N1 = 10.0;
+            Eigen::VectorXd at[3];
+            for (int k = 0; k < 3; ++k) {
+                at[k] = Eigen::VectorXd::Zero(n);
+                fi.force->evaluate_at_load(poses.view(fi.bodies, s.t), k * N1, at[k]);
+            }
+            worst.finite = worst.finite && at[0].allFinite() && at[1].allFinite() && at[2].allFinite();
+            worst.load_affinity = std::max(worst.load_affinity, (at[2] - 2.0 * at[1] + at[0]).norm() /
+                                                                    std::max(1.0, (at[1] - at[0]).norm()));
         }
         if (worst.worst() > before) worst.worst_state = describe(model, s);
     }

@@ -148,8 +148,19 @@ CoordinatePartition partition_with_map(const ConstraintValues& cv, Eigen::Matrix
 
 }  // namespace
 
+void require_linearisable(const Model& model) {
+    // the reduced accelerations solve no reaction loads: such a friction would act at load 0
+    for (const ForceInstance& f : model.forces)
+        if (f.load_joint >= 0)
+            throw LinearisationError(f.where + ": force '" + f.name + "' (type " + f.type +
+                                     ") takes its load from the reaction of joint '" + model.joints[f.load_joint].name +
+                                     "', which mbd modes does not solve (and friction is not smooth where it "
+                                     "sticks); give it a fixed 'normal_force', or leave it out");
+}
+
 LinearModel linearise(ModelSystem& system, const State& start, const std::vector<ActuatorInfo>& actuators,
                       const LinearisationOptions& options) {
+    require_linearisable(system.model());
     LinearModel out;
     State reference = start;
     system.assemble(reference, true);

@@ -4,6 +4,7 @@
 #include <mbd/sdk/text.hpp>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <Eigen/SVD>
 
 #include <algorithm>
@@ -96,6 +97,54 @@ Mode make_mode(std::complex<double> eigenvalue, bool oscillatory, const Eigen::V
     return m;
 }
 
+
+// The characteristic polynomial det(lambda I - A) = sum_k c_k lambda^k (c_n = 1), from the
+// upper Hessenberg form H = Q^T A Q (a backward-stable reduction) by the recurrence of its
+// leading principal minors, p_k = (lambda - h_kk) p_(k-1) - sum_(i<k) h_ik (h_(i+1,i)...h_(k,k-1)) p_(i-1)
+// (Wilkinson, The Algebraic Eigenvalue Problem, Sec. 7.11).
+Eigen::VectorXd characteristic_polynomial(const Eigen::MatrixXd& A) {
+    const Eigen::Index n = A.rows();
+    const Eigen::MatrixXd H = Eigen::HessenbergDecomposition<Eigen::MatrixXd>(A).matrixH();
+    std::vector<Eigen::VectorXd> p(n + 1);  // p[k]: coefficients of p_k, ascending powers
+    p[0] = Eigen::VectorXd::Ones(1);
+    for (Eigen::Index k = 1; k <= n; ++k) {
+        p[k] = Eigen::VectorXd::Zero(k + 1);
+        p[k].tail(k) = p[k - 1];                   // lambda p_(k-1)
+        p[k].head(k) -= H(k - 1, k - 1) * p[k - 1];
+        double product = 1.0;
+        for (Eigen::Index i = k - 1; i >= 1; --i) {
+            product *= H(i, i - 1);
+            p[k].head(i) -= H(i - 1, k - 1) * product * p[i - 1];
+        }
+    }
+    return p[n];
+}
+
+// An eigenvalue of the reduced matrix polished as the nearest root of q(lambda) =
+// det(lambda I - A) / lambda^s, s the dimension of the zero eigenspace set apart. Why: the
+// differences leave A's zero eigenvalues a cluster of size ~eps^(1/s) (a nilpotent block is
+// that sensitive), and an eigenvalue near the cluster (a bicycle's capsize mode at its
+// critical speed) is pulled by it; q's coefficients are polynomials in A's entries, so their
+// error is that of A only. Newton's method from the reduced eigenvalue; kept when it
+// converges close by.
+std::complex<double> polished(std::complex<double> lambda, const Eigen::VectorXd& q) {
+    std::complex<double> x = lambda, step = 0.0;
+    for (int iteration = 0; iteration < 30; ++iteration) {
+        std::complex<double> value = 0.0, slope = 0.0;
+        for (Eigen::Index k = q.size() - 1; k >= 0; --k) {  // Horner, with the derivative
+            slope = slope * x + value;
+            value = value * x + q[k];
+        }
+        if (slope == 0.0) break;
+        step = value / slope;
+        x -= step;
+        if (std::abs(step) <= 1e-15 * std::max(1.0, std::abs(x))) break;  // at the round-off of q
+    }
+    const double scale = std::max(1.0, std::abs(lambda));
+    const bool converged = std::isfinite(std::abs(x)) && std::abs(step) <= 1e-11 * scale;
+    return converged && std::abs(x - lambda) <= 1e-6 * scale ? x : lambda;
+}
+
 }  // namespace
 
 std::string describe(const IgnorableDirection& direction, const std::vector<std::string>& coordinates) {
@@ -141,7 +190,11 @@ ModeAnalysis modes_of(const LinearModel& linear, double ignorable_tolerance) {
     const Eigen::MatrixXd reduced = C.transpose() * A * C;
     if (reduced.size() > 0) {
         const Eigen::EigenSolver<Eigen::MatrixXd> eigen(reduced, true);
-        const Eigen::VectorXcd lambda = eigen.eigenvalues();
+        Eigen::VectorXcd lambda = eigen.eigenvalues();
+        if (S.cols() > 0) {
+            const Eigen::VectorXd q = characteristic_polynomial(A).tail(n + 1 - S.cols());  // c_s .. c_n
+            for (Eigen::Index i = 0; i < lambda.size(); ++i) lambda[i] = polished(lambda[i], q);
+        }
         const Eigen::MatrixXcd vectors = C.cast<std::complex<double>>() * eigen.eigenvectors();
         const double zero = 1e-12 * std::max(1.0, scale);
         for (Eigen::Index i = 0; i < lambda.size(); ++i) {

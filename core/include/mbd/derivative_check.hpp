@@ -29,6 +29,7 @@ struct DerivativeErrors {
     double velocity_jacobian = 0.0;   // forces: dQ/dv
     double potential = 0.0;           // conservative forces: Q + dV/dq
     double event_gradient = 0.0;      // forces with events: G of event_impact against differences of g
+    double load_affinity = 0.0;       // friction: evaluate_at_load's departure from affine in the load
     bool finite = true;               // every value evaluated was finite
     std::string worst_state;          // a description of the state behind the largest error
 

@@ -28,6 +28,10 @@ public:
     // Whether project() can ever redefine y (Formulation::may_redefine_state); false lets an
     // integrator that projects inside its steps skip the projection after an accepted step.
     virtual bool may_redefine_state() const { return true; }
+    // How many trailing components of y are quadratures (their rates depend on the rest, the
+    // rest not on them: the energy friction dissipated) that an implicit integrator leaves out
+    // of its error control (cvode), integrating them on the steps the motion needs.
+    virtual int quadrature_count() const { return 0; }
     // The index-3 DAE M vdot + J^T lambda = Q, C(q, t) = 0 behind y, for integrators that
     // solve it directly (generalized_alpha): its System, or null when y has none; and the
     // conversions between y and the System's state.

@@ -67,9 +67,13 @@ struct LinearModel {
     double residual = 0.0;                  // max |w'| at the reference
 };
 
+// Refuses (LinearisationError naming the element and its file:line) what the linearisation
+// does not model: a force loaded by a joint's reaction (Force::load_joint).
+void require_linearisable(const Model& model);
+
 // Linearises about `reference` (its positions assembled and velocities made consistent
 // first). Throws LinearisationError when the residual exceeds the tolerance, the
-// constraints are singular there, or the reference moves but is not a steady motion
+// constraints are singular there, the model is not linearisable (above), or the reference moves but is not a steady motion
 // (reference_motion.hpp).
 LinearModel linearise(ModelSystem& system, const State& reference, const std::vector<ActuatorInfo>& actuators,
                       const LinearisationOptions& options = {});

@@ -43,6 +43,10 @@ struct ModeAnalysis {
 };
 
 // Singular values below tolerance * max|A| count as zero in finding the ignorable directions.
+// The eigenvalues of the rest are polished by Newton's method as roots of det(lambda I - A) /
+// lambda^s (s zero eigenvalues set apart), whose coefficients carry A's error only, not the
+// eps^(1/s) spread that differences give a nilpotent block (an eigenvalue near zero: a
+// bicycle's capsize mode near its critical speed, tests/test_bicycle.cpp).
 ModeAnalysis modes_of(const LinearModel& linear, double ignorable_tolerance = 1e-8);
 
 // "frame.x" for a single coordinate, "frame.rz + 0.35 fork.rz" for a combination.

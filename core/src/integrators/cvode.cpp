@@ -35,6 +35,7 @@ struct Callback {
     Eigen::VectorXd y, ydot, projected, g;
     std::exception_ptr error;
     std::string message;  // the last message of CVODE's error handler
+    double tolerance = 0.0;  // rtol = atol
 };
 
 int rhs_callback(realtype t, N_Vector y, N_Vector ydot, void* user) {
@@ -49,6 +50,23 @@ int rhs_callback(realtype t, N_Vector y, N_Vector ydot, void* user) {
         cb->error = std::current_exception();
         return -1;
     }
+}
+
+// The error weights 1 / (rtol |y_i| + atol) of CVodeSStolerances, and for the problem's
+// quadratures (OdeProblem::quadrature_count) a weight that leaves them out of the error test
+// and of the corrector's convergence test (positive, as CVODE asks of a weight).
+int error_weights(N_Vector y, N_Vector weights, void* user) {
+    auto* cb = static_cast<Callback*>(user);
+    const Eigen::Index n = cb->y.size(), controlled = n - cb->problem->quadrature_count();
+    const Eigen::Map<const Eigen::VectorXd> values(N_VGetArrayPointer(y), n);
+    Eigen::Map<Eigen::VectorXd> w(N_VGetArrayPointer(weights), n);
+    // CVODE's norms are root mean squares over all n: sqrt(n / controlled) keeps the motion's
+    // norms what they are without the quadratures, so the steps are those of a run without them
+    const double mean_over_controlled = std::sqrt(static_cast<double>(n) / static_cast<double>(controlled));
+    w.head(controlled) =
+        mean_over_controlled / (cb->tolerance * values.head(controlled).array().abs() + cb->tolerance);
+    w.tail(n - controlled).setConstant(1e-300);
+    return 0;
 }
 
 int root_callback(realtype t, N_Vector y, realtype* g, void* user) {
@@ -181,7 +199,11 @@ void CvodeRun::create(const Eigen::VectorXd& y, double t_end) {
     check(CVodeSetErrHandlerFn(s_.cvode, &error_handler, &cb_), "CVodeSetErrHandlerFn");
     check(CVodeInit(s_.cvode, &rhs_callback, t0, s_.y), "CVodeInit");
     check(CVodeSetUserData(s_.cvode, &cb_), "CVodeSetUserData");
-    check(CVodeSStolerances(s_.cvode, settings_.tolerance, settings_.tolerance), "CVodeSStolerances");
+    cb_.tolerance = settings_.tolerance;
+    if (problem_.quadrature_count() > 0)
+        check(CVodeWFtolerances(s_.cvode, &error_weights), "CVodeWFtolerances");
+    else
+        check(CVodeSStolerances(s_.cvode, settings_.tolerance, settings_.tolerance), "CVodeSStolerances");
     s_.A = SUNDenseMatrix(n, n, s_.context);
     s_.solver = make_dense_lu_solver(n, s_.context);
     if (!s_.A || !s_.solver) throw DynamicsError(t0, "cvode: cannot create the dense linear solver");
