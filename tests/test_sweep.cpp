@@ -8,6 +8,7 @@
 #include <mbd/app/study_design.hpp>
 #include <mbd/app/sweep_results.hpp>
 
+#include <chrono>
 #include <csignal>
 #include <cmath>
 #include <filesystem>
@@ -267,8 +268,10 @@ pid_t spawn(const std::string& command) {
 }
 
 // Waits until the results file holds at least `rows` finished cases (read as --resume reads it).
+// The limit is wall time, generous for a loaded CI machine: the test fails only if it passes.
 long wait_for_rows(const fs::path& study, const fs::path& output, long rows, pid_t child) {
-    for (int k = 0; k < 600; ++k) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(3);
+    while (std::chrono::steady_clock::now() < deadline) {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
         if (fs::exists(output.string() + ".partial")) {
             const long n = static_cast<long>(stored_rows(study, output).size());

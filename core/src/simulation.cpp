@@ -160,6 +160,49 @@ void append_reactions(System& system, const State& state, const Eigen::VectorXd&
     }
 }
 
+// The columns of every output row, and which optional ones this run writes.
+struct OutputLayout {
+    std::vector<std::string> columns;
+    bool write_H = false;                // the formulation's H (e.g. hamiltonian)
+    bool integrate_dissipation = false;  // friction_dissipated, one more ODE state
+};
+
+OutputLayout output_layout(const Model& model, const System& system, const Formulation& formulation,
+                           const Integrator& integrator, const SimulationSettings& settings) {
+    OutputLayout out;
+    out.columns = motion_columns(model);
+    if (settings.reactions)
+        for (auto& c : reaction_columns(model)) out.columns.push_back(c);
+    if (settings.diagnostics)
+        for (auto& c : diagnostic_columns()) out.columns.push_back(c);
+    out.write_H = settings.diagnostics && formulation.has_hamiltonian();
+    if (out.write_H) out.columns.push_back("H");
+    // the energy friction dissipated, as one more ODE state (friction_dissipation.hpp), with the
+    // diagnostics only; an index-3 integrator works on the System's DAE, which has no room for it
+    const bool dissipation = settings.diagnostics && system.has_friction();
+    out.integrate_dissipation = dissipation && !integrator.needs_index3();
+    if (out.integrate_dissipation) out.columns.push_back(kFrictionDissipatedColumn);
+    if (dissipation && !out.integrate_dissipation)
+        settings.messages("no column " + std::string(kFrictionDissipatedColumn) + ": the " + integrator.name() +
+                          " integrator works on the index-3 equations, which have no state for it");
+    return out;
+}
+
+// A scene with events (a stop's closing and opening) needs an integrator that locates them;
+// the start's sides of every event function are checked against the elements' states.
+void start_events(ContactEvents& events, const Integrator& integrator, const State& state) {
+    if (events.count() == 0) return;
+    if (!integrator.locates_events())
+        throw InputError(integrator.name(), "this integrator does not locate events, and " + events.first_element() +
+                                                " has them (a stop's closing and opening): use --integrator "
+                                                "dopri5, dop853 or cvode");
+    Eigen::VectorXd g;
+    events.values(state, g);
+    std::vector<int> side(g.size());
+    for (Eigen::Index k = 0; k < g.size(); ++k) side[k] = g[k] < 0.0 ? -1 : +1;
+    events.check_start(state, side);
+}
+
 }  // namespace
 
 long simulation_rows(const SimulationSettings& settings) {
@@ -200,21 +243,9 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     const std::vector<double> times = output_times_after_start(settings);
 
     // --- CSV
-    std::vector<std::string> columns = motion_columns(model);
-    if (settings.reactions)
-        for (auto& c : reaction_columns(model)) columns.push_back(c);
-    if (settings.diagnostics)
-        for (auto& c : diagnostic_columns()) columns.push_back(c);
-    const bool write_H = settings.diagnostics && formulation->has_hamiltonian();  // the formulation's H (e.g. hamiltonian)
-    if (write_H) columns.push_back("H");
-    // the energy friction dissipated, as one more ODE state (friction_dissipation.hpp), with the
-    // diagnostics only; an index-3 integrator works on the System's DAE, which has no room for it
-    const bool integrate_dissipation = settings.diagnostics && system.has_friction() && !integrator->needs_index3();
-    const bool write_dissipation = integrate_dissipation;
-    if (write_dissipation) columns.push_back(kFrictionDissipatedColumn);
-    if (settings.diagnostics && system.has_friction() && !integrate_dissipation)
-        settings.messages("no column " + std::string(kFrictionDissipatedColumn) + ": the " + integrator->name() +
-                          " integrator works on the index-3 equations, which have no state for it");
+    const OutputLayout layout = output_layout(model, system, *formulation, *integrator, settings);
+    const std::vector<std::string>& columns = layout.columns;
+    const bool write_H = layout.write_H, integrate_dissipation = layout.integrate_dissipation;
     const int motion_size = formulation->ode_size();
     Eigen::VectorXd motion_y;
     result.columns = columns;
@@ -263,7 +294,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
             row.push_back(result.final_velocity_violation);
         }
         if (write_H) row.push_back(formulation->hamiltonian(t, yt));
-        if (write_dissipation) row.push_back(y_run[motion_size]);
+        if (integrate_dissipation) row.push_back(y_run[motion_size]);
         for (size_t k = 0; k < row.size(); ++k)
             if (!std::isfinite(row[k]))
                 throw DynamicsError(t, "non-finite value in output column '" + columns[k] +
@@ -279,18 +310,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
 
     ContactEvents events(system);
     ContactProblem problem(*formulation, system, events, result.events);
-    if (events.count() > 0) {
-        if (!integrator->locates_events())
-            throw InputError(integrator->name(), "this integrator does not locate events, and " +
-                                                     events.first_element() +
-                                                     " has them (a stop's closing and opening): use --integrator "
-                                                     "dopri5, dop853 or cvode");
-        Eigen::VectorXd g;
-        events.values(state, g);
-        std::vector<int> side(g.size());
-        for (Eigen::Index k = 0; k < g.size(); ++k) side[k] = g[k] < 0.0 ? -1 : +1;
-        events.check_start(state, side);
-    }
+    start_events(events, *integrator, state);
     FrictionDissipationProblem dissipation(problem, *formulation, system);
     OdeProblem& ode = integrate_dissipation ? static_cast<OdeProblem&>(dissipation) : problem;
     if (integrate_dissipation) {

@@ -103,12 +103,7 @@ public:
         else
             coordinate_and_gradient(spatial_states<double>(b), grad);
         G = limits_.at(event).sign * grad;
-        EventImpact impact;
-        impact.impact = impacts_;
-        impact.restitution = restitution_;
-        impact.rest_velocity = rest_velocity_;
-        impact.holds_resting = compliant_;
-        return impact;
+        return EventImpact{impacts_, restitution_, rest_velocity_, compliant_};
     }
 
 private:

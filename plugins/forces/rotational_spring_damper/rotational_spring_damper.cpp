@@ -30,11 +30,10 @@ namespace {
 using namespace mbd;
 using namespace mbd::force_support;
 
-class RotationalSpringDamper final : public LoadedForce<RotationalSpringDamper, 2> {
+class RotationalSpringDamper final : public SpringDamperElement<RotationalSpringDamper> {
 public:
-    explicit RotationalSpringDamper(const ForceSpec& spec) : LoadedForce(spec, "two bodies [i, j]") {
+    explicit RotationalSpringDamper(const ForceSpec& spec) : SpringDamperElement(spec, "torque") {
         for (int k = 0; k < 2; ++k) frame_[k] = marker_or_centre(spec, k).A_bar;
-        sda_ = SpringDamperActuator(spec, "torque");
         double initial;
         if (dim_ == Dimension::Planar) {
             initial = spec.bodies[1].angle - spec.bodies[0].angle;
@@ -45,8 +44,6 @@ public:
         rest_ = number(spec, "rest_angle", &initial);
     }
 
-    // the actuator torque T_a(t)
-    double load(double t) const { return sda_.actuator_at(t); }
     double potential_energy(const BodyStates& b) const override {
         double angle;
         if (!b.planar_bodies.empty()) {
@@ -57,7 +54,6 @@ public:
         }
         return 0.5 * sda_.k * angle * angle;
     }
-    bool is_conservative() const override { return sda_.conservative(); }
 
     template <class S>
     S planar_angle(const PlanarStates<S>& s) const {
@@ -104,7 +100,6 @@ public:
 
 private:
     Mat3 frame_[2];
-    SpringDamperActuator sda_;
     double rest_ = 0;
 };
 

@@ -25,12 +25,11 @@ namespace {
 using namespace mbd;
 using namespace mbd::force_support;
 
-class SpringDamper final : public LoadedForce<SpringDamper, 2> {
+class SpringDamper final : public SpringDamperElement<SpringDamper> {
 public:
-    explicit SpringDamper(const ForceSpec& spec) : LoadedForce(spec, "two bodies [i, j]") {
+    explicit SpringDamper(const ForceSpec& spec) : SpringDamperElement(spec, "force") {
         for (int k = 0; k < 2; ++k) u_[k] = marker_or_centre(spec, k).u_bar;
         if (dim_ == Dimension::Planar) u_[0].z() = u_[1].z() = 0.0;
-        sda_ = SpringDamperActuator(spec, "force");
         const double l_initial =
             (initial_point(spec.bodies[0], u_[0]) - initial_point(spec.bodies[1], u_[1])).norm();
         if (spec.params.has("rest_length")) {
@@ -44,8 +43,6 @@ public:
         }
     }
 
-    // the actuator force f_a(t)
-    double load(double t) const { return sda_.actuator_at(t); }
     double potential_energy(const BodyStates& b) const override {
         double l;
         if (!b.planar_bodies.empty())
@@ -54,7 +51,6 @@ public:
             l = (b.spatial(0).point(u_[0]) - b.spatial(1).point(u_[1])).norm();
         return 0.5 * sda_.k * (l - l0_) * (l - l0_);
     }
-    bool is_conservative() const override { return sda_.conservative(); }
 
     template <class S>
     VX<S> generalized(const PlanarStates<S>& s, double fa) const {
@@ -96,7 +92,6 @@ public:
 
 private:
     Vec3 u_[2];
-    SpringDamperActuator sda_;
     double l0_ = 0;
 };
 

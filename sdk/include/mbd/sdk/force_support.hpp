@@ -100,45 +100,44 @@ using PlanarStates = boost::container::static_vector<PlanarT<S>, kMaxForceBodies
 template <class S>
 using SpatialStates = boost::container::static_vector<SpatialT<S>, kMaxForceBodies>;
 
-// States of all bodies; body k's position increments are variables 3k.. (planar) or
-// 6k.. (spatial), its velocities follow after all the increments.
 // The number of bodies of an element (at most kMaxForceBodies).
 inline int element_bodies(const BodyStates& b) {
     if (b.size() > kMaxForceBodies) throw std::logic_error("force_support: an element of more than two bodies");
     return b.size();
 }
-template <class S>
-PlanarStates<S> planar_states(const BodyStates& b) {
-    const int nb = element_bodies(b), n = 3 * nb;
-    PlanarStates<S> out(nb);
-    for (int k = 0; k < nb; ++k) {
-        const PlanarBody& s = b.planar(k);
-        PlanarT<S>& o = out[k];
-        o.R << Seed<S>::make(s.R.x(), 3 * k), Seed<S>::make(s.R.y(), 3 * k + 1);
-        o.theta = Seed<S>::make(s.theta, 3 * k + 2);
-        o.A = rot2(o.theta);
-        o.Rdot << Seed<S>::make(s.Rdot.x(), n + 3 * k), Seed<S>::make(s.Rdot.y(), n + 3 * k + 1);
-        o.omega = Seed<S>::make(s.omega, n + 3 * k + 2);
-    }
+// Seeds every body of the element: body k's position increments are variables C k..,
+// its velocities C nb + C k.. (C = 3 planar, 6 spatial); seed(k, q0, v0, out) fills one.
+template <class T, int C, class SeedBody>
+boost::container::static_vector<T, kMaxForceBodies> seeded_states(const BodyStates& b, const SeedBody& seed) {
+    const int nb = element_bodies(b);
+    boost::container::static_vector<T, kMaxForceBodies> out(nb);
+    for (int k = 0; k < nb; ++k) seed(k, C * k, C * (nb + k), out[k]);
     return out;
 }
 template <class S>
+PlanarStates<S> planar_states(const BodyStates& b) {
+    return seeded_states<PlanarT<S>, 3>(b, [&b](int k, int q, int v, PlanarT<S>& o) {
+        const PlanarBody& s = b.planar(k);
+        o.R << Seed<S>::make(s.R.x(), q), Seed<S>::make(s.R.y(), q + 1);
+        o.theta = Seed<S>::make(s.theta, q + 2);
+        o.A = rot2(o.theta);
+        o.Rdot << Seed<S>::make(s.Rdot.x(), v), Seed<S>::make(s.Rdot.y(), v + 1);
+        o.omega = Seed<S>::make(s.omega, v + 2);
+    });
+}
+template <class S>
 SpatialStates<S> spatial_states(const BodyStates& b) {
-    const int nb = element_bodies(b), n = 6 * nb;
-    SpatialStates<S> out(nb);
-    for (int k = 0; k < nb; ++k) {
+    return seeded_states<SpatialT<S>, 6>(b, [&b](int k, int q, int v, SpatialT<S>& o) {
         const SpatialBody& s = b.spatial(k);
-        SpatialT<S>& o = out[k];
         V3<S> dpi;
         for (int c = 0; c < 3; ++c) {
-            o.R[c] = Seed<S>::make(s.R[c], 6 * k + c);
-            dpi[c] = Seed<S>::make(0.0, 6 * k + 3 + c);
-            o.Rdot[c] = Seed<S>::make(s.Rdot[c], n + 6 * k + c);
-            o.wbar[c] = Seed<S>::make(s.omega_bar[c], n + 6 * k + 3 + c);
+            o.R[c] = Seed<S>::make(s.R[c], q + c);
+            dpi[c] = Seed<S>::make(0.0, q + 3 + c);
+            o.Rdot[c] = Seed<S>::make(s.Rdot[c], v + c);
+            o.wbar[c] = Seed<S>::make(s.omega_bar[c], v + 3 + c);
         }
         o.A = s.A.cast<S>() * (M3<S>::Identity() + skew_t<S>(dpi));
-    }
-    return out;
+    });
 }
 
 // Q += f(states) for a functor f templated on the state vector type.
@@ -294,6 +293,21 @@ protected:
 
 private:
     const Derived& self() const { return static_cast<const Derived&>(*this); }
+};
+
+// A spring-damper-actuator between two bodies (Secs. 5.4-5.5, 7.7): along a line
+// (actuator_key "force") or about an axis ("torque"). Its load is the actuator value
+// f_a(t); Derived provides generalized(states, f_a) with sda_.k and sda_.c.
+template <class Derived>
+class SpringDamperElement : public LoadedForce<Derived, 2> {
+public:
+    SpringDamperElement(const ForceSpec& spec, const std::string& actuator_key)
+        : LoadedForce<Derived, 2>(spec, "two bodies [i, j]"), sda_(spec, actuator_key) {}
+    double load(double t) const { return sda_.actuator_at(t); }
+    bool is_conservative() const override { return sda_.conservative(); }
+
+protected:
+    SpringDamperActuator sda_;
 };
 
 // The application frame on body k: the marker the core built from the scene's
