@@ -160,8 +160,6 @@ private:
     BlockMassInverse mass_inverse_;
     SparseGram gram_;
     SparseVelocityTransform sparse_transform_, candidate_;
-    CoordinatePartition candidate_part_;  // the partition candidate_ was selected for
-    bool candidate_valid_ = false;
     JdotTranspose jdot_;
     std::vector<char> redundant_;  // per row: dropped by the partition
     Eigen::VectorXd u_, w_, jt_mu_;
@@ -213,7 +211,6 @@ void Hamiltonian::select(const State& state, bool initial) {
     selected_ = true;
     if (sparse_) {
         sparse_transform_.select(cv_.J, part_);
-        candidate_valid_ = false;
         redundant_.assign(nc_, 0);
         for (int r : part_.redundant) redundant_[r] = 1;
     }
@@ -427,12 +424,12 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     // 1e-11 to 1.4e-7 in the steps before a switch at pivot ratio reselect_ratio = 0.05). So
     // below 10 x reselect_ratio a fresh selection is compared with the current one, and taken
     // as soon as its pivot ratio is twice as good (below reselect_ratio: as soon as it is
-    // better); the factor 2 keeps the two selections from alternating. The pivot ratio is the
-    // one of J_d itself, dense or sparse: measured against its value when the partition was
-    // chosen, the sparse path switched late and, on A02 with 40 loops, kept a partition that
-    // stalled dopri5 at t = 2.687 (stability matrix).
+    // better); the factor 2 keeps the two selections from alternating.
     if (t >= last_rhs_t_ && part_.rank > 0) {
-        const double ratio = pivot_ratio(cv.J, J, part_);
+        const double raw_ratio = pivot_ratio(cv.J, J, part_);
+        // the sparse LU's pivots carry the rows' geometric scale (partial pivoting): measured
+        // against their ratio when the partition was chosen (sparse_velocity_transform.hpp)
+        const double ratio = sparse_ ? sparse_transform_.relative_pivot_ratio() : raw_ratio;
         if (ratio < 10.0 * partition_settings_.reselect_ratio) {
             momenta(y, p_);
             kinematics(t, s.q, p_);
@@ -443,20 +440,13 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
                 throw DynamicsError(t, "hamiltonian: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(part_.rank));
             const double gain = ratio < partition_settings_.reselect_ratio ? 1.0 : 2.0;
-            const double fresh_ratio = pivot_ratio(cv.J, J, fresh);
-            if (fresh_ratio > gain * ratio) {
+            if (pivot_ratio(cv.J, J, fresh) > gain * raw_ratio) {
                 const Eigen::VectorXd& v = v_before_;
+                part_ = fresh;
                 if (sparse_) {
-                    // the candidate's J_d, ordered and factored by pivot_ratio(), becomes the
-                    // current one; the current one is kept as the next candidate
-                    std::swap(part_, candidate_part_);
-                    sparse_transform_.swap(candidate_);
-                    sparse_transform_.rebind(part_);
-                    candidate_.rebind(candidate_part_);
+                    sparse_transform_.select(cv.J, part_);
                     redundant_.assign(nc_, 0);
                     for (int r : part_.redundant) redundant_[r] = 1;
-                } else {
-                    part_ = fresh;
                 }
                 set_momentum_scale(t, s.q);
                 Mx_.noalias() = *M_ * v;  // the same velocities in the new momenta
@@ -478,14 +468,7 @@ double Hamiltonian::pivot_ratio(const Eigen::SparseMatrix<double>& J, const Eige
                                 const CoordinatePartition& p) {
     if (!sparse_) return dependent_pivot_ratio(J_dense, p, transform_);
     if (&p != &part_ && !sparse_transform_.same_dependent_columns(p)) {
-        // another partition than the current one: its J_d is ordered (KLU's analysis, which
-        // allocates) only when it differs from the last candidate's, which is kept with its
-        // analysis; on A02 the same few candidates come back at every step
-        if (!candidate_valid_ || !candidate_.same_dependent_columns(p)) {
-            candidate_part_ = p;
-            candidate_.select(J, candidate_part_);
-            candidate_valid_ = true;
-        }
+        candidate_.select(J, p);  // another candidate partition: rare (near a singular J_d)
         return candidate_.factor(J) ? candidate_.pivot_ratio() : 0.0;
     }
     return sparse_transform_.factor(J) ? sparse_transform_.pivot_ratio() : 0.0;

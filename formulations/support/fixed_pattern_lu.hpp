@@ -13,8 +13,6 @@
 
 #include <klu.h>
 
-#include <utility>
-
 namespace mbd {
 
 class FixedPatternLU {
@@ -47,13 +45,6 @@ public:
             return numeric_ != nullptr;
         }
         return klu_refactor(K.outerIndexPtr(), K.innerIndexPtr(), K.valuePtr(), symbolic_, numeric_, &common_) != 0;
-    }
-
-    // exchanges the orderings, factors and settings with `other`
-    void swap(FixedPatternLU& other) {
-        std::swap(common_, other.common_);
-        std::swap(symbolic_, other.symbolic_);
-        std::swap(numeric_, other.numeric_);
     }
 
     // x <- K^-1 x

@@ -1,8 +1,6 @@
 // The velocity transformation through a sparse LU of J_d: see sparse_velocity_transform.hpp.
 #include "sparse_velocity_transform.hpp"
 
-#include <utility>
-
 namespace mbd {
 
 void SparseVelocityTransform::select(const Eigen::SparseMatrix<double>& J, const CoordinatePartition& p) {
@@ -33,20 +31,6 @@ void SparseVelocityTransform::select(const Eigen::SparseMatrix<double>& J, const
     x_.setZero(p.rank);
     w_n_.setZero(n);
     w_m_.setZero(m);
-}
-
-void SparseVelocityTransform::swap(SparseVelocityTransform& other) {
-    std::swap(p_, other.p_);
-    Jd_.swap(other.Jd_);
-    slot_.swap(other.slot_);
-    lu_.swap(other.lu_);
-    std::swap(pivoted_, other.pivoted_);
-    std::swap(pivoted_ratio_, other.pivoted_ratio_);
-    std::swap(reference_ratio_, other.reference_ratio_);
-    x_.swap(other.x_);
-    w_n_.swap(other.w_n_);
-    w_m_.swap(other.w_m_);
-    marks_.swap(other.marks_);
 }
 
 bool SparseVelocityTransform::same_dependent_columns(const CoordinatePartition& other) {

@@ -39,12 +39,6 @@ public:
     // to the ratio relative to the one the partition was chosen at
     double relative_pivot_ratio() { return reference_ratio_ > 0.0 ? lu_.pivot_ratio() / reference_ratio_ : 0.0; }
 
-    // exchanges everything with `other` (no allocation: the orderings and factors move);
-    // then rebind() each to the partition it was selected for, now held elsewhere
-    void swap(SparseVelocityTransform& other);
-    // the partition selected (same contents) now lives at p
-    void rebind(const CoordinatePartition& p) { p_ = &p; }
-
     // whether partition `other` has the selected one's dependent columns and dropped rows (in
     // any order): the same J_d up to permutations
     bool same_dependent_columns(const CoordinatePartition& other);
