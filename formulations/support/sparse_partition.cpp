@@ -131,11 +131,44 @@ bool eliminate(const Eigen::SparseMatrix<double>& J, double threshold, double ra
     return true;
 }
 
+// ws.rows = J by rows. Eigen's conversion builds a new matrix (it allocates): while J keeps
+// the pattern of the last conversion, its values are copied into place instead.
+void copy_by_rows(const Eigen::SparseMatrix<double>& J, SparsePartitionWorkspace& ws) {
+    const size_t nnz = static_cast<size_t>(J.nonZeros());
+    const int* outer = J.outerIndexPtr();
+    const int* inner = J.innerIndexPtr();
+    const bool same = J.isCompressed() && ws.rows.rows() == J.rows() && ws.rows.cols() == J.cols() &&
+                      ws.slot.size() == nnz && std::equal(inner, inner + nnz, ws.pattern_inner.begin()) &&
+                      std::equal(outer, outer + J.outerSize() + 1, ws.pattern_outer.begin());
+    if (!same) {
+        ws.rows = J;
+        ws.rows.makeCompressed();
+        ws.slot.assign(nnz, 0);
+        if (J.isCompressed()) {
+            ws.pattern_outer.assign(outer, outer + J.outerSize() + 1);
+            ws.pattern_inner.assign(inner, inner + nnz);
+        } else {
+            ws.pattern_outer.clear();
+            ws.pattern_inner.clear();
+        }
+        // columns ascending visit each row's entries in its (ascending) storage order
+        std::vector<int> cursor(ws.rows.outerIndexPtr(), ws.rows.outerIndexPtr() + ws.rows.rows());
+        int e = 0;
+        for (int c = 0; c < J.outerSize(); ++c)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it, ++e) ws.slot[e] = cursor[it.row()]++;
+        if (!J.isCompressed()) ws.slot.clear();  // no fast path for an uncompressed J
+        return;
+    }
+    const double* values = J.valuePtr();
+    double* into = ws.rows.valuePtr();
+    for (size_t e = 0; e < nnz; ++e) into[ws.slot[e]] = values[e];
+}
+
 }  // namespace
 
 void partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold, double rank_tolerance,
                       const std::vector<int>& last, SparsePartitionWorkspace& ws, CoordinatePartition& out) {
-    ws.rows = J;
+    copy_by_rows(J, ws);
     // a re-selection (threshold 1) looks for the best pivots among every column: exactly
     const bool retire = threshold < 1.0;
     if (!eliminate(J, threshold, rank_tolerance, last, retire, ws, out))

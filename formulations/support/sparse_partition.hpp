@@ -37,6 +37,8 @@ namespace mbd {
 // Scratch of the sparse elimination, reused from call to call.
 struct SparsePartitionWorkspace {
     Eigen::SparseMatrix<double, Eigen::RowMajor> rows;  // J by rows
+    std::vector<int> pattern_outer, pattern_inner;      // J's pattern when `rows` was built
+    std::vector<int> slot;                              // per entry of J: its place in rows' values
     Eigen::VectorXd work;                               // the sparse accumulator (dense, zero between rows)
     std::vector<int> pattern;                           // the columns present in `work`
     std::vector<char> present, late, queued;

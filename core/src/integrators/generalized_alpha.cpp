@@ -30,6 +30,14 @@
 // rate); if the iteration contracts slowly (a correction more than 1/4 of the
 // previous one, typical of large steps with large multipliers), it is added for the
 // rest of the step by forward differences of J^T lambda (dense path only).
+//
+// The last iteration matrix of a step is kept for the next steps (modified Newton: the
+// converged step solves the same residual equations, only the rate changes). A step with the
+// kept matrix that contracts slowly (a correction more than 1/4 of the previous one), needs
+// more than kKeptIterations, or has another step size is done again from its predictor as
+// above, factoring at every iteration. On spatial-chain-50 (n = 450, sparse) factoring at
+// every iteration was 3/4 of the run time (stability matrix, issue 12). The sparse path
+// orders the pattern (COLAMD) only when it changes.
 #include "common.hpp"
 
 #include <mbd/sdk/formulation.hpp>
@@ -45,6 +53,7 @@ namespace mbd::integrators {
 namespace {
 
 constexpr int kMaxNewton = 25;
+constexpr int kKeptIterations = 6;  // a step with the kept matrix that needs more factors again
 constexpr int kDenseLimit = 400;  // iteration matrices up to this size are factored dense
 
 class GeneralizedAlpha final : public Integrator {
@@ -61,8 +70,14 @@ private:
     // Takes the system, sizes the work vectors, and sets the regularisation and the
     // method's coefficients.
     void prepare(System& system);
-    // One step from t to t + h: Newton on (vdot_{n+1}, lambda_{n+1}), then the update.
+    // One step from t to t + h: Newton on (vdot_{n+1}, lambda_{n+1}) with the kept iteration
+    // matrix, else (none, or it converges slowly) with one factored at every iteration; then
+    // the update.
     void step(double t, double h, IntegratorStats& stats);
+    // The Newton iteration of step() into x_, lambda_. keep: with the kept matrix, false when
+    // it contracts slowly or needs more than kKeptIterations; otherwise factoring at every
+    // iteration, throwing DynamicsError when it does not converge.
+    bool newton(double t, double h, IntegratorStats& stats, bool keep);
     // q, v and a at t_next from the current iterate x_ of vdot_{n+1}.
     void update_kinematics(double h, double t_next);
     // Build the iteration matrix at `state_` and factor it.
@@ -97,7 +112,12 @@ private:
     std::vector<Eigen::Triplet<double>> triplets_;
     Eigen::SparseMatrix<double> sparse_;
     Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> sparse_lu_;
+    std::vector<int> analysed_outer_, analysed_inner_;  // the pattern sparse_lu_ was ordered for
     bool use_dense_ = true;
+    // the kept iteration matrix (the last one factored in a step): whether there is one, and
+    // the beta' it was built with
+    bool factored_ = false;
+    double factored_beta_p_ = 0.0;
 };
 
 void GeneralizedAlpha::geometric_stiffness() {
@@ -159,7 +179,15 @@ void GeneralizedAlpha::factor(double beta_p, double gamma_p, IntegratorStats& st
         for (int i = 0; i < nc_; ++i) triplets_.emplace_back(nv_ + i, nv_ + i, -regularization_);
         sparse_.resize(nv_ + nc_, nv_ + nc_);
         sparse_.setFromTriplets(triplets_.begin(), triplets_.end());
-        sparse_lu_.analyzePattern(sparse_);
+        const int* outer = sparse_.outerIndexPtr();
+        const int* inner = sparse_.innerIndexPtr();
+        const size_t nnz = static_cast<size_t>(sparse_.nonZeros());
+        if (analysed_inner_.size() != nnz || !std::equal(inner, inner + nnz, analysed_inner_.begin()) ||
+            !std::equal(outer, outer + sparse_.outerSize() + 1, analysed_outer_.begin())) {
+            sparse_lu_.analyzePattern(sparse_);  // a new pattern: order it (COLAMD)
+            analysed_outer_.assign(outer, outer + sparse_.outerSize() + 1);
+            analysed_inner_.assign(inner, inner + nnz);
+        }
         sparse_lu_.factorize(sparse_);
         if (sparse_lu_.info() != Eigen::Success)
             throw DynamicsError(state_.t, "generalized_alpha: the iteration matrix is singular at t = " +
@@ -192,6 +220,7 @@ void GeneralizedAlpha::initial_accelerations(double t, IntegratorStats& stats) {
     system_->constraints(state_, cv_, true);
     ++stats.rhs_evaluations;
     factor(0.0, 0.0, stats);  // [M J^T; J 0]
+    factored_ = false;        // not an iteration matrix
     rhs_.head(nv_) = Q_;
     rhs_.tail(nc_) = cv_.gamma;
     solve();
@@ -208,6 +237,9 @@ void GeneralizedAlpha::prepare(System& system) {
     nc_ = system.constraint_rows(true);
     const int n = nv_ + nc_;
     use_dense_ = n <= kDenseLimit;
+    factored_ = false;
+    analysed_outer_.clear();
+    analysed_inner_.clear();
     if (use_dense_) {
         dense_.resize(n, n);
         geometric_.resize(nv_, nv_);
@@ -251,6 +283,21 @@ void GeneralizedAlpha::update_kinematics(double h, double t_next) {
 }
 
 void GeneralizedAlpha::step(double t, double h, IntegratorStats& stats) {
+    const double beta_p = h * h * beta_ * (1.0 - alpha_f_) / (1.0 - alpha_m_);
+    // a step within 0.1% of the kept matrix's (the rounding of t_next - t) keeps it
+    const bool keep = factored_ && std::abs(factored_beta_p_ - beta_p) <= 1e-3 * beta_p;
+    if (!keep || !newton(t, h, stats, true)) newton(t, h, stats, false);
+    update_kinematics(h, t + h);
+    a_n_ = a_next_;
+    vdot_n_ = x_;
+    lambda_n_ = lambda_;
+    q_n_ = state_.q;
+    v_n_ = state_.v;
+    system_->normalize(q_n_);
+    state_.q = q_n_;
+}
+
+bool GeneralizedAlpha::newton(double t, double h, IntegratorStats& stats, bool keep) {
     const Eigen::SparseMatrix<double>& M = *mass_;
     const double t_next = t + h;
     const double beta_p = h * h * beta_ * (1.0 - alpha_f_) / (1.0 - alpha_m_);
@@ -258,7 +305,6 @@ void GeneralizedAlpha::step(double t, double h, IntegratorStats& stats) {
     // predictor: accelerations and multipliers of the last step
     x_ = vdot_n_;
     lambda_ = lambda_n_;
-    bool converged = false;
     bool geometric = false;  // switched on when the iteration contracts slowly
     double first = 0.0, previous = 0.0;
     for (int it = 0; it < kMaxNewton; ++it) {
@@ -272,34 +318,35 @@ void GeneralizedAlpha::step(double t, double h, IntegratorStats& stats) {
         if (nc_ > 0) r_.noalias() += cv_.J.transpose() * lambda_;
         rhs_.head(nv_) = -r_;
         if (nc_ > 0) rhs_.tail(nc_) = -cv_.C / beta_p;
-        if (!rhs_.allFinite()) newton_failure(t_next, "the residual became non-finite");
-        factor(beta_p, gamma_p, stats, geometric);
+        if (!rhs_.allFinite()) {
+            if (keep) return false;
+            newton_failure(t_next, "the residual became non-finite");
+        }
+        if (!keep) {
+            factor(beta_p, gamma_p, stats, geometric);
+            factored_ = true;
+            factored_beta_p_ = beta_p;
+        }
         solve();
-        if (!sol_.allFinite()) newton_failure(t_next, "singular iteration matrix");
+        if (!sol_.allFinite()) {
+            if (keep) return false;
+            newton_failure(t_next, "singular iteration matrix");
+        }
         x_ += sol_.head(nv_);
         if (nc_ > 0) lambda_ += sol_.tail(nc_);
         const double dq = beta_p * sol_.head(nv_).lpNorm<Eigen::Infinity>();
         const double c = nc_ > 0 ? cv_.C.lpNorm<Eigen::Infinity>() : 0.0;
         const double scale = std::max(1.0, q_n_.lpNorm<Eigen::Infinity>());
         if (it == 0) first = dq;
-        if (it >= 1 && dq > 0.25 * previous) geometric = true;
+        const bool slow = it >= 1 && dq > 0.25 * previous;
+        if (slow && keep) return false;  // the kept matrix is out of date: factor again
+        if (slow) geometric = true;
         previous = dq;
-        if (dq <= newton_tol_ * scale && c <= newton_tol_ * scale) {
-            // the correction just applied is negligible: accept
-            converged = true;
-            break;
-        }
+        if (dq <= newton_tol_ * scale && c <= newton_tol_ * scale) return true;  // a negligible correction: accept
+        if (keep && it + 1 >= kKeptIterations) return false;
         if (it > 2 && dq > 1e3 * std::max(first, newton_tol_)) newton_failure(t_next, "diverging corrections");
     }
-    if (!converged) newton_failure(t_next, std::to_string(kMaxNewton) + " iterations");
-    update_kinematics(h, t_next);
-    a_n_ = a_next_;
-    vdot_n_ = x_;
-    lambda_n_ = lambda_;
-    q_n_ = state_.q;
-    v_n_ = state_.v;
-    system_->normalize(q_n_);
-    state_.q = q_n_;
+    newton_failure(t_next, std::to_string(kMaxNewton) + " iterations");
 }
 
 void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y,
