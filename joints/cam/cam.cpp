@@ -38,6 +38,7 @@
 // spline, ...} (cam_profile.hpp). Profiles must be convex where they touch the follower.
 #include "cam_profile.hpp"
 
+#include <mbd/sdk/contact_joint.hpp>
 #include <mbd/sdk/planar_primitives.hpp>
 #include <mbd/sdk/plugin.hpp>
 
@@ -59,17 +60,13 @@ struct CamPoint {
     Vec2 nu, nu1;    // outward unit normal nu_bar and nu_bar'
 };
 
-class Cam final : public mbd::Joint {
+class Cam final : public mbd::ContactJoint {
 public:
     Cam(std::unique_ptr<const mbd::cam::Profile> profile, const mbd::Marker& frame, Follower follower,
         const Vec2& follower_point, double radius, const Vec2& face_normal)
         : profile_(std::move(profile)), origin_(frame.u_bar2()), A_m_(mbd::planar_rotation(frame.angle)),
           frame_angle_(frame.angle), follower_(follower), u_P_(follower_point), radius_(radius),
           f_bar_(face_normal) {}
-
-    int rows() const override { return 1; }
-    std::string row_name(int) const override { return "contact"; }
-    int compression_sign(int) const override { return -1; }
 
     void evaluate(const mbd::BodyStates& b, mbd::ConstraintEval& out) const override {
         mbd::planar::clear(out);

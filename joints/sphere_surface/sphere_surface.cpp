@@ -29,6 +29,7 @@
 // Scene keys: bodies: [surface body, ball]; point and axis: the surface frame on body i (axis =
 // its up direction, world, at t = 0); radius: r >= 0; ball_point: [x, y, z] the sphere's centre
 // in body j axes (default the mass centre); surface: {...}.
+#include <mbd/sdk/contact_joint.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/rotation.hpp>
 
@@ -85,20 +86,13 @@ struct SurfacePoint {
     Vec3 nu, nu_u, nu_v;
 };
 
-class SphereSurface final : public mbd::Joint {
+class SphereSurface final : public mbd::ContactJoint {
 public:
     SphereSurface(std::unique_ptr<const Surface> surface, const mbd::Marker& frame, const Vec3& ball_point, double r)
         : surface_(std::move(surface)), o_(frame.u_bar), A_m_(frame.A_bar), u_P_(ball_point), r_(r) {}
 
-    int rows() const override { return 1; }
-    std::string row_name(int) const override { return "contact"; }
-    int compression_sign(int) const override { return -1; }
-
     void evaluate(const mbd::BodyStates& b, mbd::ConstraintEval& out) const override {
-        out.C.setZero();
-        out.J.setZero();
-        out.C_t.setZero();
-        out.gamma.setZero();
+        clear(out);
         const mbd::SpatialBody& bi = b.spatial(0);
         const mbd::SpatialBody& bj = b.spatial(1);
         const Vec3 r_P = bj.point(u_P_), rdot_P = bj.point_velocity(u_P_);

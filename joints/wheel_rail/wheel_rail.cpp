@@ -45,6 +45,7 @@
 // rail: {type: flat} | {type: arc, radius} | {type: spline, points: [[y, h], ...]}.
 #include "profile_curve.hpp"
 
+#include <mbd/sdk/contact_joint.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/rotation.hpp>
 
@@ -74,7 +75,7 @@ struct Contact {
     Vec3 n, d;                           // world: normal, r_w - r_r
 };
 
-class WheelRail final : public mbd::Joint {
+class WheelRail final : public mbd::ContactJoint {
 public:
     WheelRail(std::unique_ptr<const ProfileCurve> wheel, std::unique_ptr<const ProfileCurve> rail,
               const mbd::Marker& rail_frame, const Vec3& centre, const Vec3& axle)
@@ -85,15 +86,8 @@ public:
         length_ = std::max(std::abs(wheel_->at(0.0).f), 1e-3);
     }
 
-    int rows() const override { return 1; }
-    std::string row_name(int) const override { return "contact"; }
-    int compression_sign(int) const override { return -1; }
-
     void evaluate(const mbd::BodyStates& b, mbd::ConstraintEval& out) const override {
-        out.C.setZero();
-        out.J.setZero();
-        out.C_t.setZero();
-        out.gamma.setZero();
+        clear(out);
         const mbd::SpatialBody& bi = b.spatial(0);
         const mbd::SpatialBody& bj = b.spatial(1);
         const Vec4 p = solve(bi, bj);
