@@ -6,6 +6,8 @@
 // is quiet; the progress bar redraws its line cleanly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -280,10 +282,16 @@ TEST(CliProgress, TheBarRedrawsItsWholeLineWithElapsedTimeAndTimeLeft) {
     // on a terminal (script(1) gives a pseudo-terminal), a run of a few seconds
     const fs::path dir = scratch("progress");
     const fs::path log = dir / "terminal.txt";
-    const auto r = run_command("script -qec 'env -u MBD_PLUGIN_PATH COLUMNS=100 " + std::string(MBD_EXECUTABLE) +
-                               " simulate " + scene("dynamics/pendulum-a01.yaml") +
-                               " --formulation augmented --t-end 20000 --tol 1e-10 --output-step 0.1 -o " + (dir / "p.csv").string() + "' " +
-                               log.string());
+    const std::string run = " simulate " + scene("dynamics/pendulum-a01.yaml") +
+                            " --formulation augmented --tol 1e-10 --output-step 0.1 -o " + (dir / "p.csv").string();
+    // the pace of this build and machine (a sanitizer build is some 30 times slower) sizes a
+    // run of about 3 s: long enough for the bar, which appears after 1 s
+    const auto start = std::chrono::steady_clock::now();
+    ASSERT_EQ(run_mbd(run + " --t-end 200").exit_code, 0);
+    const double pace = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 200.0;
+    const double t_end = std::clamp(3.0 / pace, 50.0, 20000.0);
+    const auto r = run_command("script -qec 'env -u MBD_PLUGIN_PATH COLUMNS=100 " + std::string(MBD_EXECUTABLE) + run +
+                               " --t-end " + std::to_string(t_end) + "' " + log.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::ifstream in(log);
     std::stringstream s;

@@ -8,6 +8,7 @@
 #include <mbd/app/study_design.hpp>
 #include <mbd/app/sweep_results.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cmath>
@@ -301,11 +302,26 @@ pid_t rank_process(pid_t root, int rank) {
     return -1;
 }
 
+// How many cases of pendulum_study(n, t_end) one sweep runs in about `seconds` on this build
+// and machine (a sanitizer build is some 30 times slower than Release), within [fewest, most]:
+// the tests that must catch a sweep while it runs size it by its measured pace, not by a guess.
+long cases_lasting(double seconds, double t_end, long fewest, long most) {
+    auto timed = [t_end](long n) {
+        const fs::path dir = scratch("pace-" + std::to_string(n));
+        const fs::path study = write(dir / "study.yaml", pendulum_study(n, t_end));
+        const auto start = std::chrono::steady_clock::now();
+        EXPECT_EQ(run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string()).exit_code, 0);
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    const double per_case = std::max((timed(40) - timed(10)) / 30.0, 1e-6);  // start-up cancels
+    return std::clamp(std::lround(seconds / per_case), fewest, most);
+}
+
 // Kill the sweep (`rank` < 0: the serial process; else that MPI rank) with SIGKILL once a
 // third of it is recorded, resume, and compare with an uninterrupted run.
 void kill_and_resume(const std::string& name, int rank) {
     const fs::path dir = scratch(name);
-    const long cases = 600;
+    const long cases = cases_lasting(6.0, 8.0, 90, 600);
     const fs::path study = write(dir / "study.yaml", pendulum_study(cases, 8.0));
     const fs::path output = dir / "killed.h5";
     const std::string sweep = " sweep " + study.string() + " -q --flush-seconds 0.02 -o " + output.string();
@@ -442,14 +458,15 @@ TEST(SweepCli, InverseSweepOverTheRodMassFollowsTheClosedForm) {
 // bar: cases done of all, elapsed time and time left, each redraw clearing its line.
 TEST(SweepCli, ATerminalShowsTheProgressBarWithTheTimeLeft) {
     const fs::path dir = scratch("progress");
-    const fs::path study = write(dir / "study.yaml", pendulum_study(600, 20.0));
+    const long cases = cases_lasting(3.0, 20.0, 60, 600);
+    const fs::path study = write(dir / "study.yaml", pendulum_study(cases, 20.0));
     const fs::path log = dir / "terminal.txt";
     const auto r = run_command("script -qec 'env COLUMNS=100 " MBD_EXECUTABLE " sweep " + study.string() + " -o " +
                                (dir / "r.h5").string() + "' " + log.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string text = mbd::test::read_text(log);
     EXPECT_NE(text.find("\r\033[K"), std::string::npos) << "no redraw in a sweep of several seconds";
-    EXPECT_NE(text.find(" / 600 cases"), std::string::npos) << text.substr(0, 400);
+    EXPECT_NE(text.find(" / " + std::to_string(cases) + " cases"), std::string::npos) << text.substr(0, 400);
     EXPECT_NE(text.find("left"), std::string::npos) << text.substr(0, 400);
     EXPECT_NE(text.find("elapsed"), std::string::npos) << text.substr(0, 400);
 }
