@@ -28,6 +28,7 @@
 // [0, 0, 1]); plane_point (a point of the plane, world at t = 0, default: the disc's lowest
 // rim point at t = 0, so that the scene starts in contact).
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/spatial_primitives.hpp>
 #include <mbd/sdk/rotation.hpp>
 
 #include <cmath>
@@ -125,14 +126,11 @@ Vec3 world_vector(const mbd::JointSpec& spec, const std::string& key, const std:
 
 std::unique_ptr<mbd::Joint> make_rolling_disc(const mbd::JointSpec& spec) {
     const std::string who = "joint '" + spec.name + "'";
-    if (spec.dimension != mbd::Dimension::Spatial)
-        throw mbd::InputError(spec.params.location(),
-                              who + ": rolling_disc is a spatial joint (a disc rolling on a plane leans, steers and "
-                                    "rolls in three dimensions); use a spatial scene (dimension: spatial), or in a "
-                                    "planar scene a 'rack_pinion' joint for a wheel rolling on a line");
-    if (spec.bodies.size() != 2 || spec.markers.size() != 2)
-        throw mbd::InputError(spec.params.location(), who + ": a rolling_disc connects two bodies, [plane, disc], got " +
-                                                          std::to_string(spec.bodies.size()));
+    mbd::spatial::require_spatial_pair(spec,
+                              "a disc rolling on a plane leans, steers and rolls in three dimensions: use a spatial "
+                              "scene (dimension: spatial), or in a planar scene a 'rack_pinion' joint for a wheel "
+                              "rolling on a line",
+                              "[plane, disc]");
     const double radius = spec.params.positive("radius");
     Vec3 normal = Vec3::UnitZ();
     if (spec.params.has("normal")) {

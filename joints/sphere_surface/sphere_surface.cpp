@@ -31,6 +31,7 @@
 // in body j axes (default the mass centre); surface: {...}.
 #include <mbd/sdk/contact_joint.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/spatial_primitives.hpp>
 #include <mbd/sdk/rotation.hpp>
 
 #include <Eigen/Dense>
@@ -167,12 +168,8 @@ private:
 
 std::unique_ptr<mbd::Joint> make_sphere_surface(const mbd::JointSpec& spec) {
     const std::string who = "sphere_surface '" + spec.name + "'";
-    if (spec.dimension != mbd::Dimension::Spatial)
-        throw mbd::InputError(spec.params.location(), who + " is a spatial joint; in a planar scene use a 'cam' joint "
-                                                            "(a roller on a profile)");
-    if (spec.bodies.size() != 2 || spec.markers.size() != 2)
-        throw mbd::InputError(spec.params.location(), who + " connects two bodies, [surface body, ball], got " +
-                                                          std::to_string(spec.bodies.size()));
+    mbd::spatial::require_spatial_pair(spec, "in a planar scene use a 'cam' joint (a roller on a profile)",
+                              "[surface body, ball]");
     const mbd::Params& p = spec.params;
     const double radius = p.non_negative("radius", 0.0);
     Vec3 ball_point = Vec3::Zero();

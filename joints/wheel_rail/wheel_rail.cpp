@@ -47,6 +47,7 @@
 
 #include <mbd/sdk/contact_joint.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/spatial_primitives.hpp>
 #include <mbd/sdk/rotation.hpp>
 
 #include <Eigen/Dense>
@@ -243,12 +244,8 @@ private:
 
 std::unique_ptr<mbd::Joint> make_wheel_rail(const mbd::JointSpec& spec) {
     const std::string who = "wheel_rail '" + spec.name + "'";
-    if (spec.dimension != mbd::Dimension::Spatial)
-        throw mbd::InputError(spec.params.location(), who + " is a spatial joint (a wheel's tread on a rail's head); "
-                                                            "in a planar scene use a 'cam' joint (a roller on a profile)");
-    if (spec.bodies.size() != 2 || spec.markers.size() != 2)
-        throw mbd::InputError(spec.params.location(), who + " connects two bodies, [rail, wheel], got " +
-                                                          std::to_string(spec.bodies.size()));
+    mbd::spatial::require_spatial_pair(spec, "a wheel's tread on a rail's head; in a planar scene use a 'cam' joint (a roller "
+                                    "on a profile)", "[rail, wheel]");
     const mbd::Params& p = spec.params;
     const mbd::BodyInfo& wheel_body = spec.bodies[1];
     // world at t = 0 -> wheel body axes

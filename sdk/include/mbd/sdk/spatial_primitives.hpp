@@ -262,16 +262,18 @@ inline void write(CoordinateEval& out, const Scalar& s, bool periodic) {
 enum Axis : int { X = 0, Y = 1, Z = 2 };
 
 // Checks shared by the spatial joints: a spatial scene and exactly two bodies.
-// `planar_hint` tells a user of a planar scene what to use instead.
-inline void require_spatial_pair(const JointSpec& spec, const std::string& planar_hint) {
+// `planar_hint` tells a user of a planar scene what to use instead; `roles`, if given,
+// names the two bodies in their order ("[rail, wheel]").
+inline void require_spatial_pair(const JointSpec& spec, const std::string& planar_hint,
+                                 const std::string& roles = "") {
     const std::string who = "joint '" + spec.name + "'";
     if (spec.dimension != Dimension::Spatial)
         throw InputError(spec.params.location(),
                          who + ": " + spec.type + " is a spatial joint; " + planar_hint);
     if (spec.bodies.size() != 2 || spec.markers.size() != 2)
         throw InputError(spec.params.location(),
-                         who + ": a " + spec.type + " joint connects exactly two bodies, got " +
-                             std::to_string(spec.bodies.size()));
+                         who + ": a " + spec.type + " joint connects exactly two bodies" +
+                             (roles.empty() ? "" : ", " + roles) + ", got " + std::to_string(spec.bodies.size()));
 }
 
 // A joint whose rows are SPH / DOT1 / DOT2 primitives between the marker frames
