@@ -205,14 +205,7 @@ TEST(Cam, DrivenCamReactionsBalanceEveryBodyAndGiveTheClosedFormContactForce) {
     mbd::Param node;
     auto formulation = mbd::test::make_formulation("augmented", node);
     formulation->bind(system, mbd::FormulationOptions{});
-    mbd::SimulationSettings settings;
-    settings.formulation = "augmented";
-    settings.integrator = "dopri5";
-    settings.integration.tolerance = 1e-10;
-    settings.t_end = 0.16;
-    settings.output_step = 0.002;
-    settings.progress = false;
-    settings.messages = mbd::MessageLog::silent();
+    const mbd::SimulationSettings settings = mbd::test::adaptive_run("augmented", "dopri5", 1e-10, 0.16, 0.002);
     double balance = 0.0, force = 0.0, scale = 0.0, violation = 0.0;
     int samples = 0;
     mbd::simulate(model, shared_registry(), settings, [&](const mbd::SimulationSample& s) {
@@ -243,13 +236,8 @@ TEST(Cam, SpringLoadedFollowerWarnsWhereItsContactForceReachesZero) {
     const SpringLoaded c;
     const mbd::Model model = mbd::test::scene(c.scene());
     std::vector<std::string> lines;
-    mbd::SimulationSettings settings;
-    settings.formulation = "augmented";
-    settings.integrator = "dopri5";
-    settings.integration.tolerance = 1e-10;
-    settings.t_end = 0.1;  // one lift-off (t* = 0.0129 s) and one return to compression
-    settings.output_step = 1e-4;
-    settings.progress = false;
+    // to 0.1 s: one lift-off (t* = 0.0129 s) and one return to compression
+    mbd::SimulationSettings settings = mbd::test::adaptive_run("augmented", "dopri5", 1e-10, 0.1, 1e-4);
     settings.messages = mbd::MessageLog([&](const std::string& line) { lines.push_back(line); });
     const mbd::SimulationResult r = mbd::simulate(model, shared_registry(), settings);
     ASSERT_EQ(r.lift_offs.size(), 1u);

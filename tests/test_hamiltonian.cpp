@@ -67,14 +67,8 @@ TEST(Hamiltonian, ConservesHOnTheConservativeFourBar) {
     // four-bar under gravity, no damping: H = T + V constant to 1e-8 over 10 s (dopri5, tol 1e-12)
     const mbd::Model model = load("dynamics/four-bar-conservative.yaml");
     const fs::path dir = scratch("four-bar");
-    mbd::SimulationSettings s;
-    s.formulation = "hamiltonian";
-    s.integrator = "dopri5";
-    s.integration.tolerance = 1e-12;
-    s.t_end = 10.0;
-    s.output_step = 0.01;
+    mbd::SimulationSettings s = mbd::test::adaptive_run("hamiltonian", "dopri5", 1e-12, 10.0, 0.01);
     s.diagnostics = true;
-    s.progress = false;
     s.output = (dir / "h.csv").string();
     const mbd::SimulationResult r = mbd::simulate(model, shared_registry(), s);
     const Csv csv = read_csv(dir / "h.csv");

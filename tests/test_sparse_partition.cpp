@@ -119,13 +119,7 @@ const std::string kFourBar = mbd::test::four_bar_dead_points("formulation: {type
 template <class Select>
 int follow_dead_points(Select select, double* least_ratio) {
     const mbd::Model model = mbd::test::scene(kFourBar, "four-bar.yaml");
-    mbd::SimulationSettings s;
-    s.formulation = "augmented";
-    s.integrator = "dopri5";
-    s.integration.tolerance = 1e-10;
-    s.t_end = 3.0;
-    s.output_step = 0.002;
-    s.progress = false;
+    const mbd::SimulationSettings s = mbd::test::adaptive_run("augmented", "dopri5", 1e-10, 3.0, 0.002);
     std::vector<mbd::State> states;
     mbd::simulate(model, mbd::test::shared_registry(), s, [&](const mbd::SimulationSample& sample) {
         states.push_back(sample.state);

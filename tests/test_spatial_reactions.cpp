@@ -49,14 +49,8 @@ TEST(SpatialReactions, SpinningUnbalancedBodyOnAHingeMatchesNewtonEuler) {
     const Model model = test::scene(kScene, "spinning-arm.yaml");
     ModelSystem system(model);
     for (const std::string& formulation : test::shared_registry().type_names("formulation")) {
-        SimulationSettings s;
-        s.formulation = formulation;
-        s.integrator = "dopri5";
-        s.integration.tolerance = 1e-11;
-        s.t_end = 0.6;
-        s.output_step = 0.1;
+        SimulationSettings s = test::adaptive_run(formulation, "dopri5", 1e-11, 0.6, 0.1);
         s.reactions = true;
-        s.progress = false;
         double worst_force = 0.0, worst_torque = 0.0, worst_joint_frame = 0.0;
         int checked = 0;
         simulate(model, test::shared_registry(), s, [&](const SimulationSample& sample) {

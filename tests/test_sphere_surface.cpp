@@ -53,15 +53,8 @@ TEST(SphereSurface, BallInABowlRunsTheConicalPendulumWithOneNormalMultiplier) {
     const mbd::Model model = mbd::test::scene(b.scene());
     mbd::ModelSystem system(model);
     ASSERT_EQ(system.constraint_rows(), 1);  // one row per contact
-    mbd::SimulationSettings settings;
-    settings.formulation = "augmented";
-    settings.integrator = "dopri5";
-    settings.integration.tolerance = 1e-12;
-    settings.t_end = 3.0;
-    settings.output_step = 0.01;
-    settings.progress = false;
+    mbd::SimulationSettings settings = mbd::test::adaptive_run("augmented", "dopri5", 1e-12, 3.0, 0.01);
     settings.reactions = true;
-    settings.messages = mbd::MessageLog::silent();
     double position = 0.0, spin = 0.0, force = 0.0, violation = 0.0;
     int samples = 0;
     mbd::simulate(model, shared_registry(), settings, [&](const mbd::SimulationSample& s) {

@@ -200,15 +200,8 @@ TEST(WheelRail, AWheelOnACrownedRailSlidesDownTheConeAsABlockOnAnIncline) {
     const mbd::Model model = mbd::test::scene(run.scene());
     mbd::ModelSystem system(model);
     ASSERT_EQ(system.constraint_rows(), 4 * 5 + 1);  // one row for the contact
-    mbd::SimulationSettings settings;
-    settings.formulation = "augmented";
-    settings.integrator = "dopri5";
-    settings.integration.tolerance = 1e-12;
-    settings.t_end = 1.0;
-    settings.output_step = 0.01;
-    settings.progress = false;
+    mbd::SimulationSettings settings = mbd::test::adaptive_run("augmented", "dopri5", 1e-12, 1.0, 0.01);
     settings.reactions = true;
-    settings.messages = mbd::MessageLog::silent();
     const int wheel = model.body_index("wheel");
     const int qw = model.q_offset(wheel), vw = model.v_offset(wheel);
     double position = 0, spin = 0, force = 0, violation = 0, energy = 0, E0 = 0;

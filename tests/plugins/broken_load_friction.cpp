@@ -2,8 +2,9 @@
 // moment -c(N) w about the plane normal on each body (planar), c(N) = 0.01 (1 + N^2): its
 // moment is not affine in the load N, which Force::evaluate_at_load must be (the reaction-load
 // solver extrapolates from Q(1) - Q(0)). Everything else is consistent (no Jacobians, so
-// only the load check applies). A fixture, not a test: tests/test_plugin_check.cpp runs
-// `mbd plugin check` on it and asserts the FAIL line of exactly that check.
+// only the load check applies). A fixture, not a test: it holds no assertions itself;
+// tests/test_plugin_check.cpp (PluginCheck) runs `mbd plugin check` on it and asserts the FAIL
+// line of exactly that check.
 #include <mbd/sdk/plugin.hpp>
 
 namespace {

@@ -38,6 +38,19 @@ std::string read_text(const std::filesystem::path& path) {
     return slurp(path);
 }
 
+SimulationSettings adaptive_run(const std::string& formulation, const std::string& integrator, double tolerance,
+                                double t_end, double output_step) {
+    SimulationSettings s;
+    s.formulation = formulation;
+    s.integrator = integrator;
+    s.integration.tolerance = tolerance;
+    s.t_end = t_end;
+    s.output_step = output_step;
+    s.progress = false;
+    s.messages = MessageLog::silent();
+    return s;
+}
+
 CommandResult run_command(const std::string& command) {
     const auto dir = std::filesystem::temp_directory_path();
     const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(std::rand());

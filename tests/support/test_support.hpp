@@ -6,6 +6,7 @@
 #include <mbd/scene.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/system.hpp>
+#include <mbd/simulation.hpp>
 
 #include <filesystem>
 #include <memory>
@@ -34,6 +35,10 @@ State random_consistent_state(System& system, std::mt19937& rng, double spread);
 // The whole text of a file.
 std::string read_text(const std::filesystem::path& path);
 
+// A quiet adaptive run to t_end, sampled every output_step: no progress bar, no formulation
+// messages; the caller adds reactions, diagnostics or an output file.
+SimulationSettings adaptive_run(const std::string& formulation, const std::string& integrator, double tolerance,
+                                double t_end, double output_step);
 // A fresh, empty scratch folder for this test process.
 std::filesystem::path scratch(const std::string& name);
 // A CSV written by mbd: header and numeric rows (a cell that is not a finite number, or a row
