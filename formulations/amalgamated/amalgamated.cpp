@@ -36,6 +36,7 @@
 // none (the projection's S = J M^-1 J^T dense or sparse by size: projection.hpp,
 // sparse_metric.hpp). Reactions: lambda = mu (redundant rows get zero).
 #include <coordinate_selector.hpp>
+#include <partition_switch.hpp>
 #include <fixed_pattern_lu.hpp>
 #include <sparse_metric.hpp>
 #include <sparse_velocity_transform.hpp>
@@ -81,8 +82,9 @@ private:
     void build_pattern();
     // J's current entries (and the dropped rows' decoupling) into K_'s values
     void fill_J();
-    // J_d's pivot ratio for partition p at cv_.J (dense: complete pivoting; sparse: its sparse
-    // LU relative to the partition's first, sparse_velocity_transform.hpp)
+    // the re-selection trigger at cv_.J: dense, J_d's pivot ratio for partition p (complete
+    // pivoting); sparse, the current J_d's LU ratio relative to the partition's first
+    // (sparse_velocity_transform.hpp)
     double pivot_ratio(const CoordinatePartition& p);
     void mark_dropped_rows();
     // the normwise backward error of x as a solution of K_ x = rhs_, with r_ = rhs_ - K_ x
@@ -115,7 +117,8 @@ private:
     CoordinatePartition fresh_;
     DenseMetricSolver metric_;
     SparseMetricSolver sparse_metric_;
-    SparseVelocityTransform sparse_transform_, candidate_;
+    SparseVelocityTransform sparse_transform_;
+    PartitionSwitch switch_;  // to a re-selected partition, keeping the one left
     ProjectionScratch projection_;
     SingularityMonitor singularity_;  // rank drop of J after an accepted step (singularity.hpp)
 };
@@ -152,7 +155,10 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
 void Amalgamated::select(const State& state, bool initial) {
     system_->constraints(state, cv_, true);
     part_ = selector_.select(cv_.J, initial ? options_.partition.pivot_threshold : 1.0, options_.partition.rank_tolerance);
-    if (sparse_) sparse_transform_.select(cv_.J, part_);
+    if (sparse_) {
+        sparse_transform_.select(cv_.J, part_);
+        switch_.reset();
+    }
     mark_dropped_rows();
     if (initial && !part_.redundant.empty())
         options_.log("amalgamated: " + redundant_rows_message(part_, [&](int r) { return system_->describe_row(r); }));
@@ -163,11 +169,7 @@ double Amalgamated::pivot_ratio(const CoordinatePartition& p) {
         J_ = cv_.J;
         return dependent_pivot_ratio(J_, p, transform_);
     }
-    if (&p != &part_ && !sparse_transform_.same_dependent_columns(p)) {
-        candidate_.select(cv_.J, p);  // another candidate partition: rare (near a singular J_d)
-        return candidate_.factor(cv_.J) ? candidate_.pivot_ratio() : 0.0;
-    }
-    return sparse_transform_.factor(cv_.J) ? sparse_transform_.pivot_ratio() : 0.0;
+    return sparse_transform_.factor(cv_.J) ? sparse_transform_.relative_pivot_ratio() : 0.0;
 }
 
 void Amalgamated::mark_dropped_rows() {
@@ -324,15 +326,21 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     // not depend on the partition, so this can happen at any projection
     if (part_.rank > 0) {
         system_->constraints(state_, cv_, true);
-        const double raw_ratio = pivot_ratio(part_);
-        // sparse: relative to the ratio the partition was chosen at (sparse_velocity_transform.hpp)
-        const double ratio = sparse_ ? sparse_transform_.relative_pivot_ratio() : raw_ratio;
+        const double ratio = pivot_ratio(part_);
         if (ratio < options_.partition.reselect_ratio) {
             CoordinatePartition& fresh = fresh_;
             selector_.select(cv_.J, 1.0, options_.partition.rank_tolerance, {}, fresh);
-            if (fresh.rank == part_.rank && pivot_ratio(fresh) > raw_ratio) {
-                part_ = fresh;  // the same rank: K keeps its pattern and size
-                if (sparse_) sparse_transform_.select(cv_.J, part_);
+            // sparse: the two compared like with like (coordinate_selector.hpp), not by the
+            // trigger's relative ratio
+            const double tolerance = options_.partition.rank_tolerance;
+            const double current = sparse_ ? selector_.dependent_pivot_ratio(cv_.J, part_, tolerance) : ratio;
+            const double candidate = sparse_ ? selector_.dependent_pivot_ratio(cv_.J, fresh, tolerance) : pivot_ratio(fresh);
+            if (fresh.rank == part_.rank && !same_set(fresh.dependent, part_.dependent) && candidate > current) {
+                // the same rank: K keeps its pattern and size
+                if (sparse_)
+                    switch_.to(cv_.J, fresh, part_, sparse_transform_);
+                else
+                    part_ = fresh;
                 mark_dropped_rows();
                 if (log_choices_) options_.log("amalgamated: t = " + format_time(t) + ": new coordinate partition");
             }

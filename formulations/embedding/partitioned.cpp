@@ -12,14 +12,6 @@
 namespace mbd::embedding {
 
 namespace {
-// the same elements (each list has distinct entries), without sorting copies
-bool same_set(const std::vector<int>& a, const std::vector<int>& b) {
-    if (a.size() != b.size()) return false;
-    for (int x : a)
-        if (std::find(b.begin(), b.end(), x) == b.end()) return false;
-    return true;
-}
-
 // Names of the velocity components: planar body.x, body.y, body.angle; spatial body.x,
 // body.y, body.z (mass-centre velocity, world) and body.wx, body.wy, body.wz (angular
 // velocity in body axes).

@@ -36,6 +36,11 @@
 // Then pdot = B^T (Q - Jdot^T mu) with B^T x = x_i - J_i^T J_d^-T x_d through a sparse LU of J_d
 // (sparse_velocity_transform.hpp) and Jdot^T mu by a coloured polarization of gamma
 // (jdot_transpose.hpp): a fixed number of constraint evaluations instead of 2k, O(n) per rhs.
+// With few freedoms (k <= kFewFreedoms) the velocities come instead from the k columns of B
+// and the k x k Mbar, each column one solve with J_d's LU, as on the dense path: S's condition
+// is J's squared, and where J itself loses rank (IFToMM A02's 40 four-bars at their dead
+// points, 40 rows at once) S-based velocities lost their digits and dopri5 stalled, while a
+// re-selected J_d stays as usable as on the dense path. mu is then J_d^-T (M v)_d directly.
 // Momentum scale on that path: diag(M) at the independent components (diag(Mbar) needs all of
 // B; diag(M) <= diag(Mbar) for diagonal body blocks, so the state's momenta are at least as
 // large as in velocity units and the absolute tolerance no looser).
@@ -60,6 +65,7 @@
 #include <mbd/sdk/velocity_transform.hpp>
 
 #include <coordinate_selector.hpp>
+#include <partition_switch.hpp>
 #include <jdot_transpose.hpp>
 #include <sparse_gram.hpp>
 #include <sparse_velocity_transform.hpp>
@@ -121,9 +127,12 @@ private:
     void factor_gram(double t);
     // sparse path: v and mu (the kept rows' multipliers) from p at the J, C_t of transform()
     void sparse_velocities(const Eigen::VectorXd& p);
-    // the pivot ratio of J_d for partition p at J (dense: complete pivoting of the gathered J_d;
-    // sparse: its sparse LU, sparse_velocity_transform.hpp)
-    double pivot_ratio(const Eigen::SparseMatrix<double>& J, const Eigen::MatrixXd& J_dense, const CoordinatePartition& p);
+    // sparse path with few freedoms: the same through B's k columns and Mbar (see the header)
+    void few_freedom_velocities(const Eigen::VectorXd& p);
+    static constexpr size_t kFewFreedoms = 16;
+    bool few_freedoms_ = false;  // sparse_ and k <= kFewFreedoms
+    // dense path: the pivot ratio of J_d for partition p at J (complete pivoting of the gathered J_d)
+    double pivot_ratio(const Eigen::MatrixXd& J_dense, const CoordinatePartition& p);
     // sparse path: vdot and the multipliers at a state from the kept rows' saddle-point system
     // (M vdot + J^T lambda = Q, J vdot = gamma): the embedded equations' solution, Eq. 6.95
     void sparse_accelerations(const State& state, Eigen::VectorXd& vdot, Eigen::VectorXd& lambda);
@@ -159,10 +168,11 @@ private:
     // sparse path
     BlockMassInverse mass_inverse_;
     SparseGram gram_;
-    SparseVelocityTransform sparse_transform_, candidate_;
+    SparseVelocityTransform sparse_transform_;
+    PartitionSwitch switch_;  // to a re-selected partition, keeping the one left
     JdotTranspose jdot_;
     std::vector<char> redundant_;  // per row: dropped by the partition
-    Eigen::VectorXd u_, w_, jt_mu_;
+    Eigen::VectorXd u_, w_, jt_mu_, unit_, no_rates_, column_;
 };
 
 void Hamiltonian::bind(System& system, const FormulationOptions& options) {
@@ -209,8 +219,10 @@ void Hamiltonian::select(const State& state, bool initial) {
     if (!sparse_) J_ = cv_.J;
     part_ = selector_.select(cv_.J, initial ? partition_settings_.pivot_threshold : 1.0, partition_settings_.rank_tolerance);
     selected_ = true;
+    few_freedoms_ = sparse_ && part_.independent.size() <= kFewFreedoms;
     if (sparse_) {
         sparse_transform_.select(cv_.J, part_);
+        switch_.reset();
         redundant_.assign(nc_, 0);
         for (int r : part_.redundant) redundant_[r] = 1;
     }
@@ -239,6 +251,10 @@ void Hamiltonian::factor_gram(double t) {
 }
 
 void Hamiltonian::sparse_velocities(const Eigen::VectorXd& p) {
+    if (few_freedoms_) {
+        few_freedom_velocities(p);
+        return;
+    }
     // M v - J^T mu = E_i p, J v = -C_t (see the header)
     w_.setZero();
     for (size_t c = 0; c < part_.independent.size(); ++c) w_[part_.independent[c]] = p[c];
@@ -264,7 +280,7 @@ void Hamiltonian::transform(double t, const Eigen::VectorXd& q) {
     if (sparse_) {
         if (!sparse_transform_.factor(cv_.J))
             throw DynamicsError(t, "hamiltonian: the dependent sub-Jacobian J_d is singular");
-        factor_gram(t);
+        if (!few_freedoms_) factor_gram(t);
         return;
     }
     J_ = cv_.J;
@@ -299,6 +315,37 @@ void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::Ve
     }
     state_.v.noalias() = B_ * vi_;
     state_.v += c_;
+}
+
+void Hamiltonian::few_freedom_velocities(const Eigen::VectorXd& p) {
+    // v = B v_i + c (Eq. 6.169), B and c through J_d's LU; Mbar v_i = p - B^T M c
+    const int k = static_cast<int>(part_.independent.size());
+    zero_.setZero(k);
+    sparse_transform_.velocities(cv_.J, cv_.C_t, zero_, c_);
+    no_rates_.setZero(nc_);
+    B_.resize(nv_, k);
+    for (int j = 0; j < k; ++j) {
+        unit_.setZero(k);
+        unit_[j] = 1.0;
+        sparse_transform_.velocities(cv_.J, no_rates_, unit_, column_);
+        B_.col(j) = column_;
+    }
+    MB_.noalias() = *M_ * B_;
+    Mbar_.noalias() = B_.transpose() * MB_;
+    if (k > 0) {
+        llt_.compute(Mbar_);
+        if (llt_.info() != Eigen::Success) throw DynamicsError(state_.t, "hamiltonian: B^T M B is not positive definite");
+        Mx_.noalias() = *M_ * c_;
+        Bx_.noalias() = B_.transpose() * Mx_;
+        Bx_ = p - Bx_;
+        vi_ = llt_.solve(Bx_);
+    } else {
+        vi_.resize(0);
+    }
+    state_.v.noalias() = B_ * vi_;
+    state_.v += c_;
+    Mx_.noalias() = *M_ * state_.v;
+    sparse_transform_.dependent_multipliers(Mx_, mu_);  // mu = J_d^-T (M v)_d
 }
 
 void Hamiltonian::kinematics(double t, const Eigen::VectorXd& y) {
@@ -426,10 +473,11 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     // as soon as its pivot ratio is twice as good (below reselect_ratio: as soon as it is
     // better); the factor 2 keeps the two selections from alternating.
     if (t >= last_rhs_t_ && part_.rank > 0) {
-        const double raw_ratio = pivot_ratio(cv.J, J, part_);
-        // the sparse LU's pivots carry the rows' geometric scale (partial pivoting): measured
-        // against their ratio when the partition was chosen (sparse_velocity_transform.hpp)
-        const double ratio = sparse_ ? sparse_transform_.relative_pivot_ratio() : raw_ratio;
+        // the trigger: dense, J_d's complete-pivoting ratio; sparse, its LU's ratio relative to
+        // the one the partition was chosen at (the LU's partial pivots carry the rows' geometric
+        // scale, sparse_velocity_transform.hpp)
+        const double ratio = sparse_ ? (sparse_transform_.factor(cv.J) ? sparse_transform_.relative_pivot_ratio() : 0.0)
+                                     : pivot_ratio(J, part_);
         if (ratio < 10.0 * partition_settings_.reselect_ratio) {
             momenta(y, p_);
             kinematics(t, s.q, p_);
@@ -439,14 +487,21 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
             if (fresh.rank != part_.rank)
                 throw DynamicsError(t, "hamiltonian: singular configuration, the constraint Jacobian has rank " +
                                            std::to_string(fresh.rank) + " instead of " + std::to_string(part_.rank));
+            // the two partitions compared like with like (coordinate_selector.hpp; the trigger's
+            // relative ratio is no measure of another partition)
+            const double current =
+                sparse_ ? selector_.dependent_pivot_ratio(cv.J, part_, partition_settings_.rank_tolerance) : ratio;
+            const double candidate = sparse_ ? selector_.dependent_pivot_ratio(cv.J, fresh, partition_settings_.rank_tolerance)
+                                             : pivot_ratio(J, fresh);
             const double gain = ratio < partition_settings_.reselect_ratio ? 1.0 : 2.0;
-            if (pivot_ratio(cv.J, J, fresh) > gain * raw_ratio) {
+            if (!same_set(fresh.dependent, part_.dependent) && candidate > gain * current) {
                 const Eigen::VectorXd& v = v_before_;
-                part_ = fresh;
                 if (sparse_) {
-                    sparse_transform_.select(cv.J, part_);
+                    switch_.to(cv.J, fresh, part_, sparse_transform_);
                     redundant_.assign(nc_, 0);
                     for (int r : part_.redundant) redundant_[r] = 1;
+                } else {
+                    part_ = fresh;
                 }
                 set_momentum_scale(t, s.q);
                 Mx_.noalias() = *M_ * v;  // the same velocities in the new momenta
@@ -464,14 +519,8 @@ bool Hamiltonian::project(double t, Eigen::VectorXd& y) {
     return true;
 }
 
-double Hamiltonian::pivot_ratio(const Eigen::SparseMatrix<double>& J, const Eigen::MatrixXd& J_dense,
-                                const CoordinatePartition& p) {
-    if (!sparse_) return dependent_pivot_ratio(J_dense, p, transform_);
-    if (&p != &part_ && !sparse_transform_.same_dependent_columns(p)) {
-        candidate_.select(J, p);  // another candidate partition: rare (near a singular J_d)
-        return candidate_.factor(J) ? candidate_.pivot_ratio() : 0.0;
-    }
-    return sparse_transform_.factor(J) ? sparse_transform_.pivot_ratio() : 0.0;
+double Hamiltonian::pivot_ratio(const Eigen::MatrixXd& J_dense, const CoordinatePartition& p) {
+    return dependent_pivot_ratio(J_dense, p, transform_);
 }
 
 void Hamiltonian::sparse_accelerations(const State& state, Eigen::VectorXd& vdot, Eigen::VectorXd& lambda) {

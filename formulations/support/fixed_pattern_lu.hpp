@@ -13,6 +13,8 @@
 
 #include <klu.h>
 
+#include <utility>
+
 namespace mbd {
 
 class FixedPatternLU {
@@ -45,6 +47,13 @@ public:
             return numeric_ != nullptr;
         }
         return klu_refactor(K.outerIndexPtr(), K.innerIndexPtr(), K.valuePtr(), symbolic_, numeric_, &common_) != 0;
+    }
+
+    // exchanges the orderings, factors and settings with `other` (nothing is copied)
+    void swap(FixedPatternLU& other) {
+        std::swap(common_, other.common_);
+        std::swap(symbolic_, other.symbolic_);
+        std::swap(numeric_, other.numeric_);
     }
 
     // x <- K^-1 x

@@ -12,6 +12,7 @@ namespace {
 // the row being reduced: add `value` at column c, queueing c's pivot step if it has one.
 // A retired column (see the header) is dropped: it can no longer be a pivot.
 void accumulate(SparsePartitionWorkspace& ws, int c, double value) {
+    if (ws.excluded(c)) return;
     if (ws.retired(c)) {
         ws.dropped = true;
         return;
@@ -169,10 +170,21 @@ void copy_by_rows(const Eigen::SparseMatrix<double>& J, SparsePartitionWorkspace
 void partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold, double rank_tolerance,
                       const std::vector<int>& last, SparsePartitionWorkspace& ws, CoordinatePartition& out) {
     copy_by_rows(J, ws);
+    ws.allowed.clear();
     // a re-selection (threshold 1) looks for the best pivots among every column: exactly
     const bool retire = threshold < 1.0;
     if (!eliminate(J, threshold, rank_tolerance, last, retire, ws, out))
         eliminate(J, threshold, rank_tolerance, last, false, ws, out);
+}
+
+double dependent_pivot_ratio(const Eigen::SparseMatrix<double>& J, const CoordinatePartition& p, double rank_tolerance,
+                             SparsePartitionWorkspace& ws, CoordinatePartition& scratch) {
+    copy_by_rows(J, ws);
+    ws.allowed.assign(J.cols(), 0);
+    for (int c : p.dependent) ws.allowed[c] = 1;
+    eliminate(J, 1.0, rank_tolerance, {}, false, ws, scratch);
+    ws.allowed.clear();
+    return scratch.rank == p.rank ? scratch.pivot_ratio : 0.0;
 }
 
 CoordinatePartition partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold, double rank_tolerance,

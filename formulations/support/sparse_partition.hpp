@@ -48,14 +48,25 @@ struct SparsePartitionWorkspace {
     std::vector<int> u_column;
     std::vector<double> u_value, pivot;
     std::vector<int> last_row;                          // the last row of J holding each column
+    std::vector<char> allowed;                          // per column: may pivot (empty: every column)
     int current_row = 0;
     bool dropped = false;                               // fill of a retired column was dropped
     bool retired(int c) const { return step_of_column[c] < 0 && last_row[c] < current_row; }
+    bool excluded(int c) const { return !allowed.empty() && !allowed[c]; }
 };
 
 // The partition of J (m x n) into `out`; `last` as in partition.hpp.
 void partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold, double rank_tolerance,
                       const std::vector<int>& last, SparsePartitionWorkspace& ws, CoordinatePartition& out);
+
+// The pivot ratio of partition p's J_d at J, measured as a re-selection (threshold 1) measures
+// its own: the elimination above with pivots only among p's dependent columns (the others are
+// dropped, as retired ones: their fill changes no other entry). So a current partition and a
+// re-selected one compare like with like, and nothing is factored or ordered for either (a
+// sparse LU's pivots follow its own ordering, and ordering a new J_d allocates). 0 when J_d
+// has lost rank. `scratch` receives that elimination's partition.
+double dependent_pivot_ratio(const Eigen::SparseMatrix<double>& J, const CoordinatePartition& p, double rank_tolerance,
+                             SparsePartitionWorkspace& ws, CoordinatePartition& scratch);
 
 // The same, allocating its own scratch.
 CoordinatePartition partition_sparse(const Eigen::SparseMatrix<double>& J, double threshold = 0.1,

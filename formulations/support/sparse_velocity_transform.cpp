@@ -1,6 +1,8 @@
 // The velocity transformation through a sparse LU of J_d: see sparse_velocity_transform.hpp.
 #include "sparse_velocity_transform.hpp"
 
+#include <utility>
+
 namespace mbd {
 
 void SparseVelocityTransform::select(const Eigen::SparseMatrix<double>& J, const CoordinatePartition& p) {
@@ -31,6 +33,20 @@ void SparseVelocityTransform::select(const Eigen::SparseMatrix<double>& J, const
     x_.setZero(p.rank);
     w_n_.setZero(n);
     w_m_.setZero(m);
+}
+
+void SparseVelocityTransform::swap(SparseVelocityTransform& other) {
+    std::swap(p_, other.p_);
+    Jd_.swap(other.Jd_);
+    slot_.swap(other.slot_);
+    lu_.swap(other.lu_);
+    std::swap(pivoted_, other.pivoted_);
+    std::swap(pivoted_ratio_, other.pivoted_ratio_);
+    std::swap(reference_ratio_, other.reference_ratio_);
+    x_.swap(other.x_);
+    w_n_.swap(other.w_n_);
+    w_m_.swap(other.w_m_);
+    marks_.swap(other.marks_);
 }
 
 bool SparseVelocityTransform::same_dependent_columns(const CoordinatePartition& other) {
@@ -87,12 +103,18 @@ void SparseVelocityTransform::transpose_times(const Eigen::SparseMatrix<double>&
     out.resize(k);
     for (int c = 0; c < k; ++c) out[c] = x[p.independent[c]];
     if (p.rank == 0) return;
-    for (int i = 0; i < p.rank; ++i) x_[i] = x[p.dependent[i]];
-    lu_.solve_transpose(x_);  // mu: J_d^T mu = x_d
-    w_m_.setZero();
-    for (int i = 0; i < p.rank; ++i) w_m_[p.rows[i]] = x_[i];
+    dependent_multipliers(x, w_m_);
     w_n_.noalias() = J.transpose() * w_m_;
     for (int c = 0; c < k; ++c) out[c] -= w_n_[p.independent[c]];
+}
+
+void SparseVelocityTransform::dependent_multipliers(const Eigen::VectorXd& x, Eigen::VectorXd& mu) {
+    const CoordinatePartition& p = *p_;
+    mu.setZero(w_m_.size());
+    if (p.rank == 0) return;
+    for (int i = 0; i < p.rank; ++i) x_[i] = x[p.dependent[i]];
+    lu_.solve_transpose(x_);  // J_d^T mu = x_d
+    for (int i = 0; i < p.rank; ++i) mu[p.rows[i]] = x_[i];
 }
 
 }  // namespace mbd

@@ -39,6 +39,11 @@ public:
     // to the ratio relative to the one the partition was chosen at
     double relative_pivot_ratio() { return reference_ratio_ > 0.0 ? lu_.pivot_ratio() / reference_ratio_ : 0.0; }
 
+    // exchanges everything with `other` (no allocation: the orderings and factors move); then
+    // rebind() each to the partition it was selected for, wherever that now lives
+    void swap(SparseVelocityTransform& other);
+    void rebind(const CoordinatePartition& p) { p_ = &p; }
+
     // whether partition `other` has the selected one's dependent columns and dropped rows (in
     // any order): the same J_d up to permutations
     bool same_dependent_columns(const CoordinatePartition& other);
@@ -48,6 +53,8 @@ public:
                     Eigen::VectorXd& v);
     // after factor(): out = B^T x (size k)
     void transpose_times(const Eigen::SparseMatrix<double>& J, const Eigen::VectorXd& x, Eigen::VectorXd& out);
+    // after factor(): mu (size m) solving J_d^T mu = x_d on the kept rows, 0 on the dropped ones
+    void dependent_multipliers(const Eigen::VectorXd& x, Eigen::VectorXd& mu);
     // after factor(): x_d solving J_d x_d = b[rows] (b of size m), scattered into dv (size n,
     // zero at the independent components)
     bool solve_dependent(const Eigen::VectorXd& b, Eigen::VectorXd& dv);
