@@ -171,9 +171,8 @@ void write_file(const std::string& path, const std::string& text) {
 
 void add_modes_command(CLI::App& app, Commands& commands) {
     const auto [args, sub] = scene_subcommand<ModesArguments>(
-        app, "modes",
-        "Linearised equations of motion: eigenvalues, natural frequencies, damping "
-        "ratios, mode shapes, state-space A and B");
+        app, "modes", "Linearised equations of motion: eigenvalues, natural frequencies, damping ratios, mode "
+                      "shapes, state-space A and B");
     sub->add_option("--about", args->about,
                     "statics (the static equilibrium found by the statics plugin) or initial (the scene's initial "
                     "state, taken as an equilibrium or steady motion)")

@@ -100,6 +100,36 @@ std::vector<double> numbers(const Params& p, const std::string& key) {
     return std::vector<double>(v.data(), v.data() + v.size());
 }
 
+// The keys of each profile type (the `profile:` map p, its type already read).
+std::unique_ptr<const Profile> read_eccentric(const Params& p) {
+    const double R = p.positive("radius");
+    const double e = p.non_negative("eccentricity", 0.0);
+    if (!(e < R)) p.at("eccentricity").fail("'eccentricity' must be less than 'radius' (" + p.at("radius").text +
+                                            "), so that the circle encloses the cam's centre");
+    return std::make_unique<Eccentric>(R, e);
+}
+
+std::unique_ptr<const Profile> read_harmonic(const Params& p) {
+    const double a0 = p.positive("base");
+    std::vector<double> a = p.has("cos") ? numbers(p, "cos") : std::vector<double>{};
+    std::vector<double> b = p.has("sin") ? numbers(p, "sin") : std::vector<double>{};
+    double amplitude = 0.0;
+    for (double x : a) amplitude += std::abs(x);
+    for (double x : b) amplitude += std::abs(x);
+    if (!(amplitude < a0))
+        p.fail("the harmonic amplitudes (sum of |cos| and |sin| terms " + std::to_string(amplitude) +
+               ") must be less than 'base' " + p.at("base").text + ", so that the radius stays positive");
+    return std::make_unique<Harmonic>(a0, std::move(a), std::move(b));
+}
+
+std::unique_ptr<const Profile> read_spline(const Params& p) {
+    std::vector<double> radii = numbers(p, "radii");
+    if (radii.size() < 4) p.at("radii").fail("'radii' needs at least 4 radii (equally spaced in angle from 0)");
+    for (double r : radii)
+        if (!(r > 0.0)) p.at("radii").fail("every entry of 'radii' must be positive");
+    return std::make_unique<PeriodicSpline>(std::move(radii));
+}
+
 }  // namespace
 
 std::unique_ptr<const Profile> periodic_spline(const std::vector<double>& radii) {
@@ -109,32 +139,9 @@ std::unique_ptr<const Profile> periodic_spline(const std::vector<double>& radii)
 std::unique_ptr<const Profile> read_profile(const Params& params, const std::string& who) {
     const Params p = params.child("profile");
     const std::string type = p.string("type");
-    if (type == "eccentric") {
-        const double R = p.positive("radius");
-        const double e = p.non_negative("eccentricity", 0.0);
-        if (!(e < R)) p.at("eccentricity").fail("'eccentricity' must be less than 'radius' (" + p.at("radius").text +
-                                                "), so that the circle encloses the cam's centre");
-        return std::make_unique<Eccentric>(R, e);
-    }
-    if (type == "harmonic") {
-        const double a0 = p.positive("base");
-        std::vector<double> a = p.has("cos") ? numbers(p, "cos") : std::vector<double>{};
-        std::vector<double> b = p.has("sin") ? numbers(p, "sin") : std::vector<double>{};
-        double amplitude = 0.0;
-        for (double x : a) amplitude += std::abs(x);
-        for (double x : b) amplitude += std::abs(x);
-        if (!(amplitude < a0))
-            p.fail("the harmonic amplitudes (sum of |cos| and |sin| terms " + std::to_string(amplitude) +
-                   ") must be less than 'base' " + p.at("base").text + ", so that the radius stays positive");
-        return std::make_unique<Harmonic>(a0, std::move(a), std::move(b));
-    }
-    if (type == "spline") {
-        std::vector<double> radii = numbers(p, "radii");
-        if (radii.size() < 4) p.at("radii").fail("'radii' needs at least 4 radii (equally spaced in angle from 0)");
-        for (double r : radii)
-            if (!(r > 0.0)) p.at("radii").fail("every entry of 'radii' must be positive");
-        return std::make_unique<PeriodicSpline>(std::move(radii));
-    }
+    if (type == "eccentric") return read_eccentric(p);
+    if (type == "harmonic") return read_harmonic(p);
+    if (type == "spline") return read_spline(p);
     p.at("type").fail(who + ": unknown profile type '" + type + "' (eccentric, harmonic or spline)");
 }
 

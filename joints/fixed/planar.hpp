@@ -16,14 +16,14 @@ public:
 
     int rows() const override { return 3; }
 
+    std::string row_name(int row) const override {
+        return row == 0 ? "x" : row == 1 ? "y" : "angle";
+    }
+
     void evaluate(const BodyStates& b, ConstraintEval& out) const override {
         clear(out);
         point_coincidence(b, 0, mi_.u_bar2(), 1, mj_.u_bar2(), out, 0);  // Eqs. 3.129-3.133
         relative_angle(b, 0, mi_.angle, 1, mj_.angle, c_, out, 2);
-    }
-
-    std::string row_name(int row) const override {
-        return row == 0 ? "x" : row == 1 ? "y" : "angle";
     }
 
     std::optional<RelativeMotion> relative_motion() const override { return RelativeMotion{}; }

@@ -18,13 +18,13 @@ public:
 
     int rows() const override { return 2; }
 
+    std::string row_name(int row) const override { return row == 0 ? "angle" : "perpendicular"; }
+
     void evaluate(const BodyStates& b, ConstraintEval& out) const override {
         clear(out);
         relative_angle(b, 0, mi_.angle, 1, mj_.angle, c_, out, 0);  // first row of Eq. 3.94
         perpendicular_distance(b, 0, mi_, 1, mj_, out, 1);           // Eq. 3.94, corrected Q_d2
     }
-
-    std::string row_name(int row) const override { return row == 0 ? "angle" : "perpendicular"; }
 
     bool has_coordinate() const override { return true; }
     void coordinate(const BodyStates& b, CoordinateEval& s) const override {

@@ -16,6 +16,25 @@
 
 namespace mbd {
 
+// What a run is told and what it counts; the problem and the integrator follow.
+struct IntegratorSettings {
+    double tolerance = 1e-6;    // relative and absolute tolerance of adaptive integrators
+    double step = 0.0;          // fixed step (rk4, generalized_alpha); initial step guess for adaptive ones (0: automatic)
+    double min_step = 1e-12;    // below this an adaptive integrator stops with "step size collapse"
+    double max_step = 0.0;      // largest step of the explicit pairs dopri5, dop853 (0: the run's span)
+    long max_steps = 50000000;
+    double rho_infinity = 0.8;  // generalized-alpha spectral radius at infinity
+};
+
+struct IntegratorStats {
+    long steps = 0;
+    long rejected_steps = 0;
+    long rhs_evaluations = 0;
+    long jacobian_evaluations = 0;
+    long newton_iterations = 0;
+    long events = 0;  // located events (OdeProblem::event_count)
+};
+
 class OdeProblem {
 public:
     virtual ~OdeProblem() = default;
@@ -72,24 +91,6 @@ public:
 private:
     Formulation& formulation_;
     System& system_;
-};
-
-struct IntegratorSettings {
-    double tolerance = 1e-6;    // relative and absolute tolerance of adaptive integrators
-    double step = 0.0;          // fixed step (rk4, generalized_alpha); initial step guess for adaptive ones (0: automatic)
-    double min_step = 1e-12;    // below this an adaptive integrator stops with "step size collapse"
-    double max_step = 0.0;      // largest step of the explicit pairs dopri5, dop853 (0: the run's span)
-    long max_steps = 50000000;
-    double rho_infinity = 0.8;  // generalized-alpha spectral radius at infinity
-};
-
-struct IntegratorStats {
-    long steps = 0;
-    long rejected_steps = 0;
-    long rhs_evaluations = 0;
-    long jacobian_evaluations = 0;
-    long newton_iterations = 0;
-    long events = 0;  // located events (OdeProblem::event_count)
 };
 
 // Called at every output time with y there; returning false stops the run.

@@ -13,6 +13,9 @@
 #include "common.hpp"
 #include "event_locator.hpp"
 
+#include <string>
+#include <utility>
+
 namespace mbd::integrators {
 
 // Hairer's PI controller: h_new = h / fac with fac = err^alpha / err_old^beta / safety,
@@ -28,8 +31,11 @@ struct StepControl {
 
 class EmbeddedRungeKutta : public AdaptiveIntegrator {
 public:
-    EmbeddedRungeKutta(const IntegratorSettings& settings, const StepControl& control)
-        : AdaptiveIntegrator(settings), control_(control) {}
+    // name: the integrator's name (dopri5, dop853); control: the step-control defaults of
+    // Hairer's code of the same name.
+    EmbeddedRungeKutta(const IntegratorSettings& settings, std::string name, const StepControl& control)
+        : AdaptiveIntegrator(settings), name_(std::move(name)), control_(control) {}
+    std::string name() const final { return name_; }
     bool locates_events() const final { return true; }
     void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
                    const OutputCallback& output, IntegratorStats& stats) final;
@@ -72,6 +78,7 @@ private:
     void accept(OdeProblem& problem, double t_new, Eigen::VectorXd& y, const BlowUpGuard& guard,
                 IntegratorStats& stats);
 
+    std::string name_;
     StepControl control_;
     Eigen::VectorXd unprojected_, yout_;
     EventLocator events_;

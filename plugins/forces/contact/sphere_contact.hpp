@@ -12,6 +12,7 @@
 
 #include <mbd/sdk/contact.hpp>
 
+#include <array>
 #include <string>
 
 namespace mbd::contact {
@@ -19,10 +20,7 @@ namespace mbd::contact {
 class SphereContact final : public ContactForce<SphereContact> {
 public:
     SphereContact(const ForceSpec& spec, Dimension accepted, const std::string& other)
-        : ContactForce(spec, accepted, other) {
-        const auto u = contact_points(spec, "centre i, centre j");
-        centres_[0] = u[0];
-        centres_[1] = u[1];
+        : ContactForce(spec, accepted, other), centres_(contact_points(spec, "centre i, centre j")) {
         if (!spec.params.has("radii")) force_support::fail(spec, "missing key 'radii' ([r_i, r_j], the radii, m)");
         const Eigen::VectorXd r = force_support::number_list(spec, "radii", 2, false);
         for (int k = 0; k < 2; ++k) {
@@ -45,7 +43,7 @@ public:
     }
 
 private:
-    Vec3 centres_[2];
+    std::array<Vec3, 2> centres_;
     double radii_[2] = {0.0, 0.0};
 };
 

@@ -33,12 +33,12 @@ using namespace mbd::force_support;
 class RotationalSpringDamper final : public SpringDamperElement<RotationalSpringDamper> {
 public:
     explicit RotationalSpringDamper(const ForceSpec& spec) : SpringDamperElement(spec, "torque") {
-        for (int k = 0; k < 2; ++k) frame_[k] = marker_or_centre(spec, k).A_bar;
         double initial;
         if (dim_ == Dimension::Planar) {
             initial = spec.bodies[1].angle - spec.bodies[0].angle;
         } else {
-            const Mat3 ai = spec.bodies[0].orientation * frame_[0], aj = spec.bodies[1].orientation * frame_[1];
+            const Mat3 ai = spec.bodies[0].orientation * ends_[0].A_bar;
+            const Mat3 aj = spec.bodies[1].orientation * ends_[1].A_bar;
             initial = std::atan2(ai.col(1).dot(aj.col(0)), ai.col(0).dot(aj.col(0)));
         }
         rest_ = number(spec, "rest_angle", &initial);
@@ -72,7 +72,7 @@ public:
     template <class S>
     S spatial_angle(const SpatialStates<S>& s, V3<S>& h) const {
         using std::atan2;
-        const M3<S> ai = s[0].A * frame_[0].cast<S>(), aj = s[1].A * frame_[1].cast<S>();
+        const M3<S> ai = s[0].A * ends_[0].A_bar.cast<S>(), aj = s[1].A * ends_[1].A_bar.cast<S>();
         const V3<S> xi = ai.col(0), yi = ai.col(1), xj = aj.col(0);
         const S a = yi.dot(xj), b = xi.dot(xj);
         const S n = a * a + b * b;
@@ -99,7 +99,6 @@ public:
     }
 
 private:
-    Mat3 frame_[2];
     double rest_ = 0;
 };
 

@@ -28,7 +28,7 @@ using namespace mbd::force_support;
 class SpringDamper final : public SpringDamperElement<SpringDamper> {
 public:
     explicit SpringDamper(const ForceSpec& spec) : SpringDamperElement(spec, "force") {
-        for (int k = 0; k < 2; ++k) u_[k] = marker_or_centre(spec, k).u_bar;
+        for (int k = 0; k < 2; ++k) u_[k] = ends_[k].u_bar;
         if (dim_ == Dimension::Planar) u_[0].z() = u_[1].z() = 0.0;
         const double l_initial =
             (initial_point(spec.bodies[0], u_[0]) - initial_point(spec.bodies[1], u_[1])).norm();

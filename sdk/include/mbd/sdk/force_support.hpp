@@ -250,6 +250,15 @@ inline bool body_frame(const ForceSpec& spec) {
         fail(spec, "'frame' must be 'world' or 'body', got '" + frame + "'", &spec.params.at("frame"));
     return frame == "body";
 }
+// The application frame on body k: the marker the core built from the scene's
+// points (and axes), or without one the body frame at the mass centre.
+inline Marker marker_or_centre(const ForceSpec& spec, int k) {
+    return k < static_cast<int>(spec.markers.size()) ? spec.markers[k] : Marker{};
+}
+// World position of a marker origin at t = 0.
+inline Vec3 initial_point(const BodyInfo& body, const Vec3& u_bar) {
+    return body.position + body.orientation * u_bar;
+}
 // The parameters of a spring-damper-actuator (book Secs. 5.4-5.5): stiffness k
 // (>= 0, required), damping c (>= 0, default 0) and an optional actuator time
 // function under `actuator_key`; its scalar is k x + c xdot + actuator(t).
@@ -297,27 +306,20 @@ private:
 
 // A spring-damper-actuator between two bodies (Secs. 5.4-5.5, 7.7): along a line
 // (actuator_key "force") or about an axis ("torque"). Its load is the actuator value
-// f_a(t); Derived provides generalized(states, f_a) with sda_.k and sda_.c.
+// f_a(t); Derived provides generalized(states, f_a) with sda_.k and sda_.c, and
+// reads its attachment points or axes from ends_.
 template <class Derived>
 class SpringDamperElement : public LoadedForce<Derived, 2> {
 public:
     SpringDamperElement(const ForceSpec& spec, const std::string& actuator_key)
-        : LoadedForce<Derived, 2>(spec, "two bodies [i, j]"), sda_(spec, actuator_key) {}
+        : LoadedForce<Derived, 2>(spec, "two bodies [i, j]"), sda_(spec, actuator_key),
+          ends_{marker_or_centre(spec, 0), marker_or_centre(spec, 1)} {}
     double load(double t) const { return sda_.actuator_at(t); }
     bool is_conservative() const override { return sda_.conservative(); }
 
 protected:
     SpringDamperActuator sda_;
+    Marker ends_[2];  // the element's frames on bodies i and j (marker_or_centre)
 };
-
-// The application frame on body k: the marker the core built from the scene's
-// points (and axes), or without one the body frame at the mass centre.
-inline Marker marker_or_centre(const ForceSpec& spec, int k) {
-    return k < static_cast<int>(spec.markers.size()) ? spec.markers[k] : Marker{};
-}
-// World position of a marker origin at t = 0.
-inline Vec3 initial_point(const BodyInfo& body, const Vec3& u_bar) {
-    return body.position + body.orientation * u_bar;
-}
 
 }  // namespace mbd::force_support
