@@ -11,6 +11,7 @@
 #include <mbd/simulation.hpp>
 #include <mbd/sdk/partition.hpp>
 #include <mbd/sdk/velocity_transform.hpp>
+#include <coordinate_selector.hpp>
 #include <sparse_partition.hpp>
 
 #include <Eigen/Dense>
@@ -76,6 +77,40 @@ TEST(SparsePartition, ValidOnBookAndBenchScenes) {
             const mbd::CoordinatePartition p = mbd::partition_sparse(J, threshold, 1e-10);
             expect_valid_partition(Eigen::MatrixXd(J), p);
             EXPECT_GT(p.pivot_ratio, 0.0);
+        }
+    }
+}
+
+// A re-selection compares the current partition with a fresh one by the pivot ratio of each
+// J_d (coordinate_selector.hpp): up to 600 dependent coordinates by complete pivoting of the
+// gathered J_d, which must equal the dense path's measure on the dense J (sdk
+// velocity_transform.hpp); above, by the sparse elimination restricted to J_d's columns, which
+// for a partition that elimination chose itself (threshold 1) must find the same pivots.
+TEST(SparsePartition, CandidatesAreScoredAsTheDensePathScoresThem) {
+    for (const char* path : {"bench/a02-four-bar-40.yaml", "bench/chain-50.yaml", "book/bricard.yaml", "bench/chain-500.yaml"}) {
+        SCOPED_TRACE(path);
+        const mbd::Model model = mbd::test::load(path);
+        mbd::ModelSystem system(model);
+        const Eigen::SparseMatrix<double> J = jacobian_at_assembly(system);
+        mbd::FormulationOptions options;
+        options.algebra = mbd::LinearAlgebra::Sparse;
+        mbd::CoordinateSelector selector;
+        mbd::CoordinatePartition fresh;
+        selector.bind(static_cast<int>(J.rows()), static_cast<int>(J.cols()), options, fresh);
+        mbd::SparsePartitionWorkspace ws;
+        mbd::CoordinatePartition scratch;
+        for (double threshold : {0.1, 1.0}) {
+            const mbd::CoordinatePartition p = mbd::partition_sparse(J, threshold, 1e-10);
+            const double scored = selector.dependent_pivot_ratio(J, p, 1e-10);
+            const double restricted = mbd::dependent_pivot_ratio(J, p, 1e-10, ws, scratch);
+            EXPECT_GT(scored, 0.0);
+            if (threshold == 1.0) EXPECT_NEAR(restricted, p.pivot_ratio, 1e-14 * p.pivot_ratio);
+            if (p.rank <= mbd::CoordinateSelector::kCompletePivotingRank) {
+                mbd::VelocityTransformWorkspace dense;
+                EXPECT_NEAR(scored, mbd::dependent_pivot_ratio(Eigen::MatrixXd(J), p, dense), 1e-14 * scored);
+            } else {
+                EXPECT_EQ(scored, restricted);
+            }
         }
     }
 }
