@@ -25,6 +25,20 @@ void BodyPoses::update(const State& state) {
     }
 }
 
+void BodyPoses::update_velocities(const State& state) {
+    const Model& m = *model_;
+    for (int k = 0; k < m.body_count(); ++k) {
+        const int iv = m.v_offset(k);
+        if (m.dimension == Dimension::Planar) {
+            planar_[k].Rdot = state.v.segment<2>(iv);
+            planar_[k].omega = state.v[iv + 2];
+        } else {
+            spatial_[k].Rdot = state.v.segment<3>(iv);
+            spatial_[k].omega_bar = state.v.segment<3>(iv + 3);
+        }
+    }
+}
+
 void BodyPoses::fill(const std::vector<int>& bodies, double t, BodyStates& out) const {
     out.t = t;
     out.planar_bodies.clear();

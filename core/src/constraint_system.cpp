@@ -42,11 +42,10 @@ std::string first_non_finite(const Joint& joint, const VelocityConstraintEval& e
                             e.A);
 }
 
-// Every entry of a joint's output finite. A NaN or an infinity in any entry makes the sum
-// non-finite, so one pass of additions decides the common case; only a sum that overflowed
-// from finite entries (|entries| near 1e308) needs the entry-by-entry look.
-bool rows_finite(const ConstraintEval& e) {
-    const double sum = e.C.sum() + e.C_t.sum() + e.gamma.sum() + e.J.sum();
+// Every entry of a joint's output finite, given the sum of all its entries. A NaN or an
+// infinity in any entry makes the sum non-finite, so the sum decides the common case; only a
+// sum that overflowed from finite entries (|entries| near 1e308) needs the entry-by-entry look.
+bool rows_finite(const ConstraintEval& e, double sum) {
     if (std::isfinite(sum)) return true;
     return e.C.allFinite() && e.C_t.allFinite() && e.gamma.allFinite() && e.J.allFinite();
 }
@@ -145,6 +144,21 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
             for (int c = 0; c < nvb; ++c) values[*slot++] += row_values(nvb * static_cast<int>(b) + c);
         }
     };
+    // a joint's rows into out at r0, and the sum of all its entries (rows_finite's test, in the same pass)
+    auto place = [&](const ConstraintEval& e, int r0, const std::vector<int>& bodies) {
+        const int rows = static_cast<int>(e.C.size());
+        double sum = 0.0;
+        for (int r = 0; r < rows; ++r) {
+            out.C[r0 + r] = e.C[r];
+            out.C_t[r0 + r] = e.C_t[r];
+            out.gamma[r0 + r] = e.gamma[r];
+            sum += e.C[r] + e.C_t[r] + e.gamma[r];
+        }
+        const double* J = e.J.data();
+        for (Eigen::Index k = 0; k < e.J.size(); ++k) sum += J[k];
+        for (int r = 0; r < rows; ++r) scatter(bodies, e.J.row(r));
+        return sum;
+    };
 
     for (size_t j = 0; j < m.joints.size(); ++j) {
         const JointInstance& ji = m.joints[j];
@@ -157,18 +171,13 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         ji.joint->evaluate(data.view, e);
         // a NaN from a joint would surface later as a failed projection or a singular
         // matrix; name the joint here instead (unless the state itself is not finite)
-        if (!rows_finite(e) && state.q.allFinite() && state.v.allFinite())
+        if (!rows_finite(e, place(e, joint_offset_[j], ji.bodies)) && state.q.allFinite() && state.v.allFinite())
             throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type + (ji.where.empty() ? "" : ", " + ji.where) +
                                              ") gave a non-finite value at t = " + format_time(state.t) + " (" +
                                              first_non_finite(*ji.joint, e) +
                                              ") although the body positions and velocities are finite: its equations "
                                              "are undefined in this configuration; check the joint's parameters, or "
                                              "its plugin");
-        const int r0 = joint_offset_[j];
-        out.C.segment(r0, e.C.size()) = e.C;
-        out.C_t.segment(r0, e.C.size()) = e.C_t;
-        out.gamma.segment(r0, e.C.size()) = e.gamma;
-        for (int r = 0; r < e.C.size(); ++r) scatter(ji.bodies, e.J.row(r));
     }
 
     if (include_drivers_) {

@@ -40,11 +40,17 @@ Data::Data(const Model& model) : poses(model) {
 }
 
 void Data::pose(const State& state) {
-    if (posed_ && state.q.size() == posed_q_.size() && state.v.size() == posed_v_.size() && state.q == posed_q_ &&
-        state.v == posed_v_)
+    const bool sized = state.q.size() == posed_q_.size() && state.v.size() == posed_v_.size();
+    if (posed_ && sized && state.q == posed_q_) {
+        // the same positions: the rotation matrices hold; only new velocities (the probes of a
+        // velocity derivative, jdot_transpose.hpp, evaluate many velocities at one position)
+        if (state.v == posed_v_) return;
+        poses.update_velocities(state);
+        posed_v_ = state.v;
         return;
+    }
     poses.update(state);
-    posed_ = state.q.size() == posed_q_.size() && state.v.size() == posed_v_.size();
+    posed_ = sized;
     if (posed_) {
         posed_q_ = state.q;
         posed_v_ = state.v;

@@ -103,6 +103,7 @@ void index_key_lines(const YAML::Node& node, const Param& p, KeyLines& lines) {
 // ---------------------------------------------------------------- top level
 
 void Loader::build() {
+    name_indexes_.clear();  // a fresh model: no names indexed
     if (root_.is_scalar() && root_.text.empty())
         throw InputError(file_ + ":1", "the scene is empty; it needs at least 'dimension' and 'bodies'");
     if (!root_.is_map())

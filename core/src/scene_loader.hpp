@@ -22,6 +22,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace mbd::scene_detail {
@@ -43,6 +44,23 @@ using KeyLines = std::map<const Param*, std::map<std::string, int>>;
 void index_key_lines(const YAML::Node& node, const Param& p, KeyLines& lines);
 
 // ---------------------------------------------------------------- the loader
+
+// The names of a list of elements that only grows, indexed as it grows: the first element of
+// a name, as a search in order finds it. A search per new element (its name unique, its bodies
+// found) was O(N) string compares, O(N^2) to load an N-link chain.
+class NameIndex {
+public:
+    template <class Elements>
+    int find(const Elements& list, const std::string& name) {
+        for (; indexed_ < list.size(); ++indexed_) first_.emplace(list[indexed_].name, static_cast<int>(indexed_));
+        const auto it = first_.find(name);
+        return it == first_.end() ? -1 : it->second;
+    }
+
+private:
+    std::unordered_map<std::string, int> first_;
+    size_t indexed_ = 0;
+};
 
 class Loader {
 public:
@@ -180,8 +198,8 @@ private:
     int body_index(const Param& p, const std::string& what) const {
         if (!p.is_scalar() || p.text.empty()) p.fail(what + ": a body must be given by its name");
         if (p.text == "ground") return kGround;
-        for (int k = 0; k < model_.body_count(); ++k)
-            if (model_.bodies[k].name == p.text) return k;
+        const int k = name_indexes_[&model_.bodies].find(model_.bodies, p.text);
+        if (k >= 0) return k;
         p.fail(what + ": undefined body " + quote(p.text) + "; defined bodies are " + join_quoted(body_names()));
     }
 
@@ -238,11 +256,11 @@ private:
     template <class Elements>
     void require_unique_name(const Elements& existing, const std::string& name, const Param& node,
                              const std::string& kind) const {
-        for (const auto& other : existing)
-            if (other.name == name)
-                (find(node, "name") ? *find(node, "name") : node)
-                    .fail("duplicate " + kind + " name " + quote(name) + " (first defined at " + other.where + "); " +
-                          kind + " names must be unique");
+        const int k = name_indexes_[&existing].find(existing, name);
+        if (k >= 0)
+            (find(node, "name") ? *find(node, "name") : node)
+                .fail("duplicate " + kind + " name " + quote(name) + " (first defined at " + existing[k].where + "); " +
+                      kind + " names must be unique");
     }
     // The common start of a list element of this kind: a map (of the keys `keys_hint` lists),
     // its name (required, or else KIND<index>), unique among the existing ones, and where it
@@ -290,6 +308,8 @@ private:
     Param root_;
     KeyLines key_lines_;
     Model model_;
+    // per list of the model (bodies, joints, drivers, actuators): its names (body_index, require_unique_name)
+    mutable std::map<const void*, NameIndex> name_indexes_;
 };
 
 template <class Create>

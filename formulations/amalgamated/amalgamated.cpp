@@ -94,7 +94,7 @@ private:
 
     System* system_ = nullptr;
     FormulationOptions options_;
-    int nc_ = 0, nvb_ = 3;
+    int nc_ = 0;
     const Eigen::SparseMatrix<double>* M_ = nullptr;  // the System's M (block diagonal)
     bool sparse_ = false;  // selector_.sparse(): the projection's metric and the pivot ratio sparse
     CoordinatePartition part_;
@@ -130,7 +130,6 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     singularity_.tolerance = options.singularity_tolerance;
     bind_sizes(system);
     nc_ = system.constraint_rows(true);
-    nvb_ = velocities_per_body(system.dimension());
     M_ = &system.mass_matrix();
     selector_.bind(nc_, nv_, options, fresh_);  // a re-selection allocates nothing (dense)
     sparse_ = selector_.sparse();
@@ -182,11 +181,12 @@ void Amalgamated::build_pattern() {
     const int n = nv_, m = nc_;
     const Eigen::SparseMatrix<double>& J = cv_.J;
     triplets_.clear();
-    triplets_.reserve(static_cast<size_t>(n * nvb_ + 2 * n + 2 * J.nonZeros() + m));
-    // M (per-body blocks, explicit zeros kept so that the pattern never changes)
-    for (int b = 0; b < n / nvb_; ++b)
-        for (int i = 0; i < nvb_; ++i)
-            for (int j = 0; j < nvb_; ++j) triplets_.emplace_back(b * nvb_ + i, b * nvb_ + j, M_->coeff(b * nvb_ + i, b * nvb_ + j));
+    triplets_.reserve(static_cast<size_t>(M_->nonZeros() + 2 * n + 2 * J.nonZeros() + m));
+    // M: constant, so its stored entries are its pattern (planar diag(m, m, J); spatial diag(m I, Jbar)
+    // with Jbar's nonzeros), not full body blocks whose structural zeros only add fill to the LU
+    for (int c = 0; c < n; ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(*M_, c); it; ++it)
+            triplets_.emplace_back(static_cast<int>(it.row()), c, it.value());
     for (int i = 0; i < n; ++i) {
         triplets_.emplace_back(i, n + i, 1.0);           // M vdot + f
         triplets_.emplace_back(n + m + i, n + i, -1.0);  // -f + J^T mu

@@ -11,6 +11,8 @@ public:
     explicit BodyPoses(const Model& model);
 
     void update(const State& state);
+    // the velocities only, the positions (and so the rotation matrices) being those of the last update()
+    void update_velocities(const State& state);
 
     // The view an element with these body indices evaluates on.
     BodyStates view(const std::vector<int>& bodies, double t) const;
