@@ -7,6 +7,8 @@
 #include <limits>
 #include <string>
 
+#include <mbd/sdk/text.hpp>
+
 namespace mbd::articulated {
 
 void LoopClosure::bind(System& system, const FormulationOptions& options) {
@@ -51,6 +53,7 @@ void LoopClosure::bind(System& system, const FormulationOptions& options) {
     dropped_.clear();
     is_dropped_.assign(nc, 0);
     saddle_.leave_out(dropped_);
+    log_ = options.log_choices.value_or(true) ? options.log : MessageLog::silent();
     find_redundant_rows(options);
 }
 
@@ -117,7 +120,7 @@ void LoopClosure::joint_mass(bool with_h) {
 void LoopClosure::dynamics(double t) {
     double residual = std::numeric_limits<double>::infinity();
     for (int attempt = 0; attempt < 2; ++attempt) {
-        if (!saddle_.factor(Mu_, Phi_, attempt > 0))
+        if (!factor(t, attempt > 0))
             throw DynamicsError(t, "embedding (closure path): the joint-space mass matrix H^T M H is not positive "
                                    "definite (a tree freedom moves no mass)");
         saddle_.solve(Phi_, h_, gamma_u_, udot_, lambda_c_);
@@ -186,6 +189,30 @@ void LoopClosure::find_redundant_rows(const FormulationOptions& options) {
                     (dropped_.size() == 1 ? "" : "s") + " dropped: " + names);
 }
 
+bool LoopClosure::factor(double t, bool robust) {
+    if (!saddle_.factor(Mu_, Phi_, robust)) return false;
+    // which of the dependent rows is left out can change along the motion (the Bricard's): when
+    // the kept rows grow ill-conditioned, choose again (as the augmented formulation does)
+    if (dropped_.empty() || robust || saddle_.least_relative_pivot() > 1e-6) return true;
+    std::vector<int> before = dropped_;
+    saddle_.leave_out({});
+    saddle_.factor(Mu_, Phi_, true);
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(saddle_.Wt());
+    const int nc = static_cast<int>(rows_.size()), count = static_cast<int>(before.size());
+    dropped_.assign(qr.colsPermutation().indices().data() + (nc - count), qr.colsPermutation().indices().data() + nc);
+    std::sort(dropped_.begin(), dropped_.end());
+    std::fill(is_dropped_.begin(), is_dropped_.end(), 0);
+    std::string names;
+    for (int k : dropped_) {
+        is_dropped_[k] = 1;
+        names += (names.empty() ? "" : ", ") + system_->describe_row(rows_[k]);
+    }
+    saddle_.leave_out(dropped_);
+    if (dropped_ != before) log_("embedding: t = " + format_time(t) + ": redundant constraint row" +
+                                         (count == 1 ? "" : "s") + " re-selected: " + names);
+    return saddle_.factor(Mu_, Phi_, false);
+}
+
 void LoopClosure::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     s_ = y.head(ns_);
@@ -239,7 +266,7 @@ bool LoopClosure::project_positions(double t, Eigen::VectorXd& s, bool robust) {
         // at least one Newton step whenever C != 0 (a smooth map of the state: projection.hpp)
         if (c == 0.0 || (iteration > 0 && c <= tol)) return true;
         joint_mass(false);
-        if (!saddle_.factor(Mu_, Phi_, robust)) return false;
+        if (!factor(t, robust)) return false;
         r_ = C_c_;
         saddle_.correction(Phi_, r_, du_);  // the least-M_u-norm step with Phi_u ds = -C
         if (!du_.allFinite()) return false;
@@ -266,17 +293,44 @@ bool LoopClosure::project(double t, Eigen::VectorXd& y) {
         kinematics(s_, u_);
         joint_space(t);
         joint_mass(false);
-        if (!saddle_.factor(Mu_, Phi_, robust)) continue;
+        if (!factor(t, robust)) continue;
         r_.noalias() = Phi_ * u_;
         r_ += Ct_c_;
         saddle_.correction(Phi_, r_, du_);
+        if (!s_.allFinite() || !du_.allFinite() || !u_.allFinite()) continue;
+        check_no_jump(t);
         u_ += du_;
-        if (!s_.allFinite() || !u_.allFinite()) continue;
         y.head(ns_) = s_;
         y.tail(nu_) = u_;
         return true;
     }
     return false;
+}
+
+void LoopClosure::check_no_jump(double t) {
+    // drift is of the order of the integrator's local error; a velocity correction comparable
+    // to the motion itself (in the kinetic-energy norm of M_u) is none: the closure rows are
+    // (nearly) dependent here (a dead centre, a bifurcation like the parallelogram's flat
+    // position) and the step reached another branch, or the projection would remove the motion
+    h_.noalias() = Mu_ * u_;
+    const double motion = std::sqrt(std::max(u_.dot(h_), 0.0));
+    h_.noalias() = Mu_ * du_;
+    const double change = std::sqrt(std::max(du_.dot(h_), 0.0));
+    if (!(change > kJumpRatio * motion) || change <= 1e-9) return;
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(saddle_.Wt());
+    qr.setThreshold(1e-6);
+    const int nc = static_cast<int>(rows_.size()), rank = std::min(static_cast<int>(qr.rank()), nc - 1);
+    std::string names;
+    for (int k = rank; k < nc && k < rank + 8; ++k)
+        names += (names.empty() ? "" : ", ") + system_->describe_row(rows_[qr.colsPermutation().indices()[k]]);
+    char ratio[64];
+    std::snprintf(ratio, sizeof ratio, "%.3g", change / std::max(motion, 1e-300));
+    throw DynamicsError(t, "singular configuration at t = " + format_time(t) +
+                               " (embedding, closure path): the velocity projection onto the loop-closure rows would "
+                               "change the motion by " + ratio + " of its size (kinetic-energy norm): the rows are "
+                               "(nearly) dependent here and the step left the branch; joints involved: " + names +
+                               "; the mechanism is at a dead centre or bifurcation: use path: dense (it re-selects "
+                               "its coordinates) or a smaller tolerance");
 }
 
 void LoopClosure::solve_at(const State& state) {

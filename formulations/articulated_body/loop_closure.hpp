@@ -52,17 +52,23 @@ private:
     void dynamics(double t);
     // the structurally redundant closure rows at the assembled initial state
     void find_redundant_rows(const FormulationOptions& options);
+    // saddle_ at (M_u_, Phi_), re-selecting the left-out rows when the kept ones grow ill-conditioned
+    bool factor(double t, bool robust);
     bool project_positions(double t, Eigen::VectorXd& s, bool robust);
     // s <- s (+) du: 1-DOF coordinates add, Euler parameters turn by du (body axes) and renormalise
     void advance(Eigen::VectorXd& s, const Eigen::VectorXd& du) const;
     // at a given state: kinematics, forces, dynamics (results in udot_, lambda_c_, bodies_)
     void solve_at(const State& state);
     [[noreturn]] void saddle_error(double t, const char* what) const;
+    // throws the named singular configuration when the velocity correction du_ at u_ is no drift
+    void check_no_jump(double t);
+    static constexpr double kJumpRatio = 1e-2;
 
     std::vector<int> rows_;     // the System rows of the closure (joints' rows, then drivers')
     std::vector<int> row_of_;   // per System row: its closure index, -1 for a tree joint's row
     std::vector<int> dropped_;  // closure indices left out (redundant)
     std::vector<char> is_dropped_;
+    MessageLog log_;
     double projection_tolerance_ = 1e-12;
     int newton_iterations_ = 25;
     std::vector<Eigen::Matrix<double, 6, 6>> mass_;  // per body, the System's block of M

@@ -77,16 +77,14 @@ public:
     void from_ode(double t, const Eigen::VectorXd& y, State& state) override { impl_->from_ode(t, y, state); }
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { impl_->rhs(t, y, ydot); }
     bool project(double t, Eigen::VectorXd& y) override {
-        if (!impl_->project(t, y)) return false;
         // a rank drop of J (joints + drivers) at the accepted state is a singular configuration
         // (singularity.hpp), checked once per accepted step; not on the recursive path, where
-        // the rows of a tree are independent by construction (the closure path checks all the
-        // System's rows, the tree's too: a loop that locks drops the rank of the whole J)
-        if (path_taken_ != "recursive" && singularity_.active(*system_)) {
-            impl_->from_ode(t, y, check_state_);
-            system_->constraints_with_velocity_rows(check_state_, check_cv_, true);
-            singularity_.check(*system_, t, check_cv_.J);
-        }
+        // the rows of a tree are independent by construction. The closure path checks all the
+        // System's rows (a loop that locks drops the rank of the whole J) before it projects:
+        // a projection across a singular position would stop with its own, less specific error.
+        if (path_taken_ == "closure") check_singularity(t, y);
+        if (!impl_->project(t, y)) return false;
+        if (path_taken_ == "dense") check_singularity(t, y);
         return true;
     }
     bool state_redefined() override { return impl_->state_redefined(); }
@@ -95,6 +93,13 @@ public:
     void accelerations(const State& state, Eigen::VectorXd& vdot) override { impl_->accelerations(state, vdot); }
 
 private:
+    void check_singularity(double t, const Eigen::VectorXd& y) {
+        if (!singularity_.active(*system_)) return;
+        impl_->from_ode(t, y, check_state_);
+        system_->constraints_with_velocity_rows(check_state_, check_cv_, true);
+        singularity_.check(*system_, t, check_cv_.J);
+    }
+
     // the embedding's own keys
     std::string path_ = "auto";             // auto | dense | recursive | closure
     std::vector<std::string> independent_;  // velocity components to prefer as independent ("crank.angle")
