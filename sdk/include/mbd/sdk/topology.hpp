@@ -202,6 +202,7 @@ inline bool closure_embedding_possible(const System& system, std::string* reason
         for (int j : *list) names += (names.empty() ? "'" : ", '") + system.joint(j).name + "'";
     const int closing = static_cast<int>(t.cut_joints.size() + t.other_joints.size());
     say("tree of " + std::to_string(tree_joints) + " joint" + (tree_joints == 1 ? "" : "s") +
+        (t.free_roots ? " and " + std::to_string(t.free_roots) + " free root body" + (t.free_roots == 1 ? "" : "s") : "") +
         " in joint coordinates closed by " +
         (closing ? std::to_string(closing) + " joint" + (closing == 1 ? " " : "s ") + names : std::string()) +
         (closing && system.driver_count() ? " and " : "") +
