@@ -2,7 +2,9 @@
 // and geared scenes listed below (gear pair, rack and pinion, distance rod, the A05 flyball,
 // the car axis, spatial pendulum), is run with every formulation the plugin registry finds
 // (the single list: a new formulation plugin joins automatically) and compared with the
-// augmented formulation (book Eq. 6.141), the reference, at every output sample of the run:
+// augmented formulation (book Eq. 6.141), the reference, at every output sample of the run
+// (embedding twice: its own choice of path, which is the closure path on the looped and driven
+// scenes and the recursive one on trees, and its dense path as the variant "embedding path=dense"):
 //   positions, VELOCITIES, joint reactions and driver efforts (reactions.hpp; planar and
 //   spatial, forces and torques), to within 100 x the integration tolerance relative to
 //   the size of each quantity (reactions: see the bound below).

@@ -9,6 +9,7 @@
 //   - the path really taken: the log line, and y's size = the tree's joint coordinates;
 //   - a dead centre (book Sec. 3.9) still stops the run with the named singular configuration.
 #include <mbd/model_system.hpp>
+#include <mbd/scene.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/simulation.hpp>
 
@@ -162,6 +163,59 @@ TEST(LoopClosureSingularity, DeadCentreStopsWithANamedSingularConfiguration) {
     }
     ASSERT_FALSE(log.empty());
     EXPECT_NE(log.front().find("embedding: closure path"), std::string::npos) << log.front();
+}
+
+// The parallelogram chain of A02 (N = 40) reaches its flat position at t ~ 0.72 s, where the 40
+// loops' rows become dependent (mobility 1 -> 41). The closure path (like augmented) does not
+// pass it: it must stop there with a named singular configuration, and up to the stop it must
+// conserve T + V (no silent jump to another branch; a jump lost ~100% of the energy).
+TEST(LoopClosureSingularity, ParallelogramFlatPositionStopsByNameWithoutABranchJump) {
+    const mbd::Model model = mbd::test::load("bench/a02-four-bar-40.yaml");
+    mbd::ModelSystem system(model);
+    mbd::SimulationSettings s = mbd::test::adaptive_run("embedding", "dopri5", 1e-10, 1.0, 0.01);
+    std::vector<std::string> log;
+    s.messages = mbd::MessageLog([&log](const std::string& line) { log.push_back(line); });
+    std::vector<mbd::State> states;
+    try {
+        mbd::simulate(model, shared_registry(), s, [&](const mbd::SimulationSample& sample) {
+            states.push_back(sample.state);
+            return true;
+        });
+        ADD_FAILURE() << "the closure path passed the flat position";
+    } catch (const mbd::DynamicsError& e) {
+        std::printf("A02-40 on the closure path: t = %.4f: %.200s...\n", e.time(), e.what());
+        EXPECT_NE(std::string(e.what()).find("singular configuration"), std::string::npos) << e.what();
+        EXPECT_NEAR(e.time(), 0.72, 0.03);
+    }
+    ASSERT_FALSE(log.empty());
+    EXPECT_NE(log.front().find("embedding: closure path"), std::string::npos) << log.front();
+    ASSERT_GT(states.size(), 60u);
+    const double E0 = system.kinetic_energy(states.front()) + system.potential_energy(states.front());
+    double drift = 0.0;
+    for (mbd::State& st : states) drift = std::max(drift, std::abs(system.kinetic_energy(st) + system.potential_energy(st) - E0));
+    std::printf("A02-40: max |E - E0| up to the stop %.3e J (E0 %.1f J)\n", drift, E0);
+    EXPECT_LT(drift, 1e-6 * std::abs(E0));
+}
+
+// Forced on a tree (no closure rows: `path: closure`), the path reduces to the recursive one.
+TEST(LoopClosurePath, ForcedOnATreeMatchesTheRecursivePath) {
+    const std::string text = mbd::test::read_text(mbd::test::scene_path("dynamics/heavy-top.yaml"));
+    const mbd::Model forced =
+        mbd::load_scene_text(text + "\nformulation: {type: embedding, path: closure}\n", "heavy-top.yaml", shared_registry());
+    const mbd::Model plain = mbd::test::load("dynamics/heavy-top.yaml");
+    const Trace closure = simulate(forced, "embedding", 1e-12, 1.0, 0.1);
+    const Trace recursive = simulate(plain, "embedding", 1e-12, 1.0, 0.1);
+    ASSERT_TRUE(logged(closure, "embedding: closure path"));
+    ASSERT_TRUE(logged(recursive, "embedding: recursive path"));
+    ASSERT_EQ(closure.states.size(), recursive.states.size());
+    double dq = 0.0, dl = 0.0;
+    for (size_t i = 0; i < closure.states.size(); ++i) {
+        dq = std::max(dq, mbd::test::position_difference(forced, closure.states[i].q, recursive.states[i].q));
+        dl = std::max(dl, (closure.lambdas[i] - recursive.lambdas[i]).lpNorm<Eigen::Infinity>());
+    }
+    std::printf("heavy top, closure (forced) vs recursive, tol 1e-12 over 1 s: |dq| %.2e, |dlambda| %.2e\n", dq, dl);
+    EXPECT_LT(dq, 1e-9);
+    EXPECT_LT(dl, 1e-7);
 }
 
 }  // namespace

@@ -33,9 +33,11 @@ public:
         x_.setZero(nu);
         skip_.assign(nc, 0);
         llt_M_.compute(Eigen::MatrixXd::Identity(nu, nu));
-        llt_S_.compute(Eigen::MatrixXd::Identity(nc, nc));
-        cod_w_.compute(W_);  // sizes their storage (see dense_gram.hpp)
-        cod_wt_.compute(Wt_);
+        if (nc > 0) {  // sizes their storage (see dense_gram.hpp); no rows: nothing to decompose
+            llt_S_.compute(Eigen::MatrixXd::Identity(nc, nc));
+            cod_w_.compute(W_);
+            cod_wt_.compute(Wt_);
+        }
         pinv_w_.resize(nc, nu);
         pinv_wt_.resize(nu, nc);
     }
