@@ -146,7 +146,8 @@ void ArticulatedBody::build(System& system, const Topology& topology) {
     bodies_.assign(nb_, Body{});
     sign_.assign(nb_, 1.0);
     // the constant per-body blocks of M (read from the sparse matrix: never densify it)
-    std::vector<Mat6> blocks(nb_, Mat6::Zero());
+    mass_.assign(nb_, Mat6::Zero());
+    std::vector<Mat6>& blocks = mass_;
     const int nvb = planar_ ? 3 : 6;
     const Eigen::SparseMatrix<double>& Ms = system.mass_matrix();
     for (int col = 0; col < Ms.outerSize(); ++col)

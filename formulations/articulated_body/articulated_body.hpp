@@ -125,6 +125,7 @@ protected:
     std::vector<Edge> edges_;  // parent before child
     std::vector<Body> bodies_;
     std::vector<double> sign_;
+    std::vector<Mat6> mass_;  // per body, the System's block of M (its top-left 3 x 3 when planar)
     // H and D^-1 of every edge, packed (a compact working set keeps the O(n) passes in cache)
     std::vector<double> hpool_, dpool_;
     // (mapped with at most 6 columns: products with them stay in fixed-size storage, off the heap)

@@ -29,13 +29,6 @@ void LoopClosure::bind(System& system, const FormulationOptions& options) {
     const int nrows = system.constraint_rows(true), nc = static_cast<int>(rows_.size());
     row_of_.assign(nrows, -1);
     for (int k = 0; k < nc; ++k) row_of_[rows_[k]] = k;
-    // the System's constant blocks of M, body by body
-    const int nvb = planar_ ? 3 : 6;
-    mass_.assign(nb_, Eigen::Matrix<double, 6, 6>::Zero());
-    const Eigen::SparseMatrix<double>& M = system.mass_matrix();
-    for (int col = 0; col < M.outerSize(); ++col)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(M, col); it; ++it)
-            if (it.row() / nvb == col / nvb) mass_[col / nvb](it.row() % nvb, col % nvb) = it.value();
     H6_.setZero(6 * nb_, nu_);
     H_.setZero(nv_, nu_);
     MH_.setZero(nv_, nu_);

@@ -71,7 +71,6 @@ private:
     MessageLog log_;
     double projection_tolerance_ = 1e-12;
     int newton_iterations_ = 25;
-    std::vector<Eigen::Matrix<double, 6, 6>> mass_;  // per body, the System's block of M
     Eigen::MatrixXd H6_;        // per body 6 rows: (Rdot, wbar) = H6 u + a6
     Eigen::MatrixXd H_, MH_, Mu_, Phi_;
     Eigen::VectorXd a6_, a_, work_, h_, gamma_u_, C_c_, Ct_c_, lambda_c_, r_, du_, vdot_, ytmp_;
