@@ -4,6 +4,7 @@
 // evaluation. The same source builds against older trees, for before/after comparisons
 // (docs/benchmarks.md).
 //   bench_rhs SCENE.yaml... [--formulations a,b,...]
+// A formulation may carry one key: NAME:KEY=VALUE (e.g. embedding:path=dense).
 #include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
@@ -60,14 +61,25 @@ int main(int argc, char** argv) {
         return 2;
     }
     mbd::Registry registry;
-    std::printf("%-24s %-12s %6s %14s\n", "scene", "formulation", "nv", "rhs [us]");
+    std::printf("%-24s %-20s %6s %14s\n", "scene", "formulation", "nv", "rhs [us]");
     for (const std::string& path : scenes) {
         const mbd::Model model = mbd::load_scene(path, registry);
         const std::string name = path.substr(path.find_last_of('/') + 1);
         for (const std::string& type : formulations) {
             try {
                 mbd::ModelSystem system(model);
-                mbd::FormulationSpec spec{type, type, {}};
+                // NAME or NAME:KEY=VALUE
+                const size_t colon = type.find(':'), equals = type.find('=');
+                const std::string base = type.substr(0, colon);
+                mbd::Param node;
+                node.kind = mbd::Param::Kind::Map;
+                if (colon != std::string::npos && equals != std::string::npos) {
+                    mbd::Param value;
+                    value.kind = mbd::Param::Kind::Scalar;
+                    value.text = type.substr(equals + 1);
+                    node.fields[type.substr(colon + 1, equals - colon - 1)] = value;
+                }
+                mbd::FormulationSpec spec{base, base, mbd::Params("formulation '" + base + "'", &node)};
                 auto f = registry.create_formulation(spec, "bench");
                 mbd::FormulationOptions options;
                 options.sparse_threshold = 30;  // as mbd simulate
@@ -79,9 +91,9 @@ int main(int argc, char** argv) {
                 Eigen::VectorXd y;
                 f->to_ode(state, y);
                 f->project(0.0, y);
-                std::printf("%-24s %-12s %6d %14.3f\n", name.c_str(), type.c_str(), model.nv(), 1e6 * rhs_seconds(*f, y));
+                std::printf("%-24s %-20s %6d %14.3f\n", name.c_str(), type.c_str(), model.nv(), 1e6 * rhs_seconds(*f, y));
             } catch (const std::exception& e) {
-                std::printf("%-24s %-12s %6d %14s  (%s)\n", name.c_str(), type.c_str(), model.nv(), "failed", e.what());
+                std::printf("%-24s %-20s %6d %14s  (%s)\n", name.c_str(), type.c_str(), model.nv(), "failed", e.what());
             }
             std::fflush(stdout);
         }

@@ -103,7 +103,7 @@ void add_check_command(CLI::App& app, Commands& commands) {
             std::cout << "kinematically driven: no (no drivers)\n";
         }
         // the embedding formulation's path (sdk/include/mbd/sdk/topology.hpp)
-        std::cout << "embedding: " << (check.recursive_embedding ? "recursive" : "dense") << " path ("
+        std::cout << "embedding: " << check.embedding_path << " path ("
                   << check.embedding_reason << ")\n";
         return 0;
     };

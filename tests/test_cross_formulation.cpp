@@ -2,7 +2,9 @@
 // and geared scenes listed below (gear pair, rack and pinion, distance rod, the A05 flyball,
 // the car axis, spatial pendulum), is run with every formulation the plugin registry finds
 // (the single list: a new formulation plugin joins automatically) and compared with the
-// augmented formulation (book Eq. 6.141), the reference, at every output sample of the run:
+// augmented formulation (book Eq. 6.141), the reference, at every output sample of the run
+// (embedding twice: its own choice of path, which is the closure path on the looped and driven
+// scenes and the recursive one on trees, and its dense path as the variant "embedding path=dense"):
 //   positions, VELOCITIES, joint reactions and driver efforts (reactions.hpp; planar and
 //   spatial, forces and torques), to within 100 x the integration tolerance relative to
 //   the size of each quantity (reactions: see the bound below).
@@ -81,11 +83,26 @@ std::vector<Case> cases() {
     return out;
 }
 
-// every formulation plugin found, the reference first
+// every formulation plugin found, the reference first, and the embedding's dense path as a
+// variant "NAME key=value" (its own choice, `path: auto`, takes the recursive path on trees and
+// the closure path on loops and drivers)
 std::vector<std::string> formulations() {
     std::vector<std::string> names = shared_registry().type_names("formulation");
     std::stable_partition(names.begin(), names.end(), [](const std::string& n) { return n == kReference; });
+    const auto embedding = std::find(names.begin(), names.end(), "embedding");
+    if (embedding != names.end()) names.insert(embedding + 1, "embedding path=dense");
     return names;
+}
+
+// The case's scene; for a variant "NAME key=value", with `formulation: {type: NAME, key: value}`
+// appended (the run then takes the scene's formulation).
+mbd::Model load_for(const Case& c, const std::string& formulation) {
+    const size_t space = formulation.find(' '), equals = formulation.find('=');
+    if (space == std::string::npos || equals == std::string::npos) return mbd::test::load(c.scene);
+    const std::string text = mbd::test::read_text(mbd::test::scene_path(c.scene)) + "\nformulation: {type: " +
+                             formulation.substr(0, space) + ", " + formulation.substr(space + 1, equals - space - 1) +
+                             ": " + formulation.substr(equals + 1) + "}\n";
+    return mbd::load_scene_text(text, mbd::test::scene_path(c.scene).string(), shared_registry());
 }
 
 struct Sample {
@@ -96,7 +113,7 @@ struct Sample {
 
 std::vector<Sample> run(const mbd::Model& model, const std::string& formulation, const Case& c) {
     mbd::SimulationSettings s;
-    s.formulation = formulation;
+    s.formulation = formulation.find(' ') == std::string::npos ? formulation : std::string();  // a variant: the scene's
     s.integrator = "dopri5";
     s.integration.tolerance = kTolerance;
     s.t_end = c.t_end;
@@ -144,7 +161,7 @@ const std::vector<Sample>& runs(const Case& c, const std::string& formulation) {
     const std::string key = c.scene + "|" + formulation;
     auto it = cache.find(key);
     if (it == cache.end()) {
-        const mbd::Model model = mbd::test::load(c.scene);
+        const mbd::Model model = load_for(c, formulation);
         it = cache.emplace(key, run(model, formulation, c)).first;
     }
     return it->second;

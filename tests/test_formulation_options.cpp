@@ -105,7 +105,7 @@ TEST(FormulationOptions, LogChoosesTheMessages) {
     const Outcome told = run(four_bar("embedding"));
     EXPECT_TRUE(quiet.messages.empty());
     ASSERT_FALSE(told.messages.empty());
-    EXPECT_NE(told.messages.front().find("embedding: dense path"), std::string::npos) << told.messages.front();
+    EXPECT_NE(told.messages.front().find("embedding: closure path"), std::string::npos) << told.messages.front();
     EXPECT_TRUE(same_state(quiet.result.final_state, told.result.final_state));
 }
 
@@ -137,7 +137,7 @@ TEST(FormulationOptions, WrongKeysAreRefusedByName) {
          {"four-bar.yaml:", "'stabilization' must be projection, baumgarte or none, got 'sometimes'"}},
         {"{type: augmented, linear_algebra: fast}", {"'linear_algebra' must be auto, dense or sparse, got 'fast'"}},
         {"{type: embedding, log: maybe}", {"'log' must be true or false"}},
-        {"{type: embedding, path: recursiv}", {"'path' must be auto, dense or recursive, got 'recursiv'"}},
+        {"{type: embedding, path: recursiv}", {"'path' must be auto, dense, recursive or closure, got 'recursiv'"}},
         {"{type: augmented, singularity_tolerance: 1}", {"'singularity_tolerance' must be in [0, 1)"}},
         {"{type: embedding, pivot_threshold: 2}", {"'pivot_threshold' must be in (0, 1]"}},
         {"{type: hamiltonian, newton_tolerance: -1}", {"'newton_tolerance' must be positive"}},

@@ -673,9 +673,15 @@ TEST(GeneralizedAlpha, LargeStepsConvergeOrFailNamingTheJoint) {
 // there (Formulation::state_redefined, CVodeReInit). Both runs used to fail with a
 // step-size collapse (bricard at t = 1.36, the four-bar at t = 0.318).
 namespace {
+// `keys`: a `formulation:` map for the scene (e.g. the embedding's dense path, the one that re-selects)
 std::vector<mbd::SimulationSample> simulate_all(const std::string& scene, const std::string& formulation,
-                                                const std::string& integrator, double tolerance, double t_end) {
-    const mbd::Model model = mbd::load_scene(mbd::test::scene_path(scene), mbd::test::shared_registry());
+                                                const std::string& integrator, double tolerance, double t_end,
+                                                const std::string& keys = "") {
+    const mbd::Model model =
+        keys.empty() ? mbd::load_scene(mbd::test::scene_path(scene), mbd::test::shared_registry())
+                     : mbd::load_scene_text(mbd::test::read_text(mbd::test::scene_path(scene)) + "\nformulation: " + keys +
+                                                "\n",
+                                            mbd::test::scene_path(scene).string(), mbd::test::shared_registry());
     mbd::SimulationSettings s;
     s.formulation = formulation;
     s.integrator = integrator;
@@ -704,8 +710,9 @@ double max_position_difference(const std::vector<mbd::SimulationSample>& a, cons
 }  // namespace
 
 TEST(Cvode, RestartsAfterAnEmbeddingReselectionOnBricard) {
-    const auto cvode = simulate_all("book/bricard.yaml", "embedding", "cvode", 1e-10, 2.0);
-    const auto dopri5 = simulate_all("book/bricard.yaml", "embedding", "dopri5", 1e-10, 2.0);
+    const std::string dense = "{type: embedding, path: dense}";  // path: auto takes the closure path, which never re-selects
+    const auto cvode = simulate_all("book/bricard.yaml", "embedding", "cvode", 1e-10, 2.0, dense);
+    const auto dopri5 = simulate_all("book/bricard.yaml", "embedding", "dopri5", 1e-10, 2.0, dense);
     ASSERT_FALSE(cvode.empty());
     EXPECT_NEAR(cvode.back().state.t, 2.0, 1e-12);
     const double d = max_position_difference(cvode, dopri5);

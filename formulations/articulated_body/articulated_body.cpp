@@ -72,16 +72,19 @@ Vec6 ArticulatedBody::to6(const Eigen::VectorXd& x, int body) const {
 }
 
 void ArticulatedBody::bind(System& system, const FormulationOptions& /*options*/) {
+    std::string reason;
+    if (!recursive_embedding_possible(system, &reason))
+        throw InputError("", "embedding formulation: the recursive path needs a tree of joints in relative coordinates "
+                             "without drivers; this scene has " + reason + " (use path: closure, dense or auto)");
+    build(system, analyse_topology(system));
+}
+
+void ArticulatedBody::build(System& system, const Topology& topology) {
     system_ = &system;
     planar_ = system.dimension() == Dimension::Planar;
     nb_ = system.body_count();
     nq_ = system.nq();
     nv_ = system.nv();
-    std::string reason;
-    if (!recursive_embedding_possible(system, &reason))
-        throw InputError("", "embedding formulation: the recursive path needs a tree of joints in relative coordinates "
-                             "without drivers; this scene has " + reason + " (use path: dense or auto)");
-    const Topology topology = analyse_topology(system);
     edges_.clear();
     ns_ = nu_ = 0;
     auto marker = [&](const Marker& m, Vec3& u, Mat3& A, double& angle) {
@@ -143,7 +146,8 @@ void ArticulatedBody::bind(System& system, const FormulationOptions& /*options*/
     bodies_.assign(nb_, Body{});
     sign_.assign(nb_, 1.0);
     // the constant per-body blocks of M (read from the sparse matrix: never densify it)
-    std::vector<Mat6> blocks(nb_, Mat6::Zero());
+    mass_.assign(nb_, Mat6::Zero());
+    std::vector<Mat6>& blocks = mass_;
     const int nvb = planar_ ? 3 : 6;
     const Eigen::SparseMatrix<double>& Ms = system.mass_matrix();
     for (int col = 0; col < Ms.outerSize(); ++col)
@@ -464,7 +468,13 @@ void ArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& y
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
     articulated(t, Q_, udot_);
     ydot.resize(ns_ + nu_);
+    coordinate_rates(y, ydot);
+    ydot.tail(nu_) = udot_;
+}
+
+void ArticulatedBody::coordinate_rates(const Eigen::VectorXd& y, Eigen::VectorXd& ydot) const {
     // coordinate rates: sdot = u for 1-DOF freedoms; Euler parameters pdot = 1/2 Gbar^T wbar (book Eq. 8.48)
+    const auto u = y.tail(nu_);
     for (const Edge& e : edges_) {
         if (e.joint < 0) {
             if (planar_) {
@@ -483,7 +493,6 @@ void ArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& y
                 ydot[f.s] = u[f.u];
         }
     }
-    ydot.tail(nu_) = udot_;
 }
 
 bool ArticulatedBody::project(double /*t*/, Eigen::VectorXd& y) {
@@ -509,8 +518,12 @@ void ArticulatedBody::multipliers(const State& state, Eigen::VectorXd& lambda) {
     accelerations(state, vdot);
     ConstraintValues cv;
     system_->constraints(state, cv, true);
-    const int nvb = planar_ ? 3 : 6;
     lambda.setZero(system_->constraint_rows(true));
+    tree_joint_multipliers(cv, lambda);
+}
+
+void ArticulatedBody::tree_joint_multipliers(const ConstraintValues& cv, Eigen::VectorXd& lambda) const {
+    const int nvb = planar_ ? 3 : 6;
     for (const Edge& e : edges_) {
         if (e.joint < 0) continue;
         const JointInfo& info = system_->joint(e.joint);

@@ -55,14 +55,14 @@ using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
 using MatXX6 = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using VecX6 = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
-class ArticulatedBody final : public Formulation {
+class ArticulatedBody : public Formulation {
 public:
     MBD_FORMULATION_CALLS;
     MBD_FORMULATION_STATE_CONVERSIONS;
     int ode_size() const override { return ns_ + nu_; }
     bool may_redefine_state() const override { return false; }  // joint coordinates: nothing to re-select
 
-private:
+protected:
     struct Freedom {
         RelativeMotion::Kind kind;
         Vec3 axis;
@@ -100,6 +100,8 @@ private:
         Vec6 f = Vec6::Zero();  // constraint force of its parent joint on it
     };
 
+    // the edges, pools and per-body inertias of the tree in `topology` (bind() after its check)
+    void build(System& system, const Topology& topology);
     // forward kinematics: s, u -> bodies_ (poses, velocities, Phi, H, a)
     void kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u);
     // bodies_ -> state (q, v)
@@ -107,6 +109,11 @@ private:
     // articulated-body algorithm at bodies_ with Q (System layout): vdot, f, udot
     void articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot);
     void vdot_system(Eigen::VectorXd& vdot);
+    // sdot from y = [s; u] into ydot's head (Euler parameters: book Eq. 8.48)
+    void coordinate_rates(const Eigen::VectorXd& y, Eigen::VectorXd& ydot) const;
+    // each tree joint's multipliers from the force f of its child's body (bodies_[].f) and its
+    // rows of cv.J: J_k^T lambda_k = -(f on its bodies), least squares on the joint's rows
+    void tree_joint_multipliers(const ConstraintValues& cv, Eigen::VectorXd& lambda) const;
     Vec6 to6(const Eigen::VectorXd& x, int body) const;
     static Vec6 phi_mul(const Body& c, const Vec6& x);
     static Vec6 phiT_mul(const Body& c, const Vec6& f);
@@ -118,6 +125,7 @@ private:
     std::vector<Edge> edges_;  // parent before child
     std::vector<Body> bodies_;
     std::vector<double> sign_;
+    std::vector<Mat6> mass_;  // per body, the System's block of M (its top-left 3 x 3 when planar)
     // H and D^-1 of every edge, packed (a compact working set keeps the O(n) passes in cache)
     std::vector<double> hpool_, dpool_;
     // (mapped with at most 6 columns: products with them stay in fixed-size storage, off the heap)

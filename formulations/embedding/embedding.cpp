@@ -4,12 +4,17 @@
 // in the minimum number of equations (the degrees of freedom), with the constraint
 // rows (the System's joints and drivers) eliminated.
 //
-// Two paths, chosen from the scene (path: auto) or forced (path: dense | recursive):
+// Three paths, chosen from the scene (path: auto) or forced (path: dense | recursive | closure):
 //   recursive  (formulations/articulated_body/) the joints form a tree, every joint describes its relative
 //              motion and there are no drivers: joint coordinates, O(n) articulated-body
 //              algorithm; no constraint drift by construction.
-//   dense      (partitioned.hpp) anything else (closed loops, drivers, redundant rows,
-//              velocity-level (nonholonomic) rows):
+//   closure    (articulated_body/loop_closure.hpp) closed loops or drivers: a spanning tree of the
+//              joints with a supported relative motion in joint coordinates, the other joints'
+//              and the drivers' rows as loop-closure rows, solved by the augmented method in
+//              joint space (Eq. 6.141 with M_u = H^T M H, Phi_u = J_c H); auto takes it unless
+//              a joint has velocity-level rows, no joint can be a tree edge, or `independent:`
+//              names coordinates for the dense path.
+//   dense      (partitioned.hpp) anything else (velocity-level (nonholonomic) rows, or forced):
 //              absolute coordinates, independent velocity components chosen by
 //              rank-revealing LU of J (partition.hpp), dependent positions by Newton-Raphson
 //              after each step, re-selection near singular configurations.
@@ -17,6 +22,7 @@
 // `mbd check` (topology.hpp: recursive_embedding_possible).
 #include "partitioned.hpp"
 #include "articulated_body.hpp"
+#include "loop_closure.hpp"
 
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/singularity.hpp>
@@ -39,20 +45,27 @@ public:
     void bind(System& system, const FormulationOptions& options) override {
         std::string reason;
         const bool tree = recursive_embedding_possible(system, &reason);
-        const bool recursive = path_ == "recursive" || (path_ == "auto" && tree);
-        recursive_ = recursive;
+        std::string closure_reason;
+        const bool closure_possible = !tree && closure_embedding_possible(system, &closure_reason);
+        path_taken_ = path_ != "auto"                       ? path_
+                      : tree                                ? "recursive"
+                      : closure_possible && independent_.empty() ? "closure"
+                                                            : "dense";
+        if (path_taken_ == "closure" && !tree) reason = closure_reason;
         const int nonholonomic = system.first_nonholonomic_joint();
-        if (recursive && nonholonomic >= 0)
-            throw InputError("", "embedding formulation, path: recursive: joint '" + system.joint(nonholonomic).name +
+        if (path_taken_ != "dense" && nonholonomic >= 0)
+            throw InputError("", "embedding formulation, path: " + path_taken_ + ": joint '" + system.joint(nonholonomic).name +
                                      "' (" + system.joint(nonholonomic).type +
                                      ") has velocity-level (nonholonomic) rows, which the recursive path (joint "
                                      "coordinates of a tree) cannot hold; use path: dense (or auto)");
-        if (recursive)
+        if (path_taken_ == "recursive")
             impl_ = std::make_unique<articulated::ArticulatedBody>();
+        else if (path_taken_ == "closure")
+            impl_ = std::make_unique<articulated::LoopClosure>();
         else
             impl_ = std::make_unique<embedding::Partitioned>(independent_);
         if (options.log_choices.value_or(true))
-            options.log("embedding: " + std::string(recursive ? "recursive" : "dense") + " path (" + reason +
+            options.log("embedding: " + path_taken_ + " path (" + reason +
                         (path_ != "auto" ? "; forced by path: " + path_ : std::string()) + ")");
         impl_->bind(system, options);
         system_ = &system;
@@ -64,15 +77,14 @@ public:
     void from_ode(double t, const Eigen::VectorXd& y, State& state) override { impl_->from_ode(t, y, state); }
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { impl_->rhs(t, y, ydot); }
     bool project(double t, Eigen::VectorXd& y) override {
-        if (!impl_->project(t, y)) return false;
         // a rank drop of J (joints + drivers) at the accepted state is a singular configuration
         // (singularity.hpp), checked once per accepted step; not on the recursive path, where
-        // the rows of a tree are independent by construction
-        if (!recursive_ && singularity_.active(*system_)) {
-            impl_->from_ode(t, y, check_state_);
-            system_->constraints_with_velocity_rows(check_state_, check_cv_, true);
-            singularity_.check(*system_, t, check_cv_.J);
-        }
+        // the rows of a tree are independent by construction. The closure path checks all the
+        // System's rows (a loop that locks drops the rank of the whole J) before it projects:
+        // a projection across a singular position would stop with its own, less specific error.
+        if (path_taken_ == "closure") check_singularity(t, y);
+        if (!impl_->project(t, y)) return false;
+        if (path_taken_ == "dense") check_singularity(t, y);
         return true;
     }
     bool state_redefined() override { return impl_->state_redefined(); }
@@ -81,11 +93,18 @@ public:
     void accelerations(const State& state, Eigen::VectorXd& vdot) override { impl_->accelerations(state, vdot); }
 
 private:
+    void check_singularity(double t, const Eigen::VectorXd& y) {
+        if (!singularity_.active(*system_)) return;
+        impl_->from_ode(t, y, check_state_);
+        system_->constraints_with_velocity_rows(check_state_, check_cv_, true);
+        singularity_.check(*system_, t, check_cv_.J);
+    }
+
     // the embedding's own keys
-    std::string path_ = "auto";             // auto | dense | recursive
+    std::string path_ = "auto";             // auto | dense | recursive | closure
     std::vector<std::string> independent_;  // velocity components to prefer as independent ("crank.angle")
     std::unique_ptr<Formulation> impl_;
-    bool recursive_ = false;
+    std::string path_taken_;  // recursive | closure | dense
     System* system_ = nullptr;
     SingularityMonitor singularity_;
     State check_state_;
@@ -97,8 +116,8 @@ Embedding::Embedding(const FormulationSpec& spec) {
     const Params& params = spec.params;
     if (params.has("path")) {
         path_ = params.string("path");
-        if (path_ != "auto" && path_ != "dense" && path_ != "recursive")
-            params.at("path").fail("'path' must be auto, dense or recursive, got '" + path_ + "'");
+        if (path_ != "auto" && path_ != "dense" && path_ != "recursive" && path_ != "closure")
+            params.at("path").fail("'path' must be auto, dense, recursive or closure, got '" + path_ + "'");
     }
     if (params.has("independent")) {
         const Param& p = params.at("independent");

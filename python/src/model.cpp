@@ -203,7 +203,7 @@ py::dict check(const ModelHandle& handle, double rank_tolerance) {
     out["free_dof"] = c.free_dof;
     out["dependent_driver_rows"] = c.dependent_driver_rows;
     out["kinematically_driven"] = c.kinematically_driven;
-    out["embedding"] = c.recursive_embedding ? "recursive" : "dense";
+    out["embedding"] = c.embedding_path;
     out["embedding_reason"] = c.embedding_reason;
     return out;
 }

@@ -75,9 +75,16 @@ Model load(const std::string& relative) { return load_scene(scene_path(relative)
 
 Model scene(const std::string& yaml, const std::string& label) { return load_scene_text(yaml, label, shared_registry()); }
 
-std::shared_ptr<Formulation> make_formulation(const std::string& type, Param& node) {
+std::shared_ptr<Formulation> make_formulation(const std::string& type, Param& node,
+                                              const std::vector<std::pair<std::string, std::string>>& keys) {
     node = Param();
     node.kind = Param::Kind::Map;
+    for (const auto& [key, value] : keys) {
+        Param p;
+        p.kind = Param::Kind::Scalar;
+        p.text = value;
+        node.fields[key] = p;
+    }
     FormulationSpec spec{type, type, Params("formulation '" + type + "'", &node)};
     return shared_registry().create_formulation(spec, "test");
 }

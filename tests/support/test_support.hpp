@@ -26,8 +26,9 @@ Registry& shared_registry();
 // A scene under scenes/, and a scene from YAML text (label: its file name in messages).
 Model load(const std::string& relative);
 Model scene(const std::string& yaml, const std::string& label = "test.yaml");
-// A formulation plugin with the options in `node` (reset to an empty map; it must outlive the result).
-std::shared_ptr<Formulation> make_formulation(const std::string& type, Param& node);
+// A formulation plugin with the options in `node` (reset to a map of `keys`; it must outlive the result).
+std::shared_ptr<Formulation> make_formulation(const std::string& type, Param& node,
+                                              const std::vector<std::pair<std::string, std::string>>& keys = {});
 // A random consistent state near the scene's initial configuration: random coordinate
 // increments of size `spread`, assembled; random velocities, made consistent.
 State random_consistent_state(System& system, std::mt19937& rng, double spread);

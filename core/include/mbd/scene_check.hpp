@@ -20,6 +20,7 @@ struct SceneCheck {
     int dependent_driver_rows = 0;    // driver rows that depend on each other and the joints
     bool kinematically_driven = false;  // drivers present and no freedom left free
     bool recursive_embedding = false; // the embedding formulation's O(n) path applies
+    std::string embedding_path;       // the path `path: auto` takes: recursive, closure or dense
     std::string embedding_reason;     // why it takes its path
 };
 

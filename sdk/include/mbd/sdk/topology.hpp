@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,7 @@ struct Topology {
     bool tree = true;                   // no joint closes a loop
     bool relative = true;               // every joint describes its relative motion (RelativeMotion)
     std::vector<int> cut_joints;        // joints that close a loop (scene order: the later joint of each loop)
-    std::vector<int> other_joints;      // joints that are not two-body edges (cannot be tree edges)
+    std::vector<int> other_joints;      // joints that cannot be tree edges (not two-body, or refused by the caller)
     std::vector<int> parent_joint;      // per body: the tree joint towards the ground (-1: a free root)
     std::vector<int> parent_body;       // per body: the parent body (-1: the ground or none)
     std::vector<int> order;             // bodies, every parent before its children
@@ -34,7 +35,10 @@ inline int find(std::vector<int>& p, int x) {
 }
 }  // namespace topology_detail
 
-inline Topology analyse_topology(const System& system) {
+// The spanning tree in scene order; `tree_edge(j)` says whether joint j may be a tree edge
+// (a joint it refuses is listed in other_joints and leaves its rows to the closure).
+template <class TreeEdge>
+Topology analyse_topology(const System& system, TreeEdge&& tree_edge) {
     Topology t;
     const int nb = system.body_count();
     t.bodies = nb;
@@ -45,7 +49,7 @@ inline Topology analyse_topology(const System& system) {
     for (int j = 0; j < system.joint_count(); ++j) {
         const JointInfo& info = system.joint(j);
         if (!info.joint || !info.joint->relative_motion()) t.relative = false;
-        if (info.bodies.size() != 2) {
+        if (info.bodies.size() != 2 || !tree_edge(j)) {
             t.other_joints.push_back(j);
             t.tree = false;
             continue;
@@ -92,6 +96,10 @@ inline Topology analyse_topology(const System& system) {
             visit(b);
         }
     return t;
+}
+
+inline Topology analyse_topology(const System& system) {
+    return analyse_topology(system, [](int) { return true; });
 }
 
 // Whether a joint's relative motion can be a tree edge of the recursive embedding
@@ -156,6 +164,51 @@ inline bool recursive_embedding_possible(const System& system, std::string* reas
     say("tree of " + std::to_string(system.joint_count()) + " joint" + (system.joint_count() == 1 ? "" : "s") +
         (t.free_roots ? " and " + std::to_string(t.free_roots) + " free root body" + (t.free_roots == 1 ? "" : "s") : "") +
         " in joint coordinates");
+    return true;
+}
+
+// The spanning tree of the joint-coordinate path with closure rows: only joints whose relative
+// motion the recursive path supports are tree edges, preferred in scene order; every other
+// joint (a cut joint, a joint without a supported relative motion) keeps its rows.
+inline Topology analyse_closure_topology(const System& system) {
+    return analyse_topology(system, [&](int j) {
+        const auto motion = system.joint(j).joint ? system.joint(j).joint->relative_motion() : std::nullopt;
+        return motion && recursive_motion_supported(*motion, system.dimension());
+    });
+}
+
+// The embedding formulation's second recursive choice (issue 13): a spanning tree in joint
+// coordinates plus the rows of the other joints and of the drivers as loop-closure rows
+// (formulations/articulated_body/loop_closure.hpp). Possible when no joint has velocity-level
+// rows and at least one joint is a tree edge (else nothing would be eliminated); `reason` says
+// which joints close the loops.
+inline bool closure_embedding_possible(const System& system, std::string* reason = nullptr) {
+    const Topology t = analyse_closure_topology(system);
+    auto say = [&](const std::string& s) {
+        if (reason) *reason = s;
+    };
+    const int nonholonomic = system.first_nonholonomic_joint();
+    if (nonholonomic >= 0) {
+        say("joint '" + system.joint(nonholonomic).name + "' has velocity-level rows");
+        return false;
+    }
+    const int tree_joints = system.joint_count() - static_cast<int>(t.cut_joints.size() + t.other_joints.size());
+    if (tree_joints == 0) {
+        say("no joint can be a tree edge in joint coordinates");
+        return false;
+    }
+    std::string names;
+    for (const auto* list : {&t.cut_joints, &t.other_joints})
+        for (int j : *list) names += (names.empty() ? "'" : ", '") + system.joint(j).name + "'";
+    const int closing = static_cast<int>(t.cut_joints.size() + t.other_joints.size());
+    say("tree of " + std::to_string(tree_joints) + " joint" + (tree_joints == 1 ? "" : "s") +
+        (t.free_roots ? " and " + std::to_string(t.free_roots) + " free root body" + (t.free_roots == 1 ? "" : "s") : "") +
+        " in joint coordinates closed by " +
+        (closing ? std::to_string(closing) + " joint" + (closing == 1 ? " " : "s ") + names : std::string()) +
+        (closing && system.driver_count() ? " and " : "") +
+        (system.driver_count() ? std::to_string(system.driver_count()) + " driver" + (system.driver_count() == 1 ? "" : "s")
+                               : std::string()) +
+        " (constraint rows)");
     return true;
 }
 

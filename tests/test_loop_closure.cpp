@@ -1,0 +1,221 @@
+// Issue 13, item 3: the embedding formulation's closure path (a spanning tree in joint
+// coordinates plus the loop-closure rows of the cut joints and drivers, solved by the augmented
+// method in joint space; formulations/articulated_body/loop_closure.hpp). Oracles, none of them
+// from the path itself:
+//   - the augmented formulation (book Eq. 6.141 in absolute coordinates) at tight tolerance
+//     (dopri5, tol 1e-12): positions and every row's multiplier (tree joints, cut joints,
+//     drivers) to 1e-8 relative to their size, over a simulated interval;
+//   - the conservation of T + V on the conservative four-bar, to the hamiltonian test's bound;
+//   - the path really taken: the log line, and y's size = the tree's joint coordinates;
+//   - a dead centre (book Sec. 3.9) still stops the run with the named singular configuration.
+#include <mbd/model_system.hpp>
+#include <mbd/scene.hpp>
+#include <mbd/sdk/formulation.hpp>
+#include <mbd/simulation.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "support/test_support.hpp"
+
+namespace {
+
+using mbd::test::shared_registry;
+
+struct Trace {
+    std::vector<mbd::State> states;
+    std::vector<Eigen::VectorXd> lambdas;
+    std::vector<std::string> messages;
+    long steps = 0;
+};
+
+Trace simulate(const mbd::Model& model, const std::string& formulation, double tol, double t_end, double step) {
+    mbd::SimulationSettings s = mbd::test::adaptive_run(formulation, "dopri5", tol, t_end, step);
+    s.reactions = true;
+    Trace out;
+    s.messages = mbd::MessageLog([&out](const std::string& line) { out.messages.push_back(line); });
+    const mbd::SimulationResult r = mbd::simulate(model, shared_registry(), s, [&](const mbd::SimulationSample& sample) {
+        out.states.push_back(sample.state);
+        out.lambdas.push_back(sample.lambda ? *sample.lambda : Eigen::VectorXd());
+        return true;
+    });
+    out.steps = r.stats.steps;
+    return out;
+}
+
+bool logged(const Trace& r, const std::string& text) {
+    return std::any_of(r.messages.begin(), r.messages.end(),
+                       [&](const std::string& m) { return m.find(text) != std::string::npos; });
+}
+
+struct Case {
+    const char* scene;
+    double t_end;
+    int joint_coordinates;  // the tree's: ode_size = 2 x this for 1-DOF joints
+};
+
+// car axis: pivot and left_guide are tree edges, the right wheel a free root (3), the bump row
+// and the distance joint close it; flyball: four joints in a tree, the motor's row closes it;
+// four-bars: every revolute but the cut; slider crank: three revolutes, the guide is cut.
+const Case kCases[] = {
+    {"bench/car-axis.yaml", 1.0, 5},
+    {"bench/a05-flyball.yaml", 0.05, 4},
+    {"bench/a02-four-bar-2.yaml", 0.3, 5},
+    {"dynamics/four-bar-conservative.yaml", 1.0, 3},
+    {"dynamics/slider-crank.yaml", 1.0, 3},
+};
+
+class LoopClosure : public ::testing::TestWithParam<Case> {};
+
+TEST_P(LoopClosure, TakesTheClosurePathInJointCoordinates) {
+    const Case c = GetParam();
+    const mbd::Model model = mbd::test::load(c.scene);
+    mbd::ModelSystem system(model);
+    mbd::Param node;
+    auto f = mbd::test::make_formulation("embedding", node);
+    std::vector<std::string> log;
+    mbd::FormulationOptions options;
+    options.log = mbd::MessageLog([&log](const std::string& line) { log.push_back(line); });
+    f->bind(system, options);
+    ASSERT_FALSE(log.empty());
+    EXPECT_NE(log.front().find("embedding: closure path"), std::string::npos) << log.front();
+    EXPECT_EQ(f->ode_size(), 2 * c.joint_coordinates) << c.scene;
+    EXPECT_LT(f->ode_size(), system.nq() + system.nv());
+}
+
+// Positions and multipliers of every row against augmented, both at tol 1e-12.
+TEST_P(LoopClosure, AgreesWithAugmentedInPositionsAndMultipliers) {
+    const Case c = GetParam();
+    const mbd::Model model = mbd::test::load(c.scene);
+    const double tol = 1e-12, sample = c.t_end / 50;
+    const Trace closure = simulate(model, "embedding", tol, c.t_end, sample);
+    const Trace reference = simulate(model, "augmented", tol, c.t_end, sample);
+    ASSERT_TRUE(logged(closure, "embedding: closure path"));
+    ASSERT_EQ(closure.states.size(), reference.states.size());
+    double dq = 0.0, dl = 0.0, q_scale = 1.0, l_scale = 1.0;
+    for (size_t i = 0; i < closure.states.size(); ++i) {
+        dq = std::max(dq, mbd::test::position_difference(model, closure.states[i].q, reference.states[i].q));
+        ASSERT_EQ(closure.lambdas[i].size(), reference.lambdas[i].size());
+        dl = std::max(dl, (closure.lambdas[i] - reference.lambdas[i]).lpNorm<Eigen::Infinity>());
+        q_scale = std::max(q_scale, reference.states[i].q.lpNorm<Eigen::Infinity>());
+        l_scale = std::max(l_scale, reference.lambdas[i].lpNorm<Eigen::Infinity>());
+    }
+    std::printf("%-38s closure vs augmented, dopri5 tol 1e-12 over [0, %g]: |dq| %.2e (scale %.3g), |dlambda| %.2e "
+                "(scale %.3g); steps %ld vs %ld\n",
+                c.scene, c.t_end, dq, q_scale, dl, l_scale, closure.steps, reference.steps);
+    EXPECT_LT(dq, 1e-8 * q_scale) << c.scene;
+    EXPECT_LT(dl, 1e-8 * l_scale) << c.scene;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, LoopClosure, ::testing::ValuesIn(kCases), [](const auto& info) {
+    std::string name = info.param.scene;
+    name = name.substr(0, name.size() - 5);
+    for (char& ch : name)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+    return name;
+});
+
+// T + V on the conservative four-bar over 10 s (dopri5, tol 1e-12): the bound of the
+// hamiltonian formulation's test (test_hamiltonian.cpp), and no worse than augmented's.
+TEST(LoopClosureEnergy, ConservesEnergyOnTheConservativeFourBar) {
+    const mbd::Model model = mbd::test::load("dynamics/four-bar-conservative.yaml");
+    mbd::ModelSystem system(model);
+    double drift[2] = {0.0, 0.0}, span = 0.0;
+    const char* names[2] = {"embedding", "augmented"};
+    for (int k = 0; k < 2; ++k) {
+        const Trace r = simulate(model, names[k], 1e-12, 10.0, 0.01);
+        if (k == 0) ASSERT_TRUE(logged(r, "embedding: closure path"));
+        ASSERT_EQ(r.states.size(), 1001u);
+        auto energy = [&](const mbd::State& s) { return system.kinetic_energy(s) + system.potential_energy(mbd::State(s)); };
+        const double E0 = energy(r.states.front()), T0 = system.kinetic_energy(r.states.front());
+        for (const mbd::State& s : r.states) {
+            drift[k] = std::max(drift[k], std::abs(energy(s) - E0));
+            span = std::max(span, std::abs(system.kinetic_energy(s) - T0));
+        }
+    }
+    std::printf("four-bar-conservative 10 s, dopri5 tol 1e-12: max |E - E0| closure path %.3e, augmented %.3e\n", drift[0],
+                drift[1]);
+    EXPECT_GT(span, 0.1);
+    EXPECT_LT(drift[0], 1e-8);
+    EXPECT_LT(drift[0], 10 * std::max(drift[1], 1e-12));
+}
+
+// The slider crank driven through its dead centre (book Sec. 3.9) on the closure path: the run
+// stops at t ~ 0.5 s with the named rank drop, not a silent jump to the other branch.
+TEST(LoopClosureSingularity, DeadCentreStopsWithANamedSingularConfiguration) {
+    const mbd::Model model = mbd::test::load("extreme/slider-crank-dead-centre.yaml");
+    std::vector<std::string> log;
+    mbd::SimulationSettings s = mbd::test::adaptive_run("embedding", "dopri5", 1e-8, 1.0, 0.01);
+    s.messages = mbd::MessageLog([&log](const std::string& line) { log.push_back(line); });
+    try {
+        mbd::simulate(model, shared_registry(), s);
+        ADD_FAILURE() << "the run passed the dead centre";
+    } catch (const mbd::DynamicsError& e) {
+        std::printf("dead centre on the closure path: t = %.4f: %s\n", e.time(), e.what());
+        EXPECT_NE(std::string(e.what()).find("lost rank"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("dead centre"), std::string::npos) << e.what();
+        EXPECT_NEAR(e.time(), 0.5, 0.05);
+    }
+    ASSERT_FALSE(log.empty());
+    EXPECT_NE(log.front().find("embedding: closure path"), std::string::npos) << log.front();
+}
+
+// The parallelogram chain of A02 (N = 40) reaches its flat position at t ~ 0.72 s, where the 40
+// loops' rows become dependent (mobility 1 -> 41). The closure path (like augmented) does not
+// pass it: it must stop there with a named singular configuration, and up to the stop it must
+// conserve T + V (no silent jump to another branch; a jump lost ~100% of the energy).
+TEST(LoopClosureSingularity, ParallelogramFlatPositionStopsByNameWithoutABranchJump) {
+    const mbd::Model model = mbd::test::load("bench/a02-four-bar-40.yaml");
+    mbd::ModelSystem system(model);
+    mbd::SimulationSettings s = mbd::test::adaptive_run("embedding", "dopri5", 1e-10, 1.0, 0.01);
+    std::vector<std::string> log;
+    s.messages = mbd::MessageLog([&log](const std::string& line) { log.push_back(line); });
+    std::vector<mbd::State> states;
+    try {
+        mbd::simulate(model, shared_registry(), s, [&](const mbd::SimulationSample& sample) {
+            states.push_back(sample.state);
+            return true;
+        });
+        ADD_FAILURE() << "the closure path passed the flat position";
+    } catch (const mbd::DynamicsError& e) {
+        std::printf("A02-40 on the closure path: t = %.4f: %.200s...\n", e.time(), e.what());
+        EXPECT_NE(std::string(e.what()).find("singular configuration"), std::string::npos) << e.what();
+        EXPECT_NEAR(e.time(), 0.72, 0.03);
+    }
+    ASSERT_FALSE(log.empty());
+    EXPECT_NE(log.front().find("embedding: closure path"), std::string::npos) << log.front();
+    ASSERT_GT(states.size(), 60u);
+    const double E0 = system.kinetic_energy(states.front()) + system.potential_energy(states.front());
+    double drift = 0.0;
+    for (mbd::State& st : states) drift = std::max(drift, std::abs(system.kinetic_energy(st) + system.potential_energy(st) - E0));
+    std::printf("A02-40: max |E - E0| up to the stop %.3e J (E0 %.1f J)\n", drift, E0);
+    EXPECT_LT(drift, 1e-6 * std::abs(E0));
+}
+
+// Forced on a tree (no closure rows: `path: closure`), the path reduces to the recursive one.
+TEST(LoopClosurePath, ForcedOnATreeMatchesTheRecursivePath) {
+    const std::string text = mbd::test::read_text(mbd::test::scene_path("dynamics/heavy-top.yaml"));
+    const mbd::Model forced =
+        mbd::load_scene_text(text + "\nformulation: {type: embedding, path: closure}\n", "heavy-top.yaml", shared_registry());
+    const mbd::Model plain = mbd::test::load("dynamics/heavy-top.yaml");
+    const Trace closure = simulate(forced, "embedding", 1e-12, 1.0, 0.1);
+    const Trace recursive = simulate(plain, "embedding", 1e-12, 1.0, 0.1);
+    ASSERT_TRUE(logged(closure, "embedding: closure path"));
+    ASSERT_TRUE(logged(recursive, "embedding: recursive path"));
+    ASSERT_EQ(closure.states.size(), recursive.states.size());
+    double dq = 0.0, dl = 0.0;
+    for (size_t i = 0; i < closure.states.size(); ++i) {
+        dq = std::max(dq, mbd::test::position_difference(forced, closure.states[i].q, recursive.states[i].q));
+        dl = std::max(dl, (closure.lambdas[i] - recursive.lambdas[i]).lpNorm<Eigen::Infinity>());
+    }
+    std::printf("heavy top, closure (forced) vs recursive, tol 1e-12 over 1 s: |dq| %.2e, |dlambda| %.2e\n", dq, dl);
+    EXPECT_LT(dq, 1e-9);
+    EXPECT_LT(dl, 1e-7);
+}
+
+}  // namespace
