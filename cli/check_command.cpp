@@ -103,8 +103,7 @@ void add_check_command(CLI::App& app, Commands& commands) {
             std::cout << "kinematically driven: no (no drivers)\n";
         }
         // the embedding formulation's path (sdk/include/mbd/sdk/topology.hpp)
-        std::cout << "embedding: " << check.embedding_path << " path ("
-                  << check.embedding_reason << ")\n";
+        std::cout << "embedding: " << check.embedding.path << " path (" << check.embedding.reason << ")\n";
         return 0;
     };
 }

@@ -31,13 +31,12 @@ SceneCheck check_scene(const Model& model, double rank_tolerance) {
     check.free_dof = model.nv() - check.full_rank;
     check.kinematically_driven = !model.drivers.empty() && check.free_dof == 0;
     const ModelSystem topology_system(model);
-    check.recursive_embedding = recursive_embedding_possible(topology_system, &check.embedding_reason);
-    check.embedding_path = "recursive";
-    if (!check.recursive_embedding) {
+    check.embedding.path = "recursive";
+    if (!recursive_embedding_possible(topology_system, &check.embedding.reason)) {
         std::string closure_reason;
         const bool closure = closure_embedding_possible(topology_system, &closure_reason);
-        check.embedding_path = closure ? "closure" : "dense";
-        if (closure) check.embedding_reason = closure_reason;
+        check.embedding.path = closure ? "closure" : "dense";
+        if (closure) check.embedding.reason = closure_reason;
     }
     return check;
 }

@@ -127,6 +127,10 @@ private:
     void factor_gram(double t);
     // sparse path: v and mu (the kept rows' multipliers) from p at the J, C_t of transform()
     void sparse_velocities(const Eigen::VectorXd& p);
+    // Mbar = B^T M B from B_ and its Cholesky (dense path, and the sparse one with few freedoms)
+    void factor_mbar(double t);
+    // v_i and v from p through B_, c_ and Mbar's Cholesky (qdot_i = dH/dp, Eq. 5.179)
+    void velocities_through_b(const Eigen::VectorXd& p);
     // sparse path with few freedoms: the same through B's k columns and Mbar (see the header)
     void few_freedom_velocities(const Eigen::VectorXd& p);
     static constexpr size_t kFewFreedoms = 16;
@@ -289,23 +293,21 @@ void Hamiltonian::transform(double t, const Eigen::VectorXd& q) {
     const int k = static_cast<int>(part_.independent.size());
     zero_.setZero(k);
     dependent_velocities(J_, cv_.C_t, part_, zero_, c_, transform_);  // c = v for v_i = 0
+    factor_mbar(t);
+}
+
+void Hamiltonian::factor_mbar(double t) {
     MB_.noalias() = *M_ * B_;
     Mbar_.noalias() = B_.transpose() * MB_;
-    if (k > 0) {
+    if (B_.cols() > 0) {
         llt_.compute(Mbar_);
         if (llt_.info() != Eigen::Success) throw DynamicsError(t, "hamiltonian: B^T M B is not positive definite");
     }
 }
 
-void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p) {
-    transform(t, q);
-    if (sparse_) {
-        sparse_velocities(p);
-        return;
-    }
-    const int k = static_cast<int>(part_.independent.size());
-    // qdot_i = dH/dp = Mbar^-1 (p - B^T M c)
-    if (k > 0) {
+void Hamiltonian::velocities_through_b(const Eigen::VectorXd& p) {
+    // qdot_i = dH/dp = Mbar^-1 (p - B^T M c), v = B v_i + c
+    if (B_.cols() > 0) {
         Mx_.noalias() = *M_ * c_;
         Bx_.noalias() = B_.transpose() * Mx_;
         Bx_ = p - Bx_;
@@ -315,6 +317,15 @@ void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::Ve
     }
     state_.v.noalias() = B_ * vi_;
     state_.v += c_;
+}
+
+void Hamiltonian::kinematics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& p) {
+    transform(t, q);
+    if (sparse_) {
+        sparse_velocities(p);
+        return;
+    }
+    velocities_through_b(p);
 }
 
 void Hamiltonian::few_freedom_velocities(const Eigen::VectorXd& p) {
@@ -330,20 +341,8 @@ void Hamiltonian::few_freedom_velocities(const Eigen::VectorXd& p) {
         sparse_transform_.velocities(cv_.J, no_rates_, unit_, column_);
         B_.col(j) = column_;
     }
-    MB_.noalias() = *M_ * B_;
-    Mbar_.noalias() = B_.transpose() * MB_;
-    if (k > 0) {
-        llt_.compute(Mbar_);
-        if (llt_.info() != Eigen::Success) throw DynamicsError(state_.t, "hamiltonian: B^T M B is not positive definite");
-        Mx_.noalias() = *M_ * c_;
-        Bx_.noalias() = B_.transpose() * Mx_;
-        Bx_ = p - Bx_;
-        vi_ = llt_.solve(Bx_);
-    } else {
-        vi_.resize(0);
-    }
-    state_.v.noalias() = B_ * vi_;
-    state_.v += c_;
+    factor_mbar(state_.t);
+    velocities_through_b(p);
     Mx_.noalias() = *M_ * state_.v;
     sparse_transform_.dependent_multipliers(Mx_, mu_);  // mu = J_d^-T (M v)_d
 }

@@ -203,8 +203,8 @@ py::dict check(const ModelHandle& handle, double rank_tolerance) {
     out["free_dof"] = c.free_dof;
     out["dependent_driver_rows"] = c.dependent_driver_rows;
     out["kinematically_driven"] = c.kinematically_driven;
-    out["embedding"] = c.embedding_path;
-    out["embedding_reason"] = c.embedding_reason;
+    out["embedding"] = c.embedding.path;
+    out["embedding_reason"] = c.embedding.reason;
     return out;
 }
 

@@ -19,9 +19,10 @@ struct SceneCheck {
     int free_dof = 0;                 // velocities - full_rank: the freedoms the drivers leave free
     int dependent_driver_rows = 0;    // driver rows that depend on each other and the joints
     bool kinematically_driven = false;  // drivers present and no freedom left free
-    bool recursive_embedding = false; // the embedding formulation's O(n) path applies
-    std::string embedding_path;       // the path `path: auto` takes: recursive, closure or dense
-    std::string embedding_reason;     // why it takes its path
+    struct {
+        std::string path;    // the embedding formulation's `path: auto`: recursive, closure or dense
+        std::string reason;  // why it takes that path
+    } embedding;
 };
 
 // Throws KinematicsError when the scene cannot be assembled at t = 0.
