@@ -63,15 +63,29 @@ TEST(Hamiltonian, StateHoldsTheMomentaOfThePendulum) {
     EXPECT_LT((back.v - s.v).lpNorm<Eigen::Infinity>(), 1e-12);
 }
 
+// A dopri5 run of the hamiltonian formulation with --diagnostics (H, T, V columns) to t_end,
+// a row every output_step: its result and its CSV
+struct DiagnosedRun {
+    mbd::SimulationResult result;
+    Csv csv;
+};
+DiagnosedRun diagnosed_run(const mbd::Model& model, const std::string& name, double tolerance, double t_end,
+                           double output_step) {
+    const fs::path dir = scratch(name);
+    mbd::SimulationSettings s = mbd::test::adaptive_run("hamiltonian", "dopri5", tolerance, t_end, output_step);
+    s.diagnostics = true;
+    s.output = (dir / "h.csv").string();
+    DiagnosedRun run{mbd::simulate(model, shared_registry(), s), {}};
+    run.csv = read_csv(dir / "h.csv");
+    return run;
+}
+
 TEST(Hamiltonian, ConservesHOnTheConservativeFourBar) {
     // four-bar under gravity, no damping: H = T + V constant to 1e-8 over 10 s (dopri5, tol 1e-12)
     const mbd::Model model = load("dynamics/four-bar-conservative.yaml");
-    const fs::path dir = scratch("four-bar");
-    mbd::SimulationSettings s = mbd::test::adaptive_run("hamiltonian", "dopri5", 1e-12, 10.0, 0.01);
-    s.diagnostics = true;
-    s.output = (dir / "h.csv").string();
-    const mbd::SimulationResult r = mbd::simulate(model, shared_registry(), s);
-    const Csv csv = read_csv(dir / "h.csv");
+    const DiagnosedRun run = diagnosed_run(model, "four-bar", 1e-12, 10.0, 0.01);
+    const mbd::SimulationResult& r = run.result;
+    const Csv& csv = run.csv;
     const int H = csv.column("H"), T = csv.column("kinetic_energy"), V = csv.column("potential_energy");
     ASSERT_GE(H, 0) << "no H column with --diagnostics";
     ASSERT_EQ(csv.rows.size(), 1001u);
@@ -98,12 +112,9 @@ TEST(Hamiltonian, SparsePathCarriesFortyFourBarsThroughTheirDeadPoints) {
     const mbd::Model model = load("extreme/a02-four-bar-40-singular.yaml");
     mbd::ModelSystem system(model);
     ASSERT_GT(system.nv(), mbd::kDefaultSparseThreshold);
-    const fs::path dir = scratch("a02-40");
-    mbd::SimulationSettings s = mbd::test::adaptive_run("hamiltonian", "dopri5", 1e-10, 1.0, 0.01);
-    s.diagnostics = true;
-    s.output = (dir / "a02.csv").string();
-    const mbd::SimulationResult r = mbd::simulate(model, shared_registry(), s);
-    const Csv csv = read_csv(dir / "a02.csv");
+    const DiagnosedRun run = diagnosed_run(model, "a02-40", 1e-10, 1.0, 0.01);
+    const mbd::SimulationResult& r = run.result;
+    const Csv& csv = run.csv;
     ASSERT_EQ(csv.rows.size(), 101u);
     const int H = csv.column("H"), T = csv.column("kinetic_energy"), V = csv.column("potential_energy");
     const int y0 = csv.column("crank0.y");
