@@ -53,12 +53,12 @@ public:
         llt_M_.compute(Mu);
         if (llt_M_.info() != Eigen::Success) return false;
         Wt_ = Phi.transpose();
+        robust_ = robust;
+        least_relative_pivot_ = 0.0;
+        if (S_.rows() == 0) return true;     // no closure rows (Eigen's triangular solve needs storage)
         llt_M_.matrixL().solveInPlace(Wt_);  // W^T = L^-1 Phi^T
         for (int r = 0; r < static_cast<int>(skip_.size()); ++r)
             if (skip_[r]) Wt_.col(r).setZero();
-        robust_ = robust;
-        least_relative_pivot_ = 0.0;
-        if (S_.rows() == 0) return true;
         if (!robust_) {
             S_.noalias() = Wt_.transpose() * Wt_;
             for (int r = 0; r < S_.rows(); ++r) {
