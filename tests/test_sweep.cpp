@@ -305,6 +305,8 @@ pid_t rank_process(pid_t root, int rank) {
 // How many cases of pendulum_study(n, t_end) one sweep runs in about `seconds` on this build
 // and machine (a sanitizer build is some 30 times slower than Release), within [fewest, most]:
 // the tests that must catch a sweep while it runs size it by its measured pace, not by a guess.
+// (A ceiling of 600 cases let a faster engine finish the kill test's sweep, on two MPI workers,
+// before its first third could be seen: the ceilings are now 6000.)
 long cases_lasting(double seconds, double t_end, long fewest, long most) {
     auto timed = [t_end](long n) {
         const fs::path dir = scratch("pace-" + std::to_string(n));
@@ -324,7 +326,7 @@ long cases_lasting(double seconds, double t_end, long fewest, long most) {
 // third of it is recorded, resume, and compare with an uninterrupted run.
 void kill_and_resume(const std::string& name, int rank) {
     const fs::path dir = scratch(name);
-    const long cases = cases_lasting(6.0, 8.0, 90, 600);
+    const long cases = cases_lasting(6.0, 8.0, 90, 6000);
     const fs::path study = write(dir / "study.yaml", pendulum_study(cases, 8.0));
     const fs::path output = dir / "killed.h5";
     const std::string sweep = " sweep " + study.string() + " -q --flush-seconds 0.02 -o " + output.string();
@@ -461,7 +463,7 @@ TEST(SweepCli, InverseSweepOverTheRodMassFollowsTheClosedForm) {
 // bar: cases done of all, elapsed time and time left, each redraw clearing its line.
 TEST(SweepCli, ATerminalShowsTheProgressBarWithTheTimeLeft) {
     const fs::path dir = scratch("progress");
-    const long cases = cases_lasting(3.0, 20.0, 60, 600);
+    const long cases = cases_lasting(3.0, 20.0, 60, 6000);
     const fs::path study = write(dir / "study.yaml", pendulum_study(cases, 20.0));
     const fs::path log = dir / "terminal.txt";
     const auto r = run_command("script -qec 'env COLUMNS=100 " MBD_EXECUTABLE " sweep " + study.string() + " -o " +
