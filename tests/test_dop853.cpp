@@ -237,14 +237,7 @@ FunctionProblem smooth() {
 
 mbd::SimulationResult simulate(const mbd::Model& model, const std::string& formulation, const std::string& integrator,
                                double tol, double t_end, double output_step, std::vector<mbd::State>& states) {
-    mbd::SimulationSettings s;
-    s.formulation = formulation;
-    s.integrator = integrator;
-    s.integration.tolerance = tol;
-    s.t_end = t_end;
-    s.output_step = output_step;
-    s.progress = false;
-    s.messages = mbd::MessageLog::silent();
+    const mbd::SimulationSettings s = mbd::test::adaptive_run(formulation, integrator, tol, t_end, output_step);
     states.clear();
     return mbd::simulate(model, mbd::test::shared_registry(), s, [&](const mbd::SimulationSample& sample) {
         states.push_back(sample.state);
@@ -315,16 +308,10 @@ TEST(Dop853, MeasuredOrderOnA01IsEight) {
         std::vector<mbd::State> states;
         for (double h : {0.4, 0.2, 0.1, 0.05}) {
             if (augmented && h < 0.1) break;
-            mbd::SimulationSettings s;
-            s.formulation = formulation;
-            s.integrator = "dop853";
-            s.integration.tolerance = 1e-1;
+            // a loose tolerance with the step pinned at h: constant steps
+            mbd::SimulationSettings s = mbd::test::adaptive_run(formulation, "dop853", 1e-1, t_end, 0.02);
             s.integration.step = h;
             s.integration.max_step = h;
-            s.t_end = t_end;
-            s.output_step = 0.02;
-            s.progress = false;
-            s.messages = mbd::MessageLog::silent();
             states.clear();
             const mbd::SimulationResult r =
                 mbd::simulate(model, mbd::test::shared_registry(), s, [&](const mbd::SimulationSample& sample) {
