@@ -36,6 +36,7 @@
 // none (the projection's S = J M^-1 J^T dense or sparse by size: projection.hpp,
 // sparse_metric.hpp). Reactions: lambda = mu (redundant rows get zero).
 #include <coordinate_selector.hpp>
+#include <rank_certificate.hpp>
 #include <partition_switch.hpp>
 #include <fixed_pattern_lu.hpp>
 #include <sparse_metric.hpp>
@@ -121,6 +122,7 @@ private:
     PartitionSwitch switch_;  // to a re-selected partition, keeping the one left
     ProjectionScratch projection_;
     SingularityMonitor singularity_;  // rank drop of J after an accepted step (singularity.hpp)
+    RankCertificate rank_certificate_;  // lent to singularity_ (support/rank_certificate.hpp)
 };
 
 void Amalgamated::bind(System& system, const FormulationOptions& options) {
@@ -139,6 +141,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
         metric_.bind(system);
     singularity_.metric_distortion = sparse_ ? sparse_metric_.metric_distortion() : metric_.metric_distortion();
     singularity_.reset();
+    rank_certificate_.bind(system, singularity_);
     state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);
     vdot_.setZero(nv_);

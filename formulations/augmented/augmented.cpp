@@ -45,6 +45,7 @@
 #include <mbd/sdk/text.hpp>
 
 #include "sparse_gram.hpp"
+#include "rank_certificate.hpp"
 
 #include <Eigen/Dense>
 
@@ -124,6 +125,7 @@ private:
     SparseGram sparse_gram_;
     // rank drop of J after an accepted step: a singular configuration (sdk singularity.hpp)
     SingularityMonitor singularity_;
+    RankCertificate rank_certificate_;  // lent to singularity_ (support/rank_certificate.hpp)
     ReactionLoadSolver reaction_loads_;
     // Structurally redundant rows (dependent at the assembled initial state, e.g. the Bricard's
     // sixth joint) are left out of S with zero multipliers on the dense path, as the embedding
@@ -155,6 +157,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     mass_inverse_.bind(system, "augmented formulation");
     reaction_loads_.bind(system);
     singularity_.metric_distortion = mass_inverse_.distortion();
+    rank_certificate_.bind(system, singularity_);
 
     state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);

@@ -23,6 +23,7 @@
 #include "partitioned.hpp"
 #include "articulated_body.hpp"
 #include "loop_closure.hpp"
+#include "rank_certificate.hpp"
 
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/singularity.hpp>
@@ -71,6 +72,7 @@ public:
         system_ = &system;
         singularity_.tolerance = options.singularity_tolerance;
         singularity_.reset();
+        if (path_taken_ != "recursive") rank_certificate_.bind(system, singularity_);
     }
     int ode_size() const override { return impl_->ode_size(); }
     void to_ode(const State& state, Eigen::VectorXd& y) override { impl_->to_ode(state, y); }
@@ -107,6 +109,7 @@ private:
     std::string path_taken_;  // recursive | closure | dense
     System* system_ = nullptr;
     SingularityMonitor singularity_;
+    RankCertificate rank_certificate_;  // lent to singularity_ (support/rank_certificate.hpp)
     State check_state_;
     ConstraintValues check_cv_;
 };

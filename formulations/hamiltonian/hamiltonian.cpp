@@ -67,6 +67,7 @@
 #include <coordinate_selector.hpp>
 #include <partition_switch.hpp>
 #include <jdot_transpose.hpp>
+#include <rank_certificate.hpp>
 #include <sparse_gram.hpp>
 #include <sparse_velocity_transform.hpp>
 
@@ -145,6 +146,7 @@ private:
     PartitionSettings partition_settings_;
     bool log_choices_ = false;              // FormulationOptions::log_choices, default false
     SingularityMonitor singularity_;        // rank drop of J after an accepted step (singularity.hpp)
+    RankCertificate rank_certificate_;      // lent to singularity_ (support/rank_certificate.hpp)
     NewtonSettings newton_;
 
     System* system_ = nullptr;
@@ -194,6 +196,7 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     selected_ = false;
     redefined_ = false;
     singularity_.reset();
+    rank_certificate_.bind(system, singularity_);
     last_rhs_t_ = -std::numeric_limits<double>::infinity();
     state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);

@@ -3,6 +3,7 @@
 #include <Eigen/OrderingMethods>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -32,10 +33,7 @@ void SparseGram::analyze(System& system) {
 void SparseGram::fill(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& mass_inverse,
                       const std::vector<char>* left_out) {
     const int nvb = mass_inverse.velocities_per_body();
-    double* wx = W_.valuePtr();
-    const int* wp = W_.outerIndexPtr();
-    const int* wi = W_.innerIndexPtr();
-    std::fill(wx, wx + W_.nonZeros(), 0.0);
+    std::fill(W_.valuePtr(), W_.valuePtr() + W_.nonZeros(), 0.0);
     left_out_.assign(W_.rows(), 0);
     if (left_out) left_out_ = *left_out;
     for (int c = 0; c < J.outerSize(); ++c) {
@@ -44,18 +42,41 @@ void SparseGram::fill(const Eigen::SparseMatrix<double>& J, const BlockMassInver
             if (left_out_[it.row()]) continue;
             for (int j = 0; j <= i; ++j) {
                 const double l = mass_inverse.factor(b)(i, j);
-                if (l == 0.0) continue;
-                const int col = b * nvb + j;
-                const int* begin = wi + wp[col];
-                const int* end = wi + wp[col + 1];
-                const int* pos = std::lower_bound(begin, end, static_cast<int>(it.row()));
-                if (pos == end || *pos != it.row())
-                    throw std::logic_error("sparse J M^-1 J^T: a Jacobian entry outside its joint's bodies (row " +
-                                           std::to_string(it.row()) + ")");
-                wx[pos - wi] += it.value() * l;
+                if (l != 0.0) entry_of_W(static_cast<int>(it.row()), b * nvb + j) += it.value() * l;
             }
         }
     }
+}
+
+void SparseGram::fill(const Eigen::SparseMatrix<double>& J) {
+    std::fill(W_.valuePtr(), W_.valuePtr() + W_.nonZeros(), 0.0);
+    left_out_.assign(W_.rows(), 0);
+    for (int c = 0; c < J.outerSize(); ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it)
+            entry_of_W(static_cast<int>(it.row()), c) = it.value();
+}
+
+double& SparseGram::entry_of_W(int row, int col) {
+    const int* wi = W_.innerIndexPtr();
+    const int* begin = wi + W_.outerIndexPtr()[col];
+    const int* end = wi + W_.outerIndexPtr()[col + 1];
+    const int* pos = std::lower_bound(begin, end, row);
+    if (pos == end || *pos != row)
+        throw std::logic_error("sparse J M^-1 J^T: a Jacobian entry outside its joint's bodies (row " +
+                               std::to_string(row) + ")");
+    return W_.valuePtr()[pos - wi];
+}
+
+double SparseGram::norm1() {
+    column_sums_.setZero();
+    const double* s = S_.valuePtr();
+    for (int j = 0; j < S_.outerSize(); ++j)
+        for (int k = S_.outerIndexPtr()[j]; k < S_.outerIndexPtr()[j + 1]; ++k) {
+            const int i = S_.innerIndexPtr()[k];
+            column_sums_[j] += std::abs(s[k]);
+            if (i != j) column_sums_[i] += std::abs(s[k]);  // the lower triangle's mirror
+        }
+    return column_sums_.size() > 0 ? column_sums_.maxCoeff() : 0.0;
 }
 
 void SparseGram::analyze(int rows, int cols, const std::vector<std::vector<int>>& rows_of_column) {
@@ -114,6 +135,7 @@ void SparseGram::analyze(int rows, int cols, const std::vector<std::vector<int>>
     y_.setZero(rows);
     r_.setZero(rows);
     correction_.setZero(rows);
+    column_sums_.setZero(rows);
     w_.setZero(cols);
 }
 

@@ -44,6 +44,8 @@ public:
     // right-hand sides (zero for rows that are dropped).
     void fill(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& mass_inverse,
               const std::vector<char>* left_out = nullptr);
+    // W = J (the Euclidean metric: S = J J^T)
+    void fill(const Eigen::SparseMatrix<double>& J);
 
     // Factor S = W W^T + delta I. False when S is not numerically positive definite: a
     // pivot at or below 1e-14 of S's largest diagonal entry (dependent rows).
@@ -52,6 +54,8 @@ public:
     int failed_row() const { return failed_row_; }
     // The largest diagonal entry of the undamped S (after factor()).
     double max_diagonal() const { return max_diagonal_; }
+    // ||S||_1 of the last factored S (its largest absolute column sum)
+    double norm1();
     // The least pivot of the last factorization relative to its diagonal entry of S (damped,
     // when delta > 0): the squared sine of the angle between a row of W and the rows before it
     // in the ordering, near 0 when the rows are nearly dependent; 0 after a failure.
@@ -62,6 +66,7 @@ public:
 
 private:
     void solve_once(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+    double& entry_of_W(int row, int col);  // W's value at (row, col), which its pattern must hold
 
     Eigen::SparseMatrix<double> W_;
     Eigen::SparseMatrix<double> S_;   // P (W W^T) P^T, upper triangle, on its fixed pattern
@@ -75,7 +80,7 @@ private:
     std::vector<int> original_row_;   // the original row of each row of S_
     std::vector<char> left_out_;      // rows decoupled by fill()
     PreorderedLDLT ldlt_;
-    Eigen::VectorXd b_, y_, r_, w_, correction_;
+    Eigen::VectorXd b_, y_, r_, w_, correction_, column_sums_;
     int failed_row_ = -1;
     double max_diagonal_ = 0.0;
     double least_relative_pivot_ = 0.0;

@@ -13,18 +13,23 @@
 // sparse systems rely on their factorization's own diagnostics (the augmented
 // formulation's CHOLMOD minor / residual check, the partition's pivots).
 //
-// A screen spares the QR on most steps. A formulation that has just factored
-// S = J M^-1 J^T at the accepted state passes the least pivot of that factorization relative
-// to its diagonal entry, rho: the squared sine of the angle between a row of J and the rows
-// before it, in the kinetic-energy metric. That metric distorts angles by at most
-// metric_distortion = sqrt(cond M) (set by the formulation), and the QR's |R_kk| / |R_00|
-// also scales with the rows' norms; so when the reference rank is full and
-//     sqrt(rho) / metric_distortion * (least row norm / largest row norm) >= 10 tolerance,
-// no pivot of the QR can fall below the tolerance, and the QR is skipped. Otherwise (or
-// without a factorization) the QR decides as before. Augmented and amalgamated pass the
-// velocity projection's factorization; hamiltonian and the dense embedding pass none. The
-// recursive embedding does not call the check: on a tree the rows are independent by
-// construction.
+// Two screens spare the QR on most steps; either one suffices, and both need a full reference
+// rank.
+// 1. A formulation that has just factored S = J M^-1 J^T at the accepted state passes the least
+//    pivot of that factorization relative to its diagonal entry, rho: the squared sine of the
+//    angle between a row of J and the rows before it, in the kinetic-energy metric. That metric
+//    distorts angles by at most metric_distortion = sqrt(cond M) (set by the formulation), and
+//    the QR's |R_kk| / |R_00| also scales with the rows' norms; so when
+//        sqrt(rho) / metric_distortion * (least row norm / largest row norm) >= 10 tolerance,
+//    no pivot of the QR can fall below the tolerance. Augmented and amalgamated pass the
+//    velocity projection's factorization.
+// 2. A FullRankCertificate the formulation lends the monitor (`certificate`): a lower bound on
+//    sigma_min(J) / sigma_max(J), which bounds every |R_kk| / |R_00| from below; when it is
+//    >= 10 tolerance the QR is skipped. It does not depend on M, so it serves where screen 1
+//    cannot (a nearly singular inertia, cond M ~ 1e9) and formulations with no S of their own.
+//    The formulations lend the sparse one of formulations/support/rank_certificate.hpp.
+// Otherwise the QR decides. The recursive embedding does not call the check: on a tree the
+// rows are independent by construction.
 //
 // Formulation key: singularity_tolerance (FormulationOptions::singularity_tolerance: relative,
 // default 1e-5; 0 disables the check).
@@ -44,11 +49,19 @@
 
 namespace mbd {
 
+// A certified lower bound on sigma_min(J) / sigma_max(J) at the checked state (0: none).
+class FullRankCertificate {
+public:
+    virtual ~FullRankCertificate() = default;
+    virtual double sigma_ratio_bound(const Eigen::SparseMatrix<double>& J) = 0;
+};
+
 class SingularityMonitor {
 public:
     double tolerance = 1e-5;  // relative pivot tolerance of the rank test; 0 disables (FormulationOptions)
     double max_work = 1e7;    // skip above nc * nv * min(nc, nv)
     double metric_distortion = 1.0;  // sqrt(cond M) of the caller's metric (see the header)
+    FullRankCertificate* certificate = nullptr;  // screen 2 of the header, when the caller has one
 
     // forget the reference rank (bind(): the next check sets it)
     void reset() { reference_ = -1; }
@@ -66,7 +79,7 @@ public:
     // 0 when it has none (see the header).
     void check(System& system, double t, const Eigen::SparseMatrix<double>& J, double least_relative_pivot = 0.0) {
         if (!active(system) || J.rows() == 0) return;
-        if (reference_ == J.rows() && screened_full_rank(J, least_relative_pivot)) return;
+        if (reference_ == J.rows() && (screened_full_rank(J, least_relative_pivot) || certified_full_rank(J))) return;
         ++qr_count_;
         Jt_ = J.transpose();  // in place: Jt_ and qr_ keep their storage from call to call
         qr_.compute(Jt_);
@@ -93,7 +106,10 @@ public:
     }
 
 private:
-    // the header's screen
+    bool certified_full_rank(const Eigen::SparseMatrix<double>& J) const {
+        return certificate && certificate->sigma_ratio_bound(J) >= 10.0 * tolerance;
+    }
+    // the header's screen 1
     bool screened_full_rank(const Eigen::SparseMatrix<double>& J, double least_relative_pivot) {
         if (!(least_relative_pivot > 0.0)) return false;
         row_norms_.setZero(J.rows());
