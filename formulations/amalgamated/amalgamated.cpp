@@ -56,6 +56,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -88,8 +89,11 @@ private:
     // (sparse_velocity_transform.hpp)
     double pivot_ratio(const CoordinatePartition& p);
     void mark_dropped_rows();
-    // the normwise backward error of x as a solution of K_ x = rhs_, with r_ = rhs_ - K_ x
-    double backward_error();
+    // r_ = rhs_ - K_ x_ and x_'s backward errors as a solution of K_ x = rhs_, in one pass over K_
+    struct BackwardErrors {
+        double normwise, componentwise;  // ||r|| / (||K|| ||x|| + ||rhs||), max_i |r_i| / (|K| |x| + |rhs|)_i
+    };
+    BackwardErrors residual();
 
     bool log_choices_ = false;  // FormulationOptions::log_choices, default false
 
@@ -106,7 +110,7 @@ private:
     ConstraintValues cv_;
     Eigen::MatrixXd J_;
     Eigen::VectorXd Q_, gamma_s_, Jv_, vdot_, Qc_, mu_, rhs_, x_, r_, dx_;
-    Eigen::VectorXd row_sums_;
+    Eigen::VectorXd row_sums_, magnitudes_;  // |K| 1 and |K| |x|, residual()'s
     std::vector<Eigen::Triplet<double>> triplets_;
     Eigen::SparseMatrix<double> K_;
     std::vector<int> j_slots_;         // per entry of J (storage order): its places in K_ (J and J^T)
@@ -148,6 +152,7 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     Qc_.setZero(nv_);
     projection_.resize(nq_, nv_, nc_);
     mu_.setZero(nc_);
+    for (Eigen::VectorXd* v : {&rhs_, &x_, &r_, &dx_, &row_sums_, &magnitudes_}) v->setZero(2 * nv_ + nc_);
     dropped_.assign(nc_, 0);
     analysed_ = false;
     // the partition at the assembled initial state (the run assembles the same way)
@@ -227,12 +232,22 @@ void Amalgamated::fill_J() {
     for (int r = 0; r < nc_; ++r) values[decouple_slots_[r]] = dropped_[r] ? 1.0 : 0.0;
 }
 
-double Amalgamated::backward_error() {
-    row_sums_.setZero(K_.rows());
+Amalgamated::BackwardErrors Amalgamated::residual() {
+    r_ = rhs_;
+    row_sums_.setZero();
+    magnitudes_ = rhs_.cwiseAbs();
     for (int col = 0; col < K_.outerSize(); ++col)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(K_, col); it; ++it) row_sums_[it.row()] += std::abs(it.value());
+        for (Eigen::SparseMatrix<double>::InnerIterator it(K_, col); it; ++it) {
+            const double k = it.value(), kx = k * x_[col];
+            r_[it.row()] -= kx;
+            row_sums_[it.row()] += std::abs(k);
+            magnitudes_[it.row()] += std::abs(kx);
+        }
     const double scale = row_sums_.maxCoeff() * x_.lpNorm<Eigen::Infinity>() + rhs_.lpNorm<Eigen::Infinity>();
-    return scale > 0.0 ? r_.lpNorm<Eigen::Infinity>() / scale : 0.0;
+    double componentwise = 0.0;
+    for (Eigen::Index i = 0; i < r_.size(); ++i)
+        if (r_[i] != 0.0) componentwise = std::max(componentwise, std::abs(r_[i]) / magnitudes_[i]);
+    return {scale > 0.0 ? r_.lpNorm<Eigen::Infinity>() / scale : 0.0, componentwise};
 }
 
 void Amalgamated::solve_dynamics(double t) {
@@ -250,6 +265,7 @@ void Amalgamated::solve_dynamics(double t) {
     }
     const int n = nv_, m = nc_;
     bool pivot = false;
+    BackwardErrors errors{};
     if (!analysed_) {  // the first evaluation: the pattern
         build_pattern();
         if (!lu_.analyze(K_)) throw DynamicsError(t, "amalgamated: the block system of Eq. 4.20 could not be ordered");
@@ -257,7 +273,7 @@ void Amalgamated::solve_dynamics(double t) {
         pivot = true;
     }
     fill_J();
-    rhs_.setZero(2 * n + m);
+    rhs_.setZero();
     rhs_.head(n) = Q_;
     rhs_.segment(n, m) = gamma_s_;
     for (int r : part_.redundant) rhs_[n + r] = 0.0;
@@ -271,16 +287,19 @@ void Amalgamated::solve_dynamics(double t) {
         }
         x_ = rhs_;
         lu_.solve(x_);
-        r_.noalias() = K_ * x_;
-        r_ = rhs_ - r_;
+        errors = residual();
         // the pivots of the last pivoting factorization still fit (backward error near round-off)
-        if (pivot || backward_error() <= 1e-10) break;
+        if (pivot || errors.normwise <= 1e-10) break;
         pivot = true;
     }
-    // one step of iterative refinement (the identity blocks and M can differ by orders of magnitude)
-    dx_ = r_;
-    lu_.solve(dx_);
-    x_ += dx_;
+    // one step of iterative refinement (the identity blocks and M can differ by orders of
+    // magnitude), unless every row already holds to round-off relative to its own terms: then
+    // x is componentwise backward stable and a refinement in the same precision cannot improve it
+    if (errors.componentwise > 4.0 * std::numeric_limits<double>::epsilon()) {
+        dx_ = r_;
+        lu_.solve(dx_);
+        x_ += dx_;
+    }
     if (!x_.allFinite()) throw DynamicsError(t, "amalgamated: non-finite solution of the block system (Eq. 4.20)");
     vdot_ = x_.head(n);
     Qc_ = -x_.segment(n, n);

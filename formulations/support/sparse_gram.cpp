@@ -131,6 +131,8 @@ void SparseGram::analyze(int rows, int cols, const std::vector<std::vector<int>>
     for (int r = 0; r < rows; ++r) S_.valuePtr()[diagonal_[r]] = 1.0;
     ldlt_.analyzePattern(S_);
     if (ldlt_.info() != Eigen::Success) throw std::runtime_error("augmented formulation: analysis of J M^-1 J^T failed");
+    ldlt_.factorize_preordered_matrix(S_);  // of the unit diagonal: sizes D, so that factor() allocates nothing
+    left_out_.assign(rows, 0);
     b_.setZero(rows);
     y_.setZero(rows);
     r_.setZero(rows);
