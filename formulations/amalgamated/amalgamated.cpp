@@ -233,16 +233,17 @@ void Amalgamated::fill_J() {
 }
 
 Amalgamated::BackwardErrors Amalgamated::residual() {
-    r_ = rhs_;
+    r_.setZero();  // K x, then rhs - K x
     row_sums_.setZero();
     magnitudes_ = rhs_.cwiseAbs();
     for (int col = 0; col < K_.outerSize(); ++col)
         for (Eigen::SparseMatrix<double>::InnerIterator it(K_, col); it; ++it) {
             const double k = it.value(), kx = k * x_[col];
-            r_[it.row()] -= kx;
+            r_[it.row()] += kx;
             row_sums_[it.row()] += std::abs(k);
             magnitudes_[it.row()] += std::abs(kx);
         }
+    r_ = rhs_ - r_;
     const double scale = row_sums_.maxCoeff() * x_.lpNorm<Eigen::Infinity>() + rhs_.lpNorm<Eigen::Infinity>();
     double componentwise = 0.0;
     for (Eigen::Index i = 0; i < r_.size(); ++i)
