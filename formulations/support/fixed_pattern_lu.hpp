@@ -19,13 +19,13 @@ namespace mbd {
 
 class FixedPatternLU {
 public:
-    // No row scaling (KLU's scale = 0): a refactorization would recompute the scale factors at
-    // every evaluation, a third of its cost on the amalgamated block system, whose rows are of
-    // order one anyway (identity blocks); the caller's residual check asks for new pivots when
-    // the old ones no longer fit.
+    // No row scaling and no check of the input (KLU's scale = -1; the pattern is the caller's
+    // own): a refactorization would recompute the scale factors at every evaluation, a third of
+    // its cost on the amalgamated block system, whose rows are of order one anyway (identity
+    // blocks); the caller's residual check asks for new pivots when the old ones no longer fit.
     FixedPatternLU() {
         klu_defaults(&common_);
-        common_.scale = 0;
+        common_.scale = -1;
     }
     // partial_pivoting: every pivot is the largest entry of its column (KLU's tol = 1), so that
     // the pivots measure the matrix's conditioning (pivot_ratio()); otherwise KLU's default
