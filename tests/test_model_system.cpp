@@ -174,5 +174,30 @@ TEST(ModelSystem, RowDescriptionsNameJointsAndDrivers) {
     EXPECT_EQ(f.system.joint(0).rows, 3);
 }
 
+// constraint_gamma is constraints()'s gamma, row for row, on mechanisms of both dimensions
+// with drivers (the slider crank's, the Bricard's redundant rows, the car axis's driven loop),
+// at random states off the constraint manifold.
+TEST(ModelSystem, GammaAloneEqualsTheFullEvaluationsGamma) {
+    std::mt19937 rng(7);
+    for (const char* scene : {"dynamics/slider-crank.yaml", "bench/a04-bricard.yaml", "bench/car-axis.yaml",
+                              "bench/a05-flyball.yaml", "dynamics/heavy-top.yaml"}) {
+        SCOPED_TRACE(scene);
+        const Model model = test::load(scene);
+        ModelSystem system{model};
+        for (int trial = 0; trial < 3; ++trial) {
+            State state = random_state(model, rng);
+            state.t = 0.3 * trial;
+            for (bool drivers : {true, false}) {
+                ConstraintValues cv;
+                system.constraints(state, cv, drivers);
+                Eigen::VectorXd gamma;
+                system.constraint_gamma(state, gamma, drivers);
+                ASSERT_EQ(gamma.size(), cv.gamma.size());
+                EXPECT_EQ((gamma - cv.gamma).lpNorm<Eigen::Infinity>(), 0.0);
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace mbd

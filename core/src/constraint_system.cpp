@@ -161,49 +161,23 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
     };
 
     for (size_t j = 0; j < m.joints.size(); ++j) {
-        const JointInstance& ji = m.joints[j];
-        ConstraintEval& e = data.joint_rows[j];
-        e.C.setZero();
-        e.J.setZero();
-        e.C_t.setZero();
-        e.gamma.setZero();
-        data.poses.fill(ji.bodies, state.t, data.view);
-        ji.joint->evaluate(data.view, e);
+        const ConstraintEval& e = evaluate_joint(j, state, data);
         // a NaN from a joint would surface later as a failed projection or a singular
         // matrix; name the joint here instead (unless the state itself is not finite)
-        if (!rows_finite(e, place(e, joint_offset_[j], ji.bodies)) && state.q.allFinite() && state.v.allFinite())
-            throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type + (ji.where.empty() ? "" : ", " + ji.where) +
-                                             ") gave a non-finite value at t = " + format_time(state.t) + " (" +
-                                             first_non_finite(*ji.joint, e) +
-                                             ") although the body positions and velocities are finite: its equations "
-                                             "are undefined in this configuration; check the joint's parameters, or "
-                                             "its plugin");
+        if (!rows_finite(e, place(e, joint_offset_[j], m.joints[j].bodies))) throw_if_state_finite(j, e, state);
     }
 
     if (include_drivers_) {
         for (size_t d = 0; d < m.drivers.size(); ++d) {
-            const Driver& dr = m.drivers[d];
-            const JointInstance& ji = m.joints[dr.joint];
-            CoordinateEval& e = data.driver_rows[d];
-            e.J.setZero();
-            e.gamma = 0.0;
-            data.poses.fill(ji.bodies, state.t, data.view);
-            ji.joint->coordinate(data.view, e);
-            const TimeValue f = dr.motion->evaluate(state.t);
-            if (!(std::isfinite(f.f) && std::isfinite(f.df) && std::isfinite(f.ddf)))
-                throw DynamicsError(state.t, "driver '" + dr.name + "'" + (dr.where.empty() ? "" : " (" + dr.where + ")") +
-                                                 ": its motion is not finite at t = " + format_time(state.t) + " (f = " +
-                                                 format_number(f.f) + ", df/dt = " + format_number(f.df) + ", d2f/dt2 = " +
-                                                 format_number(f.ddf) +
-                                                 "): the time function overflows; check its parameters or shorten "
-                                                 "the run");
+            TimeValue f;
+            const CoordinateEval& e = evaluate_driver(d, state, data, f);
             // book Sec. 3.6 driving constraints: C = s(q) - f(t), C_t = -fdot, gamma = gamma_s + fddot
             const int row = joint_rows_ + static_cast<int>(d);
             const double residual = e.value - f.f;
             out.C[row] = e.periodic ? wrap_angle(residual) : residual;
             out.C_t[row] = -f.df;
             out.gamma[row] = e.gamma + f.ddf;
-            scatter(ji.bodies, e.J);
+            scatter(m.joints[m.drivers[d].joint].bodies, e.J);
         }
     }
 
@@ -234,6 +208,63 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
             for (int r = 0; r < e.b.size(); ++r) scatter(ji.bodies, e.A.row(r));
         }
     }
+}
+
+void ConstraintSystem::evaluate_gamma(const State& state, Data& data, Eigen::VectorXd& gamma) const {
+    data.pose(state);
+    const Model& m = *model_;
+    gamma.resize(joint_rows_ + (include_drivers_ ? static_cast<int>(m.drivers.size()) : 0));
+    for (size_t j = 0; j < m.joints.size(); ++j) {
+        const ConstraintEval& e = evaluate_joint(j, state, data);
+        if (!e.gamma.allFinite()) throw_if_state_finite(j, e, state);
+        gamma.segment(joint_offset_[j], e.gamma.size()) = e.gamma;
+    }
+    if (include_drivers_)
+        for (size_t d = 0; d < m.drivers.size(); ++d) {
+            TimeValue f;
+            gamma[joint_rows_ + static_cast<int>(d)] = evaluate_driver(d, state, data, f).gamma + f.ddf;
+        }
+}
+
+const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& state, Data& data) const {
+    const JointInstance& ji = model_->joints[j];
+    ConstraintEval& e = data.joint_rows[j];
+    e.C.setZero();
+    e.J.setZero();
+    e.C_t.setZero();
+    e.gamma.setZero();
+    data.poses.fill(ji.bodies, state.t, data.view);
+    ji.joint->evaluate(data.view, e);
+    return e;
+}
+
+void ConstraintSystem::throw_if_state_finite(size_t j, const ConstraintEval& e, const State& state) const {
+    if (!state.q.allFinite() || !state.v.allFinite()) return;
+    const JointInstance& ji = model_->joints[j];
+    throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type + (ji.where.empty() ? "" : ", " + ji.where) +
+                                     ") gave a non-finite value at t = " + format_time(state.t) + " (" +
+                                     first_non_finite(*ji.joint, e) +
+                                     ") although the body positions and velocities are finite: its equations "
+                                     "are undefined in this configuration; check the joint's parameters, or "
+                                     "its plugin");
+}
+
+const CoordinateEval& ConstraintSystem::evaluate_driver(size_t d, const State& state, Data& data, TimeValue& f) const {
+    const Driver& dr = model_->drivers[d];
+    const JointInstance& ji = model_->joints[dr.joint];
+    CoordinateEval& e = data.driver_rows[d];
+    e.J.setZero();
+    e.gamma = 0.0;
+    data.poses.fill(ji.bodies, state.t, data.view);
+    ji.joint->coordinate(data.view, e);
+    f = dr.motion->evaluate(state.t);
+    if (!(std::isfinite(f.f) && std::isfinite(f.df) && std::isfinite(f.ddf)))
+        throw DynamicsError(state.t, "driver '" + dr.name + "'" + (dr.where.empty() ? "" : " (" + dr.where + ")") +
+                                         ": its motion is not finite at t = " + format_time(state.t) + " (f = " +
+                                         format_number(f.f) + ", df/dt = " + format_number(f.df) + ", d2f/dt2 = " +
+                                         format_number(f.ddf) +
+                                         "): the time function overflows; check its parameters or shorten the run");
+    return e;
 }
 
 }  // namespace mbd

@@ -277,6 +277,10 @@ void ModelSystem::constraints(const State& state, ConstraintValues& out, bool in
     (include_drivers ? with_drivers_ : joints_only_).evaluate(state, data_, out);
 }
 
+void ModelSystem::constraint_gamma(const State& state, Eigen::VectorXd& gamma, bool include_drivers) {
+    (include_drivers ? with_drivers_ : joints_only_).evaluate_gamma(state, data_, gamma);
+}
+
 void ModelSystem::constraints_with_velocity_rows(const State& state, ConstraintValues& out, bool include_drivers) {
     (include_drivers ? with_drivers_and_velocity_rows_ : joints_and_velocity_rows_).evaluate(state, data_, out);
 }

@@ -42,6 +42,7 @@ void JdotTranspose::bind(System& system) {
     probe_.q.setZero(system.nq());
     probe_.v.setZero(system.nv());
     gamma_plus_.setZero(system.constraint_rows(true));
+    gamma_minus_.setZero(system.constraint_rows(true));
     Jt_mu_.setZero(system.nv());
 }
 
@@ -57,16 +58,15 @@ void JdotTranspose::apply(System& system, const State& state, const Eigen::Spars
         for (int component = 0; component < nvb_; ++component) {
             probe_.v = state.v;
             for (int b : bodies_of_colour_[colour]) probe_.v[b * nvb_ + component] += s;
-            system.constraints(probe_, cv_, true);
-            gamma_plus_ = cv_.gamma;
+            system.constraint_gamma(probe_, gamma_plus_, true);
             probe_.v = state.v;
             for (int b : bodies_of_colour_[colour]) probe_.v[b * nvb_ + component] -= s;
-            system.constraints(probe_, cv_, true);
+            system.constraint_gamma(probe_, gamma_minus_, true);
             // row r of D w / s is D(r, c) for the one column c of this group that row r holds
             const double scale = -0.25 / s;  // -D^T mu / 2, D w = (gamma(v + w) - gamma(v - w)) / 2
             for (int b : bodies_of_colour_[colour]) {
                 double sum = 0.0;
-                for (int r : rows_of_body_[b]) sum += (gamma_plus_[r] - cv_.gamma[r]) * mu[r];
+                for (int r : rows_of_body_[b]) sum += (gamma_plus_[r] - gamma_minus_[r]) * mu[r];
                 out[b * nvb_ + component] += scale * sum;
             }
         }

@@ -43,8 +43,7 @@ private:
     bool planar_ = true;
     std::vector<std::vector<int>> bodies_of_colour_, rows_of_body_;
     State probe_;
-    ConstraintValues cv_;
-    Eigen::VectorXd gamma_plus_, Jt_mu_;
+    Eigen::VectorXd gamma_plus_, gamma_minus_, Jt_mu_;
 };
 
 }  // namespace mbd

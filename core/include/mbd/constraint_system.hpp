@@ -43,8 +43,18 @@ public:
 
     // Evaluate every row at the given state, writing the rows into `data` and `out`.
     void evaluate(const State& state, Data& data, ConstraintValues& out) const;
+    // gamma alone (the joints' and drivers' rows; not the velocity-level rows): the joints are
+    // evaluated as by evaluate(), but nothing else is copied or scattered
+    void evaluate_gamma(const State& state, Data& data, Eigen::VectorXd& gamma) const;
 
 private:
+    // joint j evaluated at the posed state into data.joint_rows[j]
+    const ConstraintEval& evaluate_joint(size_t j, const State& state, Data& data) const;
+    // the named error of joint j's non-finite output, unless the state itself is not finite
+    void throw_if_state_finite(size_t j, const ConstraintEval& e, const State& state) const;
+    // driver d's coordinate into data.driver_rows[d], and its motion f(t) (finite, or a named error)
+    const CoordinateEval& evaluate_driver(size_t d, const State& state, Data& data, TimeValue& f) const;
+
     const Model* model_;
     bool include_drivers_;
     bool include_velocity_rows_;

@@ -55,6 +55,7 @@ public:
     double friction_power(const State& state) override;
 
     void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) override;
+    void constraint_gamma(const State& state, Eigen::VectorXd& gamma, bool include_drivers = true) override;
     void constraints_with_velocity_rows(const State& state, ConstraintValues& out, bool include_drivers = true) override;
     void assemble(State& state, bool include_drivers = true) override;
     void consistent_velocities(State& state, bool include_drivers = true) override;

@@ -135,6 +135,9 @@ public:
 
     // --- constraints (joints, then drivers when include_drivers)
     virtual void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) = 0;
+    // gamma of those rows alone (out.gamma of constraints()), for callers that evaluate it at
+    // many velocities: nothing else is assembled
+    virtual void constraint_gamma(const State& state, Eigen::VectorXd& gamma, bool include_drivers = true) = 0;
     // Every row the velocities obey: the rows of constraints() followed by the joints'
     // velocity-level rows A v = b, written as rows with no position residual: C = 0, J = A,
     // C_t = -b, gamma = the joint's gamma, so that J v + C_t = 0 and J vdot = gamma hold for
