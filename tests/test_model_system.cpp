@@ -199,5 +199,46 @@ TEST(ModelSystem, GammaAloneEqualsTheFullEvaluationsGamma) {
     }
 }
 
+// A joint that says its gamma does not depend on the translational velocities
+// (Joint::gamma_depends_on_translation: the Hamiltonian's polarization then skips them) keeps
+// its rows' gamma, and its driver's, bit for bit when every body's translational velocity
+// changes; on the scenes below the pins and ball joints say so, the prismatic joints do not.
+TEST(ModelSystem, TranslationFreeJointsKeepGammaWhenTheTranslationalVelocitiesChange) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> change(-3.0, 3.0);
+    int translation_free = 0, dependent = 0;
+    for (const char* scene : {"bench/chain-5.yaml", "bench/car-axis.yaml", "bench/a04-bricard.yaml",
+                              "bench/a05-flyball.yaml", "dynamics/heavy-top.yaml", "dynamics/slider-crank.yaml",
+                              "extreme/spatial-chain-50.yaml"}) {
+        SCOPED_TRACE(scene);
+        const Model model = test::load(scene);
+        ModelSystem system{model};
+        const int translational = model.dimension == Dimension::Planar ? 2 : 3;
+        for (int trial = 0; trial < 3; ++trial) {
+            State state = random_state(model, rng);
+            Eigen::VectorXd before, after;
+            system.constraint_gamma(state, before, true);
+            for (int b = 0; b < system.body_count(); ++b)
+                for (int c = 0; c < translational; ++c) state.v[model.v_offset(b) + c] += change(rng);
+            system.constraint_gamma(state, after, true);
+            for (int j = 0; j < system.joint_count(); ++j) {
+                const JointInfo& info = system.joint(j);
+                if (info.joint->gamma_depends_on_translation()) {
+                    dependent += trial == 0;
+                    continue;
+                }
+                translation_free += trial == 0;
+                for (int r = info.first_row; r < info.first_row + info.rows; ++r)
+                    EXPECT_EQ(after[r], before[r]) << "joint '" << info.name << "' row " << r;
+                for (int d = 0; d < system.driver_count(); ++d)
+                    if (system.driver(d).joint == j)
+                        EXPECT_EQ(after[system.driver(d).row], before[system.driver(d).row]) << "driver " << d;
+            }
+        }
+    }
+    EXPECT_GE(translation_free, 50);  // the chains' pins and ball joints, the Bricard's revolutes
+    EXPECT_GE(dependent, 2);          // the slider crank's and the flyball's sliders
+}
+
 }  // namespace
 }  // namespace mbd

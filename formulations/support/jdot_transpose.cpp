@@ -19,7 +19,15 @@ void JdotTranspose::bind(System& system) {
                 if (other >= 0 && other != b) neighbours[b].push_back(other);
         }
     };
-    for (int j = 0; j < system.joint_count(); ++j) add_rows(system.joint(j).bodies, system.joint(j).first_row, system.joint(j).rows);
+    first_component_ = 0;
+    bool translation_free = true;
+    for (int j = 0; j < system.joint_count(); ++j) {
+        add_rows(system.joint(j).bodies, system.joint(j).first_row, system.joint(j).rows);
+        const Joint* joint = system.joint(j).joint.get();
+        translation_free = translation_free && joint && !joint->gamma_depends_on_translation();
+    }
+    // (a driver's row is its joint's coordinate, which the joint's answer covers)
+    if (translation_free) first_component_ = planar_ ? 2 : 3;
     for (int d = 0; d < system.driver_count(); ++d)
         add_rows(system.joint(system.driver(d).joint).bodies, system.driver(d).row, 1);
     // greedy colouring in body order: the least colour no neighbour has
@@ -55,7 +63,7 @@ void JdotTranspose::apply(System& system, const State& state, const Eigen::Spars
     // the round-off of gamma(v +- w) relative to D w near machine precision
     const double s = std::max(state.v.lpNorm<Eigen::Infinity>(), 1e-3);
     for (int colour = 0; colour < colours_; ++colour)
-        for (int component = 0; component < nvb_; ++component) {
+        for (int component = first_component_; component < nvb_; ++component) {
             probe_.v = state.v;
             for (int b : bodies_of_colour_[colour]) probe_.v[b * nvb_ + component] += s;
             system.constraint_gamma(probe_, gamma_plus_, true);

@@ -16,7 +16,10 @@
 // that no two bodies of a colour share a row, and one polarization with w = s (sum of the unit
 // vectors of one velocity component of every body of a colour) gives, on each row, the entry of
 // the one column of the group that the row holds. A chain needs 2 colours: 2 x 3 (planar) or
-// 2 x 6 (spatial) groups, 2 constraint evaluations each, whatever its length.
+// 2 x 6 (spatial) groups, 2 constraint evaluations each, whatever its length. When every joint
+// says that its gamma does not depend on the translational velocities (Joint::
+// gamma_depends_on_translation: pins, ball joints), D's translational columns are zero and only
+// the angular components are probed: 2 x 1 or 2 x 3 groups.
 #pragma once
 
 #include <mbd/sdk/system.hpp>
@@ -32,7 +35,7 @@ class JdotTranspose {
 public:
     // the colouring of the System's bodies (by the rows they share)
     void bind(System& system);
-    int groups() const { return colours_ * nvb_; }
+    int groups() const { return colours_ * (nvb_ - first_component_); }
 
     // out = Jdot^T mu at state (t, q, v); J at that state (J does not depend on v)
     void apply(System& system, const State& state, const Eigen::SparseMatrix<double>& J, const Eigen::VectorXd& mu,
@@ -40,6 +43,7 @@ public:
 
 private:
     int nvb_ = 3, colours_ = 0;
+    int first_component_ = 0;  // the first velocity component probed (past the translational ones when D has none)
     bool planar_ = true;
     std::vector<std::vector<int>> bodies_of_colour_, rows_of_body_;
     State probe_;

@@ -23,6 +23,7 @@ public:
     void coordinate(const BodyStates& bodies, CoordinateEval& out) const override {
         write(out, angle_about_z(Pair(bodies), marker_i(), marker_j()), /*periodic=*/true);
     }
+    bool gamma_depends_on_translation() const override { return false; }  // SPH, DOT1s, atan2 of DOT1s
 };
 
 }  // namespace mbd::spatial

@@ -122,6 +122,14 @@ public:
     virtual bool has_coordinate() const { return false; }
     virtual void coordinate(const BodyStates& /*bodies*/, CoordinateEval& /*out*/) const {}
 
+    // Whether gamma (of evaluate(), and of coordinate() for a joint with a coordinate) may depend
+    // on the translational velocities Rdot of the joint's bodies. A joint whose gamma is a
+    // function of the angular velocities alone (body-fixed points and directions: a pin, a ball
+    // joint; book Eqs. 3.133, 7.166, 7.170) returns false, and the Hamiltonian formulation's
+    // polarization of Jdot^T mu skips the translational components (jdot_transpose.hpp). The safe
+    // default is true.
+    virtual bool gamma_depends_on_translation() const { return true; }
+
     // Joints that are tree edges describe their free relative motions.
     virtual std::optional<RelativeMotion> relative_motion() const { return std::nullopt; }
 

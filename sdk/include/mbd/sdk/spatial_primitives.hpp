@@ -294,6 +294,7 @@ public:
     }
     // DOT2(axis ai of marker i, d = r_P^i - r_P^j between the marker origins).
     void add_dot2(Axis ai, std::string name) {
+        has_dot2_ = true;
         terms_.push_back({Kind::Dot2, ai, X});
         names_.push_back(std::move(name));
     }
@@ -326,6 +327,13 @@ public:
 
     std::optional<RelativeMotion> relative_motion() const override { return motion_; }
 
+    // SPH and DOT1 rows have gammas of the angular velocities alone (Eqs. 7.166, 7.170); DOT2's
+    // holds d-dot, hence the Rdots. A subclass with rows or a coordinate of its own depends,
+    // unless it says otherwise (SpatialRevolute: its angle is an atan2 of two DOT1s).
+    bool gamma_depends_on_translation() const override {
+        return has_dot2_ || rows() != primitive_rows() || has_coordinate();
+    }
+
 protected:
     const Marker& marker_i() const { return mi_; }
     const Marker& marker_j() const { return mj_; }
@@ -340,6 +348,7 @@ private:
     };
     Marker mi_, mj_;
     std::vector<Term> terms_;
+    bool has_dot2_ = false;
     std::vector<std::string> names_;
     std::optional<RelativeMotion> motion_;
 };
