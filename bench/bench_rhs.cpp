@@ -9,7 +9,6 @@
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -21,26 +20,9 @@
 
 namespace {
 
-// Median time of one rhs, over batches sized to take about a millisecond each.
 double rhs_seconds(mbd::Formulation& f, const Eigen::VectorXd& y) {
     Eigen::VectorXd ydot;
-    for (int k = 0; k < 5; ++k) f.rhs(0.0, y, ydot);  // warm-up
-    using clock = std::chrono::steady_clock;
-    int batch = 1;
-    for (;;) {
-        const auto t0 = clock::now();
-        for (int k = 0; k < batch; ++k) f.rhs(0.0, y, ydot);
-        if (clock::now() - t0 > std::chrono::microseconds(1000) || batch >= (1 << 20)) break;
-        batch *= 2;
-    }
-    std::vector<double> times;
-    const auto start = clock::now();
-    while (times.size() < 31 && (times.size() < 5 || clock::now() - start < std::chrono::seconds(2))) {
-        const auto t0 = clock::now();
-        for (int k = 0; k < batch; ++k) f.rhs(0.0, y, ydot);
-        times.push_back(std::chrono::duration<double>(clock::now() - t0).count() / batch);
-    }
-    return median(times);
+    return median_seconds_per_call([&] { f.rhs(0.0, y, ydot); });
 }
 
 }  // namespace

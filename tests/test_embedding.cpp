@@ -279,6 +279,86 @@ TEST(Embedding, RecursiveMatchesDenseOnAPlanarChain) {
     compare_tree_and_dense(load_text("planar-chain", planar_chain(12)), nullptr, nullptr);
 }
 
+// The recursive path's rhs runs planar trees in planar algebra (planar_articulated_body.hpp);
+// its accelerations and reactions at a State stay on the spatial algorithm. The oracle of
+// the rhs is the augmented formulation: at random joint-coordinate states, the body
+// accelerations that ydot = rhs(y) implies, the central difference
+// (v(y + h ydot) - v(y - h ydot)) / 2h of the forward kinematics, must be augmented's vdot.
+// Every planar tree scene under scenes/ (pins, sliders, reversed edges, marker angles, free
+// bodies, forces of every kind) plus a 12-link chain of pins and oblique sliders.
+TEST(Embedding, PlanarTreesRhsInPlanarAlgebraGivesAugmentedAccelerations) {
+    std::vector<std::pair<std::string, mbd::Model>> models;
+    models.emplace_back("planar-chain", load_text("planar-chain", planar_chain(12)));
+    for (const char* dir : {"bench", "book", "dynamics", "examples", "extreme", "statics", "reference"})
+        for (const auto& entry : std::filesystem::directory_iterator(mbd::test::scene_path(dir))) {
+            if (entry.path().extension() != ".yaml") continue;
+            try {
+                mbd::Model model = mbd::load_scene(entry.path().string(), shared_registry());
+                if (model.dimension == mbd::Dimension::Planar) models.emplace_back(entry.path().filename().string(), model);
+            } catch (const mbd::InputError&) {  // the scenes of bad-input tests
+            }
+        }
+    int checked = 0, with_slider = 0, with_free_body = 0;
+    for (const auto& [name, model] : models) {
+        mbd::ModelSystem system(model);
+        if (!mbd::recursive_embedding_possible(system) || system.nv() > 300) continue;
+        mbd::Param n1, n2;
+        auto tree = make("embedding", {{"path", "recursive"}}, n1);
+        auto aug = make("augmented", {}, n2);
+        std::string log;
+        mbd::FormulationOptions options;
+        options.log = mbd::MessageLog([&](const std::string& line) { log += line + "\n"; });
+        mbd::FormulationOptions quiet;
+        quiet.log_choices = false;
+        try {
+            aug->bind(system, quiet);
+        } catch (const mbd::InputError&) {  // extreme/zero-mass-body: refused by design
+            continue;
+        }
+        tree->bind(system, options);
+        EXPECT_NE(log.find("planar algebra"), std::string::npos) << name << ": " << log;
+        mbd::State s0 = system.initial_state();
+        system.assemble(s0, true);
+        system.consistent_velocities(s0, true);
+        Eigen::VectorXd y, ydot;
+        tree->to_ode(s0, y);
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<double> uni(-1.0, 1.0);
+        double worst = 0.0;
+        for (int trial = 0; trial < 3; ++trial) {
+            Eigen::VectorXd yr = y;
+            for (int k = 0; k < yr.size(); ++k) yr[k] += 0.3 * uni(rng);
+            mbd::State s, plus, minus;
+            tree->from_ode(0.0, yr, s);
+            tree->rhs(0.0, yr, ydot);
+            const double h = 1e-6 / std::max(1.0, ydot.lpNorm<Eigen::Infinity>());
+            tree->from_ode(0.0, yr + h * ydot, plus);
+            tree->from_ode(0.0, yr - h * ydot, minus);
+            const Eigen::VectorXd vdot_tree = (plus.v - minus.v) / (2.0 * h);
+            Eigen::VectorXd vdot_aug;
+            aug->accelerations(s, vdot_aug);
+            worst = std::max(worst, (vdot_tree - vdot_aug).lpNorm<Eigen::Infinity>() /
+                                        std::max(1.0, vdot_aug.lpNorm<Eigen::Infinity>()));
+        }
+        std::printf("%-40s nv %4d: rhs vs augmented, relative |dvdot| %.2e\n", name.c_str(), system.nv(), worst);
+        EXPECT_LT(worst, 1e-6) << name;
+        ++checked;
+        std::vector<char> jointed(model.bodies.size(), 0);
+        bool slider = false;
+        for (const mbd::JointInstance& j : model.joints) {
+            slider = slider || j.type == "prismatic";
+            for (int b : j.bodies)
+                if (b >= 0) jointed[b] = 1;
+        }
+        with_slider += slider;
+        with_free_body += std::count(jointed.begin(), jointed.end(), 0) > 0;
+    }
+    std::printf("%d planar trees, %d with a slider, %d with a free body\n", checked, with_slider, with_free_body);
+    EXPECT_GE(checked, 10);
+    EXPECT_GE(with_slider, 2);
+    EXPECT_GE(with_free_body, 1);
+}
+
 TEST(Embedding, TopologyDecidesThePath) {
     const mbd::Model chain = load_text("chain-topology", spatial_chain(6));
     mbd::ModelSystem tree(chain);

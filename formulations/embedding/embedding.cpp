@@ -21,7 +21,7 @@
 // The choice is logged (FormulationOptions::log) ("embedding: recursive path (...)") and printed by
 // `mbd check` (topology.hpp: recursive_embedding_possible).
 #include "partitioned.hpp"
-#include "articulated_body.hpp"
+#include "planar_articulated_body.hpp"
 #include "loop_closure.hpp"
 #include "rank_certificate.hpp"
 
@@ -60,19 +60,26 @@ public:
                                      ") has velocity-level (nonholonomic) rows, which the recursive path (joint "
                                      "coordinates of a tree) cannot hold; use path: dense (or auto)");
         if (path_taken_ == "recursive")
-            impl_ = std::make_unique<articulated::ArticulatedBody>();
+            impl_ = std::make_unique<articulated::PlanarArticulatedBody>();  // spatial algebra unless planar
         else if (path_taken_ == "closure")
             impl_ = std::make_unique<articulated::LoopClosure>();
         else
             impl_ = std::make_unique<embedding::Partitioned>(independent_);
-        if (options.log_choices.value_or(true))
-            options.log("embedding: " + path_taken_ + " path (" + reason +
-                        (path_ != "auto" ? "; forced by path: " + path_ : std::string()) + ")");
+        // the recursive path says whether it runs in planar algebra, known once bound; the others
+        // log before binding, which may name redundant rows
+        const auto* recursive = dynamic_cast<const articulated::PlanarArticulatedBody*>(impl_.get());
+        if (!recursive) log_path(options, reason);
         impl_->bind(system, options);
+        if (recursive) log_path(options, reason + (recursive->planar_algebra() ? ", planar algebra" : ""));
         system_ = &system;
         singularity_.tolerance = options.singularity_tolerance;
         singularity_.reset();
         if (path_taken_ != "recursive") rank_certificate_.bind(system, singularity_);
+    }
+    void log_path(const FormulationOptions& options, const std::string& reason) const {
+        if (options.log_choices.value_or(true))
+            options.log("embedding: " + path_taken_ + " path (" + reason +
+                        (path_ != "auto" ? "; forced by path: " + path_ : std::string()) + ")");
     }
     int ode_size() const override { return impl_->ode_size(); }
     void to_ode(const State& state, Eigen::VectorXd& y) override { impl_->to_ode(state, y); }
