@@ -57,7 +57,7 @@ std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, Simula
                     "for a tree, augmented for closed loops and drivers; see docs/user-guide.md)");
     sub->add_option("--integrator", a.integrator,
                     "Integrator: euler, rk4, dopri5, dop853, generalized_alpha, cvode (default: the automatic "
-                    "choice, dopri5, or cvode for a stiff scene; see docs/user-guide.md)");
+                    "choice, dop853, or cvode for a stiff scene; see docs/user-guide.md)");
     CLI::Option* tol =
         sub->add_option("--tol", a.tolerance, "Tolerance of an adaptive integrator, dopri5, dop853 or cvode (default 1e-6)")
             ->check(number_between(kSmallestTolerance, 1.0, "below 1e-14 is beneath double-precision round-off"));

@@ -42,7 +42,7 @@ TEST(MethodChoice, TreesTakeTheRecursiveEmbeddingAndLoopsAugmented) {
     const mbd::MethodChoice pendulum =
         mbd::automatic_method(mbd::test::load("dynamics/pendulum-a01.yaml"), 10.0);
     EXPECT_EQ(pendulum.formulation, "embedding");
-    EXPECT_EQ(pendulum.integrator, "dopri5");
+    EXPECT_EQ(pendulum.integrator, "dop853");
     EXPECT_NE(pendulum.formulation_reason.find("tree"), std::string::npos) << pendulum.formulation_reason;
     const mbd::MethodChoice four_bar =
         mbd::automatic_method(mbd::test::load("dynamics/four-bar-conservative.yaml"), 10.0);
@@ -68,7 +68,7 @@ TEST(MethodChoice, TheFlyballIsStiffAndTakesCvode) {
     EXPECT_EQ(choice.integrator, "cvode");
     EXPECT_NE(choice.integrator_reason.find("stiff"), std::string::npos) << choice.integrator_reason;
     // the same scene over a time short against 1e4 damped time scales is not stiff
-    EXPECT_EQ(mbd::automatic_method(flyball, 0.5 * mbd::kStiffDampedTimeScales / rate).integrator, "dopri5");
+    EXPECT_EQ(mbd::automatic_method(flyball, 0.5 * mbd::kStiffDampedTimeScales / rate).integrator, "dop853");
 }
 
 TEST(MethodChoice, ARunWithoutChoicesReportsTheAutomaticOnesAndTheIndexThreeIntegratorTakesAugmented) {
@@ -80,10 +80,10 @@ TEST(MethodChoice, ARunWithoutChoicesReportsTheAutomaticOnesAndTheIndexThreeInte
     s.messages = mbd::MessageLog([&](const std::string& line) { messages.push_back(line); });
     const mbd::SimulationResult r = mbd::simulate(pendulum, mbd::test::shared_registry(), s);
     EXPECT_EQ(r.formulation, "embedding");
-    EXPECT_EQ(r.integrator, "dopri5");
+    EXPECT_EQ(r.integrator, "dop853");
     ASSERT_GE(messages.size(), 2u);
     EXPECT_NE(messages[0].find("formulation embedding (automatic: tree"), std::string::npos) << messages[0];
-    EXPECT_NE(messages[1].find("integrator dopri5 (automatic: not stiff"), std::string::npos) << messages[1];
+    EXPECT_NE(messages[1].find("integrator dop853 (automatic: not stiff"), std::string::npos) << messages[1];
     // generalized_alpha needs the index-3 form: the automatic formulation is augmented
     s.integrator = "generalized_alpha";
     s.integration.step = 1e-3;

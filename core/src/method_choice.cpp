@@ -55,7 +55,7 @@ MethodChoice automatic_method(const Model& model, double t_end) {
     const double rate = fastest_damping_rate(model);
     const double scales = rate * t_end;
     const bool stiff = scales > kStiffDampedTimeScales;
-    choice.integrator = stiff ? "cvode" : "dopri5";
+    choice.integrator = stiff ? "cvode" : "dop853";
     choice.integrator_reason =
         rate > 0.0 ? std::string(stiff ? "stiff" : "not stiff") + ": fastest damping rate " + format_number(rate, 3) +
                          " 1/s over " + format_time(t_end) + " s = " + format_number(scales, 3) + " time scales (" +

@@ -112,7 +112,7 @@ class Model:
         """Forward dynamics from the scene's initial state (or q0, v0, assembled and made
         consistent) to t_end, as ``mbd simulate``: the formulation (default: the scene's, else
         the automatic choice: embedding for a tree, augmented otherwise), the integrator
-        (default: the automatic choice, dopri5, or cvode for a stiff scene; dopri5, dop853, cvode:
+        (default: the automatic choice, dop853, or cvode for a stiff scene; dopri5, dop853, cvode:
         tol, default 1e-6; rk4, euler, generalized_alpha: step), rows every output_step (default: the step, else t_end / 1000).
         Returns a SimulationResult; raises DynamicsError (time, joints) when the run fails.
         The engine's messages (what ``mbd simulate`` prints on stderr: the embedding path

@@ -10,7 +10,9 @@
 //                (the largest eigenvalue of M^-1 times the symmetric part of -dQ/dv, at the
 //                initial state) times the length of the run exceeds kStiffDampedTimeScales, so
 //                that an explicit method would need about that many steps for stability alone
-//                (the flyball's spring-dampers: 2e4 1/s over 2 s); dopri5 otherwise.
+//                (the flyball's spring-dampers: 2e4 1/s over 2 s); dop853 otherwise (on every
+//                non-stiff bench scene it costs less than dopri5 at errors 1e-6 and 1e-9, and
+//                about as much at the default tolerance).
 #pragma once
 
 #include <mbd/model.hpp>
