@@ -282,9 +282,8 @@ bool LoopClosure::project(double t, Eigen::VectorXd& y) {
         s_ = ytmp_.head(ns_);
         u_ = ytmp_.tail(nu_);
         if (!project_positions(t, s_, robust)) continue;
-        // velocities: u <- u - M_u^-1 Phi_u^T S^-1 (Phi_u u + C_t) (book Eq. 6.138 on the closure rows)
-        kinematics(s_, u_);
-        joint_space(t);
+        // velocities: u <- u - M_u^-1 Phi_u^T S^-1 (Phi_u u + C_t) (book Eq. 6.138 on the closure
+        // rows), with the kinematics and joint-space rows project_positions left at the final s_
         joint_mass(false);
         if (!factor(t, robust)) continue;
         r_.noalias() = Phi_ * u_;

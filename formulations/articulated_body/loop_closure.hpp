@@ -41,6 +41,8 @@ public:
     void accelerations(const State& state, Eigen::VectorXd& vdot) override;
     // the least relative pivot of the last factorization of S (0 after the robust path)
     double least_relative_pivot() const { return saddle_.least_relative_pivot(); }
+    // the System's J (joints and drivers) at the positions of the last successful project()
+    const Eigen::SparseMatrix<double>& projected_jacobian() const { return cv_.J; }
 
 private:
     // at the kinematics in bodies_: H_, a_ (System layout), the absolute state_, cv_ and the

@@ -89,9 +89,11 @@ public:
         // a rank drop of J (joints + drivers) at the accepted state is a singular configuration
         // (singularity.hpp), checked once per accepted step; not on the recursive path, where
         // the rows of a tree are independent by construction. The closure path checks all the
-        // System's rows (a loop that locks drops the rank of the whole J) before it projects:
-        // a projection across a singular position would stop with its own, less specific error.
-        if (path_taken_ == "closure") check_singularity(t, y);
+        // System's rows (a loop that locks drops the rank of the whole J) with the J its
+        // projection evaluated at the projected positions; when the projection fails or stops
+        // (across a singular position), the check runs first at the unprojected state, so that
+        // the rank drop is named rather than the projection's own, less specific error.
+        if (path_taken_ == "closure") return project_closure(t, y);
         if (!impl_->project(t, y)) return false;
         if (path_taken_ == "dense") check_singularity(t, y);
         return true;
@@ -102,6 +104,22 @@ public:
     void accelerations(const State& state, Eigen::VectorXd& vdot) override { impl_->accelerations(state, vdot); }
 
 private:
+    bool project_closure(double t, Eigen::VectorXd& y) {
+        bool projected = false;
+        try {
+            projected = impl_->project(t, y);  // y is left as it was unless it succeeds
+        } catch (const DynamicsError&) {
+            check_singularity(t, y);
+            throw;
+        }
+        if (!projected) {
+            check_singularity(t, y);
+            return false;
+        }
+        if (singularity_.active(*system_))
+            singularity_.check(*system_, t, static_cast<const articulated::LoopClosure&>(*impl_).projected_jacobian());
+        return true;
+    }
     void check_singularity(double t, const Eigen::VectorXd& y) {
         if (!singularity_.active(*system_)) return;
         impl_->from_ode(t, y, check_state_);
