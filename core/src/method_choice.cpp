@@ -46,15 +46,24 @@ MethodChoice automatic_method(const Model& model, double t_end) {
     const bool tree = recursive_embedding_possible(system, &topology);
     choice.formulation = tree ? "embedding" : "augmented";
     choice.formulation_reason = tree ? topology + ": the recursive path of embedding" : topology;
+    // only augmented solves a load from a reaction (reaction_loads.hpp)
+    const ForceInstance* reaction_load = nullptr;
     for (const ForceInstance& f : model.forces)
-        if (f.load_joint >= 0 && tree) {  // only augmented solves a load from a reaction (reaction_loads.hpp)
-            choice.formulation = "augmented";
-            choice.formulation_reason = "force '" + f.name + "' takes its load from a joint's reaction";
-            break;
-        }
+        if (f.load_joint >= 0 && !reaction_load) reaction_load = &f;
+    if (reaction_load && tree) {
+        choice.formulation = "augmented";
+        choice.formulation_reason = "force '" + reaction_load->name + "' takes its load from a joint's reaction";
+    }
     const double rate = fastest_damping_rate(model);
     const double scales = rate * t_end;
     const bool stiff = scales > kStiffDampedTimeScales;
+    // stiff with loops or drivers: cvode's difference Jacobian costs a rhs per state and its
+    // LU the cube of their number, so the fewest states win: the closure path's joint coordinates
+    std::string closure;
+    if (stiff && !tree && !reaction_load && closure_embedding_possible(system, &closure)) {
+        choice.formulation = "embedding";
+        choice.formulation_reason = closure + ": the closure path of embedding (stiff: the fewest states for cvode)";
+    }
     choice.integrator = stiff ? "cvode" : "dop853";
     choice.integrator_reason =
         rate > 0.0 ? std::string(stiff ? "stiff" : "not stiff") + ": fastest damping rate " + format_number(rate, 3) +

@@ -5,12 +5,15 @@
 //   formulation  embedding when the joints form a tree its recursive path can take (the fewest
 //                states and an O(n) right-hand side: the pendulum, the chains, the gyroscope);
 //                augmented otherwise (closed loops, drivers: the four-bars, the car axis, the
-//                flyball, the Bricard).
+//                Bricard), except in a stiff scene (below) that the closure path takes: cvode's
+//                difference Jacobian costs one rhs per state and its LU grows with their cube, so
+//                the joint coordinates win (the flyball: 8 states against 52, 1.8 times cheaper
+//                at error 1e-6).
 //   integrator   cvode when the scene is stiff: the fastest damping rate of its force elements
 //                (the largest eigenvalue of M^-1 times the symmetric part of -dQ/dv, at the
 //                initial state) times the length of the run exceeds kStiffDampedTimeScales, so
 //                that an explicit method would need about that many steps for stability alone
-//                (the flyball's spring-dampers: 2e4 1/s over 2 s); dop853 otherwise (on every
+//                (the flyball's spring-dampers: 1e5 1/s over 2 s); dop853 otherwise (on every
 //                non-stiff bench scene it costs less than dopri5 at errors 1e-6 and 1e-9, and
 //                about as much at the default tolerance).
 #pragma once
