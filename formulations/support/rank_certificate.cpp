@@ -11,20 +11,56 @@ void RankCertificate::bind(System& system, SingularityMonitor& monitor) {
     rows_ = monitor.active(system) ? system.constraint_rows(true) : 0;
     if (rows_ == 0) return;
     monitor.certificate = this;
+    reuse_above_ = 2.0 * 10.0 * monitor.tolerance;  // twice what the monitor needs to skip its QR
     gram_.analyze(system);
+    anchored_ = false;
+    anchor_values_.reserve(gram_.W().nonZeros());  // J's entries lie in W's block pattern
+    anchor_inner_.reserve(gram_.W().nonZeros());
+    anchor_outer_.reserve(gram_.W().outerSize() + 1);
     x_.setZero(rows_);
     y_.setZero(rows_);
     z_.setZero(rows_);
 }
 
 double RankCertificate::sigma_ratio_bound(const Eigen::SparseMatrix<double>& J) {
-    inverse_norm_ = 0.0;
     if (rows_ == 0 || J.rows() != rows_) return 0.0;
+    if (anchored_) {
+        const double moved = bound_from_anchor(J);
+        if (moved >= std::min(reuse_above_, 0.5 * anchor_bound_)) return moved;
+    }
+    anchored_ = false;
+    ++factorizations_;
+    inverse_norm_ = 0.0;
     gram_.fill(J);
     if (!gram_.factor(0.0)) return 0.0;
     inverse_norm_ = estimate_inverse_norm1();
-    const double condition = gram_.norm1() * inverse_norm_ * safety;
-    return std::isfinite(condition) && condition > 0.0 ? 1.0 / std::sqrt(condition) : 0.0;
+    const double sigma_min = 1.0 / std::sqrt(inverse_norm_ * safety), sigma_max = std::sqrt(gram_.norm1());
+    const double bound = sigma_min / sigma_max;
+    if (!std::isfinite(bound) || !(bound > 0.0)) return 0.0;
+    const size_t nnz = static_cast<size_t>(J.nonZeros()), outer = static_cast<size_t>(J.outerSize()) + 1;
+    if (!J.isCompressed() || nnz > anchor_values_.capacity() || outer > anchor_outer_.capacity()) return bound;
+    anchor_values_.assign(J.valuePtr(), J.valuePtr() + nnz);
+    anchor_inner_.assign(J.innerIndexPtr(), J.innerIndexPtr() + nnz);
+    anchor_outer_.assign(J.outerIndexPtr(), J.outerIndexPtr() + outer);
+    anchor_sigma_min_ = sigma_min;
+    anchor_sigma_max_ = sigma_max;
+    anchor_bound_ = bound;
+    anchored_ = true;
+    return bound;
+}
+
+double RankCertificate::bound_from_anchor(const Eigen::SparseMatrix<double>& J) const {
+    const size_t nnz = static_cast<size_t>(J.nonZeros()), outer = static_cast<size_t>(J.outerSize()) + 1;
+    if (!J.isCompressed() || nnz != anchor_values_.size() || outer != anchor_outer_.size() ||
+        !std::equal(anchor_outer_.begin(), anchor_outer_.end(), J.outerIndexPtr()) ||
+        !std::equal(anchor_inner_.begin(), anchor_inner_.end(), J.innerIndexPtr()))
+        return -1.0;
+    double squares = 0.0;  // ||J - J_a||_F^2 >= ||J - J_a||_2^2
+    for (size_t k = 0; k < nnz; ++k) squares += (J.valuePtr()[k] - anchor_values_[k]) * (J.valuePtr()[k] - anchor_values_[k]);
+    const double moved = std::sqrt(squares);
+    if (!std::isfinite(moved)) return -1.0;
+    const double least = anchor_sigma_min_ - moved;
+    return least > 0.0 ? least / (anchor_sigma_max_ + moved) : 0.0;
 }
 
 // Hager's estimate of ||G^-1||_1 for symmetric G (G^-T = G^-1): at most five ascent steps from
