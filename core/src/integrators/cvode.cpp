@@ -111,7 +111,6 @@ void error_handler(int /*code*/, const char* module, const char* function, char*
 struct Sundials {
     SUNContext context = nullptr;
     N_Vector y = nullptr;
-    N_Vector interpolated = nullptr;  // an output inside the last step
     SUNMatrix A = nullptr;
     SUNLinearSolver solver = nullptr;
     void* cvode = nullptr;
@@ -120,7 +119,6 @@ struct Sundials {
         if (solver) SUNLinSolFree(solver);
         if (A) SUNMatDestroy(A);
         if (y) N_VDestroy(y);
-        if (interpolated) N_VDestroy(interpolated);
         if (context) SUNContext_Free(&context);
     }
 };
@@ -132,12 +130,8 @@ struct Sundials {
 // the meaning of part of y (Formulation::state_redefined): the BDF history then
 // describes another state, so CVODE restarts from the current (t, y) with
 // CVodeReInit (history discarded, order 1). Steps are taken one at a time
-// (CV_ONE_STEP) to check this after every step. For such a problem each output time
-// is a stop time, so no output is interpolated across a restart. A problem that never
-// redefines its state and has no events or quadratures steps freely to t_end: an output inside the last step is CVODE's
-// interpolant there (CVodeGetDky), projected like dopri5's dense output; a stop at every
-// output would cut the steps short (the flyball: 1548 steps instead of 1192 with 100
-// outputs over 2 s).
+// (CV_ONE_STEP) to check this after every step, and each output time is a stop
+// time, so no output is interpolated across a restart.
 class CvodeRun {
 public:
     CvodeRun(OdeProblem& problem, const IntegratorSettings& settings, IntegratorStats& stats, double t0)
@@ -159,8 +153,6 @@ private:
     Eigen::Map<Eigen::VectorXd> state() {
         return Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(s_.y), problem_.size());
     }
-    // the stop time of the steps towards the output t_out
-    double stop_time(double t_out) const { return interpolate_ ? t_end_ : t_out; }
     // Throws for a failed SUNDIALS call (the callbacks' own exception first).
     void check(int flag, const char* call) const;
     void restart(double t, const Eigen::VectorXd& y);
@@ -177,8 +169,6 @@ private:
     Sundials s_;
     long steps_before_ = 0;  // CVodeReInit zeroes CVODE's counters: the steps of earlier segments
     double t_cur_;
-    double t_end_ = 0.0;
-    bool interpolate_ = false;  // outputs inside a step are interpolated (the problem never redefines its state)
     bool on_manifold_ = true;  // state() is a projected step end or a restart's state, not a root's interpolant
     std::vector<int> side_, crossed_, roots_;  // each event's side (+1 open, -1 closed); CVodeGetRootInfo
     EventPileUpGuard pile_up_;
@@ -202,14 +192,7 @@ void CvodeRun::create(const Eigen::VectorXd& y, double t_end) {
     if (SUNContext_Create(nullptr, &s_.context) != 0)
         throw DynamicsError(t0, "cvode: cannot create a SUNDIALS context");
     s_.y = N_VNew_Serial(n, s_.context);
-    s_.interpolated = N_VNew_Serial(n, s_.context);
-    if (!s_.y || !s_.interpolated) throw DynamicsError(t0, "cvode: cannot allocate the state vector");
-    t_end_ = t_end;
-    // Not with events: a root found past an output would restart CVODE before that output is
-    // read. Not with quadratures (a friction's dissipated energy): the projection of an
-    // interpolated output would move the state and not its integral, which the energy balance
-    // E0 - E = dissipated at each output then misses by the interpolation error.
-    interpolate_ = !problem_.may_redefine_state() && problem_.event_count() == 0 && problem_.quadrature_count() == 0;
+    if (!s_.y) throw DynamicsError(t0, "cvode: cannot allocate the state vector");
     state() = y;
     s_.cvode = CVodeCreate(CV_BDF, s_.context);
     if (!s_.cvode) throw DynamicsError(t0, "cvode: CVodeCreate failed");
@@ -304,7 +287,7 @@ void CvodeRun::fail(int flag, double t_reached) {
 }
 
 void CvodeRun::advance_to(double t_out, double eps, Eigen::VectorXd& yout) {
-    check(CVodeSetStopTime(s_.cvode, stop_time(t_out)), "CVodeSetStopTime");
+    check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
     for (;;) {
         long taken = 0;
         CVodeGetNumSteps(s_.cvode, &taken);
@@ -321,29 +304,23 @@ void CvodeRun::advance_to(double t_out, double eps, Eigen::VectorXd& yout) {
             project_or_throw(problem_, t_reached, yout);
             problem_.state_redefined();  // the restart at the event covers a re-selection
             handle_events(t_reached, yout);
-            if (!at_output) check(CVodeSetStopTime(s_.cvode, stop_time(t_out)), "CVodeSetStopTime");
+            if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
         } else if (problem_.may_redefine_state()) {
             // the accepted step: the formulation may re-select its coordinates here
             yout = state();
             project_or_throw(problem_, t_reached, yout);
             if (problem_.state_redefined()) {
                 restart(t_reached, yout);
-                if (!at_output) check(CVodeSetStopTime(s_.cvode, stop_time(t_out)), "CVodeSetStopTime");
+                if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
             }
         }
         if (at_output) break;
         stop_if_interrupted(t_reached);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
     }
-    if (!interpolate_) t_cur_ = t_out;
+    t_cur_ = t_out;
 }
 
 void CvodeRun::output_state(double t_out, Eigen::VectorXd& yout) {
-    if (interpolate_ && t_out < t_cur_ - time_epsilon(t0_, t_end_)) {  // inside the last step
-        check(CVodeGetDky(s_.cvode, t_out, 0, s_.interpolated), "CVodeGetDky");
-        yout = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(s_.interpolated), problem_.size());
-        project_or_throw(problem_, t_out, yout);
-        return;
-    }
     yout = state();
     if (on_manifold_ && !problem_.may_redefine_state()) return;
     project_or_throw(problem_, t_out, yout);
