@@ -156,6 +156,7 @@ void report(const std::string& what, const DerivativeErrors& e, double tolerance
                           {"C_t (Cdot = J v + C_t)", e.time_derivative},
                           {"coordinate gradient J_s", e.coordinate_jacobian},
                           {"coordinate gamma_s", e.coordinate_gamma},
+                          {"(d gamma / d v)^T w (gamma_velocity_transpose)", e.gamma_velocity_transpose},
                           {"gamma_v (d/dt(A v - b) = A vdot - gamma_v)", e.velocity_gamma},
                           {"velocity rows' A, b independent of v", e.velocity_dependence},
                           {"dQ/dv", e.velocity_jacobian},

@@ -1,19 +1,25 @@
 #!/usr/bin/env python3
 """Per-step cost against body count for every formulation plugin (scripts/bench.sh).
 
-    bench_scaling.py MBD OUT.csv [--sizes 10,30,...] [--budget SECONDS]
+    bench_scaling.py MBD OUT.csv [--sizes 10,30,...] [--budget SECONDS] [--repeats 3]
 
 For each formulation that `MBD plugins` lists, each kind of chain and each size N, writes a chain
 of N links to a temporary scene: planar (0.1 m, 1 kg, revolute joints, gravity; the model of
 bench/bench_augmented.cpp) or spatial (0.1 m, 1 kg rods on spherical joints, gravity along -z,
-the last link given a sideways velocity so that the motion is spatial) and runs `MBD simulate --integrator rk4 --step 1e-4` over a few steps with
---json; the CPU time per step is cpu_s / steps (the integration only: assembly excluded). A
+the last link given a sideways velocity so that the motion is spatial) and runs `MBD simulate
+--integrator rk4 --step 1e-4` with --json twice, over k and 3k steps, with output rows only at the
+start and the end (--output-step = the run's length). The CPU time per step is the difference of
+the two runs' cpu_s over 2k steps, the median of --repeats such pairs (3): the cost of one more step (4 right-hand sides and the
+projection), without what a run pays once (the assembly, a formulation's first factorization with
+its ordering) and without writing output rows (each row converts the state, evaluates the
+constraints and formats every coordinate: on a 10,000-link chain as much as a third of a step). A
 formulation that fails on a size, or whose last point took longer than the budget, stops there.
 """
 import argparse
 import csv
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -62,6 +68,7 @@ def main():
     p.add_argument("out")
     p.add_argument("--sizes", default="10,30,100,300,1000,3000,10000")
     p.add_argument("--budget", type=float, default=10.0)
+    p.add_argument("--repeats", type=int, default=3, help="pairs of runs per point; the median estimate is kept")
     p.add_argument("--chains", default="planar,spatial")
     p.add_argument("--formulations", default="", help="comma-separated (default: every installed plugin)")
     a = p.parse_args()
@@ -81,34 +88,51 @@ def main():
             for n in sizes:
                 steps = max(4, min(400, int(40000 / n)))
                 if last:
-                    # predicted cost per step (cubic growth as the worst case): ~2 s per point at most,
-                    # and stop before a point that would exceed the budget even with 4 steps
+                    # predicted cost per step (cubic growth as the worst case): ~2 s per point (both runs) at
+                    # most, and stop before a point that would exceed the budget even with 4 + 12 steps
                     predicted = last[1] * (n / last[0]) ** 3
-                    if 4 * predicted > a.budget:
+                    if 12 * predicted > a.budget:
                         print(f"scaling: {kind} {name} N = {n}: skipped (predicted {predicted:.2g} s per step)",
                               file=sys.stderr)
                         break
-                    steps = max(4, min(steps, int(2.0 / predicted)))
-                cmd = [a.mbd, "simulate", scenes[kind, n], "--formulation", name, "--integrator", "rk4", "--step", "1e-4",
-                       "--t-end", f"{steps * 1e-4:.6g}", "--json", "-q", "-o", os.path.join(tmp, "out.csv")]
-                r = None
-                try:
-                    r = subprocess.run(cmd, capture_output=True, text=True, timeout=6 * a.budget)
-                    j = json.loads(r.stdout) if r.returncode == 0 else None
-                except (subprocess.TimeoutExpired, json.JSONDecodeError):
-                    j = None
-                if not j or not j.get("steps"):
-                    msg = "timeout" if j is None and r is None else ((r.stderr.strip().splitlines() or ["?"])[-1])
-                    print(f"scaling: {kind} {name} N = {n}: failed ({msg[:120]})", file=sys.stderr)
+                    steps = max(4, min(steps, int(0.5 / predicted)))
+                def run(count):
+                    t_end = f"{count * 1e-4:.6g}"
+                    cmd = [a.mbd, "simulate", scenes[kind, n], "--formulation", name, "--integrator", "rk4",
+                           "--step", "1e-4", "--t-end", t_end, "--output-step", t_end, "--json", "-q", "-o",
+                           os.path.join(tmp, "out.csv")]
+                    try:
+                        r = subprocess.run(cmd, capture_output=True, text=True, timeout=6 * a.budget)
+                    except subprocess.TimeoutExpired:
+                        return None, "timeout"
+                    try:
+                        j = json.loads(r.stdout) if r.returncode == 0 else None
+                    except json.JSONDecodeError:
+                        j = None
+                    if not j or not j.get("steps"):
+                        return None, (r.stderr.strip().splitlines() or ["?"])[-1]
+                    return j, ""
+                estimates, failure = [], ""
+                for _ in range(a.repeats):
+                    j, msg = run(steps)
+                    j3, msg3 = run(3 * steps) if j else (None, "")
+                    if not j or not j3:
+                        failure = msg or msg3
+                        break
+                    # the cost of one more step; a difference below the clock's resolution falls back to the average
+                    extra = j3["cpu_s"] - j["cpu_s"]
+                    estimates.append(extra / (j3["steps"] - j["steps"]) if extra > 0 else j3["cpu_s"] / j3["steps"])
+                if failure:
+                    print(f"scaling: {kind} {name} N = {n}: failed ({failure[:120]})", file=sys.stderr)
                     rows.append({"chain": kind, "formulation": name, "bodies": n, "steps": "", "cpu_s": "",
                                  "cpu_per_step_s": ""})
                     break
-                per = j["cpu_s"] / j["steps"]
+                per = statistics.median(estimates)
                 last = (n, per)
-                rows.append({"chain": kind, "formulation": name, "bodies": n, "steps": j["steps"], "cpu_s": j["cpu_s"],
+                rows.append({"chain": kind, "formulation": name, "bodies": n, "steps": j3["steps"], "cpu_s": j3["cpu_s"],
                              "cpu_per_step_s": per})
                 print(f"scaling: {kind:7s} {name:12s} N = {n:6d}: {per:.3e} s per step", file=sys.stderr)
-                if j["cpu_s"] > a.budget:
+                if j3["cpu_s"] > a.budget:
                     break
     with open(a.out, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=["chain", "formulation", "bodies", "steps", "cpu_s", "cpu_per_step_s"])

@@ -12,6 +12,7 @@
 #include "support/test_support.hpp"
 
 #include <mbd/derivative_check.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <gtest/gtest.h>
 
@@ -39,15 +40,19 @@ TEST(JointDerivatives, EveryRegisteredJointTypeMatchesFiniteDifferences) {
         for (const JointInstance& ji : model.joints) {
             SCOPED_TRACE("joint '" + ji.name + "' of type " + ji.type);
             const DerivativeErrors c = check_joint_derivatives(model, ji, rng);
-            std::printf("%-10s %-12s %-14s %-9s J %.1e  gamma %.1e  C_t %.1e  J_s %.1e  gamma_s %.1e  gamma_v %.1e\n",
+            std::printf("%-10s %-12s %-14s %-9s J %.1e  gamma %.1e  C_t %.1e  J_s %.1e  gamma_s %.1e  gamma_v %.1e  "
+                        "dgamma/dv^T %s\n",
                         to_string(model.dimension), ji.type.c_str(), ji.name.c_str(), variant, c.jacobian, c.gamma,
-                        c.time_derivative, c.coordinate_jacobian, c.coordinate_gamma, c.velocity_gamma);
+                        c.time_derivative, c.coordinate_jacobian, c.coordinate_gamma, c.velocity_gamma,
+                        ji.joint->has_gamma_velocity_transpose() ? format_number(c.gamma_velocity_transpose).c_str() : "-");
             EXPECT_LT(c.jacobian, 1e-6);
             EXPECT_LT(c.gamma, 1e-6);
             EXPECT_LT(c.time_derivative, 1e-6);
             EXPECT_LT(c.coordinate_jacobian, 1e-6);
             EXPECT_LT(c.coordinate_gamma, 1e-6);
             EXPECT_LT(c.velocity_gamma, 1e-6);
+            // exact up to round-off (gamma is quadratic in v)
+            EXPECT_LT(c.gamma_velocity_transpose, 1e-10);
             EXPECT_LT(c.velocity_dependence, 1e-12);
             covered[ji.type].insert(to_string(model.dimension));
         }

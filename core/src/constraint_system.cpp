@@ -226,6 +226,23 @@ void ConstraintSystem::evaluate_gamma(const State& state, Data& data, Eigen::Vec
         }
 }
 
+void ConstraintSystem::gamma_velocity_transpose(const State& state, Data& data, const Eigen::VectorXd& mu,
+                                                Eigen::VectorXd& out) const {
+    data.pose(state);
+    const Model& m = *model_;
+    const int nvb = velocities_per_body(m.dimension);
+    Eigen::VectorXd& local = data.joint_gamma_gradient;  // sized for the joint with the most bodies
+    for (size_t j = 0; j < m.joints.size(); ++j) {
+        const JointInstance& ji = m.joints[j];
+        if (!ji.joint->has_gamma_velocity_transpose()) continue;
+        local.head(nvb * ji.bodies.size()).setZero();
+        data.poses.fill(ji.bodies, state.t, data.view);
+        ji.joint->gamma_velocity_transpose(data.view, mu.data() + joint_offset_[j], local.data());
+        for (size_t b = 0; b < ji.bodies.size(); ++b)
+            if (ji.bodies[b] != kGround) out.segment(m.v_offset(ji.bodies[b]), nvb) += local.segment(nvb * b, nvb);
+    }
+}
+
 const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& state, Data& data) const {
     const JointInstance& ji = model_->joints[j];
     ConstraintEval& e = data.joint_rows[j];

@@ -16,6 +16,7 @@ Data::Data(const Model& model) : poses(model) {
     view.spatial_bodies.reserve(widest);
     const int n = nvb * static_cast<int>(widest), n_varying = nvb * static_cast<int>(widest_varying);
     force_Q.setZero(n);
+    joint_gamma_gradient.setZero(n);
     force_plus.setZero(n_varying);
     force_minus.setZero(n_varying);
     force_dQ_dq.setZero(n_varying, n_varying);

@@ -12,7 +12,7 @@
 namespace mbd {
 
 double DerivativeErrors::worst() const {
-    return std::max({jacobian, gamma, time_derivative, coordinate_jacobian, coordinate_gamma, velocity_gamma,
+    return std::max({jacobian, gamma, time_derivative, coordinate_jacobian, coordinate_gamma, gamma_velocity_transpose, velocity_gamma,
                      velocity_dependence, velocity_jacobian, potential, event_gradient, load_affinity});
 }
 
@@ -313,6 +313,39 @@ void check_velocity_rows(JointProbe& p, const Trajectory& path, const State& s, 
         std::max({worst.velocity_dependence, (A_faster - A).norm() / std::max(1.0, A.norm()), relative(p.ve.b, b)});
 }
 
+// Joint::gamma_velocity_transpose at s for random row weights, against (d gamma / d v)^T w with
+// d gamma / d v by central differences in each velocity of each moving body (exact up to
+// round-off for any step: gamma is quadratic in v; a step of the size of v keeps it relative).
+void check_gamma_velocity_transpose(JointProbe& p, const State& s, std::mt19937& rng, DerivativeErrors& worst) {
+    std::normal_distribution<double> normal(0.0, 1.0);
+    Eigen::VectorXd w(p.ji.joint->rows());
+    for (int r = 0; r < w.size(); ++r) w[r] = normal(rng);
+    p.eval(s);
+    Eigen::VectorXd analytic = Eigen::VectorXd::Zero(p.cols);
+    BodyPoses poses(p.model);
+    poses.update(s);
+    p.ji.joint->gamma_velocity_transpose(poses.view(p.ji.bodies, s.t), w.data(), analytic.data());
+    Eigen::VectorXd reference = Eigen::VectorXd::Zero(p.cols);
+    const double h = std::max(1.0, s.v.lpNorm<Eigen::Infinity>());
+    for (size_t b = 0; b < p.ji.bodies.size(); ++b) {
+        if (p.ji.bodies[b] == kGround) {
+            analytic.segment(p.nvb * b, p.nvb).setZero();  // ground columns are not compared
+            continue;
+        }
+        for (int c = 0; c < p.nvb; ++c) {
+            State probe = s;
+            probe.v[p.model.v_offset(p.ji.bodies[b]) + c] += h;
+            p.eval(probe);
+            const Eigen::VectorXd plus = p.e.gamma;
+            probe.v[p.model.v_offset(p.ji.bodies[b]) + c] -= 2.0 * h;
+            p.eval(probe);
+            reference[p.nvb * b + c] = (plus - p.e.gamma).dot(w) / (2.0 * h);
+        }
+    }
+    worst.finite = worst.finite && analytic.allFinite();
+    worst.gamma_velocity_transpose = std::max(worst.gamma_velocity_transpose, relative(analytic, reference));
+}
+
 }  // namespace
 
 DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance& ji, std::mt19937& rng, int trials) {
@@ -367,6 +400,7 @@ DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance
                 std::max(worst.coordinate_gamma, std::abs(gamma_s - gs_fd) / std::max(1.0, std::abs(gs_fd)));
         }
         if (ji.joint->velocity_rows() > 0) check_velocity_rows(p, path, s, t, worst);
+        if (ji.joint->has_gamma_velocity_transpose()) check_gamma_velocity_transpose(p, s, rng, worst);
         if (worst.worst() > before) worst.worst_state = describe(model, s);
     }
     return worst;

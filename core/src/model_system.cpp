@@ -281,6 +281,10 @@ void ModelSystem::constraint_gamma(const State& state, Eigen::VectorXd& gamma, b
     (include_drivers ? with_drivers_ : joints_only_).evaluate_gamma(state, data_, gamma);
 }
 
+void ModelSystem::gamma_velocity_transpose(const State& state, const Eigen::VectorXd& mu, Eigen::VectorXd& out) {
+    joints_only_.gamma_velocity_transpose(state, data_, mu, out);
+}
+
 void ModelSystem::constraints_with_velocity_rows(const State& state, ConstraintValues& out, bool include_drivers) {
     (include_drivers ? with_drivers_and_velocity_rows_ : joints_and_velocity_rows_).evaluate(state, data_, out);
 }

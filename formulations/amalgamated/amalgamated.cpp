@@ -15,21 +15,24 @@
 //     gamma) J_d vdot_d + J_i vdot_sel = gamma: J vdot = gamma on the kept rows;
 //   - Eq. 4.19: B^T Q_c = Q_c,i - J_i^T J_d^-T Q_c,d = 0, i.e. with mu = -J_d^-T Q_c,d,
 //     Q_c = -J^T mu on the kept rows (range(J^T) is the orthogonal complement of range(B)).
-// The unknowns x = [vdot; f = -Q_c; mu] (vdot_i is vdot at the independent components) solve
+// With f = -Q_c and mu (vdot_i is vdot at the independent components) these are
 //     [ M   I    0   ] [ vdot ]   [ Q     ]
 //     [ J   0    0   ] [ f    ] = [ gamma ]          (kept rows; a dropped row: mu_r = 0)
 //     [ 0  -I   J^T  ] [ mu   ]   [ 0     ]
-// of size 2 n_v + n_c, as sparse as J, factored by sparse LU with pivoting (KLU,
-// fixed_pattern_lu.hpp), never reduced by hand to the embedding equations (Eq. 6.95: dense
-// B^T M B) or to the Schur complement J M^-1 J^T (the augmented formulation's route).
+// whose third block row gives f = J^T mu; put into the first, the unknowns x = [vdot; mu] solve
+//     [ M   J^T ] [ vdot ]   [ Q     ]
+//     [ J   D   ] [ mu   ] = [ gamma ]               (D_rr = 1 for a dropped row, else 0)
+// of size n_v + n_c, as sparse as J, factored by sparse LU with pivoting (KLU,
+// fixed_pattern_lu.hpp), never reduced further by hand to the embedding equations (Eq. 6.95:
+// dense B^T M B) or to the Schur complement J M^-1 J^T (the augmented formulation's route).
 // The matrix is indefinite, so an LDL^T without pivoting (CHOLMOD) is not valid; KLU's LU
 // with threshold pivoting is. The pattern is fixed for the life of the System (M's body
-// blocks, the identities, J's pattern twice and a diagonal slot per constraint row, which
-// decouples the rows the partition drops, explicit zeros kept): a re-selection changes values
-// only. It is ordered once, factored with pivoting once, and at the following evaluations
-// refactored in place with the same pivots (nothing is allocated), pivoting again only when
-// the solution's backward error shows that those pivots no longer fit. mu are the multipliers
-// of the kept rows (Q_c = -J^T lambda, book Eq. 6.128).
+// blocks, J's pattern twice and a diagonal slot per constraint row, which decouples the rows
+// the partition drops, explicit zeros kept): a re-selection changes values only. It is
+// ordered once, factored with pivoting once, and at the following evaluations refactored in
+// place with the same pivots (nothing is allocated), pivoting again only when the solution's
+// backward error shows that those pivots no longer fit. mu are the multipliers of the kept
+// rows (Q_c = -J^T lambda, book Eq. 6.128).
 //
 // State y = [q; v] as the augmented formulation; drift: the same projection after each
 // accepted step (sdk/include/mbd/sdk/projection.hpp), or Baumgarte terms in gamma, or
@@ -75,25 +78,25 @@ public:
 
     // for tests
     const CoordinatePartition& partition() const { return part_; }
-    int block_size() const { return 2 * nv_ + nc_; }
+    int block_size() const { return nv_ + nc_; }
 
 private:
-    // state_ -> cv_, J_, Q_, vdot_, Qc_ (the block system, Eq. 4.20)
+    // state_ -> cv_, Q_, vdot_, mu_ (the block system, Eq. 4.20)
     void solve_dynamics(double t);
     void select(const State& state, bool initial);
     void build_pattern();
     // J's current entries (and the dropped rows' decoupling) into K_'s values
     void fill_J();
+    // x_ = K^-1 rhs_ (KLU on the fixed pattern)
+    void solve_block_system(double t);
     // the re-selection trigger at cv_.J: dense, J_d's pivot ratio for partition p (complete
     // pivoting); sparse, the current J_d's LU ratio relative to the partition's first
     // (sparse_velocity_transform.hpp)
     double pivot_ratio(const CoordinatePartition& p);
     void mark_dropped_rows();
-    // r_ = rhs_ - K_ x_ and x_'s backward errors as a solution of K_ x = rhs_, in one pass over K_
-    struct BackwardErrors {
-        double normwise, componentwise;  // ||r|| / (||K|| ||x|| + ||rhs||), max_i |r_i| / (|K| |x| + |rhs|)_i
-    };
-    BackwardErrors residual();
+    // r_ = rhs_ - K_ x_ and x_'s normwise backward error ||r|| / (||K|| ||x|| + ||rhs||) as a
+    // solution of K_ x = rhs_ (infinity norms), in one pass over K_
+    double residual();
 
     bool log_choices_ = false;  // FormulationOptions::log_choices, default false
 
@@ -109,8 +112,8 @@ private:
     State state_;
     ConstraintValues cv_;
     Eigen::MatrixXd J_;
-    Eigen::VectorXd Q_, gamma_s_, Jv_, vdot_, Qc_, mu_, rhs_, x_, r_, dx_;
-    Eigen::VectorXd row_sums_, magnitudes_;  // |K| 1 and |K| |x|, residual()'s
+    Eigen::VectorXd Q_, gamma_s_, Jv_, vdot_, mu_, rhs_, x_, r_, dx_;
+    Eigen::VectorXd row_sums_;  // |K| 1, residual()'s
     std::vector<Eigen::Triplet<double>> triplets_;
     Eigen::SparseMatrix<double> K_;
     std::vector<int> j_slots_;         // per entry of J (storage order): its places in K_ (J and J^T)
@@ -149,10 +152,9 @@ void Amalgamated::bind(System& system, const FormulationOptions& options) {
     state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);
     vdot_.setZero(nv_);
-    Qc_.setZero(nv_);
     projection_.resize(nq_, nv_, nc_);
     mu_.setZero(nc_);
-    for (Eigen::VectorXd* v : {&rhs_, &x_, &r_, &dx_, &row_sums_, &magnitudes_}) v->setZero(2 * nv_ + nc_);
+    for (Eigen::VectorXd* v : {&rhs_, &x_, &r_, &dx_, &row_sums_}) v->setZero(nv_ + nc_);
     dropped_.assign(nc_, 0);
     analysed_ = false;
     // the partition at the assembled initial state (the run assembles the same way)
@@ -184,28 +186,24 @@ void Amalgamated::mark_dropped_rows() {
     for (int r : part_.redundant) dropped_[r] = 1;
 }
 
-// The sparse form of Eq. 4.20 (see the header) with unknowns x = [vdot; f = -Q_c; mu].
+// The block system of Eq. 4.20 with -Q_c eliminated (see the header), unknowns x = [vdot; mu].
 void Amalgamated::build_pattern() {
     const int n = nv_, m = nc_;
     const Eigen::SparseMatrix<double>& J = cv_.J;
     triplets_.clear();
-    triplets_.reserve(static_cast<size_t>(M_->nonZeros() + 2 * n + 2 * J.nonZeros() + m));
+    triplets_.reserve(static_cast<size_t>(M_->nonZeros() + 2 * J.nonZeros() + m));
     // M: constant, so its stored entries are its pattern (planar diag(m, m, J); spatial diag(m I, Jbar)
     // with Jbar's nonzeros), not full body blocks whose structural zeros only add fill to the LU
     for (int c = 0; c < n; ++c)
         for (Eigen::SparseMatrix<double>::InnerIterator it(*M_, c); it; ++it)
             triplets_.emplace_back(static_cast<int>(it.row()), c, it.value());
-    for (int i = 0; i < n; ++i) {
-        triplets_.emplace_back(i, n + i, 1.0);           // M vdot + f
-        triplets_.emplace_back(n + m + i, n + i, -1.0);  // -f + J^T mu
-    }
     for (int c = 0; c < n; ++c)
         for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
-            triplets_.emplace_back(n + static_cast<int>(it.row()), c, 0.0);          // J vdot
-            triplets_.emplace_back(n + m + c, 2 * n + static_cast<int>(it.row()), 0.0);  // J^T mu
+            triplets_.emplace_back(n + static_cast<int>(it.row()), c, 0.0);  // J vdot
+            triplets_.emplace_back(c, n + static_cast<int>(it.row()), 0.0);  // J^T mu
         }
-    for (int r = 0; r < m; ++r) triplets_.emplace_back(n + r, 2 * n + r, 0.0);  // mu_r = 0 when dropped
-    K_.resize(2 * n + m, 2 * n + m);
+    for (int r = 0; r < m; ++r) triplets_.emplace_back(n + r, n + r, 0.0);  // mu_r = 0 when dropped
+    K_.resize(n + m, n + m);
     K_.setFromTriplets(triplets_.begin(), triplets_.end());
     K_.makeCompressed();
     auto slot = [&](int row, int col) { return static_cast<int>(&K_.coeffRef(row, col) - K_.valuePtr()); };
@@ -213,10 +211,10 @@ void Amalgamated::build_pattern() {
     for (int c = 0; c < n; ++c)
         for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
             j_slots_.push_back(slot(n + static_cast<int>(it.row()), c));
-            j_slots_.push_back(slot(n + m + c, 2 * n + static_cast<int>(it.row())));
+            j_slots_.push_back(slot(c, n + static_cast<int>(it.row())));
         }
     decouple_slots_.resize(m);
-    for (int r = 0; r < m; ++r) decouple_slots_[r] = slot(n + r, 2 * n + r);
+    for (int r = 0; r < m; ++r) decouple_slots_[r] = slot(n + r, n + r);
 }
 
 void Amalgamated::fill_J() {
@@ -232,23 +230,16 @@ void Amalgamated::fill_J() {
     for (int r = 0; r < nc_; ++r) values[decouple_slots_[r]] = dropped_[r] ? 1.0 : 0.0;
 }
 
-Amalgamated::BackwardErrors Amalgamated::residual() {
-    r_.setZero();  // K x, then rhs - K x
+double Amalgamated::residual() {
+    r_ = rhs_;  // rhs - K x
     row_sums_.setZero();
-    magnitudes_ = rhs_.cwiseAbs();
     for (int col = 0; col < K_.outerSize(); ++col)
         for (Eigen::SparseMatrix<double>::InnerIterator it(K_, col); it; ++it) {
-            const double k = it.value(), kx = k * x_[col];
-            r_[it.row()] += kx;
-            row_sums_[it.row()] += std::abs(k);
-            magnitudes_[it.row()] += std::abs(kx);
+            r_[it.row()] -= it.value() * x_[col];
+            row_sums_[it.row()] += std::abs(it.value());
         }
-    r_ = rhs_ - r_;
     const double scale = row_sums_.maxCoeff() * x_.lpNorm<Eigen::Infinity>() + rhs_.lpNorm<Eigen::Infinity>();
-    double componentwise = 0.0;
-    for (Eigen::Index i = 0; i < r_.size(); ++i)
-        if (r_[i] != 0.0) componentwise = std::max(componentwise, std::abs(r_[i]) / magnitudes_[i]);
-    return {scale > 0.0 ? r_.lpNorm<Eigen::Infinity>() / scale : 0.0, componentwise};
+    return scale > 0.0 ? r_.lpNorm<Eigen::Infinity>() / scale : 0.0;
 }
 
 void Amalgamated::solve_dynamics(double t) {
@@ -265,8 +256,20 @@ void Amalgamated::solve_dynamics(double t) {
         gamma_s_ -= b * b * cv_.C;
     }
     const int n = nv_, m = nc_;
+    rhs_.head(n) = Q_;
+    rhs_.tail(m) = gamma_s_;
+    for (int r : part_.redundant) rhs_[n + r] = 0.0;
+    solve_block_system(t);
+    if (!x_.allFinite()) throw DynamicsError(t, "amalgamated: non-finite solution of the block system (Eq. 4.20)");
+    vdot_ = x_.head(n);
+    mu_ = x_.tail(m);
+}
+
+// x_ = K^-1 rhs_ by KLU on K's fixed pattern, refactored in place with the last pivots while
+// the solution's backward error says they still fit.
+void Amalgamated::solve_block_system(double t) {
     bool pivot = false;
-    BackwardErrors errors{};
+    double backward_error = 0.0;
     if (!analysed_) {  // the first evaluation: the pattern
         build_pattern();
         if (!lu_.analyze(K_)) throw DynamicsError(t, "amalgamated: the block system of Eq. 4.20 could not be ordered");
@@ -274,10 +277,6 @@ void Amalgamated::solve_dynamics(double t) {
         pivot = true;
     }
     fill_J();
-    rhs_.setZero();
-    rhs_.head(n) = Q_;
-    rhs_.segment(n, m) = gamma_s_;
-    for (int r : part_.redundant) rhs_[n + r] = 0.0;
     for (;;) {
         if (!lu_.factor(K_, pivot)) {
             if (!pivot) {
@@ -288,23 +287,18 @@ void Amalgamated::solve_dynamics(double t) {
         }
         x_ = rhs_;
         lu_.solve(x_);
-        errors = residual();
+        backward_error = residual();
         // the pivots of the last pivoting factorization still fit (backward error near round-off)
-        if (pivot || errors.normwise <= 1e-10) break;
+        if (pivot || backward_error <= 1e-10) break;
         pivot = true;
     }
-    // one step of iterative refinement (the identity blocks and M can differ by orders of
-    // magnitude), unless every row already holds to round-off relative to its own terms: then
-    // x is componentwise backward stable and a refinement in the same precision cannot improve it
-    if (errors.componentwise > 4.0 * std::numeric_limits<double>::epsilon()) {
+    // one step of iterative refinement when the solution is not backward stable to round-off
+    // (old pivots that still fit, but lose digits; or pivot growth)
+    if (backward_error > 16.0 * std::numeric_limits<double>::epsilon()) {
         dx_ = r_;
         lu_.solve(dx_);
         x_ += dx_;
     }
-    if (!x_.allFinite()) throw DynamicsError(t, "amalgamated: non-finite solution of the block system (Eq. 4.20)");
-    vdot_ = x_.head(n);
-    Qc_ = -x_.segment(n, n);
-    mu_ = x_.tail(m);
 }
 
 void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
@@ -337,8 +331,10 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
                                       [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) { metric_.apply_Minv(x, out); });
         if (!ok) return false;
     }
+    bool cv_at_state = projected;  // the projection leaves cv_ at the projected positions
     if (singularity_.active(sys)) {
-        if (!projected) sys.constraints(state_, cv_, true);
+        if (!cv_at_state) sys.constraints(state_, cv_, true);
+        cv_at_state = true;
         // cv_ at the (projected) positions, where the velocity projection last factored S
         const double pivot = sparse_ ? sparse_metric_.least_relative_pivot() : metric_.least_relative_pivot();
         singularity_.check(sys, t, cv_.J, projected ? pivot : 0.0);
@@ -348,7 +344,7 @@ bool Amalgamated::project(double t, Eigen::VectorXd& y) {
     // re-selection of the partition near a singular J_d (book Sec. 6.12); y = [q; v] does
     // not depend on the partition, so this can happen at any projection
     if (part_.rank > 0) {
-        system_->constraints(state_, cv_, true);
+        if (!cv_at_state) system_->constraints(state_, cv_, true);
         const double ratio = pivot_ratio(part_);
         if (ratio < options_.partition.reselect_ratio) {
             CoordinatePartition& fresh = fresh_;

@@ -21,8 +21,8 @@ class FixedPatternLU {
 public:
     // No row scaling and no check of the input (KLU's scale = -1; the pattern is the caller's
     // own): a refactorization would recompute the scale factors at every evaluation, a third of
-    // its cost on the amalgamated block system, whose rows are of order one anyway (identity
-    // blocks); the caller's residual check asks for new pivots when the old ones no longer fit.
+    // its cost on the amalgamated block system; the caller's residual check asks for new pivots
+    // when the old ones no longer fit.
     FixedPatternLU() {
         klu_defaults(&common_);
         common_.scale = -1;

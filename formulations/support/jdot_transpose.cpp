@@ -21,15 +21,23 @@ void JdotTranspose::bind(System& system) {
     };
     first_component_ = 0;
     bool translation_free = true;
+    analytic_ = false;
     for (int j = 0; j < system.joint_count(); ++j) {
-        add_rows(system.joint(j).bodies, system.joint(j).first_row, system.joint(j).rows);
         const Joint* joint = system.joint(j).joint.get();
+        if (joint && joint->has_gamma_velocity_transpose()) {  // the joint's own product: not probed
+            analytic_ = true;
+            continue;
+        }
+        add_rows(system.joint(j).bodies, system.joint(j).first_row, system.joint(j).rows);
         translation_free = translation_free && joint && !joint->gamma_depends_on_translation();
     }
-    // (a driver's row is its joint's coordinate, which the joint's answer covers)
+    // a driver's row is its joint's coordinate, which the joint's answer covers
+    for (int d = 0; d < system.driver_count(); ++d) {
+        const JointInfo& driven = system.joint(system.driver(d).joint);
+        add_rows(driven.bodies, system.driver(d).row, 1);
+        translation_free = translation_free && driven.joint && !driven.joint->gamma_depends_on_translation();
+    }
     if (translation_free) first_component_ = planar_ ? 2 : 3;
-    for (int d = 0; d < system.driver_count(); ++d)
-        add_rows(system.joint(system.driver(d).joint).bodies, system.driver(d).row, 1);
     // greedy colouring in body order: the least colour no neighbour has
     std::vector<int> colour(bodies, -1);
     colours_ = 0;
@@ -57,6 +65,10 @@ void JdotTranspose::bind(System& system) {
 void JdotTranspose::apply(System& system, const State& state, const Eigen::SparseMatrix<double>& J,
                           const Eigen::VectorXd& mu, Eigen::VectorXd& out) {
     out.setZero(state.v.size());
+    if (analytic_) {  // -D^T mu / 2 over the joints that give D^T mu themselves
+        system.gamma_velocity_transpose(state, mu, out);
+        out *= -0.5;
+    }
     probe_.t = state.t;
     probe_.q = state.q;
     // the polarization step: exact for any s (gamma is quadratic in v); s of the size of v keeps

@@ -19,7 +19,10 @@
 // 2 x 6 (spatial) groups, 2 constraint evaluations each, whatever its length. When every joint
 // says that its gamma does not depend on the translational velocities (Joint::
 // gamma_depends_on_translation: pins, ball joints), D's translational columns are zero and only
-// the angular components are probed: 2 x 1 or 2 x 3 groups.
+// the angular components are probed: 2 x 1 or 2 x 3 groups. A joint that gives D^T mu itself
+// (Joint::has_gamma_velocity_transpose: pins, and the spatial joints of primitives) is not probed:
+// its rows are summed in one pass (System::gamma_velocity_transpose), and the polarization covers
+// the other joints and the drivers (none on a chain of pins or ball joints: no probe at all).
 #pragma once
 
 #include <mbd/sdk/system.hpp>
@@ -45,6 +48,7 @@ private:
     int nvb_ = 3, colours_ = 0;
     int first_component_ = 0;  // the first velocity component probed (past the translational ones when D has none)
     bool planar_ = true;
+    bool analytic_ = false;  // some joint gives (d gamma / d v)^T mu itself (Joint::gamma_velocity_transpose)
     std::vector<std::vector<int>> bodies_of_colour_, rows_of_body_;
     State probe_;
     Eigen::VectorXd gamma_plus_, gamma_minus_, Jt_mu_;

@@ -23,6 +23,10 @@ public:
     std::string row_name(int row) const override { return row == 0 ? "x" : "y"; }
     // gamma = omega_i^2 A_i u_i - omega_j^2 A_j u_j (Eq. 3.133); the relative angle's is 0
     bool gamma_depends_on_translation() const override { return false; }
+    bool has_gamma_velocity_transpose() const override { return true; }
+    void gamma_velocity_transpose(const BodyStates& b, const double* weights, double* out) const override {
+        point_coincidence_gamma_gradient(b, 0, u_bar_i_, 1, u_bar_j_, weights, out);
+    }
 
     bool has_coordinate() const override { return true; }
     void coordinate(const BodyStates& b, CoordinateEval& s) const override {

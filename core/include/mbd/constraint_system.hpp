@@ -46,6 +46,9 @@ public:
     // gamma alone (the joints' and drivers' rows; not the velocity-level rows): the joints are
     // evaluated as by evaluate(), but nothing else is copied or scattered
     void evaluate_gamma(const State& state, Data& data, Eigen::VectorXd& gamma) const;
+    // out += (d gamma / d v)^T mu over the rows of the joints that provide it
+    // (Joint::has_gamma_velocity_transpose); other rows add nothing
+    void gamma_velocity_transpose(const State& state, Data& data, const Eigen::VectorXd& mu, Eigen::VectorXd& out) const;
 
 private:
     // joint j evaluated at the posed state into data.joint_rows[j]

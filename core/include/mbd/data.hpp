@@ -29,6 +29,8 @@ struct Data {
     // each joint's rows and each driver's row, as the element writes them
     std::vector<ConstraintEval> joint_rows;
     std::vector<CoordinateEval> driver_rows;
+    // one joint's (d gamma / d v)^T mu over its bodies (Joint::gamma_velocity_transpose)
+    Eigen::VectorXd joint_gamma_gradient;
     // each joint's velocity-level rows (sized 0 for a joint without any)
     std::vector<VelocityConstraintEval> joint_velocity_rows;
 

@@ -2,7 +2,9 @@
 // against central differences of C, its gamma against the second time
 // derivative of C along random smooth trajectories (Cddot = J vdot - gamma),
 // the same for its driver coordinate, and its velocity-level rows A v = b (the derivative
-// of A v - b along the trajectory against A vdot - gamma; A and b independent of v); a force's Jacobians against central
+// of A v - b along the trajectory against A vdot - gamma; A and b independent of v), and its
+// Joint::gamma_velocity_transpose against central differences of gamma in v (exact: gamma is quadratic
+// in v); a force's Jacobians against central
 // differences of Q, and Q = -dV/dq for conservative forces. The states are
 // random and off the constraint manifold, and the joint geometry can be made
 // random too (with_random_joint_geometry), so that no term of J or gamma is
@@ -24,6 +26,7 @@ struct DerivativeErrors {
     double time_derivative = 0.0;     // joints: C_t against Cdot - J v
     double coordinate_jacobian = 0.0;
     double coordinate_gamma = 0.0;
+    double gamma_velocity_transpose = 0.0;  // joints with the hook: (d gamma / d v)^T w against differences of gamma
     double velocity_gamma = 0.0;      // velocity-level rows: gamma against A vdot - d/dt (A v - b)
     double velocity_dependence = 0.0; // velocity-level rows: change of A and b with v (must be 0)
     double velocity_jacobian = 0.0;   // forces: dQ/dv

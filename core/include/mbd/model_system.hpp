@@ -56,6 +56,7 @@ public:
 
     void constraints(const State& state, ConstraintValues& out, bool include_drivers = true) override;
     void constraint_gamma(const State& state, Eigen::VectorXd& gamma, bool include_drivers = true) override;
+    void gamma_velocity_transpose(const State& state, const Eigen::VectorXd& mu, Eigen::VectorXd& out) override;
     void constraints_with_velocity_rows(const State& state, ConstraintValues& out, bool include_drivers = true) override;
     void assemble(State& state, bool include_drivers = true) override;
     void consistent_velocities(State& state, bool include_drivers = true) override;

@@ -130,6 +130,18 @@ public:
     // default is true.
     virtual bool gamma_depends_on_translation() const { return true; }
 
+    // Optional, for speed: the velocity derivative of gamma, transposed and weighted. gamma (of
+    // evaluate()) is quadratic in the velocities of the joint's bodies; a joint that says
+    // has_gamma_velocity_transpose() adds (d gamma / d v)^T w to out, for weights w (rows()
+    // entries) and out over its bodies' velocity components in the order of evaluate()'s columns
+    // (nvb per body: planar [xdot, ydot, thetadot], spatial [Rdot, wbar]). The Hamiltonian
+    // formulation needs this product (Jdot^T mu, jdot_transpose.hpp); without the hook it finds it
+    // by differences of gamma at probe velocities, 2 evaluations of every joint per probe.
+    // `mbd plugin check` compares the two.
+    virtual bool has_gamma_velocity_transpose() const { return false; }
+    virtual void gamma_velocity_transpose(const BodyStates& /*bodies*/, const double* /*weights*/,
+                                          double* /*out*/) const {}
+
     // Joints that are tree edges describe their free relative motions.
     virtual std::optional<RelativeMotion> relative_motion() const { return std::nullopt; }
 

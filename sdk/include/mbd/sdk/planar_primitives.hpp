@@ -187,6 +187,18 @@ inline void point_coincidence(const BodyStates& b, int i, const Vec2& u_bar_i, i
     }
 }
 
+// (d gamma / d v)^T w of point_coincidence's two rows (weights w[0], w[1]), added to out over the
+// joint's columns: gamma = omega_i^2 A_i u_i - omega_j^2 A_j u_j depends on the angular velocities
+// alone, d gamma / d omega_i = 2 omega_i A_i u_i (Eq. 3.133 differentiated).
+inline void point_coincidence_gamma_gradient(const BodyStates& b, int i, const Vec2& u_bar_i, int j,
+                                             const Vec2& u_bar_j, const double* w, double* out) {
+    const PlanarBody& bi = b.planar(i);
+    const PlanarBody& bj = b.planar(j);
+    const Vec2 weights(w[0], w[1]);
+    out[body_col(i) + 2] += 2.0 * bi.omega * weights.dot(bi.A * u_bar_i);
+    out[body_col(j) + 2] -= 2.0 * bj.omega * weights.dot(bj.A * u_bar_j);
+}
+
 // Relative angle, row r (book Eq. 3.80 / first row of Eq. 3.94):
 //   C = (theta^j + phi_j) - (theta^i + phi_i) - c,   J = [0 0 -1 | 0 0 1],   gamma = 0.
 inline void relative_angle(const BodyStates& b, int i, double phi_i, int j, double phi_j, double c,

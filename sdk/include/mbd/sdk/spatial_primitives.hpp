@@ -234,6 +234,56 @@ inline Scalar travel_along_z(const Pair& pair, const Marker& mi, const Vec3& u_b
     return dot(pair.vector(0, mi.axis_z()), pair.point(1, u_bar_j) - pair.point(0, mi.u_bar));
 }
 
+// ---- velocity derivatives of gamma, transposed -----------------------------------
+
+// gamma of every primitive is a sum of terms m . A (w x (w x u)) and (A (w x u)) . x, over body-fixed
+// u_bar and world vectors m, x that do not depend on the angular velocity wbar = w of that body.
+// Their gradients with respect to w (body axes, as v's rotational components):
+//   d/dw [m . A (w x (w x u))] = (w x u) x m' + u x (m' x w),   m' = A^T m
+//   d/dw [x . A (w x u)]       = u x (A^T x)
+inline Vec3 quad_gradient(const SpatialBody& b, const Vec3& u_bar, const Vec3& m_world) {
+    const Vec3 m = b.A.transpose() * m_world;
+    return b.omega_bar.cross(u_bar).cross(m) + u_bar.cross(m.cross(b.omega_bar));
+}
+inline Vec3 rate_gradient(const SpatialBody& b, const Vec3& u_bar, const Vec3& x_world) {
+    return u_bar.cross(b.A.transpose() * x_world);
+}
+
+// out (12: [Rdot_i, wbar_i, Rdot_j, wbar_j]) += weight(s) times d gamma / d v of each primitive.
+using Grad12 = Eigen::Map<Eigen::Matrix<double, 12, 1>>;
+
+// SPH: gamma = -(A_i (w_i x (w_i x u_i)) - A_j (w_j x (w_j x u_j))), 3 rows weighted by mu.
+inline void sph_gamma_gradient(const Pair& pair, const Vec3& u_bar_i, const Vec3& u_bar_j, const Vec3& mu, Grad12 out) {
+    out.segment<3>(3) -= quad_gradient(pair.body(0), u_bar_i, mu);
+    out.segment<3>(9) += quad_gradient(pair.body(1), u_bar_j, mu);
+}
+
+// DOT1: gamma = -(a_j . addot_i + a_i . addot_j + 2 adot_i . adot_j) (quadratic parts).
+inline void dot1_gamma_gradient(const Pair& pair, const Vec3& a_bar_i, const Vec3& a_bar_j, double weight, Grad12 out) {
+    const SpatialBody& bi = pair.body(0);
+    const SpatialBody& bj = pair.body(1);
+    const Vec3 ai = bi.A * a_bar_i, aj = bj.A * a_bar_j;
+    const Vec3 rate_i = bi.A * bi.omega_bar.cross(a_bar_i), rate_j = bj.A * bj.omega_bar.cross(a_bar_j);
+    out.segment<3>(3) -= weight * (quad_gradient(bi, a_bar_i, aj) + 2.0 * rate_gradient(bi, a_bar_i, rate_j));
+    out.segment<3>(9) -= weight * (quad_gradient(bj, a_bar_j, ai) + 2.0 * rate_gradient(bj, a_bar_j, rate_i));
+}
+
+// DOT2: gamma = -(d . addot_i + a_i . (rddot_i - rddot_j) + 2 adot_i . ddot) (quadratic parts),
+// ddot = Rdot_i + A_i (w_i x u_i) - Rdot_j - A_j (w_j x u_j): the one primitive with Rdots.
+inline void dot2_gamma_gradient(const Pair& pair, const Vec3& a_bar_i, const Vec3& u_bar_i, const Vec3& u_bar_j,
+                                double weight, Grad12 out) {
+    const SpatialBody& bi = pair.body(0);
+    const SpatialBody& bj = pair.body(1);
+    const Vec3 ai = bi.A * a_bar_i, adot = bi.A * bi.omega_bar.cross(a_bar_i);
+    const Vec3 d = bi.R + bi.A * u_bar_i - bj.R - bj.A * u_bar_j;
+    const Vec3 ddot = bi.Rdot + bi.A * bi.omega_bar.cross(u_bar_i) - bj.Rdot - bj.A * bj.omega_bar.cross(u_bar_j);
+    out.segment<3>(0) -= 2.0 * weight * adot;
+    out.segment<3>(6) += 2.0 * weight * adot;
+    out.segment<3>(3) -= weight * (quad_gradient(bi, a_bar_i, d) + quad_gradient(bi, u_bar_i, ai) +
+                                   2.0 * rate_gradient(bi, a_bar_i, ddot) + 2.0 * rate_gradient(bi, u_bar_i, adot));
+    out.segment<3>(9) += weight * (quad_gradient(bj, u_bar_j, ai) + 2.0 * rate_gradient(bj, u_bar_j, adot));
+}
+
 // ---- writing rows ---------------------------------------------------------------
 
 // Rows [row, row + 3) of out (C_t = 0: the primitives do not depend on time).
@@ -316,6 +366,29 @@ public:
                 break;
             case Kind::Dot2:
                 write(out, row++, dot2(pair, mi_.A_bar.col(t.ai), mi_.u_bar, mj_.u_bar));
+                break;
+            }
+        }
+    }
+
+    // The primitives' gamma derivative (above). A subclass with rows of its own goes without (the
+    // caller differentiates gamma); one that changes the primitive rows' gamma must say false.
+    bool has_gamma_velocity_transpose() const override { return rows() == primitive_rows(); }
+    void gamma_velocity_transpose(const BodyStates& bodies, const double* weights, double* out) const override {
+        const Pair pair(bodies);
+        const Grad12 grad(out);
+        int row = 0;
+        for (const Term& t : terms_) {
+            switch (t.kind) {
+            case Kind::Sph:
+                sph_gamma_gradient(pair, mi_.u_bar, mj_.u_bar, Vec3(weights[row], weights[row + 1], weights[row + 2]), grad);
+                row += 3;
+                break;
+            case Kind::Dot1:
+                dot1_gamma_gradient(pair, mi_.A_bar.col(t.ai), mj_.A_bar.col(t.aj), weights[row++], grad);
+                break;
+            case Kind::Dot2:
+                dot2_gamma_gradient(pair, mi_.A_bar.col(t.ai), mi_.u_bar, mj_.u_bar, weights[row++], grad);
                 break;
             }
         }

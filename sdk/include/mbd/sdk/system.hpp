@@ -138,6 +138,10 @@ public:
     // gamma of those rows alone (out.gamma of constraints()), for callers that evaluate it at
     // many velocities: nothing else is assembled
     virtual void constraint_gamma(const State& state, Eigen::VectorXd& gamma, bool include_drivers = true) = 0;
+    // out += (d gamma / d v)^T mu over the rows of the joints that provide this product
+    // (Joint::has_gamma_velocity_transpose); mu has one weight per row of constraints(). Rows of
+    // other joints and of drivers add nothing: the caller differentiates those itself.
+    virtual void gamma_velocity_transpose(const State& state, const Eigen::VectorXd& mu, Eigen::VectorXd& out) = 0;
     // Every row the velocities obey: the rows of constraints() followed by the joints'
     // velocity-level rows A v = b, written as rows with no position residual: C = 0, J = A,
     // C_t = -b, gamma = the joint's gamma, so that J v + C_t = 0 and J vdot = gamma hold for
