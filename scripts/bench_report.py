@@ -247,7 +247,11 @@ def main():
     md += ["", "### Per-step cost against body count", "",
            "CPU time of one fixed rk4 step (4 right-hand sides and the formulation's projection) of `mbd simulate` on "
            "planar chains (0.1 m, 1 kg links, revolute joints, gravity) and spatial chains (0.1 m, 1 kg rods on "
-           "spherical joints, gravity, the last link swinging sideways), for every formulation plugin installed, "
+           "spherical joints, gravity, the last link swinging sideways), for every formulation plugin installed: "
+           "the cost of one more step, i.e. the difference of a run of k and a run of 3k steps over 2k, the median "
+           "of 5 such pairs, with output rows only at the ends (scripts/bench_scaling.py: without the assembly, "
+           "a formulation's first factorization and the writing of output rows, which the runs before 2026-12-06 "
+           "included), "
            "with log-log slopes fitted over all N and over N >= 100 (`docs/benchmarks/scaling.csv`, "
            "`docs/benchmarks/scaling.png`). The rhs-only breakdown (dense vs sparse, recursive vs dense) is "
            "`bench_augmented` / `bench_embedding` (sections above), rerun by the script into "

@@ -9,7 +9,7 @@ bench/bench_augmented.cpp) or spatial (0.1 m, 1 kg rods on spherical joints, gra
 the last link given a sideways velocity so that the motion is spatial) and runs `MBD simulate
 --integrator rk4 --step 1e-4` with --json twice, over k and 3k steps, with output rows only at the
 start and the end (--output-step = the run's length). The CPU time per step is the difference of
-the two runs' cpu_s over 2k steps, the median of --repeats such pairs (3): the cost of one more step (4 right-hand sides and the
+the two runs' cpu_s over 2k steps, the median of --repeats such pairs (5): the cost of one more step (4 right-hand sides and the
 projection), without what a run pays once (the assembly, a formulation's first factorization with
 its ordering) and without writing output rows (each row converts the state, evaluates the
 constraints and formats every coordinate: on a 10,000-link chain as much as a third of a step). A
@@ -68,7 +68,7 @@ def main():
     p.add_argument("out")
     p.add_argument("--sizes", default="10,30,100,300,1000,3000,10000")
     p.add_argument("--budget", type=float, default=10.0)
-    p.add_argument("--repeats", type=int, default=3, help="pairs of runs per point; the median estimate is kept")
+    p.add_argument("--repeats", type=int, default=5, help="pairs of runs per point; the median estimate is kept")
     p.add_argument("--chains", default="planar,spatial")
     p.add_argument("--formulations", default="", help="comma-separated (default: every installed plugin)")
     a = p.parse_args()
@@ -89,9 +89,9 @@ def main():
                 steps = max(4, min(400, int(40000 / n)))
                 if last:
                     # predicted cost per step (cubic growth as the worst case): ~2 s per point (both runs) at
-                    # most, and stop before a point that would exceed the budget even with 4 + 12 steps
+                    # most, and stop before a point whose first run would exceed the budget even with 4 steps
                     predicted = last[1] * (n / last[0]) ** 3
-                    if 12 * predicted > a.budget:
+                    if 4 * predicted > a.budget:
                         print(f"scaling: {kind} {name} N = {n}: skipped (predicted {predicted:.2g} s per step)",
                               file=sys.stderr)
                         break
