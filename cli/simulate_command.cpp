@@ -54,7 +54,8 @@ std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, Simula
         ->required();
     sub->add_option("--formulation", a.formulation,
                     "Formulation plugin (default: the scene's 'formulation', else the automatic choice: embedding "
-                    "for a tree, augmented for closed loops and drivers; see docs/user-guide.md)");
+                    "for a tree (drivers on its joints prescribe their motion), augmented for closed loops; see "
+                    "docs/user-guide.md)");
     sub->add_option("--integrator", a.integrator,
                     "Integrator: euler, rk4, dopri5, dop853, generalized_alpha, cvode (default: the automatic "
                     "choice, dop853, or cvode for a stiff scene; see docs/user-guide.md)");

@@ -151,7 +151,7 @@ bool selected(const std::string& path, const std::string& type) {
 }
 
 const std::vector<std::string> kFormulations = {"augmented", "embedding", "amalgamated", "hamiltonian"};
-// embedding's own choice is the recursive path on trees and the closure path on loops and drivers;
+// embedding's own choice is the recursive path on trees (driven or not) and the closure path on loops;
 // its dense path, which they took before the closure path, is covered there too
 const std::string kDenseEmbedding = "embedding path=dense";
 

@@ -84,8 +84,8 @@ std::vector<Case> cases() {
 }
 
 // every formulation plugin found, the reference first, and the embedding's dense path as a
-// variant "NAME key=value" (its own choice, `path: auto`, takes the recursive path on trees and
-// the closure path on loops and drivers)
+// variant "NAME key=value" (its own choice, `path: auto`, takes the recursive path on trees, driven
+// or not, and the closure path on loops)
 std::vector<std::string> formulations() {
     std::vector<std::string> names = shared_registry().type_names("formulation");
     std::stable_partition(names.begin(), names.end(), [](const std::string& n) { return n == kReference; });

@@ -7,7 +7,9 @@
 //     drivers) to 1e-8 relative to their size, over a simulated interval;
 //   - the conservation of T + V on the conservative four-bar, to the hamiltonian test's bound;
 //   - the path really taken: the log line, and y's size = the tree's joint coordinates;
-//   - a dead centre (book Sec. 3.9) still stops the run with the named singular configuration.
+//   - a dead centre (book Sec. 3.9) still stops the run with the named singular configuration;
+//   - drivers on tree joints (prescribed motion on the recursive path): the motor torque of a
+//     driven pendulum in closed form, and augmented on driven trees.
 #include <mbd/model_system.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/sdk/formulation.hpp>
@@ -19,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "support/test_support.hpp"
@@ -57,14 +60,23 @@ struct Case {
     const char* scene;
     double t_end;
     int joint_coordinates;  // the tree's: ode_size = 2 x this for 1-DOF joints
+    bool forced = false;    // path: closure (a driven tree, which path: auto runs on the recursive path)
 };
 
+// the scene, with `path: closure` when the case forces it
+mbd::Model load_case(const Case& c) {
+    if (!c.forced) return mbd::test::load(c.scene);
+    const std::string text = mbd::test::read_text(mbd::test::scene_path(c.scene));
+    return mbd::load_scene_text(text + "\nformulation: {type: embedding, path: closure}\n", c.scene, shared_registry());
+}
+
 // car axis: pivot and left_guide are tree edges, the right wheel a free root (3), the bump row
-// and the distance joint close it; flyball: four joints in a tree, the motor's row closes it;
+// and the distance joint close it; flyball: four joints in a tree, the motor's row closes it
+// (forced: path auto prescribes the motor's motion on the recursive path, PrescribedMotion below);
 // four-bars: every revolute but the cut; slider crank: three revolutes, the guide is cut.
 const Case kCases[] = {
     {"bench/car-axis.yaml", 1.0, 5},
-    {"bench/a05-flyball.yaml", 0.05, 4},
+    {"bench/a05-flyball.yaml", 0.05, 4, true},
     {"bench/a02-four-bar-2.yaml", 0.3, 5},
     {"dynamics/four-bar-conservative.yaml", 1.0, 3},
     {"dynamics/slider-crank.yaml", 1.0, 3},
@@ -74,10 +86,11 @@ class LoopClosure : public ::testing::TestWithParam<Case> {};
 
 TEST_P(LoopClosure, TakesTheClosurePathInJointCoordinates) {
     const Case c = GetParam();
-    const mbd::Model model = mbd::test::load(c.scene);
+    const mbd::Model model = load_case(c);
     mbd::ModelSystem system(model);
     mbd::Param node;
-    auto f = mbd::test::make_formulation("embedding", node);
+    auto f = c.forced ? mbd::test::make_formulation("embedding", node, {{"path", "closure"}})
+                      : mbd::test::make_formulation("embedding", node);
     std::vector<std::string> log;
     mbd::FormulationOptions options;
     options.log = mbd::MessageLog([&log](const std::string& line) { log.push_back(line); });
@@ -88,28 +101,33 @@ TEST_P(LoopClosure, TakesTheClosurePathInJointCoordinates) {
     EXPECT_LT(f->ode_size(), system.nq() + system.nv());
 }
 
-// Positions and multipliers of every row against augmented, both at tol 1e-12.
-TEST_P(LoopClosure, AgreesWithAugmentedInPositionsAndMultipliers) {
-    const Case c = GetParam();
-    const mbd::Model model = mbd::test::load(c.scene);
-    const double tol = 1e-12, sample = c.t_end / 50;
-    const Trace closure = simulate(model, "embedding", tol, c.t_end, sample);
-    const Trace reference = simulate(model, "augmented", tol, c.t_end, sample);
-    ASSERT_TRUE(logged(closure, "embedding: closure path"));
-    ASSERT_EQ(closure.states.size(), reference.states.size());
+// Positions and multipliers of every row on the embedding path named `path` against augmented,
+// both at tol 1e-12 (dopri5), to 1e-8 of their size.
+void expect_agreement_with_augmented(const mbd::Model& model, const std::string& label, double t_end,
+                                     const std::string& path) {
+    const double tol = 1e-12, sample = t_end / 50;
+    const Trace embedding = simulate(model, "embedding", tol, t_end, sample);
+    const Trace reference = simulate(model, "augmented", tol, t_end, sample);
+    ASSERT_TRUE(logged(embedding, "embedding: " + path)) << label;
+    ASSERT_EQ(embedding.states.size(), reference.states.size());
     double dq = 0.0, dl = 0.0, q_scale = 1.0, l_scale = 1.0;
-    for (size_t i = 0; i < closure.states.size(); ++i) {
-        dq = std::max(dq, mbd::test::position_difference(model, closure.states[i].q, reference.states[i].q));
-        ASSERT_EQ(closure.lambdas[i].size(), reference.lambdas[i].size());
-        dl = std::max(dl, (closure.lambdas[i] - reference.lambdas[i]).lpNorm<Eigen::Infinity>());
+    for (size_t i = 0; i < embedding.states.size(); ++i) {
+        dq = std::max(dq, mbd::test::position_difference(model, embedding.states[i].q, reference.states[i].q));
+        ASSERT_EQ(embedding.lambdas[i].size(), reference.lambdas[i].size());
+        dl = std::max(dl, (embedding.lambdas[i] - reference.lambdas[i]).lpNorm<Eigen::Infinity>());
         q_scale = std::max(q_scale, reference.states[i].q.lpNorm<Eigen::Infinity>());
         l_scale = std::max(l_scale, reference.lambdas[i].lpNorm<Eigen::Infinity>());
     }
-    std::printf("%-38s closure vs augmented, dopri5 tol 1e-12 over [0, %g]: |dq| %.2e (scale %.3g), |dlambda| %.2e "
+    std::printf("%-38s %s vs augmented, dopri5 tol 1e-12 over [0, %g]: |dq| %.2e (scale %.3g), |dlambda| %.2e "
                 "(scale %.3g); steps %ld vs %ld\n",
-                c.scene, c.t_end, dq, q_scale, dl, l_scale, closure.steps, reference.steps);
-    EXPECT_LT(dq, 1e-8 * q_scale) << c.scene;
-    EXPECT_LT(dl, 1e-8 * l_scale) << c.scene;
+                label.c_str(), path.c_str(), t_end, dq, q_scale, dl, l_scale, embedding.steps, reference.steps);
+    EXPECT_LT(dq, 1e-8 * q_scale) << label;
+    EXPECT_LT(dl, 1e-8 * l_scale) << label;
+}
+
+TEST_P(LoopClosure, AgreesWithAugmentedInPositionsAndMultipliers) {
+    const Case c = GetParam();
+    expect_agreement_with_augmented(load_case(c), c.scene, c.t_end, "closure path");
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, LoopClosure, ::testing::ValuesIn(kCases), [](const auto& info) {
@@ -216,6 +234,87 @@ TEST(LoopClosurePath, ForcedOnATreeMatchesTheRecursivePath) {
     std::printf("heavy top, closure (forced) vs recursive, tol 1e-12 over 1 s: |dq| %.2e, |dlambda| %.2e\n", dq, dl);
     EXPECT_LT(dq, 1e-9);
     EXPECT_LT(dl, 1e-7);
+}
+
+// --- Driven tree joints: prescribed motion on the recursive path -------------------------------
+// A driver on a tree joint of one freedom prescribes it (articulated_body.hpp): the ODE keeps the
+// other joints' coordinates, the sweeps take the driven udot as known, and the driver's multiplier
+// comes from the force across the joint.
+
+// A rod pinned to the ground, its pin's coordinate driven: s = 0.4 sin 3t. About the pin,
+// (J + m a^2) theta'' = tau - m g a cos(theta): the motor torque is a closed form, and with
+// Q_c = -J^T lambda the driver's multiplier is lambda = -tau / (d s / d theta). The pin listed
+// both ways (the edge's coordinate then runs against the driver's or with it).
+TEST(PrescribedMotion, DrivenPendulumNeedsTheClosedFormTorque) {
+    const double m = 2.0, J = 0.3, a = 0.5, g = 9.81, A = 0.4, w = 3.0;
+    for (const char* bodies : {"[ground, rod]", "[rod, ground]"}) {
+        const mbd::Model model = mbd::test::scene(
+            std::string("dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
+                        "  - {name: rod, mass: 2, inertia: 0.3, position: [0.5, 0], angle: 0}\n"
+                        "joints:\n  - {name: pin, type: revolute, bodies: ") +
+            bodies +
+            ", point: [0, 0]}\n"
+            "drivers:\n  - {name: swing, joint: pin, motion: {type: harmonic, amplitude: 0.4, frequency: 3}}\n");
+        mbd::ModelSystem system(model);
+        mbd::Param node;
+        auto f = mbd::test::make_formulation("embedding", node);
+        f->bind(system, mbd::FormulationOptions{});
+        EXPECT_EQ(f->ode_size(), 0) << "every motion is prescribed";
+        for (const char* integrator : {"dopri5", "cvode"}) {
+            mbd::SimulationSettings s = mbd::test::adaptive_run("embedding", integrator, 1e-10, 2.0, 0.05);
+            s.reactions = true;
+            std::vector<std::string> log;
+            s.messages = mbd::MessageLog([&log](const std::string& line) { log.push_back(line); });
+            double dtheta = 0.0, dtau = 0.0;
+            int samples = 0;
+            mbd::simulate(model, shared_registry(), s, [&](const mbd::SimulationSample& sample) {
+                // the pin's coordinate s is +-theta as the pin lists the rod second or first: theta = s f(t)
+                mbd::ConstraintValues cv;
+                system.constraints(sample.state, cv, true);
+                const double ds_dtheta = cv.J.coeff(2, 2);  // the driver's row (after the pin's two) on the rod's angle
+                const double t = sample.state.t, theta = ds_dtheta * A * std::sin(w * t);
+                const double acc = -ds_dtheta * A * w * w * std::sin(w * t);
+                const double tau = (J + m * a * a) * acc + m * g * a * std::cos(theta);
+                dtheta = std::max(dtheta, std::abs(sample.state.q[2] - theta));
+                dtau = std::max(dtau, std::abs((*sample.lambda)[2] + tau / ds_dtheta));
+                ++samples;
+                return true;
+            });
+            ASSERT_FALSE(log.empty());
+            EXPECT_NE(log.back().find("1 of them driven (prescribed motion)"), std::string::npos) << log.back();
+            std::printf("driven pendulum, pin %s, %s: max |theta - closed form| %.2e, |lambda + tau / s'| %.2e (%d samples)\n",
+                        bodies, integrator, dtheta, dtau, samples);
+            EXPECT_EQ(samples, 41);
+            EXPECT_LT(dtheta, 1e-12);
+            EXPECT_LT(dtau, 1e-9);  // tau is up to 14 N m
+        }
+    }
+}
+
+// The flyball (its shaft's motor on a tree of four joints), and a cart driven along its guide
+// (listed ground-last) carrying a free double pendulum: every row's multiplier and the positions
+// against augmented, and y holds only the free joints' coordinates and speeds.
+TEST(PrescribedMotion, DrivenTreesAgreeWithAugmented) {
+    const mbd::Model flyball = mbd::test::load("bench/a05-flyball.yaml");
+    const mbd::Model cart = mbd::test::scene(
+        "dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
+        "  - {name: cart, mass: 3, inertia: 0.05, position: [0, 0], angle: 0}\n"
+        "  - {name: upper, mass: 1, inertia: 0.02, position: [0.3, 0], angle: 0}\n"
+        "  - {name: lower, mass: 0.5, inertia: 0.01, position: [0.8, 0.1], angle: 0.4636476090008061}\n"
+        "joints:\n"
+        "  - {name: guide, type: prismatic, bodies: [cart, ground], point: [0, 0], axis: [1, 0]}\n"
+        "  - {name: shoulder, type: revolute, bodies: [cart, upper], point: [0, 0]}\n"
+        "  - {name: elbow, type: revolute, bodies: [upper, lower], point: [0.6, 0]}\n"
+        "drivers:\n  - {name: shake, joint: guide, motion: {type: harmonic, amplitude: 0.2, frequency: 5}}\n");
+    for (const auto& [model, label, free_joints] :
+         {std::tuple{&flyball, "bench/a05-flyball.yaml", 3}, std::tuple{&cart, "driven cart, double pendulum", 2}}) {
+        mbd::ModelSystem system(*model);
+        mbd::Param node;
+        auto f = mbd::test::make_formulation("embedding", node);
+        f->bind(system, mbd::FormulationOptions{});
+        EXPECT_EQ(f->ode_size(), 2 * free_joints) << label;
+        expect_agreement_with_augmented(*model, label, 0.5, "recursive path");
+    }
 }
 
 }  // namespace

@@ -48,14 +48,16 @@ TEST(MethodChoice, TreesTakeTheRecursiveEmbeddingAndLoopsAugmented) {
         mbd::automatic_method(mbd::test::load("dynamics/four-bar-conservative.yaml"), 10.0);
     EXPECT_EQ(four_bar.formulation, "augmented");
     EXPECT_NE(four_bar.formulation_reason.find("closed loop"), std::string::npos) << four_bar.formulation_reason;
-    // a driven tree: the driver is a constraint row, which the recursive path does not take
+    // a driven tree: the recursive path prescribes the driven joint's motion
     const mbd::MethodChoice driven = mbd::automatic_method(
         mbd::test::scene("dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
                          "  - {name: rod, mass: 1, inertia: 0.1, position: [0.5, 0], angle: 0}\n"
                          "joints:\n  - {name: pin, type: revolute, bodies: [ground, rod], point: [0, 0]}\n"
                          "drivers:\n  - {name: swing, joint: pin, motion: {type: linear, initial: 0, rate: 1}}\n"),
         1.0);
-    EXPECT_EQ(driven.formulation, "augmented");
+    EXPECT_EQ(driven.formulation, "embedding");
+    EXPECT_NE(driven.formulation_reason.find("driven (prescribed motion)"), std::string::npos)
+        << driven.formulation_reason;
 }
 
 TEST(MethodChoice, TheFlyballIsStiffAndTakesCvode) {
@@ -66,14 +68,15 @@ TEST(MethodChoice, TheFlyballIsStiffAndTakesCvode) {
     const mbd::MethodChoice choice = mbd::automatic_method(flyball, 2.0);
     EXPECT_EQ(choice.integrator, "cvode");
     EXPECT_NE(choice.integrator_reason.find("stiff"), std::string::npos) << choice.integrator_reason;
-    // stiff and driven: the closure path's joint coordinates (8 states, not 52) for cvode
+    // a driven tree: the recursive path's joint coordinates with the motor prescribed (6 states,
+    // not 52) for cvode
     EXPECT_EQ(choice.formulation, "embedding");
-    EXPECT_NE(choice.formulation_reason.find("closure path"), std::string::npos) << choice.formulation_reason;
-    // the same scene over a time short against 1e4 damped time scales is not stiff: augmented
-    // (a driven tree) with the explicit pair
+    EXPECT_NE(choice.formulation_reason.find("recursive path"), std::string::npos) << choice.formulation_reason;
+    // the same scene over a time short against 1e4 damped time scales is not stiff: the same
+    // formulation with the explicit pair
     const mbd::MethodChoice brief = mbd::automatic_method(flyball, 0.5 * mbd::kStiffDampedTimeScales / rate);
     EXPECT_EQ(brief.integrator, "dop853");
-    EXPECT_EQ(brief.formulation, "augmented");
+    EXPECT_EQ(brief.formulation, "embedding");
 }
 
 TEST(MethodChoice, ARunWithoutChoicesReportsTheAutomaticOnesAndTheIndexThreeIntegratorTakesAugmented) {

@@ -57,7 +57,7 @@ MethodChoice automatic_method(const Model& model, double t_end) {
     const double rate = fastest_damping_rate(model);
     const double scales = rate * t_end;
     const bool stiff = scales > kStiffDampedTimeScales;
-    // stiff with loops or drivers: cvode's difference Jacobian costs a rhs per state and its
+    // stiff with loops: cvode's difference Jacobian costs a rhs per state and its
     // LU the cube of their number, so the fewest states win: the closure path's joint coordinates
     std::string closure;
     if (stiff && !tree && !reaction_load && closure_embedding_possible(system, &closure)) {

@@ -75,8 +75,91 @@ void ArticulatedBody::bind(System& system, const FormulationOptions& /*options*/
     std::string reason;
     if (!recursive_embedding_possible(system, &reason))
         throw InputError("", "embedding formulation: the recursive path needs a tree of joints in relative coordinates "
-                             "without drivers; this scene has " + reason + " (use path: closure, dense or auto)");
+                             "whose drivers drive joints of one freedom; this scene has " + reason +
+                             " (use path: closure, dense or auto)");
     build(system, analyse_topology(system));
+    prescribe_driven_joints(system);
+}
+
+void ArticulatedBody::prescribe_driven_joints(System& system) {
+    std::vector<int> edge_of_joint(system.joint_count(), -1);
+    for (size_t i = 0; i < edges_.size(); ++i)
+        if (edges_[i].joint >= 0) edge_of_joint[edges_[i].joint] = static_cast<int>(i);
+    for (int d = 0; d < system.driver_count(); ++d) {
+        const int i = edge_of_joint.at(system.driver(d).joint);
+        Edge& e = edges_.at(i);
+        e.prescribed = static_cast<int>(prescribed_.size());
+        prescribed_.push_back({d, i, e.freedoms.at(0).s, e.freedoms.at(0).u});
+    }
+    if (!prescribed_.empty()) {
+        // the driver's coordinate s(q) against the edge's, at the assembled initial state: the
+        // rate d s(q) / d u (the driver's row times the child's partial velocity; the parent does
+        // not move with u) is +-1, and s_edge - sign s(q) is the constant offset (modulo 2 pi for
+        // an angle, which the kinematics do not see)
+        const State s0 = assembled_initial_state(system);
+        joint_coordinates(s0);
+        ConstraintValues cv;
+        system.constraints(s0, cv, true);
+        const int nvb = planar_ ? 3 : 6;
+        for (Prescribed& p : prescribed_) {
+            const Edge& e = edges_[p.edge];
+            const DriverInfo& driver = system.driver(p.driver);
+            const auto h = H(e).col(0);
+            double rate = 0.0;
+            for (int k = 0; k < nvb; ++k)
+                for (Eigen::SparseMatrix<double>::InnerIterator it(cv.J, e.body * nvb + k); it; ++it)
+                    if (it.row() == driver.row) rate += it.value() * h[planar_ && k == 2 ? 5 : k];
+            if (!(std::abs(std::abs(rate) - 1.0) < 1e-6))
+                throw InputError("", "embedding formulation, recursive path: driver '" + driver.name + "' on joint '" +
+                                         system.joint(e.joint).name + "': its coordinate moves " + std::to_string(rate) +
+                                         " per unit of the joint's relative motion, not +-1; use path: closure");
+            p.sign = rate > 0.0 ? 1.0 : -1.0;
+            p.offset = s_[p.s] - p.sign * (cv.C[driver.row] + system.driver_motion(p.driver, s0.t).f);
+        }
+    }
+    // y's layout: the free coordinates and speeds
+    std::vector<char> fixed_s(ns_, 0), fixed_u(nu_, 0);
+    for (const Prescribed& p : prescribed_) fixed_s[p.s] = fixed_u[p.u] = 1;
+    free_s_.clear();
+    free_u_.clear();
+    y_of_s_.assign(ns_, -1);
+    for (int k = 0; k < ns_; ++k)
+        if (!fixed_s[k]) {
+            y_of_s_[k] = static_cast<int>(free_s_.size());
+            free_s_.push_back(k);
+        }
+    for (int k = 0; k < nu_; ++k)
+        if (!fixed_u[k]) free_u_.push_back(k);
+}
+
+void ArticulatedBody::prescribe(double t, bool coordinates) {
+    for (Prescribed& p : prescribed_) {
+        const TimeValue f = system_->driver_motion(p.driver, t);
+        if (coordinates) {
+            s_[p.s] = p.sign * f.f + p.offset;
+            u_[p.u] = p.sign * f.df;
+        }
+        p.acceleration = p.sign * f.ddf;
+    }
+}
+
+void ArticulatedBody::expand(double t, const Eigen::VectorXd& y) {
+    if (prescribed_.empty()) {
+        s_ = y.head(ns_);
+        u_ = y.tail(nu_);
+        return;
+    }
+    const int nys = static_cast<int>(free_s_.size());
+    for (int k = 0; k < nys; ++k) s_[free_s_[k]] = y[k];
+    for (size_t k = 0; k < free_u_.size(); ++k) u_[free_u_[k]] = y[nys + static_cast<int>(k)];
+    prescribe(t, true);
+}
+
+void ArticulatedBody::compress(Eigen::VectorXd& y) const {
+    const int nys = static_cast<int>(free_s_.size());
+    y.resize(ode_size());
+    for (int k = 0; k < nys; ++k) y[k] = s_[free_s_[k]];
+    for (size_t k = 0; k < free_u_.size(); ++k) y[nys + static_cast<int>(k)] = u_[free_u_[k]];
 }
 
 void ArticulatedBody::build(System& system, const Topology& topology) {
@@ -168,6 +251,13 @@ void ArticulatedBody::build(System& system, const Topology& topology) {
     udot_.setZero(nu_);
     s_.setZero(ns_);
     u_.setZero(nu_);
+    // y = [s; u] until prescribe_driven_joints() takes driven freedoms out
+    prescribed_.clear();
+    free_s_.resize(ns_);
+    free_u_.resize(nu_);
+    y_of_s_.resize(ns_);
+    for (int k = 0; k < ns_; ++k) free_s_[k] = y_of_s_[k] = k;
+    for (int k = 0; k < nu_; ++k) free_u_[k] = k;
 }
 
 void ArticulatedBody::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) {
@@ -312,6 +402,14 @@ void ArticulatedBody::articulated(double t, const Eigen::VectorXd& Q, Eigen::Vec
     for (auto it = edges_.rbegin(); it != edges_.rend(); ++it) {
         Body& c = bodies_[it->body];
         const auto Hc = H(*it);
+        if (it->prescribed >= 0) {  // known udot: the whole articulated inertia passes to the parent
+            if (it->parent < 0) continue;
+            const double ud = prescribed_[it->prescribed].acceleration;
+            Body& p = bodies_[it->parent];
+            add_phiT_X_phi(c, c.P, p.P);
+            p.z.noalias() += phiT_mul(c, c.P * (c.a + Hc.col(0) * ud) + c.z);
+            continue;
+        }
         const Mat6X U = c.P * Hc;
         const MatXX6 D = Hc.transpose() * U;
         Eigen::LLT<MatXX6> llt(D);
@@ -335,6 +433,13 @@ void ArticulatedBody::articulated(double t, const Eigen::VectorXd& Q, Eigen::Vec
         Vec6 base = c.a;
         if (e.parent >= 0) base.noalias() += phi_mul(c, bodies_[e.parent].vdot);
         const auto Hc = H(e);
+        if (e.prescribed >= 0) {
+            const double ud = prescribed_[e.prescribed].acceleration;
+            udot[e.u0] = ud;
+            c.vdot = base + Hc.col(0) * ud;
+            c.f = c.P * c.vdot + c.z;
+            continue;
+        }
         const Mat6X U = c.P * Hc;
         const VecX6 ud = -Dinv(e) * (U.transpose() * base + Hc.transpose() * c.z);
         udot.segment(e.u0, e.nu) = ud;
@@ -356,8 +461,13 @@ void ArticulatedBody::vdot_system(Eigen::VectorXd& vdot) {
 }
 
 void ArticulatedBody::to_ode(const State& state, Eigen::VectorXd& y) {
-    y.setZero(ns_ + nu_);
-    Eigen::VectorXd s = Eigen::VectorXd::Zero(ns_);
+    joint_coordinates(state);
+    compress(y);
+}
+
+void ArticulatedBody::joint_coordinates(const State& state) {
+    Eigen::VectorXd& s = s_;
+    s.setZero(ns_);
     // poses from the state
     auto pose = [&](int b, Vec3& R, Mat3& A, double& theta) {
         if (b < 0) {
@@ -434,7 +544,8 @@ void ArticulatedBody::to_ode(const State& state, Eigen::VectorXd& y) {
         }
     }
     // speeds: kinematics at s (u = 0) gives Phi and H; u = H^+ (v_c - Phi v_p) per edge
-    Eigen::VectorXd u = Eigen::VectorXd::Zero(nu_);
+    Eigen::VectorXd& u = u_;
+    u.setZero(nu_);
     kinematics(s, u);
     for (int b = 0; b < nb_ && !planar_; ++b)
         sign_[b] = bodies_[b].p.dot(state.q.segment<4>(7 * b + 3)) < 0 ? -1.0 : 1.0;
@@ -446,30 +557,36 @@ void ArticulatedBody::to_ode(const State& state, Eigen::VectorXd& y) {
         const MatXX6 HtH = Hc.transpose() * Hc;
         u.segment(e.u0, e.nu) = HtH.ldlt().solve(Hc.transpose() * rel);
     }
-    y.head(ns_) = s;
-    y.tail(nu_) = u;
 }
 
 void ArticulatedBody::from_ode(double t, const Eigen::VectorXd& y, State& state) {
-    s_ = y.head(ns_);
-    u_ = y.tail(nu_);
+    expand(t, y);
     kinematics(s_, u_);
     write_state(t, state);
 }
 
 void ArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
-    s_ = y.head(ns_);
-    u_ = y.tail(nu_);
-    const Eigen::VectorXd& u = u_;
-    kinematics(s_, u);
+    expand(t, y);
+    kinematics(s_, u_);
     write_state(t, state_);
     system_->generalized_forces(state_, Q_);
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
     articulated(t, Q_, udot_);
-    ydot.resize(ns_ + nu_);
-    coordinate_rates(y, ydot);
-    ydot.tail(nu_) = udot_;
+    if (prescribed_.empty()) {
+        ydot.resize(ns_ + nu_);
+        coordinate_rates(y, ydot);
+        ydot.tail(nu_) = udot_;
+        return;
+    }
+    full_y_.resize(ns_ + nu_);
+    full_y_ << s_, u_;
+    full_ydot_.resize(ns_ + nu_);
+    coordinate_rates(full_y_, full_ydot_);
+    const int nys = static_cast<int>(free_s_.size());
+    ydot.resize(ode_size());
+    for (int k = 0; k < nys; ++k) ydot[k] = full_ydot_[free_s_[k]];
+    for (size_t k = 0; k < free_u_.size(); ++k) ydot[nys + static_cast<int>(k)] = udot_[free_u_[k]];
 }
 
 void ArticulatedBody::coordinate_rates(const Eigen::VectorXd& y, Eigen::VectorXd& ydot) const {
@@ -496,18 +613,19 @@ void ArticulatedBody::coordinate_rates(const Eigen::VectorXd& y, Eigen::VectorXd
 }
 
 bool ArticulatedBody::project(double /*t*/, Eigen::VectorXd& y) {
+    // a quaternion's four entries stay adjacent in y (only 1-DOF freedoms are prescribed)
     for (const Edge& e : edges_) {
-        if (e.joint < 0 && !planar_) y.segment<4>(e.s0 + 3).normalize();
+        if (e.joint < 0 && !planar_) y.segment<4>(y_of_s_[e.s0 + 3]).normalize();
         for (const Freedom& f : e.freedoms)
-            if (f.kind == RelativeMotion::Kind::Ball) y.segment<4>(f.s).normalize();
+            if (f.kind == RelativeMotion::Kind::Ball) y.segment<4>(y_of_s_[f.s]).normalize();
     }
     return y.allFinite();
 }
 
 void ArticulatedBody::accelerations(const State& state, Eigen::VectorXd& vdot) {
-    Eigen::VectorXd y;
-    to_ode(state, y);
-    kinematics(y.head(ns_), y.tail(nu_));
+    joint_coordinates(state);  // the driven joints' coordinates and speeds as the state has them
+    prescribe(state.t, false);
+    kinematics(s_, u_);
     system_->generalized_forces(state, Q_);
     articulated(state.t, Q_, udot_);
     vdot_system(vdot);
@@ -527,13 +645,16 @@ void ArticulatedBody::tree_joint_multipliers(const ConstraintValues& cv, Eigen::
     for (const Edge& e : edges_) {
         if (e.joint < 0) continue;
         const JointInfo& info = system_->joint(e.joint);
+        // a prescribed joint's force along its freedom is the driver's: its row joins the joint's
+        const int driver_row = e.prescribed >= 0 ? system_->driver(prescribed_[e.prescribed].driver).row : -1;
+        const int rows = info.rows + (driver_row >= 0 ? 1 : 0);
         const Body& c = bodies_[e.body];
         // the joint's generalized constraint forces on its bodies: f_c on the child,
         // -Phi^T f_c on the parent; Q_c = -J^T lambda (book Eqs. 6.128, 6.146)
         Vec6 on[2];
         on[e.child_slot] = c.f;
         on[e.parent_slot] = -phiT_mul(c, c.f);
-        Eigen::MatrixXd Jk = Eigen::MatrixXd::Zero(info.rows, 2 * nvb);
+        Eigen::MatrixXd Jk = Eigen::MatrixXd::Zero(rows, 2 * nvb);
         Eigen::VectorXd g = Eigen::VectorXd::Zero(2 * nvb);
         for (int slot = 0; slot < 2; ++slot) {
             const int body = info.bodies[slot];
@@ -543,11 +664,15 @@ void ArticulatedBody::tree_joint_multipliers(const ConstraintValues& cv, Eigen::
                 for (Eigen::SparseMatrix<double>::InnerIterator it(cv.J, col); it; ++it)
                     if (it.row() >= info.first_row && it.row() < info.first_row + info.rows)
                         Jk(it.row() - info.first_row, slot * nvb + k) = it.value();
+                    else if (it.row() == driver_row)
+                        Jk(info.rows, slot * nvb + k) = it.value();
                 g[slot * nvb + k] = planar_ ? on[slot][k == 2 ? 5 : k] : on[slot][k];
             }
         }
         // J_k^T lambda_k = -g (least squares on the joint's own rows)
-        lambda.segment(info.first_row, info.rows) = Jk.transpose().colPivHouseholderQr().solve(-g);
+        const Eigen::VectorXd l = Jk.transpose().colPivHouseholderQr().solve(-g);
+        lambda.segment(info.first_row, info.rows) = l.head(info.rows);
+        if (driver_row >= 0) lambda[driver_row] = l[info.rows];
     }
 }
 

@@ -1,4 +1,4 @@
-// The articulated-body formulation of a tree of joints (no loops, no drivers) written in
+// The articulated-body formulation of a tree of joints (no loops) written in
 // joint coordinates: the recursive path of the embedding formulation (book Sec. 4.5: the
 // embedding with relative joint coordinates; joint-constraint notes Sec. 5 and digest
 // joints-forces-rotations Sec. 7.6 on RelativeMotion), with an O(n) articulated-body
@@ -34,6 +34,14 @@
 // scenes run the same algorithm embedded in 3-D (z and out-of-plane rotations are never
 // excited; their dummy inertias do not enter). Cost O(n) per evaluation.
 //
+// Driven joints (prescribed motion): a driver on a tree joint of one freedom prescribes that
+// freedom, s = sign f(t) + offset (sign and offset relate the driver's coordinate s(q) to the
+// edge's, read once at the assembled initial state). Its coordinate and speed leave y (the ODE
+// holds the free ones only); the sweeps take its udot = sign f''(t) as known: the child's
+// articulated inertia passes to the parent whole, Pa = P, za = P (a + H udot) + z, with no D to
+// invert. The driver's multiplier comes with the joint's own (tree_joint_multipliers): the
+// joint's rows and the driver's row together carry the force across the joint.
+//
 // Reactions: f_c = P_c vdot_c + z_c is the joint's constraint force on the child and
 // -Phi^T f_c on the parent; each joint's multipliers follow from its own rows,
 // J_k^T lambda_k = -(f on its bodies) (book Eq. 6.146, Q_c = -J^T lambda), least squares
@@ -59,7 +67,7 @@ class ArticulatedBody : public Formulation {
 public:
     MBD_FORMULATION_CALLS;
     MBD_FORMULATION_STATE_CONVERSIONS;
-    int ode_size() const override { return ns_ + nu_; }
+    int ode_size() const override { return static_cast<int>(free_s_.size() + free_u_.size()); }
     bool may_redefine_state() const override { return false; }  // joint coordinates: nothing to re-select
 
 protected:
@@ -80,6 +88,14 @@ protected:
         std::vector<Freedom> freedoms;
         int s0 = 0, ns = 0, u0 = 0, nu = 0;
         int h0 = 0, d0 = 0;   // offsets of H (6 x nu) and D^-1 (nu x nu) in their pools
+        int prescribed = -1;  // index into prescribed_ when a driver prescribes its one freedom
+    };
+    // a driven tree joint's freedom: s = sign f(t) + offset
+    struct Prescribed {
+        int driver = -1, edge = -1;
+        int s = 0, u = 0;           // the freedom's indices in s_, u_
+        double sign = 1.0, offset = 0.0;
+        double acceleration = 0.0;  // its udot at the time of the last prescribe()
     };
     // per body, the kinematic and articulated quantities
     struct Body {
@@ -102,6 +118,17 @@ protected:
 
     // the edges, pools and per-body inertias of the tree in `topology` (bind() after its check)
     void build(System& system, const Topology& topology);
+    // the drivers' joints as prescribed edges (after build; a driver's joint is a tree edge of one
+    // freedom, topology.hpp) and y's layout without their coordinates and speeds
+    void prescribe_driven_joints(System& system);
+    // s_, u_ from y at t: the free entries from y, the prescribed ones from their drivers
+    void expand(double t, const Eigen::VectorXd& y);
+    // y from s_, u_ (the free entries)
+    void compress(Eigen::VectorXd& y) const;
+    // the prescribed freedoms at t: their accelerations, and (coordinates) their s_, u_ entries
+    void prescribe(double t, bool coordinates);
+    // s_, u_ of a state (the joint coordinates and speeds of every edge); leaves bodies_ at (s_, 0)
+    void joint_coordinates(const State& state);
     // forward kinematics: s, u -> bodies_ (poses, velocities, Phi, H, a)
     void kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u);
     // bodies_ -> state (q, v)
@@ -132,7 +159,11 @@ protected:
     Eigen::Map<Mat6X> H(const Edge& e) { return {hpool_.data() + e.h0, 6, e.nu}; }
     Eigen::Map<MatXX6> Dinv(const Edge& e) { return {dpool_.data() + e.d0, e.nu, e.nu}; }  // per body: +-1 so that written Euler parameters continue the state's
     State state_;
-    Eigen::VectorXd Q_, udot_, s_, u_;  // s_, u_: y's two parts (kinematics() takes whole vectors)
+    Eigen::VectorXd Q_, udot_, s_, u_;  // s_, u_: every edge's coordinates and speeds (y's entries and the prescribed)
+    std::vector<Prescribed> prescribed_;
+    std::vector<int> free_s_, free_u_;  // y = [s_(free_s_); u_(free_u_)]
+    std::vector<int> y_of_s_;           // per entry of s_: its index in y, -1 prescribed
+    Eigen::VectorXd full_y_, full_ydot_;  // [s_; u_] and its rate, when joints are prescribed
 };
 
 }  // namespace mbd::articulated

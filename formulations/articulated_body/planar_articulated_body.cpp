@@ -25,7 +25,7 @@ bool planar_freedom(const RelativeMotion::Kind kind, const Vec3& axis) {
 
 void PlanarArticulatedBody::bind(System& system, const FormulationOptions& options) {
     ArticulatedBody::bind(system, options);
-    fast_ = planar_;
+    fast_ = planar_ && prescribed_.empty();  // a driven joint keeps the spatial sweeps (its prescribed udot)
     for (const Edge& e : edges_)
         for (const Freedom& f : e.freedoms) fast_ = fast_ && planar_freedom(f.kind, f.axis);
     links_.assign(edges_.size(), Link{});

@@ -16,8 +16,8 @@
 // Only rhs() takes this path; the state conversions, reactions and accelerations at a
 // State stay on the spatial algorithm, which is therefore the oracle of the planar one
 // (tests/test_embedding.cpp compares them on every planar tree scene). A tree with a
-// freedom that is not planar (a revolute axis off z, a slider axis with a z component)
-// keeps the spatial rhs.
+// freedom that is not planar (a revolute axis off z, a slider axis with a z component), or
+// with a driven (prescribed) joint, keeps the spatial rhs.
 #pragma once
 
 #include "articulated_body.hpp"

@@ -6,9 +6,10 @@
 //
 // Three paths, chosen from the scene (path: auto) or forced (path: dense | recursive | closure):
 //   recursive  (formulations/articulated_body/) the joints form a tree, every joint describes its relative
-//              motion and there are no drivers: joint coordinates, O(n) articulated-body
-//              algorithm; no constraint drift by construction.
-//   closure    (articulated_body/loop_closure.hpp) closed loops or drivers: a spanning tree of the
+//              motion and every driver drives a joint of one freedom: joint coordinates, a driven
+//              joint's motion prescribed (it leaves the ODE), O(n) articulated-body algorithm; no
+//              constraint drift by construction.
+//   closure    (articulated_body/loop_closure.hpp) closed loops: a spanning tree of the
 //              joints with a supported relative motion in joint coordinates, the other joints'
 //              and the drivers' rows as loop-closure rows, solved by the augmented method in
 //              joint space (Eq. 6.141 with M_u = H^T M H, Phi_u = J_c H); auto takes it unless

@@ -30,6 +30,7 @@ public:
     const JointInfo& joint(int index) const override { return joints_.at(index); }
     int driver_count() const override { return static_cast<int>(drivers_.size()); }
     const DriverInfo& driver(int index) const override { return drivers_.at(index); }
+    TimeValue driver_motion(int index, double t) const override { return model_->drivers.at(index).motion->evaluate(t); }
     int force_count() const override { return static_cast<int>(forces_.size()); }
     const ForceInfo& force(int index) const override { return forces_.at(index); }
     std::string describe_row(int row) const override;

@@ -22,6 +22,7 @@
 #include <mbd/sdk/force.hpp>
 #include <mbd/sdk/joint.hpp>
 #include <mbd/sdk/state.hpp>
+#include <mbd/sdk/time_function.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Sparse>
@@ -77,6 +78,10 @@ public:
     virtual const JointInfo& joint(int index) const = 0;
     virtual int driver_count() const = 0;
     virtual const DriverInfo& driver(int index) const = 0;
+    // a driver's prescribed coordinate f(t) with its first and second derivatives (the row
+    // s(q) - f(t) = 0): a formulation that holds the driven joint in its own coordinates
+    // prescribes the motion instead of keeping the row (the embedding's recursive path)
+    virtual TimeValue driver_motion(int index, double t) const = 0;
     virtual int force_count() const = 0;
     virtual const ForceInfo& force(int index) const = 0;
     int joint_rows() const { return joint_count() ? joint(joint_count() - 1).first_row + joint(joint_count() - 1).rows : 0; }

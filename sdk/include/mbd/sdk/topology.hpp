@@ -130,8 +130,9 @@ inline bool recursive_motion_supported(const RelativeMotion& m, Dimension dimens
 }
 
 // The embedding formulation's choice for a system: "recursive" when the joints form a
-// tree, every joint gives a supported relative motion and there are no drivers; else
-// "dense". `reason` says why (for messages and `mbd check`).
+// tree, every joint gives a supported relative motion and every driver drives a joint of one
+// freedom (revolute, prismatic or helical: its motion is then prescribed, not a constraint
+// row); else "closure" or "dense". `reason` says why (for messages and `mbd check`).
 inline bool recursive_embedding_possible(const System& system, std::string* reason = nullptr) {
     const Topology t = analyse_topology(system);
     auto say = [&](const std::string& s) {
@@ -145,6 +146,8 @@ inline bool recursive_embedding_possible(const System& system, std::string* reas
             " (cut joint" + (t.cut_joints.size() + t.other_joints.size() == 1 ? " " : "s ") + names + ")");
         return false;
     }
+    std::vector<int> drivers_of_joint(system.joint_count(), 0);
+    for (int d = 0; d < system.driver_count(); ++d) ++drivers_of_joint.at(system.driver(d).joint);
     for (int j = 0; j < system.joint_count(); ++j) {
         const auto motion = system.joint(j).joint->relative_motion();
         if (!motion) {
@@ -156,14 +159,23 @@ inline bool recursive_embedding_possible(const System& system, std::string* reas
                 ") has a relative motion the recursive path does not support");
             return false;
         }
+        if (drivers_of_joint[j] > 1) {
+            say("joint '" + system.joint(j).name + "' has " + std::to_string(drivers_of_joint[j]) + " drivers");
+            return false;
+        }
+        const bool one_freedom =
+            motion->freedoms.size() == 1 && motion->freedoms.front().kind != RelativeMotion::Kind::Ball;
+        if (drivers_of_joint[j] == 1 && !one_freedom) {
+            say("driven joint '" + system.joint(j).name + "' (" + system.joint(j).type +
+                ") has a relative motion of more than one freedom");
+            return false;
+        }
     }
-    if (system.driver_count() > 0) {
-        say("tree with drivers (driven joints are handled as constraint rows)");
-        return false;
-    }
+    const int driven = system.driver_count();
     say("tree of " + std::to_string(system.joint_count()) + " joint" + (system.joint_count() == 1 ? "" : "s") +
         (t.free_roots ? " and " + std::to_string(t.free_roots) + " free root body" + (t.free_roots == 1 ? "" : "s") : "") +
-        " in joint coordinates");
+        " in joint coordinates" +
+        (driven ? ", " + std::to_string(driven) + " of them driven (prescribed motion)" : std::string()));
     return true;
 }
 
