@@ -289,6 +289,14 @@ TEST(Embedding, RecursiveMatchesDenseOnAPlanarChain) {
 TEST(Embedding, PlanarTreesRhsInPlanarAlgebraGivesAugmentedAccelerations) {
     std::vector<std::pair<std::string, mbd::Model>> models;
     models.emplace_back("planar-chain", load_text("planar-chain", planar_chain(12)));
+    // a slider, a reversed pin and a reversed slider driven (prescribed motion, f'' != 0)
+    models.emplace_back("planar-chain-driven",
+                        load_text("planar-chain-driven",
+                                  planar_chain(12) +
+                                      "drivers:\n"
+                                      "  - {name: d1, joint: j1, motion: {type: polynomial, coefficients: [0, 0.3, 0.8]}}\n"
+                                      "  - {name: d2, joint: j2, motion: {type: polynomial, coefficients: [0, -0.5, 1.2]}}\n"
+                                      "  - {name: d5, joint: j5, motion: {type: polynomial, coefficients: [0, 0.2, -0.6]}}\n"));
     for (const char* dir : {"bench", "book", "dynamics", "examples", "extreme", "statics", "reference"})
         for (const auto& entry : std::filesystem::directory_iterator(mbd::test::scene_path(dir))) {
             if (entry.path().extension() != ".yaml") continue;
@@ -298,7 +306,7 @@ TEST(Embedding, PlanarTreesRhsInPlanarAlgebraGivesAugmentedAccelerations) {
             } catch (const mbd::InputError&) {  // the scenes of bad-input tests
             }
         }
-    int checked = 0, with_slider = 0, with_free_body = 0;
+    int checked = 0, with_slider = 0, with_free_body = 0, with_driver = 0;
     for (const auto& [name, model] : models) {
         mbd::ModelSystem system(model);
         if (!mbd::recursive_embedding_possible(system) || system.nv() > 300) continue;
@@ -331,9 +339,10 @@ TEST(Embedding, PlanarTreesRhsInPlanarAlgebraGivesAugmentedAccelerations) {
             mbd::State s, plus, minus;
             tree->from_ode(0.0, yr, s);
             tree->rhs(0.0, yr, ydot);
+            // a difference in time: a driven joint's speed follows its driver's f'(t)
             const double h = 1e-6 / std::max(1.0, ydot.lpNorm<Eigen::Infinity>());
-            tree->from_ode(0.0, yr + h * ydot, plus);
-            tree->from_ode(0.0, yr - h * ydot, minus);
+            tree->from_ode(h, yr + h * ydot, plus);
+            tree->from_ode(-h, yr - h * ydot, minus);
             const Eigen::VectorXd vdot_tree = (plus.v - minus.v) / (2.0 * h);
             Eigen::VectorXd vdot_aug;
             aug->accelerations(s, vdot_aug);
@@ -352,11 +361,14 @@ TEST(Embedding, PlanarTreesRhsInPlanarAlgebraGivesAugmentedAccelerations) {
         }
         with_slider += slider;
         with_free_body += std::count(jointed.begin(), jointed.end(), 0) > 0;
+        with_driver += !model.drivers.empty();
     }
-    std::printf("%d planar trees, %d with a slider, %d with a free body\n", checked, with_slider, with_free_body);
+    std::printf("%d planar trees, %d with a slider, %d with a free body, %d driven\n", checked, with_slider,
+                with_free_body, with_driver);
     EXPECT_GE(checked, 10);
     EXPECT_GE(with_slider, 2);
     EXPECT_GE(with_free_body, 1);
+    EXPECT_GE(with_driver, 1);
 }
 
 TEST(Embedding, TopologyDecidesThePath) {

@@ -573,6 +573,10 @@ void ArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& y
     system_->generalized_forces(state_, Q_);
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
     articulated(t, Q_, udot_);
+    write_ydot(y, ydot);
+}
+
+void ArticulatedBody::write_ydot(const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (prescribed_.empty()) {
         ydot.resize(ns_ + nu_);
         coordinate_rates(y, ydot);

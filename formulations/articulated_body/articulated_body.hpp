@@ -138,6 +138,8 @@ protected:
     void vdot_system(Eigen::VectorXd& vdot);
     // sdot from y = [s; u] into ydot's head (Euler parameters: book Eq. 8.48)
     void coordinate_rates(const Eigen::VectorXd& y, Eigen::VectorXd& ydot) const;
+    // ydot at y from s_, u_ (expand()ed from y) and udot_: the free coordinates' rates and speeds' accelerations
+    void write_ydot(const Eigen::VectorXd& y, Eigen::VectorXd& ydot);
     // each tree joint's multipliers from the force f of its child's body (bodies_[].f) and its
     // rows of cv.J: J_k^T lambda_k = -(f on its bodies), least squares on the joint's rows
     void tree_joint_multipliers(const ConstraintValues& cv, Eigen::VectorXd& lambda) const;

@@ -25,7 +25,7 @@ bool planar_freedom(const RelativeMotion::Kind kind, const Vec3& axis) {
 
 void PlanarArticulatedBody::bind(System& system, const FormulationOptions& options) {
     ArticulatedBody::bind(system, options);
-    fast_ = planar_ && prescribed_.empty();  // a driven joint keeps the spatial sweeps (its prescribed udot)
+    fast_ = planar_;
     for (const Edge& e : edges_)
         for (const Freedom& f : e.freedoms) fast_ = fast_ && planar_freedom(f.kind, f.axis);
     links_.assign(edges_.size(), Link{});
@@ -43,9 +43,9 @@ void PlanarArticulatedBody::bind(System& system, const FormulationOptions& optio
     }
 }
 
-void PlanarArticulatedBody::planar_kinematics(const Eigen::VectorXd& y) {
-    const auto s = y.head(ns_);
-    const auto u = y.tail(nu_);
+void PlanarArticulatedBody::planar_kinematics() {
+    const Eigen::VectorXd& s = s_;
+    const Eigen::VectorXd& u = u_;
     for (size_t i = 0; i < edges_.size(); ++i) {
         const Edge& e = edges_[i];
         Link& c = links_[i];
@@ -113,7 +113,7 @@ void PlanarArticulatedBody::singular(double t, int body) const {
                                "' is singular across its joint");
 }
 
-void PlanarArticulatedBody::planar_articulated(double t, Eigen::VectorXd& ydot) {
+void PlanarArticulatedBody::planar_articulated(double t) {
     for (size_t i = 0; i < edges_.size(); ++i) {
         const Body& b = bodies_[edges_[i].body];
         Link& c = links_[i];
@@ -126,7 +126,11 @@ void PlanarArticulatedBody::planar_articulated(double t, Eigen::VectorXd& ydot) 
         Link& c = links_[i];
         Mat3 Pa;
         Vec3 za;
-        if (e.nu == 1) {  // a pin or a slider: D is a scalar (no factorization)
+        if (e.prescribed >= 0) {  // known udot: the whole articulated inertia passes to the parent
+            if (c.parent < 0) continue;
+            Pa = c.P;
+            za = c.P * (c.a + c.H.col(0) * prescribed_[e.prescribed].acceleration) + c.z;
+        } else if (e.nu == 1) {  // a pin or a slider: D is a scalar (no factorization)
             const Vec3 h = c.H.col(0), U = c.P * h;
             const double D = h.dot(U);
             if (!(D > 0.0)) singular(t, e.body);
@@ -157,7 +161,7 @@ void PlanarArticulatedBody::planar_articulated(double t, Eigen::VectorXd& ydot) 
         p.z[2] += c.d.dot(za.head<2>()) + za[2];
     }
     // root to leaves: joint and body accelerations
-    auto udot = ydot.tail(nu_);
+    Eigen::VectorXd& udot = udot_;
     for (size_t i = 0; i < edges_.size(); ++i) {
         const Edge& e = edges_[i];
         Link& c = links_[i];
@@ -167,7 +171,11 @@ void PlanarArticulatedBody::planar_articulated(double t, Eigen::VectorXd& ydot) 
             base.head<2>() += vp.head<2>() + vp[2] * c.d;
             base[2] += vp[2];
         }
-        if (e.nu == 1) {
+        if (e.prescribed >= 0) {
+            const double ud = prescribed_[e.prescribed].acceleration;
+            udot[e.u0] = ud;
+            c.vdot = base + c.H.col(0) * ud;
+        } else if (e.nu == 1) {
             const double ud = -c.Dinv(0, 0) * (c.U.col(0).dot(base) + c.H.col(0).dot(c.z));
             udot[e.u0] = ud;
             c.vdot = base + c.H.col(0) * ud;
@@ -183,7 +191,8 @@ void PlanarArticulatedBody::planar_articulated(double t, Eigen::VectorXd& ydot) 
 void PlanarArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (!fast_) return ArticulatedBody::rhs(t, y, ydot);
     if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
-    planar_kinematics(y);
+    expand(t, y);
+    planar_kinematics();
     state_.t = t;
     for (size_t i = 0; i < edges_.size(); ++i) {
         const Link& c = links_[i];
@@ -193,9 +202,8 @@ void PlanarArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::Vecto
     }
     system_->generalized_forces(state_, Q_);
     if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
-    ydot.resize(ns_ + nu_);
-    coordinate_rates(y, ydot);
-    planar_articulated(t, ydot);
+    planar_articulated(t);
+    write_ydot(y, ydot);
 }
 
 }  // namespace mbd::articulated

@@ -16,8 +16,9 @@
 // Only rhs() takes this path; the state conversions, reactions and accelerations at a
 // State stay on the spatial algorithm, which is therefore the oracle of the planar one
 // (tests/test_embedding.cpp compares them on every planar tree scene). A tree with a
-// freedom that is not planar (a revolute axis off z, a slider axis with a z component), or
-// with a driven (prescribed) joint, keeps the spatial rhs.
+// freedom that is not planar (a revolute axis off z, a slider axis with a z component)
+// keeps the spatial rhs. A driven (prescribed) pin or slider passes its whole articulated
+// inertia to its parent, as in articulated_body.hpp.
 #pragma once
 
 #include "articulated_body.hpp"
@@ -49,8 +50,10 @@ private:
         Vec3 z = Vec3::Zero();
         Vec3 vdot = Vec3::Zero();
     };
-    void planar_kinematics(const Eigen::VectorXd& y);
-    void planar_articulated(double t, Eigen::VectorXd& ydot);
+    // at s_, u_
+    void planar_kinematics();
+    // udot_ at the kinematics and Q_
+    void planar_articulated(double t);
     [[noreturn]] void singular(double t, int body) const;
 
     bool fast_ = false;
