@@ -634,6 +634,58 @@ TEST(GeneralizedAlpha, PendulumConvergesAtSecondOrderAndHoldsTheConstraint) {
     }
 }
 
+// The Newton iteration converges in the velocities too, with the iteration matrix kept across
+// steps. scenes/extreme/whirling-pendulum.yaml: a 1 m, 1 kg rod pinned at one end, launched at
+// 60 rad/s, whose angle grows without bound. The oracle is the same run with the Newton
+// tolerance at round-off (tolerance 1e-16): both solve the same step equations, so at the case's
+// tolerance 1e-10 (Newton 1e-13) the energy E = m |v|^2 / 2 + J w^2 / 2 + m g y and the angular
+// velocity must follow the tight run's to 1e-9 of their size.
+TEST(GeneralizedAlpha, KeptIterationMatrixConvergesInTheVelocities) {
+    const mbd::Model model =
+        mbd::load_scene(mbd::test::scene_path("extreme/whirling-pendulum.yaml"), mbd::test::shared_registry());
+    struct Run {
+        double drift = 0.0, energy = 0.0, omega = 0.0, scale = 0.0;
+        long newton = 0, jacobians = 0;
+    };
+    auto run_at = [&](double tolerance) {
+        mbd::SimulationSettings s;
+        s.formulation = "augmented";
+        s.integrator = "generalized_alpha";
+        s.integration.step = 1e-4;
+        s.integration.tolerance = tolerance;
+        s.integration.rho_infinity = 0.8;
+        s.t_end = 2.0;
+        s.output_step = 0.05;
+        s.progress = false;
+        Run out;
+        double e0 = 0.0;
+        bool first = true;
+        const mbd::SimulationResult r =
+            mbd::simulate(model, mbd::test::shared_registry(), s, [&](const mbd::SimulationSample& sample) {
+                const VectorXd& v = sample.state.v;
+                const double kinetic = 0.5 * (v[0] * v[0] + v[1] * v[1]) + 0.5 / 12.0 * v[2] * v[2];
+                const double e = kinetic + 9.81 * sample.state.q[1];
+                if (first) e0 = e, out.scale = kinetic, first = false;
+                out.drift = std::max(out.drift, std::abs(e - e0));
+                out.omega = v[2];
+                out.energy = e;
+                return true;
+            });
+        out.newton = r.stats.newton_iterations;
+        out.jacobians = r.stats.jacobian_evaluations;
+        return out;
+    };
+    const Run tight = run_at(1e-16), run = run_at(1e-10);
+    std::printf("generalized_alpha whirling pendulum, 2 s: tolerance 1e-10: drift / T0 %.2e, %ld newton, %ld jacobians; "
+                "1e-16: drift / T0 %.2e, %ld newton, %ld jacobians; final E %.15g vs %.15g, w %.15g vs %.15g\n",
+                run.drift / run.scale, run.newton, run.jacobians, tight.drift / tight.scale, tight.newton,
+                tight.jacobians, run.energy, tight.energy, run.omega, tight.omega);
+    EXPECT_NEAR(run.energy, tight.energy, 1e-9 * tight.scale);
+    EXPECT_NEAR(run.drift, tight.drift, 1e-9 * tight.scale);
+    EXPECT_NEAR(run.omega, tight.omega, 1e-9 * std::abs(tight.omega));
+    EXPECT_LT(run.jacobians, run.newton / 2);  // the matrix is kept: fewer factorizations than iterations
+}
+
 TEST(GeneralizedAlpha, LargeStepsConvergeOrFailNamingTheJoint) {
     auto l = load("examples/planar-revolute.yaml");
     mbd::FormulationProblem problem(l->formulation, *l->system);
