@@ -44,6 +44,7 @@
 #include "common.hpp"
 
 #include <mbd/sdk/formulation.hpp>
+#include <mbd/sdk/singularity.hpp>
 #include <mbd/sdk/system.hpp>
 
 #include <Eigen/Dense>
@@ -91,7 +92,9 @@ private:
     void solve();
     // Initial accelerations and multipliers: [M J^T; J 0] [vdot; lambda] = [Q; gamma].
     void initial_accelerations(double t, IntegratorStats& stats);
-    [[noreturn]] void newton_failure(double t, const std::string& cause) const;
+    // A Newton iteration that does not converge: a singular configuration when J lost rank
+    // since the start (the singularity monitor's message, naming the rows), else the cause.
+    [[noreturn]] void newton_failure(double t, const std::string& cause);
 
     IntegratorSettings settings_;
     System* system_ = nullptr;
@@ -117,6 +120,7 @@ private:
     Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> sparse_lu_;
     std::vector<int> analysed_outer_, analysed_inner_;  // the pattern sparse_lu_ was ordered for
     bool use_dense_ = true;
+    SingularityMonitor singularity_;  // rank of J at the start, asked again when Newton fails
     // the kept iteration matrix (the last one factored in a step): whether there is one, and
     // the beta' it was built with
     bool factored_ = false;
@@ -205,7 +209,8 @@ void GeneralizedAlpha::solve() {
         sol_ = sparse_lu_.solve(rhs_);
 }
 
-void GeneralizedAlpha::newton_failure(double t, const std::string& cause) const {
+void GeneralizedAlpha::newton_failure(double t, const std::string& cause) {
+    if (nc_ > 0 && cv_.J.rows() == nc_) singularity_.check(*system_, t, cv_.J);  // throws on a lost rank
     std::string where;
     if (nc_ > 0 && cv_.C.size() == nc_) {
         Eigen::Index worst = 0;
@@ -222,6 +227,8 @@ void GeneralizedAlpha::initial_accelerations(double t, IntegratorStats& stats) {
     system_->generalized_forces(state_, Q_);
     system_->constraints(state_, cv_, true);
     ++stats.rhs_evaluations;
+    singularity_.reset();
+    if (nc_ > 0) singularity_.check(*system_, t, cv_.J);  // the reference rank
     factor(0.0, 0.0, stats);  // [M J^T; J 0]
     factored_ = false;        // not an iteration matrix
     rhs_.head(nv_) = Q_;
