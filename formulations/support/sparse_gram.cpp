@@ -36,13 +36,30 @@ void SparseGram::fill(const Eigen::SparseMatrix<double>& J, const BlockMassInver
     std::fill(W_.valuePtr(), W_.valuePtr() + W_.nonZeros(), 0.0);
     left_out_.assign(W_.rows(), 0);
     if (left_out) left_out_ = *left_out;
+    const int* outer = W_.outerIndexPtr();
+    const int* inner = W_.innerIndexPtr();
+    double* w = W_.valuePtr();
     for (int c = 0; c < J.outerSize(); ++c) {
         const int b = c / nvb, i = c % nvb;
+        const auto& L = mass_inverse.factor(b);
+        // columns b nvb .. c in one group: a row sits at the same place in each of them, found
+        // by walking column c's rows along J's (both sorted), not searched per entry
+        const bool grouped = group_of_column_[b * nvb] == group_of_column_[c];
+        int place = outer[c];
         for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
-            if (left_out_[it.row()]) continue;
-            for (int j = 0; j <= i; ++j) {
-                const double l = mass_inverse.factor(b)(i, j);
-                if (l != 0.0) entry_of_W(static_cast<int>(it.row()), b * nvb + j) += it.value() * l;
+            const int row = static_cast<int>(it.row());
+            if (left_out_[row]) continue;
+            if (grouped) {
+                while (place < outer[c + 1] && inner[place] < row) ++place;
+                if (place == outer[c + 1] || inner[place] != row) entry_of_W(row, c);  // throws: outside the pattern
+                const int offset = place - outer[c];
+                for (int j = 0; j <= i; ++j)
+                    if (L(i, j) != 0.0) w[outer[b * nvb + j] + offset] += it.value() * L(i, j);
+            } else {
+                for (int j = 0; j <= i; ++j) {
+                    const double l = L(i, j);
+                    if (l != 0.0) entry_of_W(row, b * nvb + j) += it.value() * l;
+                }
             }
         }
     }
@@ -116,11 +133,23 @@ void SparseGram::analyze(int rows, int cols, const std::vector<std::vector<int>>
     std::vector<int> moved(S.nonZeros(), -1);
     for (int k = 0; k < S_.nonZeros(); ++k) moved[static_cast<int>(S_.valuePtr()[k]) - 1] = k;
 
-    products_.clear();
-    for (int c = 0; c < cols; ++c)
-        for (int a = W_.outerIndexPtr()[c]; a < W_.outerIndexPtr()[c + 1]; ++a)
-            for (int b = a; b < W_.outerIndexPtr()[c + 1]; ++b)
-                products_.push_back({a, b, moved[slot_of(W_.innerIndexPtr()[a], W_.innerIndexPtr()[b])]});
+    groups_.clear();
+    pair_slots_.clear();
+    group_of_column_.assign(cols, -1);
+    const int* outer = W_.outerIndexPtr();
+    const int* inner = W_.innerIndexPtr();
+    for (int c = 0; c < cols;) {
+        const int rows_c = outer[c + 1] - outer[c];
+        int end = c + 1;  // the run of columns with column c's rows
+        while (end < cols && outer[end + 1] - outer[end] == rows_c &&
+               std::equal(inner + outer[c], inner + outer[c + 1], inner + outer[end]))
+            ++end;
+        groups_.push_back({c, end - c, rows_c, static_cast<int>(pair_slots_.size())});
+        for (int a = outer[c]; a < outer[c + 1]; ++a)
+            for (int b = a; b < outer[c + 1]; ++b) pair_slots_.push_back(moved[slot_of(inner[a], inner[b])]);
+        for (int k = c; k < end; ++k) group_of_column_[k] = static_cast<int>(groups_.size()) - 1;
+        c = end;
+    }
     diagonal_.resize(rows);
     original_row_.resize(rows);
     for (int r = 0; r < rows; ++r) {
@@ -145,7 +174,18 @@ bool SparseGram::factor(double delta) {
     double* s = S_.valuePtr();
     const double* w = W_.valuePtr();
     std::fill(s, s + S_.nonZeros(), 0.0);
-    for (const Product& p : products_) s[p.slot] += w[p.a] * w[p.b];
+    const int* outer = W_.outerIndexPtr();
+    const int* slot = pair_slots_.data();
+    for (const ColumnGroup& g : groups_) {
+        const double* block = w + outer[g.first_column];  // rows x columns, column-major
+        const int k = g.rows;
+        for (int a = 0; a < k; ++a)
+            for (int b = a; b < k; ++b) {
+                double sum = 0.0;
+                for (int c = 0; c < g.columns; ++c) sum += block[c * k + a] * block[c * k + b];
+                s[*slot++] += sum;
+            }
+    }
     max_diagonal_ = 0.0;
     for (int slot : diagonal_) max_diagonal_ = std::max(max_diagonal_, s[slot]);
     // a decoupled row keeps S's scale (its right-hand side is the caller's, zero for dropped rows)

@@ -258,7 +258,7 @@ private:
             for (Eigen::Index p = J.outerIndexPtr()[col]; p < J.outerIndexPtr()[col + 1]; ++p)
                 if (!skip_[J.innerIndexPtr()[p]]) jb[slot_[p] * N + c] = J.valuePtr()[p];
         }
-        const Eigen::Matrix<double, N, N> minv = m.inverse(b).template topLeftCorner<N, N>();
+        const Eigen::Matrix<double, N, N> minv = m.inverse(b);
         const Eigen::Index n = S_.rows();
         double* s = S_.data();
         for (int i = 0; i < k; ++i) {
