@@ -393,8 +393,12 @@ void Augmented::solve_multipliers(double t, double gamma_norm) {
         tmp_nv2_.noalias() = cv_.J.transpose() * lambda_;
         tmp_nv2_ = Q_ - tmp_nv2_;
         apply_Minv(tmp_nv2_, vdot_);
-        // J vdot - gamma_s = b - S lambda: round-off after a well-conditioned Cholesky
-        if (!sparse_ && dense_.well_conditioned() && vdot_.allFinite() && lambda_.allFinite()) return;
+        // J vdot - gamma_s = b - S lambda: round-off after a well-conditioned Cholesky, dense or
+        // sparse (every pivot above 1e-8 of its diagonal entry, the dense path's threshold for
+        // its pseudo-inverse)
+        const bool well_conditioned = sparse_ ? !rank_deficient_ && sparse_gram_.least_relative_pivot() > 1e-8
+                                              : dense_.well_conditioned();
+        if (well_conditioned && vdot_.allFinite() && lambda_.allFinite()) return;
         // the acceleration constraints must hold (J vdot = gamma_s, Eq. 6.139): this
         // catches a singular saddle point that the factorization did not flag
         if (vdot_.allFinite() && lambda_.allFinite()) {

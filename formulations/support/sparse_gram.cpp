@@ -32,42 +32,66 @@ void SparseGram::analyze(System& system) {
 
 void SparseGram::fill(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& mass_inverse,
                       const std::vector<char>* left_out) {
-    const int nvb = mass_inverse.velocities_per_body();
-    std::fill(W_.valuePtr(), W_.valuePtr() + W_.nonZeros(), 0.0);
-    left_out_.assign(W_.rows(), 0);
-    if (left_out) left_out_ = *left_out;
+    if (left_out)
+        left_out_ = *left_out;
+    else
+        std::fill(left_out_.begin(), left_out_.end(), 0);
+    if (mass_inverse.velocities_per_body() == 3)
+        fill_bodies<3>(J, mass_inverse);
+    else
+        fill_bodies<6>(J, mass_inverse);
+}
+
+// Body by body: where J's columns of the body hold exactly W's rows (a System's J does: every
+// row of a joint has all nvb entries of each of its bodies), W_b = J_b Lm_b is one small dense
+// product of the two value blocks; otherwise entry by entry. Which bodies are dense is read
+// from the first J after analyze(): a System's J keeps its pattern for the System's life
+// (sdk/system.hpp), so later J are not compared index by index (that alone was a pass over
+// J's row indices per rhs).
+template <int N>
+void SparseGram::fill_bodies(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& mass_inverse) {
     const int* outer = W_.outerIndexPtr();
     const int* inner = W_.innerIndexPtr();
     double* w = W_.valuePtr();
-    for (int c = 0; c < J.outerSize(); ++c) {
-        const int b = c / nvb, i = c % nvb;
-        const auto& L = mass_inverse.factor(b);
-        // columns b nvb .. c in one group: a row sits at the same place in each of them, found
-        // by walking column c's rows along J's (both sorted), not searched per entry
-        const bool grouped = group_of_column_[b * nvb] == group_of_column_[c];
-        int place = outer[c];
-        for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it) {
-            const int row = static_cast<int>(it.row());
-            if (left_out_[row]) continue;
-            if (grouped) {
-                while (place < outer[c + 1] && inner[place] < row) ++place;
-                if (place == outer[c + 1] || inner[place] != row) entry_of_W(row, c);  // throws: outside the pattern
-                const int offset = place - outer[c];
-                for (int j = 0; j <= i; ++j)
-                    if (L(i, j) != 0.0) w[outer[b * nvb + j] + offset] += it.value() * L(i, j);
-            } else {
-                for (int j = 0; j <= i; ++j) {
-                    const double l = L(i, j);
-                    if (l != 0.0) entry_of_W(row, b * nvb + j) += it.value() * l;
-                }
-            }
+    const int* j_outer = J.outerIndexPtr();
+    const int* j_inner = J.innerIndexPtr();
+    const double* j_values = J.valuePtr();
+    const int bodies = static_cast<int>(J.cols()) / N;
+    if (dense_body_.size() != static_cast<size_t>(bodies)) {
+        dense_body_.assign(bodies, 0);
+        for (int b = 0; b < bodies; ++b) {
+            const int c0 = b * N, k = outer[c0 + 1] - outer[c0];
+            bool dense = J.isCompressed() && group_of_column_[c0] == group_of_column_[c0 + N - 1];
+            for (int c = c0; dense && c < c0 + N; ++c)
+                dense = j_outer[c + 1] - j_outer[c] == k &&
+                        std::equal(j_inner + j_outer[c], j_inner + j_outer[c + 1], inner + outer[c0]);
+            dense_body_[b] = dense;
         }
+    }
+    for (int b = 0; b < bodies; ++b) {
+        const int c0 = b * N, k = outer[c0 + 1] - outer[c0];
+        const Eigen::Map<const Eigen::Matrix<double, N, N>> L(mass_inverse.factor(b).data());
+        if (dense_body_[b] && J.isCompressed()) {
+            using Block = Eigen::Matrix<double, Eigen::Dynamic, N>;
+            Eigen::Map<Block> Wb(w + outer[c0], k, N);
+            Wb.noalias() = Eigen::Map<const Block>(j_values + j_outer[c0], k, N).lazyProduct(L);
+            for (int a = 0; a < k; ++a)
+                if (left_out_[inner[outer[c0] + a]]) Wb.row(a).setZero();
+            continue;
+        }
+        std::fill(w + outer[c0], w + outer[c0 + N], 0.0);
+        for (int i = 0; i < N; ++i)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(J, c0 + i); it; ++it) {
+                if (left_out_[it.row()]) continue;
+                for (int j = 0; j <= i; ++j)
+                    if (L(i, j) != 0.0) entry_of_W(static_cast<int>(it.row()), c0 + j) += it.value() * L(i, j);
+            }
     }
 }
 
 void SparseGram::fill(const Eigen::SparseMatrix<double>& J) {
     std::fill(W_.valuePtr(), W_.valuePtr() + W_.nonZeros(), 0.0);
-    left_out_.assign(W_.rows(), 0);
+    std::fill(left_out_.begin(), left_out_.end(), 0);
     for (int c = 0; c < J.outerSize(); ++c)
         for (Eigen::SparseMatrix<double>::InnerIterator it(J, c); it; ++it)
             entry_of_W(static_cast<int>(it.row()), c) = it.value();
@@ -135,6 +159,7 @@ void SparseGram::analyze(int rows, int cols, const std::vector<std::vector<int>>
 
     groups_.clear();
     pair_slots_.clear();
+    dense_body_.clear();  // read again from the next J
     group_of_column_.assign(cols, -1);
     const int* outer = W_.outerIndexPtr();
     const int* inner = W_.innerIndexPtr();

@@ -65,6 +65,8 @@ public:
     void solve(Eigen::VectorXd& x, int refinements);
 
 private:
+    template <int N>
+    void fill_bodies(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& mass_inverse);
     void solve_once(const Eigen::VectorXd& b, Eigen::VectorXd& x);
     double& entry_of_W(int row, int col);  // W's value at (row, col), which its pattern must hold
 
@@ -83,6 +85,7 @@ private:
     std::vector<ColumnGroup> groups_;
     std::vector<int> pair_slots_;
     std::vector<int> group_of_column_;
+    std::vector<char> dense_body_;  // per body: J's columns hold W's rows (fill_bodies)
     std::vector<int> diagonal_;       // S_'s diagonal slot of each original row
     std::vector<int> original_row_;   // the original row of each row of S_
     std::vector<char> left_out_;      // rows decoupled by fill()
