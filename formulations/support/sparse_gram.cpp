@@ -200,16 +200,16 @@ bool SparseGram::factor(double delta) {
     const double* w = W_.valuePtr();
     std::fill(s, s + S_.nonZeros(), 0.0);
     const int* outer = W_.outerIndexPtr();
-    const int* slot = pair_slots_.data();
     for (const ColumnGroup& g : groups_) {
-        const double* block = w + outer[g.first_column];  // rows x columns, column-major
         const int k = g.rows;
-        for (int a = 0; a < k; ++a)
-            for (int b = a; b < k; ++b) {
-                double sum = 0.0;
-                for (int c = 0; c < g.columns; ++c) sum += block[c * k + a] * block[c * k + b];
-                s[*slot++] += sum;
-            }
+        // column by column, each product added where it lands (the group's few slots stay in
+        // L1): the same order of summation as one product at a time
+        for (int c = 0; c < g.columns; ++c) {
+            const double* column = w + outer[g.first_column + c];
+            const int* slot = pair_slots_.data() + g.first_pair;
+            for (int a = 0; a < k; ++a)
+                for (int b = a; b < k; ++b) s[*slot++] += column[a] * column[b];
+        }
     }
     max_diagonal_ = 0.0;
     for (int slot : diagonal_) max_diagonal_ = std::max(max_diagonal_, s[slot]);

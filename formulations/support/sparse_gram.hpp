@@ -77,7 +77,8 @@ private:
     // dense rows x columns block of W's value array (column-major), and their products land on
     // the same places of S_, so each pair of rows (a <= b) keeps one slot for the whole group.
     // On a planar chain this is 10 slots per body where a slot per product per column was 30
-    // triples: the factorization's index stream is a ninth of what it was.
+    // triples: the factorization's index stream is a ninth of what it was (the slots are read
+    // again for each column of the group, from L1).
     struct ColumnGroup {
         int first_column, columns, rows;
         int first_pair;  // its slots in pair_slots_: (a, b) for a = 0..rows-1, b = a..rows-1
