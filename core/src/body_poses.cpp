@@ -40,6 +40,10 @@ void BodyPoses::update_velocities(const State& state) {
 }
 
 void BodyPoses::fill(const std::vector<int>& bodies, double t, BodyStates& out) const {
+    fill(BodyList{bodies.data(), static_cast<int>(bodies.size())}, t, out);
+}
+
+void BodyPoses::fill(BodyList bodies, double t, BodyStates& out) const {
     out.t = t;
     out.planar_bodies.clear();
     out.spatial_bodies.clear();

@@ -58,7 +58,11 @@ std::string RowOwner::describe() const {
 }
 
 ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers, bool include_velocity_rows)
-    : model_(&model), include_drivers_(include_drivers), include_velocity_rows_(include_velocity_rows) {
+    : model_(&model),
+      include_drivers_(include_drivers),
+      include_velocity_rows_(include_velocity_rows),
+      joint_bodies_(model.joints) {
+    for (const JointInstance& ji : model.joints) joint_.push_back(ji.joint.get());
     const int nvb = velocities_per_body(model.dimension);
     // the element rows in evaluation order, each with the bodies its Jacobian row spans
     std::vector<std::pair<int, const std::vector<int>*>> element_rows;
@@ -138,14 +142,14 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
     const int* slot = slot_.data();
 
     // add one row's body blocks into the Jacobian's values (a body that appears twice adds up)
-    auto scatter = [&](const std::vector<int>& bodies, const auto& row_values) {
-        for (size_t b = 0; b < bodies.size(); ++b) {
+    auto scatter = [&](BodyList bodies, const auto& row_values) {
+        for (int b = 0; b < bodies.size(); ++b) {
             if (bodies[b] == kGround) continue;
-            for (int c = 0; c < nvb; ++c) values[*slot++] += row_values(nvb * static_cast<int>(b) + c);
+            for (int c = 0; c < nvb; ++c) values[*slot++] += row_values(nvb * b + c);
         }
     };
     // a joint's rows into out at r0, and the sum of all its entries (rows_finite's test, in the same pass)
-    auto place = [&](const ConstraintEval& e, int r0, const std::vector<int>& bodies) {
+    auto place = [&](const ConstraintEval& e, int r0, BodyList bodies) {
         const int rows = static_cast<int>(e.C.size());
         double sum = 0.0;
         for (int r = 0; r < rows; ++r) {
@@ -164,7 +168,7 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         const ConstraintEval& e = evaluate_joint(j, state, data);
         // a NaN from a joint would surface later as a failed projection or a singular
         // matrix; name the joint here instead (unless the state itself is not finite)
-        if (!rows_finite(e, place(e, joint_offset_[j], m.joints[j].bodies))) throw_if_state_finite(j, e, state);
+        if (!rows_finite(e, place(e, joint_offset_[j], joint_bodies_[j]))) throw_if_state_finite(j, e, state);
     }
 
     if (include_drivers_) {
@@ -177,7 +181,7 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
             out.C[row] = e.periodic ? wrap_angle(residual) : residual;
             out.C_t[row] = -f.df;
             out.gamma[row] = e.gamma + f.ddf;
-            scatter(m.joints[m.drivers[d].joint].bodies, e.J);
+            scatter(joint_bodies_[m.drivers[d].joint], e.J);
         }
     }
 
@@ -189,8 +193,8 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
             e.A.setZero();
             e.b.setZero();
             e.gamma.setZero();
-            data.poses.fill(ji.bodies, state.t, data.view);
-            ji.joint->evaluate_velocity(data.view, e);
+            data.poses.fill(joint_bodies_[j], state.t, data.view);
+            joint_[j]->evaluate_velocity(data.view, e);
             if (!(e.A.allFinite() && e.b.allFinite() && e.gamma.allFinite()) && state.q.allFinite() &&
                 state.v.allFinite())
                 throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type +
@@ -205,7 +209,7 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
             out.C.segment(r0, e.b.size()).setZero();
             out.C_t.segment(r0, e.b.size()) = -e.b;
             out.gamma.segment(r0, e.b.size()) = e.gamma;
-            for (int r = 0; r < e.b.size(); ++r) scatter(ji.bodies, e.A.row(r));
+            for (int r = 0; r < e.b.size(); ++r) scatter(joint_bodies_[j], e.A.row(r));
         }
     }
 }
@@ -233,25 +237,25 @@ void ConstraintSystem::gamma_velocity_transpose(const State& state, Data& data, 
     const int nvb = velocities_per_body(m.dimension);
     Eigen::VectorXd& local = data.joint_gamma_gradient;  // sized for the joint with the most bodies
     for (size_t j = 0; j < m.joints.size(); ++j) {
-        const JointInstance& ji = m.joints[j];
-        if (!ji.joint->has_gamma_velocity_transpose()) continue;
-        local.head(nvb * ji.bodies.size()).setZero();
-        data.poses.fill(ji.bodies, state.t, data.view);
-        ji.joint->gamma_velocity_transpose(data.view, mu.data() + joint_offset_[j], local.data());
-        for (size_t b = 0; b < ji.bodies.size(); ++b)
-            if (ji.bodies[b] != kGround) out.segment(m.v_offset(ji.bodies[b]), nvb) += local.segment(nvb * b, nvb);
+        const Joint& joint = *joint_[j];
+        if (!joint.has_gamma_velocity_transpose()) continue;
+        const BodyList bodies = joint_bodies_[j];
+        local.head(nvb * bodies.size()).setZero();
+        data.poses.fill(bodies, state.t, data.view);
+        joint.gamma_velocity_transpose(data.view, mu.data() + joint_offset_[j], local.data());
+        for (int b = 0; b < bodies.size(); ++b)
+            if (bodies[b] != kGround) out.segment(m.v_offset(bodies[b]), nvb) += local.segment(nvb * b, nvb);
     }
 }
 
 const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& state, Data& data) const {
-    const JointInstance& ji = model_->joints[j];
     ConstraintEval& e = data.joint_rows[j];
     e.C.setZero();
     e.J.setZero();
     e.C_t.setZero();
     e.gamma.setZero();
-    data.poses.fill(ji.bodies, state.t, data.view);
-    ji.joint->evaluate(data.view, e);
+    data.poses.fill(joint_bodies_[j], state.t, data.view);
+    joint_[j]->evaluate(data.view, e);
     return e;
 }
 
@@ -268,12 +272,11 @@ void ConstraintSystem::throw_if_state_finite(size_t j, const ConstraintEval& e, 
 
 const CoordinateEval& ConstraintSystem::evaluate_driver(size_t d, const State& state, Data& data, TimeValue& f) const {
     const Driver& dr = model_->drivers[d];
-    const JointInstance& ji = model_->joints[dr.joint];
     CoordinateEval& e = data.driver_rows[d];
     e.J.setZero();
     e.gamma = 0.0;
-    data.poses.fill(ji.bodies, state.t, data.view);
-    ji.joint->coordinate(data.view, e);
+    data.poses.fill(joint_bodies_[dr.joint], state.t, data.view);
+    joint_[dr.joint]->coordinate(data.view, e);
     f = dr.motion->evaluate(state.t);
     if (!(std::isfinite(f.f) && std::isfinite(f.df) && std::isfinite(f.ddf)))
         throw DynamicsError(state.t, "driver '" + dr.name + "'" + (dr.where.empty() ? "" : " (" + dr.where + ")") +

@@ -12,6 +12,7 @@ ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
       joints_only_(model, false),
       with_drivers_and_velocity_rows_(model, true, true),
       joints_and_velocity_rows_(model, false, true),
+      force_bodies_(model.forces),
       data_(model) {
     for (const Body& b : model.bodies) {
         BodyInfo info;
@@ -81,10 +82,12 @@ void ModelSystem::normalize(Eigen::VectorXd& q) const { normalize_euler_paramete
 namespace {
 
 // Add an element's body-block vector into the system vector, skipping the ground.
-void scatter_vector(const Model& m, const std::vector<int>& bodies, const Eigen::Ref<const Eigen::VectorXd>& local,
+// (Bodies: a std::vector<int> or a BodyList)
+template <class Bodies>
+void scatter_vector(const Model& m, const Bodies& bodies, const Eigen::Ref<const Eigen::VectorXd>& local,
                     Eigen::VectorXd& Q) {
     const int nvb = velocities_per_body(m.dimension);
-    for (size_t b = 0; b < bodies.size(); ++b)
+    for (int b = 0; b < static_cast<int>(bodies.size()); ++b)
         if (bodies[b] != kGround) Q.segment(m.v_offset(bodies[b]), nvb) += local.segment(nvb * b, nvb);
 }
 
@@ -110,9 +113,10 @@ void scatter_matrix(const Model& m, const std::vector<int>& bodies, const Eigen:
 // After data_.pose(state).
 Eigen::Ref<Eigen::VectorXd> ModelSystem::element_force(int f, double t) {
     const ForceInstance& force = model_->forces[f];
-    auto element = data_.force_Q.head(velocities_per_body(model_->dimension) * static_cast<int>(force.bodies.size()));
+    const BodyList bodies = force_bodies_[f];
+    auto element = data_.force_Q.head(velocities_per_body(model_->dimension) * bodies.size());
     element.setZero();
-    data_.poses.fill(force.bodies, t, data_.view);
+    data_.poses.fill(bodies, t, data_.view);
     if (load_slot_[f] >= 0)
         force.force->evaluate_at_load(data_.view, loads_[load_slot_[f]], element);
     else
@@ -125,7 +129,7 @@ void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
     Q.setZero(m.nv());
     data_.pose(state);
     for (size_t f = 0; f < m.forces.size(); ++f)
-        scatter_vector(m, m.forces[f].bodies, element_force(static_cast<int>(f), state.t), Q);
+        scatter_vector(m, force_bodies_[f], element_force(static_cast<int>(f), state.t), Q);
     if (m.dimension == Dimension::Spatial) {
         // gyroscopic moment in body axes, -wbar x (Jbar wbar) (book Eq. 7.155, Q_v)
         for (int k = 0; k < m.body_count(); ++k) {

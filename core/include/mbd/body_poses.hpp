@@ -2,6 +2,7 @@
 // every joint and force that touches the body.
 #pragma once
 
+#include <mbd/element_bodies.hpp>
 #include <mbd/model.hpp>
 
 namespace mbd {
@@ -17,6 +18,7 @@ public:
     // The view an element with these body indices evaluates on.
     BodyStates view(const std::vector<int>& bodies, double t) const;
     void fill(const std::vector<int>& bodies, double t, BodyStates& out) const;
+    void fill(BodyList bodies, double t, BodyStates& out) const;
 
     const PlanarBody& planar(int body) const { return body == kGround ? planar_ground_ : planar_[body]; }
     const SpatialBody& spatial(int body) const { return body == kGround ? spatial_ground_ : spatial_[body]; }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <mbd/data.hpp>
+#include <mbd/element_bodies.hpp>
 #include <mbd/model.hpp>
 
 #include <Eigen/Sparse>
@@ -64,6 +65,9 @@ private:
     int rows_ = 0;
     int joint_rows_ = 0;
     std::vector<int> joint_offset_;
+    // each joint's bodies and its Joint, read in order by the evaluation loops (element_bodies.hpp)
+    ElementBodies joint_bodies_;
+    std::vector<const Joint*> joint_;
     std::vector<int> velocity_offset_;  // each joint's first velocity-level row
     std::vector<RowOwner> owners_;
     // The Jacobian's fixed pattern, and for each element row and each of its body

@@ -74,6 +74,7 @@ private:
     std::vector<JointInfo> joints_;
     std::vector<DriverInfo> drivers_;
     std::vector<ForceInfo> forces_;
+    ElementBodies force_bodies_;  // each force's bodies, read in order by generalized_forces (element_bodies.hpp)
     Eigen::SparseMatrix<double> mass_;
     const ConstraintSystem with_drivers_;
     const ConstraintSystem joints_only_;
