@@ -115,11 +115,11 @@ TEST(OwnOrderFill, CholeskyEntriesOfTridiagonalAndArrowPatterns) {
 
 TEST(FixedPatternLU, KeepsTheChainsOwnOrderAndSolvesWithItAfterNewValues) {
     Sparse K = chain_saddle_point(2000, 1.0);  // 10,000 rows
-    ASSERT_GE(K.rows(), mbd::FixedPatternLU::kCompareOrderings);
+    ASSERT_GE(K.rows(), mbd::kCompareOrderingsFrom);
     const long amd = klu_entries(K, false), own = klu_entries(K, true);
     ASSERT_GT(amd, 0);
     ASSERT_GT(own, 0);
-    ASSERT_LE(own, mbd::FixedPatternLU::kOwnOrderSlack * amd);  // the case this test is about
+    ASSERT_LE(own, mbd::kOwnOrderSlack * amd);  // the case this test is about
 
     mbd::FixedPatternLU lu;
     ASSERT_TRUE(lu.analyze(K));
@@ -147,7 +147,7 @@ TEST(FixedPatternLU, NeverFactorsAnOrderThatFillsADenseBlock) {
 
 TEST(FixedPatternLU, SmallSystemsKeepAmdsOrder) {
     Sparse K = chain_saddle_point(300, 1.0);  // 1,500 rows: below the comparison
-    ASSERT_LT(K.rows(), mbd::FixedPatternLU::kCompareOrderings);
+    ASSERT_LT(K.rows(), mbd::kCompareOrderingsFrom);
     mbd::FixedPatternLU lu;
     ASSERT_TRUE(lu.analyze(K));
     ASSERT_TRUE(lu.factor(K, true));

@@ -8,13 +8,17 @@
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/block_mass_inverse.hpp>
 
+#include <own_order_fill.hpp>
 #include <sparse_gram.hpp>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -102,6 +106,41 @@ TEST(SparseGram, LeftOutRowsAreDecoupled) {
     Eigen::MatrixXd S = g.dense_S(J);
     S(1, 1) = S.diagonal().maxCoeff();
     expect_same_system(gram, S, "row 1 left out");
+}
+
+TEST(SparseGram, LongChainInItsOwnOrder) {
+    // S = J J^T of a planar chain of 2,600 links (5,200 rows: from kCompareOrderingsFrom rows, the
+    // rows' own order, banded, is kept where it fills no more than AMD's), against Eigen's own
+    // L D L^T of the product formed by Eigen
+    const int links = 2600, rows = 2 * links, cols = 3 * links;
+    std::vector<std::vector<int>> rows_of_column(cols);
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int j = 0; j < links; ++j)
+        for (int body = std::max(j - 1, 0); body <= j; ++body)
+            for (int c = 0; c < 3; ++c)
+                for (int r = 0; r < 2; ++r) {
+                    rows_of_column[3 * body + c].push_back(2 * j + r);
+                    const double value = (body == j ? 1.0 : -1.0) * (c == r ? 1.0 : 0.05 * (1 + (j + c + r) % 4));
+                    entries.emplace_back(2 * j + r, 3 * body + c, value);
+                }
+    for (std::vector<int>& column : rows_of_column) std::sort(column.begin(), column.end());
+    ASSERT_GE(rows, mbd::kCompareOrderingsFrom);
+    Eigen::SparseMatrix<double> J(rows, cols);
+    J.setFromTriplets(entries.begin(), entries.end());
+    J.makeCompressed();
+
+    mbd::SparseGram gram;
+    gram.analyze(rows, cols, rows_of_column);
+    EXPECT_TRUE(gram.own_order());
+    gram.fill(J);
+    ASSERT_TRUE(gram.factor(0.0));
+    Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(rows, 1.0, 2.0);
+    const Eigen::SparseMatrix<double> S = J * J.transpose();
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> oracle(S);
+    ASSERT_EQ(oracle.info(), Eigen::Success);
+    const Eigen::VectorXd expected = oracle.solve(x);
+    gram.solve(x, 0);
+    EXPECT_LT((x - expected).lpNorm<Eigen::Infinity>(), 1e-10 * expected.lpNorm<Eigen::Infinity>());
 }
 
 }  // namespace

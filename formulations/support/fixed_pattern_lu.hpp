@@ -40,20 +40,18 @@ public:
     ~FixedPatternLU() { clear(); }
 
     // A new pattern (K compressed, column-major): order it (KLU's AMD); the next factor() pivots.
-    // From kCompareOrderings rows on, that first factorization is also made in K's own order, and
-    // K's order is kept when its L and U have at most kOwnOrderSlack times AMD's entries. It is
-    // tried only when the Cholesky fill of K + K^T in K's order is within the same factor of AMD's
-    // estimate (own_order_fill.hpp), so that an order that would fill a dense block is never
-    // factored. Why: AMD's fill is near the least, but on a long chain it eliminates far-apart
-    // parts of the mechanism in turn, so each column's update reads factor columns stored far
-    // away. Once the factors outgrow the caches, that cost a refactorization of the amalgamated
-    // block system of a 10,000-link spatial chain 7.7 ns per factor entry, against 4.4 ns at
-    // 1,000 links; in K's own order (the bodies, then the joints, in scene order) it has 11%
-    // fewer entries there and costs 4.2 ns per entry.
+    // From kCompareOrderingsFrom rows on (own_order_fill.hpp), that first factorization is also
+    // made in K's own order, which is kept when its L and U have at most kOwnOrderSlack times
+    // AMD's entries. It is tried only when the Cholesky fill of K + K^T in K's order is within the
+    // same factor of AMD's estimate, so that an order that would fill a dense block is never
+    // factored. Measured: a refactorization of the amalgamated block system of a 10,000-link
+    // spatial chain cost 7.7 ns per factor entry in AMD's order (4.4 ns at 1,000 links); in K's own
+    // order (the bodies, then the joints, in scene order) it has 11% fewer entries and costs 4.2 ns
+    // per entry.
     bool analyze(Eigen::SparseMatrix<double>& K) {
         clear();
         symbolic_ = klu_analyze(static_cast<int>(K.rows()), K.outerIndexPtr(), K.innerIndexPtr(), &common_);
-        compare_orderings_ = symbolic_ && K.rows() >= kCompareOrderings &&
+        compare_orderings_ = symbolic_ && K.rows() >= kCompareOrderingsFrom &&
                              2.0 * own_order_cholesky_entries(K) - K.rows() <= kOwnOrderSlack * (symbolic_->lnz + symbolic_->unz);
         return symbolic_ != nullptr;
     }
@@ -97,10 +95,6 @@ public:
     // entries of L and U of the current factorization (0 without one)
     long factor_entries() const { return numeric_ ? static_cast<long>(numeric_->lnz) + numeric_->unz : 0; }
 
-    // the size from which analyze() compares K's own order with AMD's
-    static constexpr int kCompareOrderings = 5000;
-    // K's own order is kept with up to this factor of AMD's entries: its locality is worth more
-    static constexpr double kOwnOrderSlack = 1.1;
 
 private:
     // after the first factorization of an analysed pattern: the same in K's own order, kept

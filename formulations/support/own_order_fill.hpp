@@ -11,4 +11,13 @@ namespace mbd {
 
 long own_order_cholesky_entries(const Eigen::SparseMatrix<double>& K);
 
+// The sparse factorizations (fixed_pattern_lu.hpp, sparse_gram.cpp) order a matrix by AMD, and
+// from kCompareOrderingsFrom rows on keep the matrix's own order (scene order: the bodies, the
+// joints) when it fills at most kOwnOrderSlack times as much. AMD's fill is near the least, but
+// on a long chain it eliminates far-apart parts of the mechanism in turn, so each column's update
+// reads factor columns stored far away; once the factors outgrow the caches (not below a few
+// thousand rows) that costs more than a tenth more entries read in order.
+constexpr int kCompareOrderingsFrom = 5000;
+constexpr double kOwnOrderSlack = 1.1;
+
 }  // namespace mbd

@@ -1,5 +1,7 @@
 #include "sparse_gram.hpp"
 
+#include "own_order_fill.hpp"
+
 #include <Eigen/OrderingMethods>
 
 #include <algorithm>
@@ -150,6 +152,13 @@ void SparseGram::analyze(int rows, int cols, const std::vector<std::vector<int>>
     Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
     amd(S.selfadjointView<Eigen::Upper>(), inverse);
     P_ = inverse.inverse();
+    own_order_ = false;
+    if (rows >= kCompareOrderingsFrom) {  // S's own order, when it fills at most kOwnOrderSlack times AMD's
+        Eigen::SparseMatrix<double> ordered(rows, rows);
+        ordered.selfadjointView<Eigen::Upper>() = S.selfadjointView<Eigen::Upper>().twistedBy(P_);
+        own_order_ = own_order_cholesky_entries(S) <= kOwnOrderSlack * own_order_cholesky_entries(ordered);
+        if (own_order_) P_.setIdentity(rows);
+    }
     for (int k = 0; k < S.nonZeros(); ++k) S.valuePtr()[k] = k + 1;
     S_.resize(rows, rows);
     S_.selfadjointView<Eigen::Upper>() = S.selfadjointView<Eigen::Upper>().twistedBy(P_);

@@ -60,6 +60,10 @@ public:
     // when delta > 0): the squared sine of the angle between a row of W and the rows before it
     // in the ordering, near 0 when the rows are nearly dependent; 0 after a failure.
     double least_relative_pivot() const { return least_relative_pivot_; }
+    // whether S is factored in its own order (the constraint rows' order), not AMD's: from
+    // kCompareOrderingsFrom rows, when that fills at most kOwnOrderSlack times as much
+    // (own_order_fill.hpp)
+    bool own_order() const { return own_order_; }
     // x <- (W W^T + delta I)^-1 x, with `refinements` steps of iterative refinement
     // against the undamped W W^T.
     void solve(Eigen::VectorXd& x, int refinements);
@@ -93,6 +97,7 @@ private:
     PreorderedLDLT ldlt_;
     Eigen::VectorXd b_, y_, r_, w_, correction_, column_sums_;
     int failed_row_ = -1;
+    bool own_order_ = false;
     double max_diagonal_ = 0.0;
     double least_relative_pivot_ = 0.0;
 };
