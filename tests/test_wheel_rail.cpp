@@ -242,6 +242,117 @@ TEST(WheelRail, AWheelOnACrownedRailSlidesDownTheConeAsABlockOnAnIncline) {
               << " m, energy drift " << energy << " J of " << E0 << "\n";
 }
 
+// A hollow tread (the natural spline through a concave circle of radius rho > R in the
+// cross-section: r(s) = r0 + rho - sqrt(rho^2 - s^2)) cradles a crowned head of radius R. The
+// wheel rides on a slider (lateral, y) and a carriage (vertical, z), its axle level along y, so
+// in the cross-section the hollow's circle, centred at (y, H - r0 - rho), touches the crown's,
+// centred at (0, -R), from outside it: the centres are rho - R apart and the contact lies on
+// their line, beyond the crown's centre:
+//     H(y) = r0 + rho - R - sqrt((rho - R)^2 - y^2),   eta = -y R / (rho - R),   s = -y rho / (rho - R).
+// H is least at y = 0: the wheel rocks across the head, the contact sweeping eta over +-3 y at
+// rho = 0.4, R = 0.3. Without friction the energy
+//     E = m_y ydot^2 / 2 + m_z zdot^2 / 2 + J wdot^2 / 2 + m_z g z     (zdot = H'(y) ydot)
+// is constant, which also gives the time to reach any y: t(y) = integral dy / ydot(y).
+struct HollowTread {
+    double r0 = 0.45, rho = 0.4, R = 0.3, g = 9.81, half_width = 0.12;
+    double m_slider = 2, m_carriage = 3, m_wheel = 10, spin = 3.0;
+    double vy = 0.2;
+    double m_y() const { return m_slider + m_carriage + m_wheel; }
+    double m_z() const { return m_carriage + m_wheel; }
+    double H(double y) const { return r0 + rho - R - std::sqrt((rho - R) * (rho - R) - y * y); }
+    double H1(double y) const { return y / std::sqrt((rho - R) * (rho - R) - y * y); }
+    // the lateral speed at y from the energy (the spin's energy is constant by itself)
+    double speed(double y) const {
+        const double E = 0.5 * m_y() * vy * vy + m_z() * g * H(0.0);
+        return std::sqrt(2.0 * (E - m_z() * g * H(y)) / (m_y() + m_z() * H1(y) * H1(y)));
+    }
+    // t(y) by Simpson's rule over 2000 panels (the speed stays well above zero)
+    double time_to(double y) const {
+        const int n = 2000;
+        double sum = 1.0 / speed(0.0) + 1.0 / speed(y);
+        for (int k = 1; k < n; ++k) sum += (k % 2 ? 4.0 : 2.0) / speed(y * k / n);
+        return sum * y / n / 3.0;
+    }
+    std::string scene() const {
+        std::string points = "[";
+        for (int k = -24; k <= 24; ++k) {
+            const double s = half_width * k / 24;
+            points += std::string(k == -24 ? "" : ", ") + "[" + g17(s) + ", " + g17(r0 + rho - std::sqrt(rho * rho - s * s)) + "]";
+        }
+        points += "]";
+        const std::string h = g17(H(0.0));
+        auto body = [&](const std::string& name, double m, const std::string& v, const std::string& w) {
+            return "  - {name: " + name + ", mass: " + g17(m) + ", inertia: [0.5, 0.9, 0.5], position: [0, 0, " + h +
+                   "], velocity: " + v + ", angular_velocity: " + w + "}\n";
+        };
+        const std::string moving = "[0, " + g17(vy) + ", 0]", still = "[0, 0, 0]";
+        return "name: hollow-tread\ndimension: spatial\ngravity: [0, 0, -" + g17(g) + "]\nbodies:\n" +
+               body("slider", m_slider, moving, still) + body("carriage", m_carriage, moving, still) +
+               body("wheel", m_wheel, moving, "[0, " + g17(spin) + ", 0]") +
+               "joints:\n"
+               "  - {name: across, type: prismatic, bodies: [ground, slider], point: [0, 0, " + h + "], axis: [0, 1, 0]}\n"
+               "  - {name: up, type: prismatic, bodies: [slider, carriage], point: [0, 0, " + h + "], axis: [0, 0, 1]}\n"
+               "  - {name: axle, type: revolute, bodies: [carriage, wheel], point: [0, 0, " + h + "], axis: [0, 1, 0]}\n"
+               "  - {name: contact, type: wheel_rail, bodies: [ground, wheel], point: [0, 0, 0], axis: [0, 0, 1], "
+               "x_axis: [1, 0, 0], wheel: {type: spline, points: " + points + "}, rail: {type: arc, radius: " + g17(R) +
+               "}}\n";
+    }
+};
+
+TEST(WheelRail, AHollowTreadRocksAcrossTheCrownKeepingItsEnergy) {
+    const HollowTread rig;
+    const mbd::Model model = mbd::test::scene(rig.scene());
+    // (the drift is the integrator's: 4.5e-8, 2.9e-9 and 5.8e-11 J at tol 1e-10, 1e-11, 1e-12)
+    const mbd::SimulationSettings settings = mbd::test::adaptive_run("augmented", "dopri5", 1e-12, 1.0, 0.01);
+    const int wheel = model.body_index("wheel"), qw = model.q_offset(wheel), vw = model.v_offset(wheel);
+    const double J = 0.9;
+    double E0 = 0, energy = 0, height = 0, y_min = 0, y_max = 0;
+    mbd::simulate(model, shared_registry(), settings, [&](const mbd::SimulationSample& s) {
+        const Vec3 R = s.state.q.segment<3>(qw), v = s.state.v.segment<3>(vw);
+        const double E = 0.5 * rig.m_y() * v.y() * v.y() + 0.5 * rig.m_z() * v.z() * v.z() +
+                         0.5 * J * s.state.v[vw + 4] * s.state.v[vw + 4] + rig.m_z() * rig.g * R.z();
+        if (s.state.t == 0.0) E0 = E;
+        energy = std::max(energy, std::abs(E - E0));
+        height = std::max(height, std::abs(R.z() - rig.H(R.y())));  // the contact stays on both profiles
+        y_min = std::min(y_min, R.y());
+        y_max = std::max(y_max, R.y());
+        return true;
+    });
+    // the contact swept the head: eta = -3 y over more than 0.1 m of it (the head is 0.6 m wide)
+    const double sweep = (y_max - y_min) * rig.R / (rig.rho - rig.R);
+    EXPECT_GE(sweep, 0.1);
+    EXPECT_LE(height, 1e-8);
+    const double kinetic = 0.5 * rig.m_y() * rig.vy * rig.vy;
+    EXPECT_LE(energy, 1e-9 * kinetic);
+    std::cout << "hollow tread on crown: contact swept " << sweep << " m across the head; max |z - H(y)| " << height
+              << " m, energy drift " << energy << " J of a lateral kinetic energy " << kinetic << " J\n";
+}
+
+TEST(WheelRail, ATreadThatRunsOffItsProfileStopsTheRunNamingWhereAndWhen) {
+    HollowTread rig;
+    rig.vy = 0.6;  // swings past y = 0.03, where s = -4 y leaves the tread's points (|s| <= 0.12)
+    const double y_edge = rig.half_width * (rig.rho - rig.R) / rig.rho, t_edge = rig.time_to(y_edge);
+    ASSERT_TRUE(std::isfinite(t_edge));
+    const mbd::Model model = mbd::test::scene(rig.scene());
+    const mbd::SimulationSettings settings = mbd::test::adaptive_run("augmented", "dopri5", 1e-11, 1.0, 0.01);
+    try {
+        mbd::simulate(model, shared_registry(), settings, [](const mbd::SimulationSample&) { return true; });
+        FAIL() << "the run went on with the contact off the tread";
+    } catch (const mbd::DynamicsError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("joint 'contact' (type wheel_rail, test.yaml:"), std::string::npos) << message;
+        EXPECT_NE(message.find("left its domain at t = "), std::string::npos) << message;
+        EXPECT_NE(message.find("outside the wheel's profile (s from -0.12 to 0.12 m)"), std::string::npos) << message;
+        // the run stops at the first evaluation that finds the contact outside, a stage of the
+        // step that crosses the edge: within one step (here about 2 ms) after the crossing
+        EXPECT_GE(e.time(), t_edge - 1e-4) << message;
+        EXPECT_LE(e.time(), t_edge + 5e-3) << message;
+        EXPECT_NE(message.find("the contact point is at s = -0.12"), std::string::npos) << message;
+        std::cout << "tread off its profile: stopped at t = " << e.time() << " s; the energy puts the edge at t = "
+                  << t_edge << " s\n" << message << "\n";
+    }
+}
+
 TEST(WheelRail, BadInputIsNamed) {
     const std::string good = contact_scene("{type: cone, radius: 0.45, cone_angle: 0.05}", "{type: arc, radius: 0.3}");
     auto error_of = [&](const std::string& text) {

@@ -1,5 +1,6 @@
 #include <mbd/constraint_system.hpp>
 
+#include <mbd/sdk/domain_error.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/text.hpp>
 
@@ -48,6 +49,21 @@ std::string first_non_finite(const Joint& joint, const VelocityConstraintEval& e
 bool rows_finite(const ConstraintEval& e, double sum) {
     if (std::isfinite(sum)) return true;
     return e.C.allFinite() && e.C_t.allFinite() && e.gamma.allFinite() && e.J.allFinite();
+}
+
+// A driver's motion must stay where the equations can use it: finite, and below the root of
+// the largest double, since a joint squares its rates (omega^2 terms of gamma). A time function
+// that grows past that is the driver's fault, not the joint's that overflows on it.
+void require_usable_motion(const Driver& driver, const TimeValue& f, double t) {
+    const double largest = 1e150;  // sqrt(DBL_MAX) = 1.3e154
+    if (std::abs(f.f) <= largest && std::abs(f.df) <= largest && std::abs(f.ddf) <= largest) return;
+    const bool finite = std::isfinite(f.f) && std::isfinite(f.df) && std::isfinite(f.ddf);
+    throw DynamicsError(t, "driver '" + driver.name + "'" + (driver.where.empty() ? "" : " (" + driver.where + ")") +
+                               ": its motion is " + (finite ? "too large for the equations" : "not finite") +
+                               " at t = " + format_time(t) + " (f = " + format_number(f.f) + ", df/dt = " +
+                               format_number(f.df) + ", d2f/dt2 = " + format_number(f.ddf) +
+                               (finite ? "; beyond 1e150 a square overflows" : "") +
+                               "): the time function overflows; check its parameters or shorten the run");
 }
 
 }  // namespace
@@ -255,12 +271,23 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
     e.C_t.setZero();
     e.gamma.setZero();
     data.poses.fill(joint_bodies_[j], state.t, data.view);
-    joint_[j]->evaluate(data.view, e);
+    try {
+        joint_[j]->evaluate(data.view, e);
+    } catch (const DomainError& outside) {
+        // the plugin says where its geometry ended; the run stops here, naming the joint and the time
+        const JointInstance& ji = model_->joints[j];
+        throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type +
+                                         (ji.where.empty() ? "" : ", " + ji.where) + ") left its domain at t = " +
+                                         format_time(state.t) + ": " + outside.what());
+    }
     return e;
 }
 
 void ConstraintSystem::throw_if_state_finite(size_t j, const ConstraintEval& e, const State& state) const {
     if (!state.q.allFinite() || !state.v.allFinite()) return;
+    // a driver whose motion has grown out of range is the cause (the recursive formulations put
+    // it into the joint coordinates directly, and its rates reach every joint beyond it)
+    for (const Driver& driver : model_->drivers) require_usable_motion(driver, driver.motion->evaluate(state.t), state.t);
     const JointInstance& ji = model_->joints[j];
     throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type + (ji.where.empty() ? "" : ", " + ji.where) +
                                      ") gave a non-finite value at t = " + format_time(state.t) + " (" +
@@ -278,12 +305,7 @@ const CoordinateEval& ConstraintSystem::evaluate_driver(size_t d, const State& s
     data.poses.fill(joint_bodies_[dr.joint], state.t, data.view);
     joint_[dr.joint]->coordinate(data.view, e);
     f = dr.motion->evaluate(state.t);
-    if (!(std::isfinite(f.f) && std::isfinite(f.df) && std::isfinite(f.ddf)))
-        throw DynamicsError(state.t, "driver '" + dr.name + "'" + (dr.where.empty() ? "" : " (" + dr.where + ")") +
-                                         ": its motion is not finite at t = " + format_time(state.t) + " (f = " +
-                                         format_number(f.f) + ", df/dt = " + format_number(f.df) + ", d2f/dt2 = " +
-                                         format_number(f.ddf) +
-                                         "): the time function overflows; check its parameters or shorten the run");
+    require_usable_motion(dr, f, state.t);
     return e;
 }
 

@@ -3,6 +3,7 @@
 #include "scene_loader.hpp"
 
 #include <algorithm>
+#include <optional>
 
 namespace mbd::scene_detail {
 
@@ -144,7 +145,44 @@ void Loader::load_force(const Param& node, int index) {
     force.force = create_checked(params, node, what, [&] { return registry_.create_force(spec, at); });
     if (!force.force) type.fail(what + ": the plugin for type " + quote(force.type) + " created no force");
     force.load_joint = reaction_load_joint(node, what, force);
+    check_stop_coordinate(node, what, force);
     model_.forces.push_back(std::move(force));
+}
+
+// A joint_stop limits the coordinate a joint between its two bodies measures: its `coordinate`
+// (angle or travel) must be one that such a joint has, or the stop never acts (a travel
+// across a revolute joint). Joints that do not describe their relative motion are not judged;
+// a stop between bodies that no joint connects is left alone.
+void Loader::check_stop_coordinate(const Param& node, const std::string& what, const ForceInstance& force) const {
+    if (force.type != "joint_stop" || force.bodies.size() != 2) return;
+    const Param* key = find(node, "coordinate");
+    const bool travel = key && key->text == "travel";
+    std::vector<int> mine = force.bodies;
+    std::sort(mine.begin(), mine.end());
+    const JointInstance* other = nullptr;
+    std::string other_has;
+    for (const JointInstance& joint : model_.joints) {
+        std::vector<int> theirs = joint.bodies;
+        std::sort(theirs.begin(), theirs.end());
+        const std::optional<RelativeMotion> motion = joint.joint->relative_motion();
+        if (theirs != mine || !motion) continue;
+        bool angle = false, translation = false;
+        for (const RelativeMotion::Freedom& f : motion->freedoms) {
+            angle = angle || f.kind != RelativeMotion::Kind::Prismatic;
+            translation = translation || f.kind == RelativeMotion::Kind::Prismatic ||
+                          f.kind == RelativeMotion::Kind::Helical;
+        }
+        if (travel ? translation : angle) return;  // this joint measures the stop's coordinate
+        other = &joint;
+        other_has = angle ? "an angle ('coordinate: angle')" : translation ? "a travel ('coordinate: travel')"
+                                                                            : "no free motion";
+    }
+    if (!other) return;
+    const std::string message = what + ": 'coordinate: " + (travel ? "travel" : "angle") + "', but joint " +
+                                quote(other->name) + " (" + other->type + ") between its bodies has " + other_has +
+                                ", so the stop would never act; give the coordinate that joint has";
+    if (key) key->fail(message);
+    node.fail(message);
 }
 
 // The joint whose reaction loads a force element (Force::load_joint(), the plugin's key

@@ -288,6 +288,7 @@ private:
     // `purpose` ends the message when it has none ("to drive; drive a revolute, ...").
     int coordinate_joint(const Param& joint, const std::string& what, const std::string& purpose) const;
     int reaction_load_joint(const Param& node, const std::string& what, const ForceInstance& force) const;
+    void check_stop_coordinate(const Param& node, const std::string& what, const ForceInstance& force) const;
     void add_gravity();
 
     // The joint-style frame of an element (point, axis, x_axis, axes), in world at t = 0.

@@ -79,21 +79,47 @@ std::string read_scene_file(const std::filesystem::path& path, const std::string
     return text;
 }
 
-YAML::Node SceneTreeReader::parse(const std::string& text, const std::string& file) const {
+YAML::Node SceneTreeReader::parse(const std::string& text, const std::string& file) {
     if (text.size() > SceneLimits::max_file_bytes)
         throw InputError(file, "the scene text is " + mebibytes(text.size()) + "; a scene may be at most " +
                                    mebibytes(SceneLimits::max_file_bytes) + " (docs/scene-format.md, Limits)");
+    text_ = &text;
     try {
         return YAML::Load(text);
     } catch (const YAML::Exception& e) {
         const int line = e.mark.is_null() ? 1 : e.mark.line + 1;
-        throw InputError(file + ":" + std::to_string(line),
-                         "YAML syntax error: " + e.msg + "; fix the YAML syntax at that line");
+        const std::string column = e.mark.is_null() ? std::string() : ":" + std::to_string(e.mark.column + 1);
+        throw InputError(file + ":" + std::to_string(line), "YAML syntax error at " + file + ":" + std::to_string(line) +
+                                                                column + ": " + e.msg + "; fix the YAML syntax there");
     }
+}
+
+void SceneTreeReader::require_closed_quote(const YAML::Mark& mark, const std::string& file) const {
+    if (!text_ || mark.is_null() || mark.pos < 0 || static_cast<size_t>(mark.pos) >= text_->size()) return;
+    const std::string& text = *text_;
+    const char quote_char = text[static_cast<size_t>(mark.pos)];
+    if (quote_char != '"' && quote_char != '\'') return;  // a block scalar (| or >)
+    for (size_t k = static_cast<size_t>(mark.pos) + 1; k < text.size(); ++k) {
+        if (quote_char == '"' && text[k] == '\\') {
+            ++k;  // an escape: the next character is never the closing quote
+        } else if (text[k] == quote_char) {
+            if (quote_char == '\'' && k + 1 < text.size() && text[k + 1] == '\'') {
+                ++k;  // '' inside single quotes is one quote
+            } else {
+                return;
+            }
+        }
+    }
+    const std::string line = std::to_string(mark.line + 1);
+    throw InputError(file + ":" + line, std::string("YAML syntax error at ") + file + ":" + line + ":" +
+                                            std::to_string(mark.column + 1) + ": the quoted value opened there (" +
+                                            quote_char + ") is never closed, so the YAML reader takes the rest of the "
+                                            "file as its text; add the closing " + quote_char);
 }
 
 Param SceneTreeReader::convert(const YAML::Node& root, const std::string& file) {
     open_.clear();
+    seen_.clear();
     return convert(root, file, 1);
 }
 
@@ -102,10 +128,18 @@ Param SceneTreeReader::convert(const YAML::Node& node, const std::string& file, 
     p.file = file;
     const YAML::Mark mark = node.Mark();
     p.line = mark.is_null() ? fallback_line : mark.line + 1;
-    if (++values_ > SceneLimits::max_values)
-        p.fail("the scene has more than " + std::to_string(SceneLimits::max_values) +
-               " values once its YAML aliases are expanded (each '*alias' repeats the whole anchored value, "
-               "so nested aliases multiply); write the values out or use fewer aliases");
+    // an alias is the anchored node itself again, at the anchor's text position
+    if (!mark.is_null() && !seen_.insert(static_cast<std::size_t>(mark.pos)).second) ++repeats_;
+    if (++values_ > SceneLimits::max_values) {
+        const std::string limit = std::to_string(SceneLimits::max_values);
+        if (repeats_ == 0)
+            p.fail("the scene has more than " + limit + " values (each number, name, list and map counts one; a "
+                   "body or a joint takes about 10): a scene may have at most " + limit +
+                   " values, its base files included (docs/scene-format.md, Limits); split it into smaller scenes");
+        p.fail("the scene has more than " + limit + " values once its YAML aliases are expanded (" +
+               std::to_string(repeats_) + " of them repeated by aliases; each '*alias' repeats the whole anchored "
+               "value, so nested aliases multiply); write the values out or use fewer aliases");
+    }
     const bool collection = node.IsSequence() || node.IsMap();
     if (collection) {
         // yaml-cpp shares an anchored node among its aliases, so an alias inside its own
@@ -139,6 +173,7 @@ Param SceneTreeReader::convert(const YAML::Node& node, const std::string& file, 
     } else {
         p.kind = Param::Kind::Scalar;
         if (node.IsScalar()) p.text = node.Scalar();  // Null / Undefined: an empty scalar
+        if (node.IsScalar() && node.Tag() == "!") require_closed_quote(mark, file);  // quoted (or a block scalar)
     }
     if (collection) open_.pop_back();
     return p;

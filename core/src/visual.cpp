@@ -188,9 +188,16 @@ private:
         std::filesystem::path path(p.text);
         if (path.is_relative()) path = std::filesystem::path(node_.file).parent_path() / path;
         std::error_code error;
-        if (!std::filesystem::is_regular_file(path, error))
+        const std::filesystem::file_status status = std::filesystem::status(path, error);
+        if (std::filesystem::is_directory(status))
+            p.fail(what_ + ": key 'file': " + quote(path.string()) + " is a folder; give the path of an STL or OBJ "
+                   "file in it (the path is relative to the scene file's folder)");
+        if (!std::filesystem::exists(status))
             p.fail(what_ + ": key 'file': mesh file " + quote(path.string()) +
                    " not found (the path is relative to the scene file's folder)");
+        if (!std::filesystem::is_regular_file(status))
+            p.fail(what_ + ": key 'file': " + quote(path.string()) + " is not a regular file (a device, FIFO or "
+                   "socket); give the path of an STL or OBJ file");
         const std::string ext = path.extension().string();
         if (ext != ".stl" && ext != ".STL" && ext != ".obj" && ext != ".OBJ")
             p.fail(what_ + ": key 'file': " + quote(path.string()) + " is not an .stl or .obj file");

@@ -35,7 +35,7 @@
 // follower: knife_edge | roller | flat_face; follower_point: [x, y] on the follower, its body
 // axes (tip, roller centre, a point of the face); radius: r (roller); face_normal: [x, y]
 // (flat_face, follower body axes, towards the cam); profile: {type: eccentric | harmonic |
-// spline, ...} (cam_profile.hpp). Profiles must be convex where they touch the follower.
+// spline, ...} (cam_profile.hpp). Profiles must be convex (read_profile refuses one that is not).
 #include "cam_profile.hpp"
 
 #include <mbd/sdk/contact_joint.hpp>

@@ -1,5 +1,7 @@
 #include "cam_profile.hpp"
 
+#include <mbd/sdk/text.hpp>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -130,6 +132,30 @@ std::unique_ptr<const Profile> read_spline(const Params& p) {
     return std::make_unique<PeriodicSpline>(std::move(radii));
 }
 
+// The signed curvature of the polar curve d(phi) (positive where it bends towards the origin):
+//   kappa = (d^2 + 2 d'^2 - d d'') / (d^2 + d'^2)^(3/2).
+double curvature(const RadiusValue& r) {
+    return (r.d * r.d + 2.0 * r.d1 * r.d1 - r.d * r.d2) / std::pow(r.d * r.d + r.d1 * r.d1, 1.5);
+}
+
+// A convex profile curves towards its centre everywhere: the joint's contact search follows
+// one point of contact, and a hollow would give the follower a second one (or none). Sampled
+// densely (a spline of up to a few hundred radii has several samples per interval); the most
+// hollow sample names where the profile fails.
+void require_convex(const Profile& profile, const Params& p, const std::string& who) {
+    constexpr int kSamples = 4096;
+    double worst = HUGE_VAL, worst_phi = 0.0;
+    for (int k = 0; k < kSamples; ++k) {
+        const double phi = 2.0 * M_PI * k / kSamples, kappa = curvature(profile.radius(phi));
+        if (kappa < worst) worst = kappa, worst_phi = phi;
+    }
+    if (!(worst > 0.0))
+        p.fail(who + ": the profile is not convex: at phi = " + format_number(worst_phi) + " rad (radius " +
+               format_number(profile.radius(worst_phi).d) + " m) it curves away from the centre (curvature " +
+               format_number(worst) + " 1/m); the cam joint needs a convex profile (one point of contact): "
+               "change the radii or amplitudes there");
+}
+
 }  // namespace
 
 std::unique_ptr<const Profile> periodic_spline(const std::vector<double>& radii) {
@@ -139,10 +165,13 @@ std::unique_ptr<const Profile> periodic_spline(const std::vector<double>& radii)
 std::unique_ptr<const Profile> read_profile(const Params& params, const std::string& who) {
     const Params p = params.child("profile");
     const std::string type = p.string("type");
-    if (type == "eccentric") return read_eccentric(p);
-    if (type == "harmonic") return read_harmonic(p);
-    if (type == "spline") return read_spline(p);
-    p.at("type").fail(who + ": unknown profile type '" + type + "' (eccentric, harmonic or spline)");
+    std::unique_ptr<const Profile> profile;
+    if (type == "eccentric") profile = read_eccentric(p);  // a circle: convex
+    else if (type == "harmonic") profile = read_harmonic(p);
+    else if (type == "spline") profile = read_spline(p);
+    else p.at("type").fail(who + ": unknown profile type '" + type + "' (eccentric, harmonic or spline)");
+    require_convex(*profile, p, who);
+    return profile;
 }
 
 }  // namespace mbd::cam

@@ -6,14 +6,16 @@
 namespace mbd::wheel_rail {
 namespace {
 
+// A straight profile; `half_width` bounds it (a cone's tread), infinite for a flat head.
 class Line final : public ProfileCurve {
 public:
-    Line(double f0, double slope) : f0_(f0), slope_(slope) {}
+    Line(double f0, double slope, double half_width = HUGE_VAL) : f0_(f0), slope_(slope), half_width_(half_width) {}
     CurveValue at(double x) const override { return {f0_ + slope_ * x, slope_, 0.0}; }
     bool straight() const override { return true; }
+    Range domain() const override { return {-half_width_, half_width_}; }
 
 private:
-    double f0_, slope_;
+    double f0_, slope_, half_width_;
 };
 
 // h = sqrt(R^2 - y^2) - R; beyond |y| = R the head has ended (the search is kept inside).
@@ -26,6 +28,7 @@ public:
     }
     double clamp(double y) const override { return std::clamp(y, -0.9 * R_, 0.9 * R_); }
     double where_slope(double slope, double) const override { return -R_ * slope / std::sqrt(1.0 + slope * slope); }
+    Range domain() const override { return {-R_, R_}; }
 
 private:
     double R_;
@@ -66,6 +69,7 @@ public:
         return inside(k, x);
     }
     double clamp(double x) const override { return std::clamp(x, x_.front(), x_.back()); }
+    Range domain() const override { return {x_.front(), x_.back()}; }
     // f' is piecewise quadratic: the first knot interval where f' - slope changes sign, then
     // bisection there (a convex or concave profile has at most one such interval)
     double where_slope(double slope, double guess) const override {
@@ -136,7 +140,9 @@ std::unique_ptr<const ProfileCurve> read_wheel_profile(const Params& joint, cons
         const double gamma = p.number("cone_angle", 0.0);
         if (!(std::abs(gamma) < 0.5 * M_PI))
             p.at("cone_angle").fail(who + ": 'wheel.cone_angle' must lie between -pi/2 and pi/2 (rad)");
-        return std::make_unique<Line>(r0, -std::tan(gamma));
+        // the tread spans s in [-width/2, width/2]; by default as wide as the wheel is high
+        const double width = p.has("width") ? p.positive("width") : 2.0 * r0;
+        return std::make_unique<Line>(r0, -std::tan(gamma), 0.5 * width);
     }
     if (type == "spline") {
         auto spline = read_spline(p, who, "wheel");

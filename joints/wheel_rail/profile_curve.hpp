@@ -2,7 +2,7 @@
 // lateral coordinate with its first two derivatives (the joint's acceleration terms use the
 // curvature, so every profile is C2):
 //   wheel: the rolling radius r(s) against the lateral coordinate s along the axle,
-//          cone   — r = r0 - s tan(gamma) (a conical tread; gamma = 0: a cylinder),
+//          cone   — r = r0 - s tan(gamma) (a conical tread; gamma = 0: a cylinder), |s| <= width / 2,
 //          spline — the natural cubic spline through points [s_k, r_k];
 //   rail:  the head's height h(y) against the lateral coordinate y across the track,
 //          flat   — h = 0,
@@ -13,6 +13,8 @@
 #pragma once
 
 #include <mbd/sdk/params.hpp>
+
+#include <cmath>
 
 #include <memory>
 #include <string>
@@ -34,6 +36,15 @@ public:
     // where f' = slope (the point whose normal has a given tilt), near `guess`; a straight
     // profile has one slope everywhere and returns the guess
     virtual double where_slope(double /*slope*/, double guess) const { return guess; }
+    // The lateral range the profile describes (a contact outside it is off the tread or the
+    // head; a spline's straight continuation beyond its points serves only the contact search):
+    // a flat head is unbounded, a cone its width, an arc crown spans (-R, R), a spline its points.
+    struct Range {
+        double lo, hi;
+        bool contains(double x) const { return x >= lo && x <= hi; }
+        double outside_by(double x) const { return x < lo ? lo - x : x - hi; }
+    };
+    virtual Range domain() const { return {-HUGE_VAL, HUGE_VAL}; }
 };
 
 // Reads `wheel:` ({type: cone | spline, ...}) or `rail:` ({type: flat | arc | spline, ...}) of a

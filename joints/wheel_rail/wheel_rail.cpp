@@ -33,22 +33,26 @@
 // A line contact (a cylinder, gamma = 0, on a flat head: C_s rank deficient, book after
 // Eq. 8.74) leaves s where the search starts, under the track's centre line, through the
 // least-squares Newton step. A cone on a flat head has no point contact and is refused.
-// The wheel must stay over the head, facing it, and its profile must make a point contact
-// (a relative curvature of the two profiles of one sign across the contact); one contact per
+// The wheel must stay over the head, facing it (the contact within both profiles' ranges,
+// ProfileCurve::domain; a run stops with a DomainError where it leaves them), and its profile
+// must make a point contact (a relative curvature of the two profiles of one sign across the
+// contact); one contact per
 // joint (a flange making a second contact needs a second joint with a flange profile).
 // The row is bilateral; the contact pushes while lambda < 0 (compression_sign): a run warns
 // where the wheel would lift off.
 // Scene keys: bodies: [rail, wheel]; point, axis (up), x_axis (along the track): the rail frame;
 // wheel_centre: [x, y, z] world at t = 0 (default the wheel's mass centre); axle: [x, y, z]
 // world at t = 0, the direction of +s (default the rail frame's y axis);
-// wheel: {type: cone, radius, cone_angle} | {type: spline, points: [[s, r], ...]};
+// wheel: {type: cone, radius, cone_angle, width} | {type: spline, points: [[s, r], ...]};
 // rail: {type: flat} | {type: arc, radius} | {type: spline, points: [[y, h], ...]}.
 #include "profile_curve.hpp"
 
 #include <mbd/sdk/contact_joint.hpp>
+#include <mbd/sdk/domain_error.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/spatial_primitives.hpp>
 #include <mbd/sdk/rotation.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <Eigen/Dense>
 
@@ -91,8 +95,10 @@ public:
         clear(out);
         const mbd::SpatialBody& bi = b.spatial(0);
         const mbd::SpatialBody& bj = b.spatial(1);
-        const Vec4 p = solve(bi, bj);
+        const Search found = solve(bi, bj);
+        const Vec4& p = found.p;
         const Contact k = at(p, bi, bj);
+        require_over_the_head(found, k, bi);
         const Vec4 pdot = -decompose(jacobian(k, bi, bj)).solve(rate_at_fixed_p(k, bi, bj));
         const Vec3& wi = bi.omega_bar;
         const Vec3& wj = bj.omega_bar;
@@ -111,6 +117,47 @@ public:
     }
 
 private:
+    // The surface parameters the search ends at and its merit there (0 at an exact contact).
+    struct Search {
+        Vec4 p;
+        double merit = 0.0;
+    };
+
+    // The contact must solve F = 0 with both points on their profiles' ranges: a wheel that
+    // has left the rail head has no such point (the search ends with a residual, or the point
+    // it finds lies off the head or off the tread). The core names the joint and the time.
+    void require_over_the_head(const Search& found, const Contact& k, const mbd::SpatialBody& bi) const {
+        const ProfileCurve::Range head = rail_->domain(), tread = wheel_->domain();
+        const double eta = found.p[3], s = found.p[1];
+        const auto range = [](const ProfileCurve::Range& r, const char* name) {
+            return std::string(" (") + name + " from " + mbd::format_number(r.lo) + " to " + mbd::format_number(r.hi) +
+                   " m)";
+        };
+        const std::string advice = "; the wheel must stay over the rail head, facing it (docs/scene-format.md, wheel_rail)";
+        // F1, F2 are cosines, F3, F4 lengths over the wheel's radius: 1e-8 is far above
+        // round-off and far below any real miss
+        if (!(std::sqrt(found.merit) <= 1e-8)) {
+            // where the wheel's point closest to the head lies across the head
+            const Vec3 local = A_m_.transpose() * (bi.A.transpose() * (k.d + bi.point(k.x_r_bar) - bi.R) - o_);
+            std::string where = "the wheel's point nearest the head is at y = " + mbd::format_number(local.y()) +
+                                " m across it, " + mbd::format_number(local.z()) + " m above its reference line";
+            if (!head.contains(local.y()))
+                where += ", " + mbd::format_number(head.outside_by(local.y())) + " m outside the head's profile" +
+                         range(head, "y");
+            throw mbd::DomainError("no contact point between the wheel and the rail head (the contact search ends "
+                                   "with a residual of " + mbd::format_number(std::sqrt(found.merit), 3) + "); " +
+                                   where + advice);
+        }
+        if (!head.contains(eta))
+            throw mbd::DomainError("the contact point is at y = " + mbd::format_number(eta) + " m across the rail head, " +
+                                   mbd::format_number(head.outside_by(eta)) + " m outside the head's profile" +
+                                   range(head, "y") + advice);
+        if (!tread.contains(s))
+            throw mbd::DomainError("the contact point is at s = " + mbd::format_number(s) + " m along the axle, " +
+                                   mbd::format_number(tread.outside_by(s)) + " m outside the wheel's profile" +
+                                   range(tread, "s") + advice);
+    }
+
     Contact at(const Vec4& p, const mbd::SpatialBody& bi, const mbd::SpatialBody& bj) const {
         Contact k;
         const double theta = p[0], s = p[1], xi = p[2], eta = p[3];
@@ -180,7 +227,7 @@ private:
 
     // The starting guess: the wheel section over the track's centre line, at its lowest point
     // towards the head; then Newton on F(p) = 0 with a backtracking line search.
-    Vec4 solve(const mbd::SpatialBody& bi, const mbd::SpatialBody& bj) const {
+    Search solve(const mbd::SpatialBody& bi, const mbd::SpatialBody& bj) const {
         const Vec3 o = bi.point(o_), T = bi.A * A_m_.col(0), U = bi.A * A_m_.col(2);
         const Vec3 centre = bj.point(c_), axle = bj.A * a_;
         const Vec3 on_centre_line = o + T * T.dot(centre - o);
@@ -230,9 +277,9 @@ private:
                     improved = true;
                 }
             }
-            if (!improved) break;  // F is at round-off level
+            if (!improved) break;  // F is at round-off level, or no point of the profiles solves F = 0
         }
-        return p;
+        return {p, m};
     }
 
     std::unique_ptr<const ProfileCurve> wheel_, rail_;

@@ -12,6 +12,7 @@ threads run models in parallel.
 """
 
 import collections
+import os
 
 from . import _mbd
 from .errors import (DynamicsError, Error, InputError, KinematicsError, OutputError, PlacedError,
@@ -46,8 +47,10 @@ def set_plugin_path(folders):
     """Search these folders for the plugins of models loaded from now on (None: the default
     path); models loaded before keep theirs. To add a folder of your own plugins:
     ``mbd.set_plugin_path(mbd.default_plugin_path() + ["/my/plugins"])``. A folder that does
-    not exist raises PluginError."""
-    _mbd.set_plugin_path(None if folders is None else [str(f) for f in folders])
+    not exist raises PluginError. One folder may be given alone, as a str or a path."""
+    if isinstance(folders, (str, os.PathLike)):
+        folders = [folders]  # one folder, not a sequence of one-letter folders
+    _mbd.set_plugin_path(None if folders is None else [os.fspath(f) for f in folders])
 
 
 def plugin_problems():

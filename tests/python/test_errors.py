@@ -67,6 +67,16 @@ def test_an_unknown_joint_type_is_a_plugin_error(tmp_path):
     assert "did you mean 'prismatic'?" in str(e)
 
 
+def test_one_plugin_folder_may_be_given_alone(tmp_path):
+    # a str (or a path) is one folder, not a sequence of one-letter folders
+    mbd.set_plugin_path(str(tmp_path))
+    assert mbd.plugin_path() == [str(tmp_path)]
+    mbd.set_plugin_path(tmp_path)
+    assert mbd.plugin_path() == [str(tmp_path)]
+    with pytest.raises(mbd.PluginError, match="no such plugin folder"):
+        mbd.set_plugin_path(str(tmp_path / "missing"))
+
+
 def test_a_plugin_path_without_the_plugins_is_a_plugin_error(tmp_path):
     mbd.set_plugin_path([tmp_path])
     assert mbd.plugin_path() == [str(tmp_path)] and mbd.plugins() == []

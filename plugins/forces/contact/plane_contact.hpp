@@ -29,6 +29,7 @@ public:
         else
             normal_bar_ = unit_direction<3>(spec, "normal", what);
         radius_ = positive_length(spec, "radius", "the sphere's radius");
+        refuse_deep_start(spec, radius_, spec.dimension == Dimension::Planar ? "the circle's radius" : "the sphere's radius");
     }
 
     template <class S>

@@ -12,6 +12,7 @@
 
 #include <mbd/sdk/contact.hpp>
 
+#include <algorithm>
 #include <array>
 #include <string>
 
@@ -30,6 +31,8 @@ public:
                                     &spec.params.at("radii").items[k]);
             radii_[k] = r[k];
         }
+        refuse_deep_start(spec, std::min(radii_[0], radii_[1]),
+                          spec.dimension == Dimension::Planar ? "the smaller circle's radius" : "the smaller sphere's radius");
     }
 
     template <class S>

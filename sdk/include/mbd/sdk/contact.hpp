@@ -26,6 +26,7 @@
 
 #include <mbd/sdk/coulomb_law.hpp>
 #include <mbd/sdk/force_support.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <cmath>
 #include <string>
@@ -276,6 +277,34 @@ public:
 
     const NormalLaw& normal_law() const { return normal_; }
     const friction::CoulombLaw& friction_law() const { return friction_; }
+
+protected:
+    // Refuses a scene whose shapes overlap at t = 0 by more than `radius` (the sphere's, the
+    // smaller of two): the normal law models a small local deformation (Hertz: delta much
+    // below the radius), and a centre already past the other surface would be thrown out at a
+    // speed nothing in the scene means. Each geometry calls it once its shapes are read.
+    void refuse_deep_start(const ForceSpec& spec, double radius, const std::string& what) const {
+        BodyStates b;
+        PlanarBody planar[2];
+        SpatialBody spatial[2];
+        for (int k = 0; k < 2; ++k) {
+            const BodyInfo& body = spec.bodies[k];
+            if (spec.dimension == Dimension::Planar) {
+                planar[k].set(body.position.head<2>(), body.angle, Vec2::Zero(), 0.0);
+                b.planar_bodies.push_back(&planar[k]);
+            } else {
+                spatial[k].R = body.position;
+                spatial[k].A = body.orientation;
+                b.spatial_bodies.push_back(&spatial[k]);
+            }
+        }
+        const double depth = -gap_and_rate(b).gap;
+        if (depth > radius)
+            force_support::fail(spec, "the shapes overlap by " + format_number(depth) + " m at t = 0, more than " +
+                                          what + " " + format_number(radius) + " m: the compliant law holds for a "
+                                          "small overlap and would throw the bodies apart; place them touching or "
+                                          "apart (an initial overlap may be at most " + what + ")");
+    }
 
 private:
     const Derived& self() const { return static_cast<const Derived&>(*this); }
