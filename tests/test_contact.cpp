@@ -349,9 +349,11 @@ TEST(Contact, PluginsPassThePluginCheck) {
     for (const char* type : {"sphere_plane", "circle_line", "sphere_sphere", "circle_circle"}) {
         const bool plane = std::string(type) == "sphere_plane" || std::string(type) == "circle_line";
         const bool planar = std::string(type) == "circle_line" || std::string(type) == "circle_circle";
-        const std::string shape = !plane ? " --params 'radii: [5, 6]'"
+        // shapes that overlap at the check's random geometry, by less than the (smaller) radius,
+        // which a contact refuses beyond: spheres 0.6 to 0.7 m apart, centres above the plane
+        const std::string shape = !plane ? " --params 'radii: [0.5, 0.6]'"
                                   : planar ? " --params 'radius: 10' --params 'normal: [0.6, 0.8]'"
-                                           : " --params 'radius: 10' --params 'normal: [0.3, 0.4, 0.866]'";
+                                           : " --params 'radius: 10' --params 'normal: [-0.3, -0.4, -0.866]'";
         const std::string lib = (mbd::test::build_plugin_dir() / ("libmbd_force_" + std::string(type) + ".so")).string();
         const auto r = mbd::test::run_mbd("plugin check " + lib + shape +
                                           " --params 'stiffness: 100' --params 'damping: 2'"
@@ -447,6 +449,11 @@ TEST(Contact, GapAndItsRateForTheEventHook) {
     spec.markers[0].u_bar = ui;
     spec.markers[1].u_bar = uj;
     const mbd::SpatialBody bi = i.at(0.0), bj = j.at(0.0);
+    // the bodies' initial poses (an element refuses an initial overlap beyond the radius)
+    spec.bodies[0].position = bi.R;
+    spec.bodies[0].orientation = bi.A;
+    spec.bodies[1].position = bj.R;
+    spec.bodies[1].orientation = bj.A;
     const mbd::Vec3 P0 = bi.R + bi.A * ui, C = bj.R + bj.A * uj;
     {
         mbd::Param node = scalar("");

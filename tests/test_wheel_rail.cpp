@@ -353,6 +353,28 @@ TEST(WheelRail, ATreadThatRunsOffItsProfileStopsTheRunNamingWhereAndWhen) {
     }
 }
 
+TEST(WheelRail, TheExampleWheelsetPushedSidewaysStopsWhereItsWheelLeavesTheRail) {
+    // the case: 3 m/s sideways carried the wheelset 2.27 m aside with exit 0, the cones
+    // (unbounded then) touching the crowns far along their axle; the treads (default width
+    // 2 r0 = 0.9 m) end at |s| = 0.45 m
+    const std::string text = mbd::test::read_text(mbd::test::scene_path("examples/spatial-wheelset.yaml"));
+    const mbd::Model model = mbd::test::scene(mbd::test::replaced(text, "velocity: [10, 0.02, 0]", "velocity: [10, 3, 0]"));
+    try {
+        mbd::simulate(model, shared_registry(), mbd::test::adaptive_run("augmented", "dop853", 1e-8, 1.0, 0.01),
+                      [](const mbd::SimulationSample&) { return true; });
+        FAIL() << "the run went on with the wheelset off the rails";
+    } catch (const mbd::DynamicsError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("joint 'right' (type wheel_rail, test.yaml:"), std::string::npos) << message;
+        EXPECT_NE(message.find("outside the wheel's profile (s from -0.45 to 0.45 m)"), std::string::npos) << message;
+        // s = eta - y (eta the contact across the crown, |eta| < R = 0.3 m; y the wheel's shift), so
+        // the edge needs |y| >= 0.15 m, at a lateral speed of at most the initial 3 m/s
+        EXPECT_GE(3.0 * e.time(), 0.45 - 0.3) << message;
+        EXPECT_LE(e.time(), 0.5) << message;
+        std::cout << "wheelset at 3 m/s sideways: " << message << "\n";
+    }
+}
+
 TEST(WheelRail, BadInputIsNamed) {
     const std::string good = contact_scene("{type: cone, radius: 0.45, cone_angle: 0.05}", "{type: arc, radius: 0.3}");
     auto error_of = [&](const std::string& text) {
