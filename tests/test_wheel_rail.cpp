@@ -257,10 +257,21 @@ struct HollowTread {
     double r0 = 0.45, rho = 0.4, R = 0.3, g = 9.81, half_width = 0.12;
     double m_slider = 2, m_carriage = 3, m_wheel = 10, spin = 3.0;
     double vy = 0.2;
+    double head_half_width = 0.0;  // > 0: the crown as a spline through its points for |y| <= this
+    // convex: a toroidal tread r(s) = r0 - rho + sqrt(rho^2 - s^2) instead, touching the crown
+    // from outside (centres R + rho apart): H(y) = r0 - rho - R + sqrt((R + rho)^2 - y^2),
+    // eta = y R / (R + rho), and the wheel rolls off the crown
+    bool convex = false;
     double m_y() const { return m_slider + m_carriage + m_wheel; }
     double m_z() const { return m_carriage + m_wheel; }
-    double H(double y) const { return r0 + rho - R - std::sqrt((rho - R) * (rho - R) - y * y); }
-    double H1(double y) const { return y / std::sqrt((rho - R) * (rho - R) - y * y); }
+    double H(double y) const {
+        if (convex) return r0 - rho - R + std::sqrt((R + rho) * (R + rho) - y * y);
+        return r0 + rho - R - std::sqrt((rho - R) * (rho - R) - y * y);
+    }
+    double H1(double y) const {
+        if (convex) return -y / std::sqrt((R + rho) * (R + rho) - y * y);
+        return y / std::sqrt((rho - R) * (rho - R) - y * y);
+    }
     // the lateral speed at y from the energy (the spin's energy is constant by itself)
     double speed(double y) const {
         const double E = 0.5 * m_y() * vy * vy + m_z() * g * H(0.0);
@@ -277,9 +288,19 @@ struct HollowTread {
         std::string points = "[";
         for (int k = -24; k <= 24; ++k) {
             const double s = half_width * k / 24;
-            points += std::string(k == -24 ? "" : ", ") + "[" + g17(s) + ", " + g17(r0 + rho - std::sqrt(rho * rho - s * s)) + "]";
+            const double r = convex ? r0 - rho + std::sqrt(rho * rho - s * s) : r0 + rho - std::sqrt(rho * rho - s * s);
+            points += std::string(k == -24 ? "" : ", ") + "[" + g17(s) + ", " + g17(r) + "]";
         }
         points += "]";
+        std::string head = "{type: arc, radius: " + g17(R) + "}";
+        if (head_half_width > 0.0) {
+            head = "{type: spline, points: [";
+            for (int k = -12; k <= 12; ++k) {
+                const double y = head_half_width * k / 12;
+                head += std::string(k == -12 ? "" : ", ") + "[" + g17(y) + ", " + g17(std::sqrt(R * R - y * y) - R) + "]";
+            }
+            head += "]}";
+        }
         const std::string h = g17(H(0.0));
         auto body = [&](const std::string& name, double m, const std::string& v, const std::string& w) {
             return "  - {name: " + name + ", mass: " + g17(m) + ", inertia: [0.5, 0.9, 0.5], position: [0, 0, " + h +
@@ -294,8 +315,7 @@ struct HollowTread {
                "  - {name: up, type: prismatic, bodies: [slider, carriage], point: [0, 0, " + h + "], axis: [0, 0, 1]}\n"
                "  - {name: axle, type: revolute, bodies: [carriage, wheel], point: [0, 0, " + h + "], axis: [0, 1, 0]}\n"
                "  - {name: contact, type: wheel_rail, bodies: [ground, wheel], point: [0, 0, 0], axis: [0, 0, 1], "
-               "x_axis: [1, 0, 0], wheel: {type: spline, points: " + points + "}, rail: {type: arc, radius: " + g17(R) +
-               "}}\n";
+               "x_axis: [1, 0, 0], wheel: {type: spline, points: " + points + "}, rail: " + head + "}\n";
     }
 };
 
@@ -350,6 +370,33 @@ TEST(WheelRail, ATreadThatRunsOffItsProfileStopsTheRunNamingWhereAndWhen) {
         EXPECT_NE(message.find("the contact point is at s = -0.12"), std::string::npos) << message;
         std::cout << "tread off its profile: stopped at t = " << e.time() << " s; the energy puts the edge at t = "
                   << t_edge << " s\n" << message << "\n";
+    }
+}
+
+TEST(WheelRail, AContactThatRunsOffANarrowHeadStopsTheRunNamingHowFar) {
+    // a toroidal tread (convex: a point contact up to the head's ends, where a natural spline
+    // straightens) rolling off a crown given as a spline over |y| <= 0.06: eta = 3 y / 8 reaches
+    // 0.06 at y = 0.16 (s = -0.1, still on the tread)
+    HollowTread rig;
+    rig.convex = true;
+    rig.vy = 0.6;
+    rig.head_half_width = 0.06;
+    const double y_edge = rig.head_half_width * (rig.R + rig.rho) / rig.R, t_edge = rig.time_to(y_edge);
+    const mbd::Model model = mbd::test::scene(rig.scene());
+    try {
+        mbd::simulate(model, shared_registry(), mbd::test::adaptive_run("augmented", "dopri5", 1e-11, 1.0, 0.01),
+                      [](const mbd::SimulationSample&) { return true; });
+        FAIL() << "the run went on with the contact off the head";
+    } catch (const mbd::DynamicsError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("left its domain at t = "), std::string::npos) << message;
+        EXPECT_NE(message.find("the contact point is at y = 0.06"), std::string::npos) << message;
+        EXPECT_NE(message.find("outside the head's profile (y from -0.06 to 0.06 m)"), std::string::npos) << message;
+        // the arc's closed form only roughly: the natural spline straightens towards its ends (its
+        // curvature goes to zero there), so the wheel reaches the edge a little early (2.4 ms)
+        EXPECT_NEAR(e.time(), t_edge, 5e-3) << message;
+        std::cout << "contact off a narrow head: stopped at t = " << e.time() << " s; the energy puts the edge at t = "
+                  << t_edge << " s\n";
     }
 }
 
