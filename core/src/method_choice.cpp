@@ -68,10 +68,11 @@ MethodChoice automatic_method(const Model& model, double t_end) {
         choice.formulation_reason = closure + ": the closure path of embedding (stiff: the fewest states for cvode)";
     }
     choice.integrator = stiff ? "cvode" : "dop853";
+    const std::string source = from_sticking ? " (" + sticking.note + ")" : std::string();
     choice.integrator_reason =
         rate > 0.0 ? std::string(stiff ? "stiff" : "not stiff") + ": fastest damping rate " + format_number(rate, 3) +
-                         " 1/s" + (from_sticking ? " (" + sticking.note + ")" : std::string()) + " over " + format_time(t_end) + " s = " + format_number(scales, 3) + " time scales (" +
-                         (stiff ? "above " : "at most ") + format_number(kStiffDampedTimeScales) + ")"
+                         " 1/s" + source + " over " + format_time(t_end) + " s = " + format_number(scales, 3) +
+                         " time scales (" + (stiff ? "above " : "at most ") + format_number(kStiffDampedTimeScales) + ")"
                    : "not stiff: no damping";
     return choice;
 }
