@@ -50,6 +50,29 @@ TEST(AutomaticTolerance, ResolvesTheStictionVelocityOfBookExample5_6) {
     EXPECT_EQ(plain.tolerance, 1e-6);
 }
 
+// Every friction element holds a velocity scale: a pin's slip rate (rad/s), a compliant
+// contact with friction, and an element without the key its documented default 1e-6.
+TEST(AutomaticTolerance, FindsTheStictionVelocityOfEveryKindOfFrictionElement) {
+    auto only_scale = [](const mbd::Model& model) {
+        const std::vector<mbd::VelocityScale> scales = mbd::velocity_scales(model);
+        EXPECT_EQ(scales.size(), 1u) << model.source;
+        return scales.empty() ? mbd::VelocityScale{} : scales[0];
+    };
+    const mbd::VelocityScale pin = only_scale(mbd::test::load("examples/force-rotational-friction.yaml"));
+    EXPECT_EQ(pin.element, "bearing");
+    EXPECT_EQ(pin.velocity, 1e-6);
+    const mbd::VelocityScale contact = only_scale(mbd::test::load("examples/force-circle-line.yaml"));
+    EXPECT_EQ(contact.element, "slope");
+    EXPECT_EQ(contact.velocity, 1e-4);
+    EXPECT_DOUBLE_EQ(contact.tolerance, 1e-4 / (10.0 * (1.0 + 1e-4)));
+    const std::string text = mbd::test::read_text(scene_path(kExample5_6));
+    const mbd::VelocityScale fallback =
+        only_scale(mbd::test::scene(mbd::test::replaced(text, "    stiction_velocity: 1.0e-9\n", "")));
+    EXPECT_EQ(fallback.element, "dry");
+    EXPECT_EQ(fallback.velocity, 1e-6);
+    EXPECT_TRUE(mbd::velocity_scales(mbd::test::load("dynamics/pendulum-a01.yaml")).empty());
+}
+
 // The whole command, as a user runs it: no --tol, --integrator or --formulation.
 TEST(AutomaticTolerance, BookExample5_6WithNoFlagsComesToRestWhereTheBookSays) {
     const fs::path out = scratch("ex5-6") / "ex5-6.csv";
