@@ -60,7 +60,8 @@ std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, Simula
                     "Integrator: euler, rk4, dopri5, dop853, generalized_alpha, cvode (default: the automatic "
                     "choice, dop853, or cvode for a stiff scene; see docs/user-guide.md)");
     CLI::Option* tol =
-        sub->add_option("--tol", a.tolerance, "Tolerance of an adaptive integrator, dopri5, dop853 or cvode (default 1e-6)")
+        sub->add_option("--tol", a.tolerance, "Tolerance of an adaptive integrator, dopri5, dop853 or cvode (default: the automatic choice, 1e-6 "
+                        "or what the scene's stiction velocities need; see docs/user-guide.md)")
             ->check(number_between(kSmallestTolerance, 1.0, "below 1e-14 is beneath double-precision round-off"));
     CLI::Option* step =
         sub->add_option("--step", a.step, "Fixed step of rk4, euler or generalized_alpha [s]")->check(positive_number());
@@ -94,6 +95,7 @@ SimulationSettings simulation_settings(const SimulateArguments& a) {
     settings.formulation = a.formulation;
     settings.integrator = a.integrator;
     if (a.tolerance > 0.0) settings.integration.tolerance = a.tolerance;
+    settings.automatic_tolerance = !a.tolerance_given && !a.step_given;
     settings.integration.step = a.step;
     settings.t_end = a.t_end;
     settings.output_step = a.output_step;
@@ -146,7 +148,8 @@ ErrorEstimate estimate_error(const Model& model, Registry& registry, const Simul
         factor = std::pow(2.0, order) / (std::pow(2.0, order) - 1.0);
         out.against = "step " + format_number(tight.integration.step);
     } else {
-        tight.integration.tolerance = 0.1 * settings.integration.tolerance;
+        tight.integration.tolerance = 0.1 * r.tolerance;  // the run's own, given or automatic
+        tight.automatic_tolerance = false;
         out.against = "tol " + format_number(tight.integration.tolerance);
     }
     std::vector<Eigen::VectorXd> tight_positions;
@@ -170,6 +173,7 @@ void print_simulate_summary(const SimulateArguments& a, const SimulationResult& 
         Json summary = {{"scene", a.scene},
                         {"formulation", r.formulation},
                         {"integrator", r.integrator},
+                        {"tolerance", r.tolerance},
                         {"t_end", a.t_end},
                         {"rows", r.rows},
                         {"steps", r.stats.steps},
@@ -187,7 +191,9 @@ void print_simulate_summary(const SimulateArguments& a, const SimulationResult& 
     if (!a.quiet) {
         std::printf("simulated %s: t = 0 to %g s, %ld rows written to %s\n", a.scene.c_str(), a.t_end, r.rows,
                     a.output.c_str());
-        std::printf("  formulation %s, integrator %s\n", r.formulation.c_str(), r.integrator.c_str());
+        std::printf("  formulation %s, integrator %s", r.formulation.c_str(), r.integrator.c_str());
+        if (r.tolerance > 0.0) std::printf(", tolerance %.3g", r.tolerance);
+        std::printf("\n");
         std::printf("  steps %ld, rejected %ld, rhs evaluations %ld, Jacobian evaluations %ld\n", r.stats.steps,
                     r.stats.rejected_steps, r.stats.rhs_evaluations, r.stats.jacobian_evaluations);
         if (!r.events.empty()) {

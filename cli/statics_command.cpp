@@ -13,6 +13,7 @@
 #include <mbd/statics_analysis.hpp>
 #include <mbd/viewer/animation_export.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -36,6 +37,34 @@ struct StaticsArguments {
     std::string animation;  // --animation eq.glb | eq.html
 };
 
+bool named(const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+std::string quoted_list(const std::vector<std::string>& names) {
+    std::string text;
+    for (size_t k = 0; k < names.size(); ++k) text += (k ? ", '" : "'") + names[k] + "'";
+    return text;
+}
+
+// Redundant rows: the equilibrium fixes J^T lambda, not the reactions (StaticIndeterminacy).
+void print_indeterminacy(const StaticIndeterminacy& in, const std::string& stability) {
+    const bool one = in.redundant_rows.size() == 1;
+    std::printf("\nreactions NOT DETERMINED: %zu redundant constraint row%s (as `mbd check` names %s):\n",
+                in.redundant_rows.size(), one ? "" : "s", one ? "it" : "them");
+    for (const RowOwner& o : in.redundant_rows) std::printf("  %s\n", o.describe().c_str());
+    std::vector<std::string> elements = in.undetermined_joints;
+    for (const std::string& d : in.undetermined_drivers) elements.push_back("driver " + d);
+    std::printf("so the reactions of %s hold any self-stress on top of the values below, which are the\n"
+                "minimum-norm ones (no self-stress: one choice among many, not a measured load); a model\n"
+                "without the redundant rows, or with compliant joints, determines them.\n",
+                quoted_list(elements).c_str());
+    if (stability != "not assessed")
+        std::printf("the stability verdict (%s) takes the solver's own multipliers into the constraints' stiffness;\n"
+                    "with a self-stress left undetermined it holds for that one only.\n",
+                    stability.c_str());
+}
+
 void print_report(const std::string& scene, const Model& model, const StaticsReport& rep,
                   const std::vector<JointLimit>& limits) {
     const StaticsResult& r = rep.result;
@@ -57,11 +86,15 @@ void print_report(const std::string& scene, const Model& model, const StaticsRep
                         r.state.q[7 * b], r.state.q[7 * b + 1], r.state.q[7 * b + 2], r.state.q[7 * b + 3],
                         r.state.q[7 * b + 4], r.state.q[7 * b + 5], r.state.q[7 * b + 6]);
     }
+    const StaticIndeterminacy& in = rep.indeterminacy;
+    if (in.any()) print_indeterminacy(in, r.stability);
     if (!rep.reactions.empty()) {
-        std::printf("\njoints (coordinate; reaction on the second body at the joint point, world axes):\n");
+        std::printf("\njoints (coordinate; reaction on the second body at the joint point, world axes%s):\n",
+                    in.any() ? "; * not determined: the minimum-norm value" : "");
         for (size_t j = 0; j < rep.reactions.size(); ++j) {
             const JointLoad& l = rep.reactions[j];
-            std::printf("  %-16s ", l.name.c_str());
+            const bool undetermined = named(in.undetermined_joints, l.name);
+            std::printf("%s%-16s ", undetermined ? "* " : "  ", l.name.c_str());
             if (std::isfinite(rep.coordinates[j])) std::printf("s = %12.8g  ", rep.coordinates[j]);
             else std::printf("%16s", "");
             if (planar)
@@ -75,7 +108,8 @@ void print_report(const std::string& scene, const Model& model, const StaticsRep
         std::printf("\ndrivers (effort along the joint coordinate = -lambda):\n");
         const int joint_rows = r.lambda.size() - static_cast<int>(model.drivers.size());
         for (size_t d = 0; d < model.drivers.size(); ++d)
-            std::printf("  %-16s effort = %.10g\n", model.drivers[d].name.c_str(), -r.lambda[joint_rows + d]);
+            std::printf("%s%-16s effort = %.10g\n", named(in.undetermined_drivers, model.drivers[d].name) ? "* " : "  ",
+                        model.drivers[d].name.c_str(), -r.lambda[joint_rows + d]);
     }
     if (!limits.empty()) {
         std::printf("\nlimits:\n");

@@ -4,6 +4,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
+  ccache  # a compiler cache (CMakeLists.txt, MBD_CCACHE): rebuilds compile only what changed
   libeigen3-dev libboost-dev libboost-filesystem-dev
   libyaml-cpp-dev libsuitesparse-dev libcli11-dev nlohmann-json3-dev
   coinor-libipopt-dev libsundials-dev

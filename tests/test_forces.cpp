@@ -3,6 +3,7 @@
 // differences, Q = -dV/dq for conservative elements, and time-function
 // derivatives. The plugins are created through the registry from the build
 // tree, with hand-built ForceSpecs.
+#include "support/test_paths.hpp"
 #include <mbd/registry.hpp>
 #include <mbd/sdk/force.hpp>
 #include <mbd/sdk/rotation.hpp>

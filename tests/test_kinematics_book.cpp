@@ -6,6 +6,7 @@
 //   Ex. 7.7 and Ex. 8.1 (rotation matrix and Euler-parameter rates).
 // Every expected number is a book value or computed in this file from the
 // mechanism's geometry; none comes from the engine's own output.
+#include "support/test_paths.hpp"
 #include <mbd/csv.hpp>
 #include <mbd/kinematics.hpp>
 #include <mbd/newton.hpp>

@@ -30,12 +30,25 @@ TEST(PluginCheck, StandardJointAndForcePluginsPass) {
     }
 }
 
-TEST(PluginCheck, GearPairNeedsItsKeysAndPassesWithThem) {
+// A type that describes its keys is checked from its description alone; --params replaces
+// the examples (gear_pair: `ratio` instead of the example's `radii`, which it excludes).
+TEST(PluginCheck, GearPairPassesFromItsDescriptionAndWithEitherKey) {
     const auto without = test::run_mbd("plugin check " + plugin("libmbd_joint_gear_pair.so"));
-    EXPECT_EQ(without.exit_code, 1);
-    EXPECT_NE(without.out.find("--params"), std::string::npos) << without.out;
-    const auto with = test::run_mbd("plugin check " + plugin("libmbd_joint_gear_pair.so") + " --params 'radii: [0.1, 0.3]'");
+    EXPECT_EQ(without.exit_code, 0) << without.out << without.err;
+    EXPECT_NE(without.out.find("2 checked, 0 failed"), std::string::npos) << without.out;
+    const auto with = test::run_mbd("plugin check " + plugin("libmbd_joint_gear_pair.so") + " --params 'ratio: -2'");
     EXPECT_EQ(with.exit_code, 0) << with.out << with.err;
+    EXPECT_NE(with.out.find("2 checked, 0 failed"), std::string::npos) << with.out;
+}
+
+// A plugin built without a key description (tests/plugins/drag_without_jacobians.cpp needs
+// `coefficient`) is checked as before: without --params it fails, saying how to pass its keys.
+TEST(PluginCheck, ATypeWithoutDescriptionNeedsParams) {
+    const auto r = test::run_mbd("plugin check " + test_plugin("libmbd_force_quadratic_drag.so"));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("it describes no keys"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("--params 'key: value'"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("missing key 'coefficient'"), std::string::npos) << r.out;
 }
 
 // The contact joints with surface parameters eliminated inside (cam, sphere_surface, wheel_rail): every

@@ -54,7 +54,7 @@ fs::path write(const fs::path& file, const std::string& text) {
 // `mbd check FILE` under coreutils' timeout: a hang shows as status 124 instead of
 // stalling the suite; a crash as a signal status (>= 128).
 mbd::test::CommandResult check_command(const fs::path& file) {
-    return run_command("timeout 60 '" MBD_EXECUTABLE "' check '" + file.string() + "'");
+    return run_command("timeout 60 '" + std::string(MBD_EXECUTABLE) + "' check '" + file.string() + "'");
 }
 
 // `named` is the file the message must name (default: the scene given).

@@ -1,5 +1,6 @@
 // Scene loader: every bad input gives an InputError at file:line naming the
 // offending key or element; good scenes load with coincident joint markers.
+#include "support/test_paths.hpp"
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
 

@@ -211,7 +211,7 @@ TEST(SweepCli, PendulumLhsSerialThreadsAndMpiAgreeWithSingleSimulations) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     r = run_mbd(base + (dir / "threads.h5").string() + " --threads 2 --csv " + (dir / "threads.csv").string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = run_command(kMpirun + "-np 3 " MBD_EXECUTABLE " " + base + (dir / "mpi.h5").string() + " --csv " +
+    r = run_command(kMpirun + "-np 3 " + std::string(MBD_EXECUTABLE) + " " + base + (dir / "mpi.h5").string() + " --csv " +
                     (dir / "mpi.csv").string());
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
 
@@ -335,7 +335,7 @@ void kill_and_resume(const std::string& name, int rank) {
     const std::string sweep = " sweep " + study.string() + " -q --flush-seconds 0.02 -o " + output.string();
     const std::string tag = "MBD_SWEEP_TEST=" + std::to_string(getpid());
     const pid_t child = spawn(rank < 0 ? std::string(MBD_EXECUTABLE) + sweep
-                                       : "env " + tag + " " + kMpirun + "-x MBD_SWEEP_TEST -np 3 " MBD_EXECUTABLE +
+                                       : "env " + tag + " " + kMpirun + "-x MBD_SWEEP_TEST -np 3 " + MBD_EXECUTABLE +
                                              sweep);
     ASSERT_GT(child, 0);
     const long before = wait_for_rows(study, output, cases / 10, child);
@@ -353,7 +353,7 @@ void kill_and_resume(const std::string& name, int rank) {
     EXPECT_LT(kept, cases);
 
     const auto resumed = rank < 0 ? run_mbd(sweep.substr(1) + " --resume")
-                                  : run_command(kMpirun + "-np 3 " MBD_EXECUTABLE + sweep + " --resume");
+                                  : run_command(kMpirun + "-np 3 " + MBD_EXECUTABLE + sweep + " --resume");
     ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
     ASSERT_TRUE(fs::exists(output));
     const auto rows = stored_rows(study, output);
@@ -469,7 +469,7 @@ TEST(SweepCli, ATerminalShowsTheProgressBarWithTheTimeLeft) {
     const long cases = cases_lasting(3.0, 20.0, 60, 6000);
     const fs::path study = write(dir / "study.yaml", pendulum_study(cases, 20.0));
     const fs::path log = dir / "terminal.txt";
-    const auto r = run_command("script -qec 'env COLUMNS=100 " MBD_EXECUTABLE " sweep " + study.string() + " -o " +
+    const auto r = run_command("script -qec 'env COLUMNS=100 " + std::string(MBD_EXECUTABLE) + " sweep " + study.string() + " -o " +
                                (dir / "r.h5").string() + "' " + log.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string text = mbd::test::read_text(log);

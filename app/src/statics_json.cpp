@@ -61,6 +61,13 @@ Json statics_json(const Model& model, const StaticsReport& rep, const std::vecto
             {"lo", limits[k].lo}, {"hi", limits[k].hi}, {"active", active}, {"multiplier", nu}, {"effort", -nu}};
     }
     o["limits"] = std::move(limit_out);
+    // redundant rows: the reactions above are the minimum-norm ones (StaticIndeterminacy)
+    const StaticIndeterminacy& in = rep.indeterminacy;
+    o["reactions_determined"] = !in.any();
+    Json redundant = Json::array();
+    for (const RowOwner& row : in.redundant_rows) redundant.push_back(row.describe());
+    o["redundant_rows"] = std::move(redundant);
+    o["undetermined_reactions"] = {{"joints", in.undetermined_joints}, {"drivers", in.undetermined_drivers}};
     return o;
 }
 

@@ -54,7 +54,10 @@ MethodChoice automatic_method(const Model& model, double t_end) {
         choice.formulation = "augmented";
         choice.formulation_reason = "force '" + reaction_load->name + "' takes its load from a joint's reaction";
     }
-    const double rate = fastest_damping_rate(model);
+    const double initial_rate = fastest_damping_rate(model);
+    const StickingDamping sticking = sticking_damping_rate(model);
+    const bool from_sticking = sticking.rate > initial_rate;
+    const double rate = from_sticking ? sticking.rate : initial_rate;
     const double scales = rate * t_end;
     const bool stiff = scales > kStiffDampedTimeScales;
     // stiff with loops: cvode's difference Jacobian costs a rhs per state and its
@@ -65,10 +68,11 @@ MethodChoice automatic_method(const Model& model, double t_end) {
         choice.formulation_reason = closure + ": the closure path of embedding (stiff: the fewest states for cvode)";
     }
     choice.integrator = stiff ? "cvode" : "dop853";
+    const std::string source = from_sticking ? " (" + sticking.note + ")" : std::string();
     choice.integrator_reason =
         rate > 0.0 ? std::string(stiff ? "stiff" : "not stiff") + ": fastest damping rate " + format_number(rate, 3) +
-                         " 1/s over " + format_time(t_end) + " s = " + format_number(scales, 3) + " time scales (" +
-                         (stiff ? "above " : "at most ") + format_number(kStiffDampedTimeScales) + ")"
+                         " 1/s" + source + " over " + format_time(t_end) + " s = " + format_number(scales, 3) +
+                         " time scales (" + (stiff ? "above " : "at most ") + format_number(kStiffDampedTimeScales) + ")"
                    : "not stiff: no damping";
     return choice;
 }

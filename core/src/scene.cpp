@@ -40,6 +40,14 @@ std::string suggestion(const std::string& key, const std::vector<std::string>& a
     return "accepted keys are " + join_quoted(accepted);
 }
 
+std::string unknown_key_hint(const std::string& key, const std::vector<std::string>& valid, const std::string& type,
+                             const std::string& kind, bool described) {
+    if (!described) return suggestion(key, valid);
+    const std::string best = nearest_name(key, valid);
+    return (best.empty() ? std::string() : "did you mean " + quote(best) + "? ") + "the keys of a " + kind + " of type " +
+           quote(type) + " are " + join_quoted(valid) + " (mbd plugins --keys " + type + ")";
+}
+
 Mat3 rotation_z(double angle) {
     Mat3 a = Mat3::Identity();
     a.topLeftCorner<2, 2>() = planar_rotation(angle);
@@ -405,7 +413,7 @@ void Loader::load_joint(const Param& node, int index) {
     spec.params = params;
 
     const std::string at = key_where(node, "type");
-    joint.joint = create_checked(params, node, what, [&] { return registry_.create_joint(spec, at); });
+    joint.joint = create_checked(params, node, what, "joint", joint.type, [&] { return registry_.create_joint(spec, at); });
     if (!joint.joint) type.fail(what + ": the plugin for type " + quote(joint.type) + " created no joint");
     load_joint_limits(node, joint);
     model_.joints.push_back(std::move(joint));

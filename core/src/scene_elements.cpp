@@ -142,7 +142,7 @@ void Loader::load_force(const Param& node, int index) {
     spec.params = params;
 
     const std::string at = key_where(node, "type");
-    force.force = create_checked(params, node, what, [&] { return registry_.create_force(spec, at); });
+    force.force = create_checked(params, node, what, "force", force.type, [&] { return registry_.create_force(spec, at); });
     if (!force.force) type.fail(what + ": the plugin for type " + quote(force.type) + " created no force");
     force.load_joint = reaction_load_joint(node, what, force);
     check_stop_coordinate(node, what, force);

@@ -3,6 +3,7 @@
 // Not installed: the public interface is mbd/scene.hpp.
 #pragma once
 
+#include <mbd/plugin_description.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/sdk/suggest.hpp>
 #include <mbd/sdk/text.hpp>
@@ -32,6 +33,10 @@ std::string join(const std::vector<std::string>& items, const std::string& sep =
 std::string join_quoted(const std::vector<std::string>& items);
 // " did you mean 'x'?" for the nearest accepted key, or the list of accepted keys.
 std::string suggestion(const std::string& key, const std::vector<std::string>& accepted);
+// The hint after "unknown key 'k'" in a plugin element: the nearest valid key, and, when the
+// type describes its keys (`described`), every valid key, the core's and the plugin's.
+std::string unknown_key_hint(const std::string& key, const std::vector<std::string>& valid, const std::string& type,
+                             const std::string& kind, bool described);
 Mat3 rotation_z(double angle);
 bool valid_name(const std::string& name);
 // Principal moments of inertia: >= 0, each at most the sum of the other two (Eq. 7.95).
@@ -300,8 +305,11 @@ private:
                            const std::vector<int>& bodies, bool allow_axes) const;
 
     // Create a plugin element, then reject keys neither the core nor the plugin read.
+    // `kind` and `type` find the type's key description (plugin_description.hpp), which tells
+    // a key no type accepts from a documented key that is wrong where it stands.
     template <class Create>
-    auto create_checked(const Params& params, const Param& node, const std::string& what, Create&& create) const;
+    auto create_checked(const Params& params, const Param& node, const std::string& what, const std::string& kind,
+                        const std::string& type, Create&& create) const;
 
     std::string file_;
     std::vector<std::string> base_files_;  // the `base:` files read
@@ -314,17 +322,33 @@ private:
 };
 
 template <class Create>
-auto Loader::create_checked(const Params& params, const Param& node, const std::string& what, Create&& create) const {
+auto Loader::create_checked(const Params& params, const Param& node, const std::string& what,
+                            const std::string& kind, const std::string& type, Create&& create) const {
+    // the keys the core read for the element, before the plugin reads its own
+    const std::vector<std::string> core_keys(params.asked_keys().begin(), params.asked_keys().end());
+    const PluginDescription* description = plugin_description(registry_, kind, type);
+    // with a description the valid keys are known whatever the plugin read before it stopped;
+    // without one (an older plugin), the keys it asked for
+    auto valid_keys = [&] {
+        std::vector<std::string> keys = core_keys;
+        const std::vector<std::string> own =
+            description ? key_names(*description)
+                        : std::vector<std::string>(params.asked_keys().begin(), params.asked_keys().end());
+        for (const std::string& k : own)
+            if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+        return keys;
+    };
+    auto documented = [&](const std::string& key) { return description && description->find(key.c_str()); };
     auto unknown_note = [&]() -> std::string {
-        const auto unread = params.unread_keys();
-        if (unread.empty()) return {};
-        // only when an unread key looks like a misspelling of a key that was asked for
-        // (the plugin may have failed before asking for the rest)
-        const std::vector<std::string> accepted(params.asked_keys().begin(), params.asked_keys().end());
-        for (const auto& key : unread) {
-            const std::string hint = suggestion(key, accepted);
-            if (hint.rfind("did you mean", 0) == 0)
-                return "unknown key " + quote(key) + " at line " + std::to_string(key_line(node, key)) + ": " + hint;
+        const std::vector<std::string> valid = valid_keys();
+        for (const auto& key : params.unread_keys()) {
+            if (documented(key) || std::find(valid.begin(), valid.end(), key) != valid.end()) continue;
+            const std::string hint = suggestion(key, valid);
+            // without a description, only a likely misspelling (the plugin may have failed
+            // before asking for the rest of its keys)
+            if (description || hint.rfind("did you mean", 0) == 0)
+                return "unknown key " + quote(key) + " at line " + std::to_string(key_line(node, key)) + ": " +
+                       unknown_key_hint(key, valid, type, kind, description != nullptr);
         }
         return {};
     };
@@ -332,12 +356,18 @@ auto Loader::create_checked(const Params& params, const Param& node, const std::
         auto element = create();
         const auto unread = params.unread_keys();
         if (!unread.empty()) {
-            const std::vector<std::string> accepted(params.asked_keys().begin(), params.asked_keys().end());
-            // report the first unknown key in file order
+            // report the first unread key in file order
             std::string first = unread.front();
             for (const auto& k : unread)
                 if (key_line(node, k) < key_line(node, first)) first = k;
-            unknown_key(node, first, what, accepted);
+            if (documented(first))
+                throw InputError(key_where(node, first),
+                                 what + ": key " + quote(first) + " is a key of the " + kind + " type " + quote(type) +
+                                     " but it has no effect with the other keys given here (" + first + ": " +
+                                     description->find(first.c_str())->meaning + "); remove it or give the keys it goes with");
+            throw InputError(key_where(node, first), "unknown key " + quote(first) + " in " + what + "; " +
+                                                         unknown_key_hint(first, valid_keys(), type, kind,
+                                                                          description != nullptr));
         }
         return element;
     } catch (const InputError& e) {

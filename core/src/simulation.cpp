@@ -10,6 +10,7 @@
 #include <mbd/progress_bar.hpp>
 #include <mbd/sdk/reactions.hpp>
 #include <mbd/sdk/text.hpp>
+#include <mbd/tolerance_choice.hpp>
 
 #include "energy_growth.hpp"
 #include "friction_dissipation.hpp"
@@ -120,6 +121,23 @@ void check_integration_settings(const SimulationSettings& settings) {
         throw InputError("", "the integration step must be a finite number >= 0 (0: none), got " + format_number(step, 9));
 }
 
+// The run's integrator settings: for an adaptive integrator the tolerance given, warned of
+// when it cannot resolve a scale of the scene, or the automatic one (tolerance_choice.hpp),
+// said with its reason as the automatic formulation and integrator are.
+IntegratorSettings run_integration(const Model& model, const SimulationSettings& settings, const std::string& integrator) {
+    IntegratorSettings integration = settings.integration;
+    if (!make_integrator(integrator, {})->adaptive()) return integration;
+    if (settings.automatic_tolerance) {
+        const ToleranceChoice choice = automatic_tolerance(model, integration.tolerance);
+        integration.tolerance = choice.tolerance;
+        settings.messages("tolerance " + format_number(choice.tolerance, 3) + " (automatic: " + choice.reason + ")");
+    } else {
+        for (const std::string& warning : tolerance_warnings(model, integration.tolerance))
+            settings.messages("warning: " + warning);
+    }
+    return integration;
+}
+
 // Output times h, 2h, ..., t_end (the start, 0, is written before integrating).
 std::vector<double> output_times_after_start(const SimulationSettings& settings) {
     double h = settings.output_step;
@@ -218,8 +236,10 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     std::shared_ptr<Formulation> formulation = make_run_formulation(model, registry, settings, name, options);
     result.formulation = name;
     check_integration_settings(settings);  // before any work
-    std::unique_ptr<Integrator> integrator = make_integrator(method.integrator, settings.integration);
+    const IntegratorSettings integration = run_integration(model, settings, method.integrator);
+    std::unique_ptr<Integrator> integrator = make_integrator(method.integrator, integration);
     result.integrator = integrator->name();
+    result.tolerance = integrator->adaptive() ? integration.tolerance : 0.0;
     if (integrator->needs_index3() && !formulation->supports_index3())
         throw InputError(integrator->name(), integrator->name() + " needs a formulation that supports index-3 (augmented); '" +
                                                  name + "' has none");

@@ -109,8 +109,9 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
     spec.type = solver;
     std::shared_ptr<StaticsSolver> s = registry.create_statics(spec, "statics solver");
     report.result = s->solve(system, start, options);
+    if (!report.result.converged) return report;
+    report.indeterminacy = resolve_indeterminacy(model, system, report.result.state, report.result.lambda);
     const StaticsResult& r = report.result;
-    if (!r.converged) return report;
 
     report.reactions = joint_loads(system, r.state, r.lambda);
     for (const JointReaction& d : driver_reactions(system, r.state, r.lambda)) report.driver_efforts.push_back(load_of(d));

@@ -41,6 +41,7 @@
 #include <mbd/sdk/contact_joint.hpp>
 #include <mbd/sdk/planar_primitives.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <cmath>
 #include <memory>
@@ -186,3 +187,17 @@ std::unique_ptr<mbd::Joint> make_cam(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(cam, make_cam)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey cam_keys[] = {
+    {"profile", "the cam profile, a map with type: eccentric (radius, eccentricity), harmonic (base, cos, sin) or spline (radii)", nullptr, "{type: harmonic, base: 0.3, cos: [0.03, 0.01], sin: [0, 0.005]}"},
+    {"follower", "knife_edge, roller or flat_face", nullptr, "knife_edge"},
+    {"follower_point", "[x, y]: the tip, the roller centre or a point of the face, in the follower's body axes", nullptr, "[0.1, 0]"},
+    {"radius", "the roller radius (m), > 0; roller followers only", "none: required for a roller", "0.05"},
+    {"face_normal", "the face normal in the follower's body axes, towards the cam; flat_face followers only", "none: required for a flat_face", "[0.3, -1]"},
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(cam, "a planar cam (body i) and its follower (body j) in contact", mbd::kTwoBodies, mbd::kPlanarOnly, cam_keys)

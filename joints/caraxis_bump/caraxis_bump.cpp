@@ -9,6 +9,7 @@
 // scene's time functions. Scene keys: amplitude r, frequency w [rad/s], length L.
 #include <mbd/sdk/planar_primitives.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <cmath>
 #include <memory>
@@ -61,3 +62,15 @@ std::unique_ptr<mbd::Joint> make_caraxis_bump(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(caraxis_bump, make_caraxis_bump)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey caraxis_bump_keys[] = {
+    {"amplitude", "r (m), finite", nullptr, "0.1"},
+    {"frequency", "w (rad/s), finite", nullptr, "10"},
+    {"length", "L (m), > |amplitude|", nullptr, "1.0"},
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(caraxis_bump, "the car axis bump: body j's angle follows asin(r sin(w t) / L)", mbd::kTwoBodies, mbd::kPlanarOnly, caraxis_bump_keys)

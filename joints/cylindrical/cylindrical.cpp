@@ -2,6 +2,7 @@
 // DOT1(y_i, z_j)) and the origin of frame j on the z_i axis (DOT2(x_i, d), DOT2(y_i, d)).
 // 4 rows, 2 DOF (translation along and rotation about z). Spatial only.
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/spatial_primitives.hpp>
 
 #include <memory>
@@ -21,3 +22,12 @@ std::unique_ptr<mbd::Joint> make_cylindrical(const mbd::JointSpec& spec) {
 }
 
 MBD_JOINT_PLUGIN(cylindrical, make_cylindrical)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey cylindrical_keys[] = {
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(cylindrical, "rotation about and translation along `axis`", mbd::kTwoBodies, mbd::kSpatialOnly, cylindrical_keys)

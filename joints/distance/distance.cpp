@@ -9,6 +9,7 @@
 // (scenes/bench/car-axis.yaml: the axle between the wheels). No coordinate, a loop row.
 #include <mbd/sdk/planar_primitives.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <cmath>
 #include <memory>
@@ -74,3 +75,14 @@ std::unique_ptr<mbd::Joint> make_distance(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(distance, make_distance)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey distance_keys[] = {
+    {"points", "[[x_i, y_i], [x_j, y_j]]: the rod's ends in their bodies' axes, from the mass centres", "both mass centres", "[[0.1, 0.2], [0.3, -0.1]]", nullptr, true},
+    {"length", "the rod length (m), > 0", "the points' distance at t = 0", "0.8"},
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(distance, "a massless rigid rod between a point of each body", mbd::kTwoBodies, mbd::kPlanarOnly, distance_keys)

@@ -15,6 +15,7 @@
 // in the scene. No coordinate, no relative motion (a loop constraint).
 #include <mbd/sdk/planar_primitives.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <cmath>
 #include <memory>
@@ -78,3 +79,14 @@ std::unique_ptr<mbd::Joint> make_gear_pair(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(gear_pair, make_gear_pair)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey gear_pair_keys[] = {
+    {"radii", "pitch radii [a_i, a_j], non-zero; negative: an internal (ring) gear; exactly one of radii, ratio", "none: give radii or ratio", "[0.1, 0.3]", nullptr, true},
+    {"ratio", "a_j / a_i with a_i = 1 (N_j / N_i; negative for an internal mesh); exactly one of radii, ratio", "none: give radii or ratio", "2"},
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(gear_pair, "two spur gears in mesh (a third body in `bodies`: the carrier)", mbd::kTwoBodies, mbd::kPlanarOnly, gear_pair_keys)

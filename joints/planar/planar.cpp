@@ -3,6 +3,7 @@
 // stay parallel about z, and the origin of frame j stays in the plane (DOT2(z_i, d)).
 // Built from the book's primitives (Remarks, L11362). 3 rows, 3 DOF. Spatial only.
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/spatial_primitives.hpp>
 
 #include <memory>
@@ -22,3 +23,12 @@ std::unique_ptr<mbd::Joint> make_planar(const mbd::JointSpec& spec) {
 }
 
 MBD_JOINT_PLUGIN(planar, make_planar)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey planar_keys[] = {
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(planar, "body j moves in the plane through `point` with normal `axis`", mbd::kTwoBodies, mbd::kSpatialOnly, planar_keys)

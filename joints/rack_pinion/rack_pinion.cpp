@@ -17,6 +17,7 @@
 // No coordinate, no relative motion (a loop constraint).
 #include <mbd/sdk/planar_primitives.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <cmath>
 #include <memory>
@@ -67,3 +68,13 @@ std::unique_ptr<mbd::Joint> make_rack_pinion(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(rack_pinion, make_rack_pinion)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey rack_pinion_keys[] = {
+    {"radius", "the pinion's pitch radius (m), > 0", nullptr, "0.05"},
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(rack_pinion, "a pinion (body i) rolling without slip on a rack (body j) along `axis`", mbd::kTwoBodies, mbd::kPlanarOnly, rack_pinion_keys)

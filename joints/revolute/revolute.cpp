@@ -3,6 +3,7 @@
 #include "spatial.hpp"
 
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 namespace {
 
@@ -13,3 +14,12 @@ std::unique_ptr<mbd::Joint> make_revolute(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(revolute, make_revolute)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey revolute_keys[] = {
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(revolute, "a pin: relative rotation about one axis (planar: the plane normal)", mbd::kTwoBodies, mbd::kPlanarAndSpatial, revolute_keys)

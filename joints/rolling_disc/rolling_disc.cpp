@@ -28,6 +28,7 @@
 // [0, 0, 1]); plane_point (a point of the plane, world at t = 0, default: the disc's lowest
 // rim point at t = 0, so that the scene starts in contact).
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/spatial_primitives.hpp>
 #include <mbd/sdk/rotation.hpp>
 
@@ -159,3 +160,15 @@ std::unique_ptr<mbd::Joint> make_rolling_disc(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(rolling_disc, make_rolling_disc)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey rolling_disc_keys[] = {
+    {"radius", "the disc radius (m), > 0", nullptr, "0.3"},
+    {"normal", "the plane's normal, world at t = 0, non-zero", "[0, 0, 1]", "[0, 0.2, 1]"},
+    {"plane_point", "a point of the plane, world at t = 0", "the disc's lowest rim point at t = 0", "[0, 0, -0.1]"},
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(rolling_disc, "a thin disc on body j rolling without slip on a plane of body i", mbd::kTwoBodies, mbd::kSpatialOnly, rolling_disc_keys)

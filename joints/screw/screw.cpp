@@ -6,6 +6,7 @@
 // configuration. `pitch` is the travel along z per revolution (m/rev, non-zero).
 // 5 rows, 1 DOF: the angle theta. Spatial only.
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/spatial_primitives.hpp>
 
 #include <cmath>
@@ -72,3 +73,13 @@ std::unique_ptr<mbd::Joint> make_screw(const mbd::JointSpec& spec) {
 }
 
 MBD_JOINT_PLUGIN(screw, make_screw)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey screw_keys[] = {
+    {"pitch", "travel along the axis per revolution (m), non-zero; positive: right-handed", nullptr, "0.02"},
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(screw, "a helical joint: travel along `axis` tied to the rotation about it", mbd::kTwoBodies, mbd::kSpatialOnly, screw_keys)

@@ -31,6 +31,7 @@
 // in body j axes (default the mass centre); surface: {...}.
 #include <mbd/sdk/contact_joint.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/spatial_primitives.hpp>
 #include <mbd/sdk/rotation.hpp>
 
@@ -194,3 +195,15 @@ std::unique_ptr<mbd::Joint> make_sphere_surface(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(sphere_surface, make_sphere_surface)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey sphere_surface_keys[] = {
+    {"surface", "the surface, a map with type: bowl (radius) or paraboloid (curvatures)", nullptr, "{type: bowl, radius: 3}"},
+    {"radius", "the sphere's radius (m), >= 0 (0: a point)", "0", "0.1", nullptr, true},
+    {"ball_point", "the sphere's centre in body j's axes", "body j's mass centre", "[0, 0, 0.1]"},
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(sphere_surface, "a sphere on body j sliding on a surface z = f(u, v) of body i", mbd::kTwoBodies, mbd::kSpatialOnly, sphere_surface_keys)

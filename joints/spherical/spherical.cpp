@@ -1,6 +1,7 @@
 // Spherical (ball) joint: the joint origins coincide (SPH, book Eqs. 7.159-7.166).
 // 3 rows, 3 rotational DOF. Spatial only.
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/spatial_primitives.hpp>
 
 #include <memory>
@@ -15,3 +16,12 @@ std::unique_ptr<mbd::Joint> make_spherical(const mbd::JointSpec& spec) {
 }
 
 MBD_JOINT_PLUGIN(spherical, make_spherical)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey spherical_keys[] = {
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(spherical, "a ball joint: the joint points coincide", mbd::kTwoBodies, mbd::kSpatialOnly, spherical_keys)

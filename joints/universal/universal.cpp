@@ -4,6 +4,7 @@
 // markers from `axes: [a1, a2]` and rejects non-perpendicular axes. 4 rows, 2 DOF.
 // Spatial only.
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/spatial_primitives.hpp>
 
 #include <memory>
@@ -19,3 +20,12 @@ std::unique_ptr<mbd::Joint> make_universal(const mbd::JointSpec& spec) {
 }
 
 MBD_JOINT_PLUGIN(universal, make_universal)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey universal_keys[] = {
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(universal, "a Hooke joint with cross-bar `axes: [a1, a2]`", mbd::kTwoBodies, mbd::kSpatialOnly, universal_keys)

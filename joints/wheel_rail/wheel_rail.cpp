@@ -50,6 +50,7 @@
 #include <mbd/sdk/contact_joint.hpp>
 #include <mbd/sdk/domain_error.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/spatial_primitives.hpp>
 #include <mbd/sdk/rotation.hpp>
 #include <mbd/sdk/text.hpp>
@@ -316,3 +317,16 @@ std::unique_ptr<mbd::Joint> make_wheel_rail(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(wheel_rail, make_wheel_rail)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey wheel_rail_keys[] = {
+    {"wheel", "the tread's profile, a map with type: cone (radius, cone_angle, width: the tread's width, default 2 radius) or spline (points)", nullptr, "{type: cone, radius: 0.45, cone_angle: 0.05, width: 10}"},
+    {"rail", "the head's profile, a map with type: flat, arc (radius) or spline (points)", nullptr, "{type: arc, radius: 0.3}"},
+    {"wheel_centre", "the origin of s on the axle, world at t = 0", "the wheel's mass centre", "[0.8, -0.2, 0.3]"},
+    {"axle", "the direction of +s, world at t = 0", "the frame's y axis", "[0.1, 1, 0.2]"},
+    {}};
+}  // namespace
+
+MBD_JOINT_KEYS(wheel_rail, "a wheel's tread (body j) on a rail's head (body i)", mbd::kTwoBodies, mbd::kSpatialOnly, wheel_rail_keys)

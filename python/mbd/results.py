@@ -93,7 +93,8 @@ def _reactions(table, how):
 
 @dataclasses.dataclass(frozen=True)
 class RunStats:
-    """How a simulation went: the formulation and integrator used, output rows, accepted and
+    """How a simulation went: the formulation and integrator used (and the tolerance of an
+    adaptive one, given or automatic; 0 for a fixed step), output rows, accepted and
     rejected steps, right-hand side, Jacobian and Newton evaluations, the process CPU time of
     the integration (``cpu_s``: all threads of the process, as ``mbd simulate`` reports it),
     the wall time and the CPU time of the calling thread for the whole run (``wall_s``,
@@ -102,6 +103,7 @@ class RunStats:
 
     formulation: str
     integrator: str
+    tolerance: float
     rows: int
     steps: int
     rejected_steps: int
@@ -162,7 +164,8 @@ class StaticsResult:
     """A static equilibrium: the keys of ``mbd statics --json`` (docs/statics.md) as
     attributes (``converged``, ``status``, ``iterations``, ``residual``, ``objective``,
     ``stability``, ``message``, ``bodies``, ``reactions``, ``coordinates``, ``drivers``,
-    ``limits``), ``tangent_eigenvalues`` as an array and ``q`` the equilibrium coordinates.
+    ``limits``, ``reactions_determined``, ``redundant_rows``, ``undetermined_reactions``),
+    ``tangent_eigenvalues`` as an array and ``q`` the equilibrium coordinates.
     A value that is not a finite number is None, as in the JSON. ``to_dict()`` gives the JSON
     object itself."""
 

@@ -68,6 +68,7 @@ SimulationSettings settings_of(const SimulateArguments& a, const Model& model, s
     s.formulation = a.formulation;
     s.integrator = a.integrator;
     if (a.tol) s.integration.tolerance = *a.tol;
+    s.automatic_tolerance = !a.tol && !a.step;  // as `mbd simulate` without --tol (tolerance_choice.hpp)
     s.integration.step = a.step.value_or(0.0);
     s.t_end = a.t_end;
     s.output_step = a.output_step.value_or(0.0);
@@ -117,6 +118,7 @@ py::dict run_statistics(const SimulationResult& r, double wall, double thread_cp
     py::dict stats;
     stats["formulation"] = r.formulation;
     stats["integrator"] = r.integrator;
+    stats["tolerance"] = r.tolerance;
     stats["rows"] = r.rows;
     stats["steps"] = r.stats.steps;
     stats["rejected_steps"] = r.stats.rejected_steps;

@@ -41,6 +41,10 @@ export MBD_PLUGIN_PATH="$work/example"
 # gets on its next line would fail the test
 "$work/prefix/bin/mbd" plugins > "$work/plugins.txt"
 grep -q coupler "$work/plugins.txt"
+# its key description: the plugin check needs no --params, and --keys prints the key
+"$work/prefix/bin/mbd" plugin check coupler | tee "$work/check.txt"
+grep -q "2 checked, 0 failed" "$work/check.txt"
+"$work/prefix/bin/mbd" plugins --keys coupler | grep -q '| `ratio` | turns of body b per turn of body a, non-zero | required | `2` |'
 "$work/prefix/bin/mbd" kinematics "$source_dir/sdk/examples/coupler/coupler.yaml" --t-end 1 --step 0.25 \
   --output "$work/out.csv"
 # theta_b - 0.5 must equal 2 * theta_a, and theta_a = t (driver), at every row

@@ -8,6 +8,8 @@
 #include <mbd/sdk/system.hpp>
 #include <mbd/simulation.hpp>
 
+#include "support/test_paths.hpp"
+
 #include <filesystem>
 #include <memory>
 #include <random>

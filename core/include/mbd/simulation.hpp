@@ -29,6 +29,10 @@ struct SimulationSettings {
     std::string formulation;          // empty: the scene's `formulation:`, else the automatic choice
     std::string integrator;           // empty: the automatic choice (method_choice.hpp: dopri5 or cvode)
     IntegratorSettings integration;   // tolerance or fixed step
+    // The tolerance was not given: an adaptive integrator runs at integration.tolerance or at the
+    // tighter one the scene's scales need (tolerance_choice.hpp), said in the messages. False (a
+    // given tolerance): it is kept, with a warning for each scale it cannot resolve.
+    bool automatic_tolerance = false;
     double t_end = 1.0;
     double output_step = 0.0;         // 0: the fixed step if one is given, else t_end / 1000
     std::string output;               // CSV path; empty: no file
@@ -61,6 +65,7 @@ struct LiftOffRecord {
 struct SimulationResult {
     std::string formulation;
     std::string integrator;
+    double tolerance = 0.0;           // of an adaptive integrator, as run (given or automatic); 0: a fixed step
     IntegratorStats stats;
     double cpu_seconds = 0.0;
     long rows = 0;                    // output samples

@@ -4,6 +4,7 @@
 // <mbd/sdk/reactions.hpp>. Used by `mbd statics`, `mbd inverse` and the tests.
 #pragma once
 
+#include <mbd/constraint_system.hpp>
 #include <mbd/model.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
@@ -27,8 +28,21 @@ struct JointLoad {
     Vec3 torque = Vec3::Zero();
 };
 
+// Reactions an equilibrium does not determine. With redundant constraint rows (as `mbd check`
+// names them) J^T has a null space: the equilibrium fixes the constraint forces J^T lambda but
+// not lambda, which a solver returns with any self-stress its tolerance leaves in it (a straight
+// toggle: 4e5 N from nothing). The report then holds the minimum-norm multipliers, the only
+// ones with no self-stress, and names the joints (and drivers) whose rows a self-stress loads.
+struct StaticIndeterminacy {
+    std::vector<RowOwner> redundant_rows;          // analyse_mobility's, at the equilibrium
+    std::vector<std::string> undetermined_joints;  // joints whose rows carry a null vector of J^T
+    std::vector<std::string> undetermined_drivers;
+    bool any() const { return !redundant_rows.empty(); }
+};
+
 struct StaticsReport {
-    StaticsResult result;
+    StaticsResult result;                    // result.lambda: minimum-norm when indeterminacy.any()
+    StaticIndeterminacy indeterminacy;
     std::vector<JointLoad> reactions;        // every joint, scene order
     std::vector<JointLoad> driver_efforts;   // every driver (the effort holding its joint)
     std::vector<double> coordinates;         // every joint's coordinate (NaN when it has none)
@@ -44,6 +58,12 @@ std::vector<ActuatorInfo> scene_actuators(const Model& model);
 // in result.converged/message.
 StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions options,
                           const std::string& solver = "ipopt");
+
+// The indeterminacy of the multipliers `lambda` (every joint and driver row) at an equilibrium
+// `state`; when there is one, `lambda` is replaced by the minimum-norm multipliers with the same
+// J^T lambda.
+StaticIndeterminacy resolve_indeterminacy(const Model& model, System& system, const State& state,
+                                          Eigen::VectorXd& lambda);
 
 // Reactions from multipliers of every constraint row (or of the joint rows only).
 std::vector<JointLoad> joint_loads(System& system, const State& state, const Eigen::VectorXd& lambda);

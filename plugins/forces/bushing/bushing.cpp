@@ -16,6 +16,7 @@
 //       damping: same size (default zeros).
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/time_function.hpp>
 
 #include <cmath>
@@ -177,3 +178,14 @@ std::unique_ptr<Force> make_bushing(const ForceSpec& spec) { return std::make_un
 }  // namespace
 
 MBD_FORCE_PLUGIN(bushing, make_bushing)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey bushing_keys[] = {
+    {"stiffness", "planar [x, y, angle], spatial [x, y, z, rx, ry, rz], each >= 0", nullptr, "[2000, 1500, 50]", "[2000, 1500, 1000, 50, 40, 30]"},
+    {"damping", "as stiffness, each >= 0", "zeros", "[20, 15, 0.5]", "[20, 15, 10, 0.5, 0.4, 0.3]"},
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(bushing, "a linear bushing: stiffness and damping per axis of marker i", mbd::kTwoBodies, mbd::kPlanarAndSpatial, bushing_keys)

@@ -22,6 +22,7 @@
 
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <memory>
 #include <string>
@@ -115,3 +116,17 @@ std::unique_ptr<Force> make_coulomb_friction(const ForceSpec& spec) {
 }  // namespace
 
 MBD_FORCE_PLUGIN(coulomb_friction, make_coulomb_friction)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey coulomb_friction_keys[] = {
+    {"normal_force", "F_n (N), >= 0, a number or a time function; or load_joint", "none: give normal_force or load_joint", "10", nullptr, true},
+    {"load_joint", "the joint between the two bodies whose reaction is F_n (augmented formulation only); or normal_force", "none: give normal_force or load_joint", "guide"},
+    {"static_friction", "mu_s, >= 0", nullptr, "0.3"},
+    {"kinetic_friction", "mu_k, 0 <= mu_k <= mu_s", nullptr, "0.2"},
+    {"stiction_velocity", "v_s (> 0): the regularised law reaches mu_s at this sliding speed", "1e-6", "0.5", nullptr, true},
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(coulomb_friction, "dry friction along a contact line of body i", mbd::kTwoBodies, mbd::kPlanarAndSpatial, coulomb_friction_keys)

@@ -5,6 +5,7 @@
 // V = -sum m g . R; conservative; the Jacobians are zero. Reads no keys.
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/time_function.hpp>
 
 #include <cmath>
@@ -56,3 +57,12 @@ std::unique_ptr<Force> make_gravity(const ForceSpec& spec) { return std::make_un
 }  // namespace
 
 MBD_FORCE_PLUGIN(gravity, make_gravity)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey gravity_keys[] = {
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(gravity, "m g on every body, from the top-level `gravity`", mbd::kEveryBody, mbd::kPlanarAndSpatial, gravity_keys)

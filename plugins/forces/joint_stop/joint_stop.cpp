@@ -27,6 +27,7 @@
 // Potential k delta^(n+1) / (n+1); conservative without damping. Exact Jacobians.
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <cmath>
 #include <memory>
@@ -248,3 +249,21 @@ std::unique_ptr<Force> make_joint_stop(const ForceSpec& spec) { return std::make
 }  // namespace
 
 MBD_FORCE_PLUGIN(joint_stop, make_joint_stop)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey joint_stop_keys[] = {
+    {"coordinate", "angle (about the frame axis) or travel (along it)", "angle", "travel"},
+    {"lower", "the lower limit (rad or m); at least one of lower, upper", "none", "-0.4", nullptr, true},
+    {"upper", "the upper limit, above lower", "none", "0.3", nullptr, true},
+    {"restitution", "e in [0, 1]: impacts at the limit; at least one of restitution, law", "none", "0.5"},
+    {"rest_velocity", "the rebound speed below which the stop rests (> 0); with restitution", "1e-3", "0.05"},
+    {"law", "hunt_crossley: a compliant contact past the limit; with stiffness", "none", "hunt_crossley", nullptr, true},
+    {"stiffness", "k (> 0) of the compliant law", "none: required with law", "100", nullptr, true},
+    {"exponent", "n (>= 1) of the compliant law", "1.5", "1.5"},
+    {"damping", "c (>= 0) of the compliant law", "0", "2"},
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(joint_stop, "a unilateral limit on the angle or travel between two bodies", mbd::kTwoBodies, mbd::kPlanarAndSpatial, joint_stop_keys)

@@ -8,6 +8,7 @@
 // and for the moment of a world-fixed force as the body turns).
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/time_function.hpp>
 
 #include <cmath>
@@ -66,3 +67,14 @@ std::unique_ptr<Force> make_point_force(const ForceSpec& spec) { return std::mak
 }  // namespace
 
 MBD_FORCE_PLUGIN(point_force, make_point_force)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey point_force_keys[] = {
+    {"force", "2 (planar) or 3 (spatial) components, each a number or a time function", nullptr, "[1, -2]", "[1, -2, 0.5]"},
+    {"frame", "world or body (components in body axes)", "world", "body", nullptr, true},
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(point_force, "a force at a point of one body", mbd::kOneBody, mbd::kPlanarAndSpatial, point_force_keys)

@@ -7,6 +7,7 @@
 // frame: world (default) or body. Exact Jacobians.
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 #include <mbd/sdk/time_function.hpp>
 
 #include <cmath>
@@ -72,3 +73,14 @@ std::unique_ptr<Force> make_point_torque(const ForceSpec& spec) { return std::ma
 }  // namespace
 
 MBD_FORCE_PLUGIN(point_torque, make_point_torque)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey point_torque_keys[] = {
+    {"torque", "planar: one component; spatial: 3; each a number or a time function", nullptr, "0.5", "[0.5, -1, 0.2]"},
+    {"frame", "world or body (components in body axes)", "world", "body", nullptr, true},
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(point_torque, "a torque on one body", mbd::kOneBody, mbd::kPlanarAndSpatial, point_torque_keys)

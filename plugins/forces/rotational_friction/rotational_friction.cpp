@@ -19,6 +19,7 @@
 #include <mbd/sdk/coulomb_law.hpp>
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <memory>
 #include <string>
@@ -98,3 +99,19 @@ std::unique_ptr<Force> make_rotational_friction(const ForceSpec& spec) {
 }  // namespace
 
 MBD_FORCE_PLUGIN(rotational_friction, make_rotational_friction)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey rotational_friction_keys[] = {
+    {"radius", "r (m), >= 0: the pin radius (2a/3 for a disk clutch of radius a)", nullptr, "0.02"},
+    {"normal_force", "F_n (N), >= 0, a number or a time function; or load_joint", "none: give normal_force or load_joint", "100", nullptr, true},
+    {"load_joint", "the joint between the two bodies whose transverse reaction is F_n (augmented only); or normal_force", "none: give normal_force or load_joint", "pin"},
+    {"preload", "M_p (N m), >= 0, added to the moment capacities", "0", "0.1", nullptr, true},
+    {"static_friction", "mu_s, >= 0", nullptr, "0.3"},
+    {"kinetic_friction", "mu_k, 0 <= mu_k <= mu_s", nullptr, "0.2"},
+    {"stiction_velocity", "v_s (> 0): the regularised law reaches mu_s at this sliding speed", "1e-6", "0.5", nullptr, true},
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(rotational_friction, "the friction moment of a pin or clutch", mbd::kTwoBodies, mbd::kPlanarAndSpatial, rotational_friction_keys)

@@ -21,6 +21,7 @@
 // (planar and spatial) by automatic differentiation of the same expressions.
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <cmath>
 #include <memory>
@@ -109,3 +110,16 @@ std::unique_ptr<Force> make_rotational_spring_damper(const ForceSpec& spec) {
 }  // namespace
 
 MBD_FORCE_PLUGIN(rotational_spring_damper, make_rotational_spring_damper)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey rotational_spring_damper_keys[] = {
+    {"stiffness", "k (N m/rad), >= 0", nullptr, "5"},
+    {"damping", "c (N m s/rad), >= 0", "0", "0.05", nullptr, true},
+    {"rest_angle", "the unloaded relative angle (rad)", "the initial relative angle", "0.3"},
+    {"torque", "an actuator torque (N m), a time function", "none", "{type: harmonic, amplitude: 1, frequency: 3}"},
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(rotational_spring_damper, "a torsion spring-damper-actuator about the markers' axis", mbd::kTwoBodies, mbd::kPlanarAndSpatial, rotational_spring_damper_keys)

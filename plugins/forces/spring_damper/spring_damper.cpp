@@ -16,6 +16,7 @@
 // simulation passing through coincident points continues.
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 #include <cmath>
 #include <memory>
@@ -100,3 +101,16 @@ std::unique_ptr<Force> make_spring_damper(const ForceSpec& spec) { return std::m
 }  // namespace
 
 MBD_FORCE_PLUGIN(spring_damper, make_spring_damper)
+
+// The keys of a scene entry (mbd/sdk/plugin_keys.hpp): `mbd plugin check` builds its test scene
+// from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
+namespace {
+const mbd::PluginKey spring_damper_keys[] = {
+    {"stiffness", "k (N/m), >= 0", nullptr, "100"},
+    {"damping", "c (N s/m), >= 0", "0", "2", nullptr, true},
+    {"rest_length", "l0 (m), >= 0", "the points' distance at t = 0", "0.35"},
+    {"force", "an actuator force (N, positive: tension), a time function", "none", "{type: harmonic, amplitude: 1, frequency: 3}"},
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(spring_damper, "a translational spring-damper-actuator between two points", mbd::kTwoBodies, mbd::kPlanarAndSpatial, spring_damper_keys)

@@ -3,6 +3,7 @@
 // ratio, (theta_b - theta_b0) = ratio * (theta_a - theta_a0), as a belt or a
 // chain between two pulleys would. One constraint row.
 #include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
 
 namespace {
 
@@ -40,3 +41,13 @@ std::unique_ptr<mbd::Joint> make_coupler(const mbd::JointSpec& spec) {
 }  // namespace
 
 MBD_JOINT_PLUGIN(coupler, make_coupler)
+
+// Its keys, for `mbd plugin check coupler` (no flags needed), `mbd plugins --keys coupler` and
+// the messages about its keys (docs/plugin-sdk.md).
+namespace {
+const mbd::PluginKey coupler_keys[] = {
+    {"ratio", "turns of body b per turn of body a, non-zero", nullptr, "2"},
+    {}};  // a key without a name ends the list
+}  // namespace
+MBD_JOINT_KEYS(coupler, "ties the rotation of body b to body a's by a ratio", mbd::kTwoBodies, mbd::kPlanarOnly,
+               coupler_keys)
