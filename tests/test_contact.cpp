@@ -350,8 +350,9 @@ TEST(Contact, PluginsPassThePluginCheck) {
         const bool plane = std::string(type) == "sphere_plane" || std::string(type) == "circle_line";
         const bool planar = std::string(type) == "circle_line" || std::string(type) == "circle_circle";
         // shapes that overlap at the check's random geometry, by less than the (smaller) radius,
-        // which a contact refuses beyond: spheres 0.6 to 0.7 m apart, centres above the plane
-        const std::string shape = !plane ? " --params 'radii: [0.5, 0.6]'"
+        // which a contact refuses beyond: the centres 0.585 m (spatial) and 0.65 to 0.7 m (planar)
+        // apart, the sphere's centre above the plane
+        const std::string shape = !plane ? " --params 'radii: [0.4, 0.5]'"
                                   : planar ? " --params 'radius: 10' --params 'normal: [0.6, 0.8]'"
                                            : " --params 'radius: 10' --params 'normal: [-0.3, -0.4, -0.866]'";
         const std::string lib = (mbd::test::build_plugin_dir() / ("libmbd_force_" + std::string(type) + ".so")).string();

@@ -75,11 +75,12 @@ TEST(PluginCheck, ContactJointsPassForEveryFollowerAndSurface) {
                                 " --params 'follower_point: [0, 0.1]'" + spline},
         {"libmbd_joint_sphere_surface.so", " --params 'radius: 0.1' --params 'surface: {type: paraboloid, curvatures: [0.5, -0.3]}'"},
         {"libmbd_joint_sphere_surface.so", " --params 'radius: 0.1' --params 'surface: {type: bowl, radius: 3}'"},
-        // the random joint geometry puts the contact up to 1.6 m along the axle from the wheel's
-        // centre: cones of a 10 m wide tread (the default 2 r0 = 0.9 m would leave it off the tread)
+        // the random joint geometry puts the contact far along the axle from the wheel's centre
+        // (up to 1.6 m on the cones, 24 m on the tilted cylinder, whose lowest point runs towards
+        // its end): wide treads (the default 2 r0 = 0.9 m would leave the contact off the tread)
         {"libmbd_joint_wheel_rail.so", " --params 'wheel: {type: cone, radius: 0.45, cone_angle: 0.05, width: 10}'"
                                        " --params 'rail: {type: arc, radius: 0.3}'"},
-        {"libmbd_joint_wheel_rail.so", " --params 'wheel: {type: cone, radius: 0.45, width: 10}' --params 'rail: {type: arc, radius: 0.3}'"
+        {"libmbd_joint_wheel_rail.so", " --params 'wheel: {type: cone, radius: 0.45, width: 100}' --params 'rail: {type: arc, radius: 0.3}'"
                                        " --params 'wheel_centre: [0.8, -0.2, 0.3]' --params 'axle: [0.1, 1, 0.2]'"},
         // a toroidal tread (crown radius 0.3 m) on a flat head, and a cone on a spline crown: the
         // splines span slopes beyond the random states' tilts (past their ends they are straight)

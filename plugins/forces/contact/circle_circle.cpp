@@ -22,7 +22,7 @@ MBD_FORCE_PLUGIN(circle_circle, make_circle_circle)
 // from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
 namespace {
 const mbd::PluginKey circle_circle_keys[] = {
-    {"radii", "[r_i, r_j] (m), each > 0", nullptr, "[0.5, 0.6]"},
+    {"radii", "[r_i, r_j] (m), each > 0", nullptr, "[0.4, 0.5]"},
     MBD_CONTACT_LAW_KEYS
     {}};
 }  // namespace

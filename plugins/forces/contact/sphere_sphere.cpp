@@ -22,7 +22,7 @@ MBD_FORCE_PLUGIN(sphere_sphere, make_sphere_sphere)
 // from the examples; docs/scene-format.md is checked against them (tests/test_plugin_keys.cpp).
 namespace {
 const mbd::PluginKey sphere_sphere_keys[] = {
-    {"radii", "[r_i, r_j] (m), each > 0", nullptr, "[0.5, 0.6]"},
+    {"radii", "[r_i, r_j] (m), each > 0", nullptr, "[0.4, 0.5]"},
     MBD_CONTACT_LAW_KEYS
     {}};
 }  // namespace
