@@ -64,12 +64,12 @@ std::string describe(const IgnorableDirection& direction, const std::vector<std:
 }
 
 
-// The cyclic directions S (linearisation.hpp) span an invariant subspace of A on which it is
-// nilpotent (a cyclic position changes only cyclic positions' rates); the free velocities F
-// are the velocity directions whose rates are all cyclic positions' rates (A f in S: a
-// neighbouring steady motion, a free body's speed, a bicycle's forward speed), each a mode
-// with lambda = 0 whose shape is the position rates it gives. S + F is invariant too, so in a
-// basis [S F C] (C the orthonormal complement) A is block triangular and the eigenvalues of
+// The states of the cyclic directions S (linearisation.hpp: each shift with the velocities it
+// carries) span an invariant subspace of A on which it is nilpotent (a cyclic shift changes only
+// cyclic positions' rates); the free velocities F are the velocity directions whose rates all lie
+// in it (a neighbouring steady motion: a free body's speed, a bicycle's forward speed), each a
+// mode with lambda = 0 whose shape is the position rates it gives. S + F is invariant too, so in
+// a basis [S F C] (C the orthonormal complement) A is block triangular and the eigenvalues of
 // C^T A C are all the others, each reported, however close to zero (A's entries in the rows
 // of C and the columns of S + F are the differences' round-off, dropped with the block).
 ModeAnalysis modes_of(const LinearModel& linear, double free_tolerance) {

@@ -44,7 +44,7 @@ struct ModeAnalysis {
 };
 
 // The ignorable directions are linear.cyclic; free velocities (a velocity direction whose
-// rates are all cyclic positions' rates, A f in span(cyclic)) are found with singular values
+// rates all lie in the span of the cyclic directions' states) are found with singular values
 // below free_tolerance * max|A| counting as zero; every other eigenvalue is one of C^T A C,
 // C the orthonormal complement of the two (A is block triangular in that basis).
 ModeAnalysis modes_of(const LinearModel& linear, double free_tolerance = 1e-8);
