@@ -227,6 +227,38 @@ TEST(Modes, SpinAboutAnUnsymmetricAxisIsRefusedByName) {
     }
 }
 
+// An inverted pendulum held by a torsion spring of exactly k = m g l: the linearised torque
+// (k - m g l) theta vanishes, so A's column for the angle is zero, but the nonlinear torque
+// m g l (sin theta - theta) is not: the angle is not cyclic, and its double zero eigenvalue is
+// reported as modes (the finite-shift check of linearisation.hpp; by A alone it would be
+// ignorable). Without gravity and spring the same angle is cyclic.
+TEST(Modes, ANeutralButNotCyclicAngleIsReportedAsModes) {
+    const double m = 1.3, J = 0.02, l = 0.7, g = 9.81;
+    auto yaml = [&](double gravity, double k) {
+        return "dimension: planar\ngravity: [0, " + g17(-gravity) + "]\nbodies:\n  - {name: rod, mass: " + g17(m) +
+               ", inertia: " + g17(J) + ", position: [0, " + g17(l) + "], angle: 1.5707963267948966}\n" +
+               "joints:\n  - {name: pivot, type: revolute, bodies: [ground, rod], point: [0, 0]}\n" +
+               "forces:\n  - {name: torsion, type: rotational_spring_damper, bodies: [ground, rod], stiffness: " + g17(k) +
+               "}\n";
+    };
+    mbd::LinearModel linear;
+    const mbd::ModeAnalysis neutral = modes_of_scene(scene(yaml(g, m * g * l)), &linear);
+    ASSERT_EQ(linear.coordinates.size(), 1u);
+    EXPECT_LT(std::abs(linear.A(1, 0)), 1e-9);  // the linear model alone cannot tell
+    EXPECT_TRUE(neutral.ignorable.empty());
+    int count = 0;
+    for (const mbd::Mode& mode : neutral.modes) {
+        EXPECT_FALSE(mode.free_velocity);
+        EXPECT_LT(mode.natural_frequency, 1e-4);
+        count += mode.oscillatory ? 2 : 1;
+    }
+    EXPECT_EQ(count, 2);
+    const mbd::ModeAnalysis free = modes_of_scene(scene(yaml(0.0, 0.0)));
+    ASSERT_EQ(free.ignorable.size(), 1u);
+    ASSERT_EQ(free.modes.size(), 1u);
+    EXPECT_TRUE(free.modes[0].free_velocity);
+}
+
 // ---------------------------------------------------------------- upright rolling disc
 
 // A disc (mass m, radius r, axial moment I_a, diametral I_d about its centre G) rolling upright
