@@ -6,6 +6,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <cctype>
 #include <memory>
 #include <string>
 
@@ -126,7 +127,13 @@ SourceTree read_mjcf(const std::filesystem::path& file) {
     char error[1000] = "";
     std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(file.c_str(), nullptr, error, sizeof error),
                                                        mj_deleteModel);
-    if (!model) throw InputError(file.string(), std::string("MuJoCo's compiler refused the MJCF file: ") + error);
+    if (!model) {
+        std::string message = error;
+        while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back()))) message.pop_back();
+        for (char& c : message)
+            if (c == '\n') c = ' ';
+        throw InputError(file.string(), "MuJoCo's compiler refused the MJCF file: " + message);
+    }
     return read_mjcf_model(model.get(), file.string());
 }
 
