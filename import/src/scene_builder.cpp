@@ -120,28 +120,82 @@ void propagate_velocities(ImportedScene& scene, const std::vector<const SourceJo
     }
 }
 
-}  // namespace
-
-ImportedScene build_scene(const SourceTree& tree) {
-    ImportedScene scene;
-    scene.name = tree.name;
-    scene.file = tree.file;
-    scene.format = tree.format;
-    scene.gravity = tree.gravity;
-    scene.unmapped = tree.unmapped;
-    Names body_names, joint_names, force_names;
-    std::vector<const SourceJoint*> joint_source;
-    std::vector<int> parent_joint;  // per scene body: the joint to its parent, -1 none (free)
-    std::vector<const SourceBody*> free_source;  // per scene body: the source of a free body
-    std::vector<std::string> welded_to_world, slide_passive;
-    double total_mass = 0.0;
-    for (const SourceBody& body : tree.bodies) {
-        check_mass_properties(tree, body);
-        total_mass += body.mass;
+// The scene as it is built, one source body after another (parents first).
+class SceneBuilder {
+public:
+    explicit SceneBuilder(const SourceTree& tree) : tree_(tree) {
+        scene_.name = tree.name;
+        scene_.file = tree.file;
+        scene_.format = tree.format;
+        scene_.gravity = tree.gravity;
+        scene_.unmapped = tree.unmapped;
+        double total_mass = 0.0;
+        for (const SourceBody& body : tree.bodies) {
+            check_mass_properties(tree, body);
+            total_mass += body.mass;
+        }
+        frame_mass_ = kFrameMassFraction * std::max(total_mass, 1e-300);
     }
-    const double frame_mass = kFrameMassFraction * std::max(total_mass, 1e-300);
 
-    auto add_body = [&](const SourceBody& source, const std::string& name, const std::string& comment) {
+    ImportedScene build() {
+        for (size_t i = 0; i < tree_.bodies.size(); ++i) scene_.body_of_source.push_back(add_source_body(i));
+        for (size_t b = 0; b < scene_.bodies.size(); ++b) {  // a free body's source velocity is its frame origin's
+            if (!free_source_[b]) continue;
+            const SourceJoint& free = free_source_[b]->joints.front();
+            scene_.bodies[b].angular_velocity = free.angular;
+            scene_.bodies[b].velocity = free.linear + free.angular.cross(scene_.bodies[b].position - free_source_[b]->origin);
+        }
+        propagate_velocities(scene_, joint_source_, parent_joint_);
+        if (!welded_to_world_.empty())
+            scene_.notes.push_back("welded to the world, so part of the ground: " + joined(welded_to_world_));
+        if (!slide_passive_.empty())
+            scene_.unmapped.push_back({"spring / damping on slide joints", slide_passive_,
+                                       "no spring-damper along a prismatic joint's axis yet"});
+        return scene_;
+    }
+
+private:
+    // Source body i as scene bodies and joints; returns the scene body it became (-1: ground).
+    int add_source_body(size_t i) {
+        const SourceBody& body = tree_.bodies[i];
+        const int parent = body.parent < 0 ? -1 : scene_.body_of_source[body.parent];
+        const std::string what = element(tree_, body);
+        const std::string name = body_names_.unique(body.name, "body" + std::to_string(i));
+        if (body.joints.empty()) {  // welded to its parent
+            if (parent < 0) {
+                welded_to_world_.push_back(body.name);
+            } else {
+                merge(scene_.bodies[parent], body);
+                scene_.bodies[parent].comment += ", merged with welded " + what;
+            }
+            return parent;
+        }
+        if (body.joints.front().kind == SourceJointKind::Free) {
+            const int b = add_body(body, name, what + " (free joint '" + body.joints.front().name + "': no mbd joint)");
+            free_source_[b] = &body;
+            return b;
+        }
+        int previous = parent;
+        const size_t n = body.joints.size();
+        for (size_t k = 0; k + 1 < n; ++k) {  // the frames between the body's joints
+            const SourceJoint& joint = body.joints[k];
+            SourceBody frame = body;
+            frame.mass = frame_mass_;
+            frame.inertia = frame_mass_ * 0.01 * Mat3::Identity();
+            frame.com = joint.point;
+            const std::string joint_name = joint.name.empty() ? "joint" + std::to_string(k + 1) : joint.name;
+            const int b = add_body(frame, body_names_.unique(body.name + "_" + joint_name + "_frame", ""),
+                                   "frame between the joints of " + what + ", moved by its joint '" + joint.name + "'");
+            scene_.bodies[b].frame = true;
+            add_joint(body, joint, static_cast<int>(k), previous, b);
+            previous = b;
+        }
+        const int b = add_body(body, name, what);
+        add_joint(body, body.joints.back(), static_cast<int>(n - 1), previous, b);
+        return b;
+    }
+
+    int add_body(const SourceBody& source, const std::string& name, const std::string& comment) {
         SceneBody b;
         b.name = name;
         b.where = source.where;
@@ -150,14 +204,15 @@ ImportedScene build_scene(const SourceTree& tree) {
         b.inertia = source.inertia;
         b.position = source.com;
         b.rotation = source.rotation;
-        scene.bodies.push_back(b);
-        parent_joint.push_back(-1);
-        free_source.push_back(nullptr);
-        return static_cast<int>(scene.bodies.size()) - 1;
-    };
-    auto add_joint = [&](const SourceBody& body, const SourceJoint& source, int index, int parent, int child) {
+        scene_.bodies.push_back(b);
+        parent_joint_.push_back(-1);
+        free_source_.push_back(nullptr);
+        return static_cast<int>(scene_.bodies.size()) - 1;
+    }
+
+    void add_joint(const SourceBody& body, const SourceJoint& source, int index, int parent, int child) {
         SceneJoint j;
-        j.name = joint_names.unique(source.name, body.name + "_joint" + std::to_string(index + 1));
+        j.name = joint_names_.unique(source.name, body.name + "_joint" + std::to_string(index + 1));
         j.where = source.where;
         j.type = joint_type(source.kind);
         j.kind = source.kind;
@@ -165,81 +220,40 @@ ImportedScene build_scene(const SourceTree& tree) {
         j.child = child;
         j.point = source.point;
         j.axis = source.axis.normalized();
-        scene.joints.push_back(j);
-        joint_source.push_back(&source);
-        parent_joint[child] = static_cast<int>(scene.joints.size()) - 1;
-        const bool passive = source.stiffness != 0.0 || source.damping != 0.0;
-        if (passive && source.kind == SourceJointKind::Hinge) {
-            SceneForce f;
-            f.name = force_names.unique(j.name + "_spring_damper", "");
-            f.where = source.where;
-            f.parent = parent;
-            f.child = child;
-            f.point = j.point;
-            f.axis = j.axis;
-            f.stiffness = source.stiffness;
-            f.damping = source.damping;
-            f.rest_angle = source.spring_reference;
-            scene.forces.push_back(f);
-        } else if (passive) {
-            slide_passive.push_back(j.name);
+        scene_.joints.push_back(j);
+        joint_source_.push_back(&source);
+        parent_joint_[child] = static_cast<int>(scene_.joints.size()) - 1;
+        if (source.stiffness == 0.0 && source.damping == 0.0) return;
+        if (source.kind != SourceJointKind::Hinge) {
+            slide_passive_.push_back(j.name);
+            return;
         }
-    };
+        SceneForce f;
+        f.name = force_names_.unique(j.name + "_spring_damper", "");
+        f.where = source.where;
+        f.parent = parent;
+        f.child = child;
+        f.point = j.point;
+        f.axis = j.axis;
+        f.stiffness = source.stiffness;
+        f.damping = source.damping;
+        f.rest_angle = source.spring_reference;
+        scene_.forces.push_back(f);
+    }
 
-    for (size_t i = 0; i < tree.bodies.size(); ++i) {
-        const SourceBody& body = tree.bodies[i];
-        const int parent = body.parent < 0 ? -1 : scene.body_of_source[body.parent];
-        const std::string what = element(tree, body);
-        if (body.joints.empty()) {  // welded to its parent
-            if (parent < 0) {
-                welded_to_world.push_back(body.name);
-            } else {
-                merge(scene.bodies[parent], body);
-                scene.bodies[parent].comment += ", merged with welded " + what;
-            }
-            scene.body_of_source.push_back(parent);
-            continue;
-        }
-        if (body.joints.front().kind == SourceJointKind::Free) {
-            const int b = add_body(body, body_names.unique(body.name, "body" + std::to_string(i)),
-                                   what + " (free joint '" + body.joints.front().name + "': no mbd joint)");
-            free_source[b] = &body;
-            scene.body_of_source.push_back(b);
-            continue;
-        }
-        int previous = parent;
-        const size_t n = body.joints.size();
-        for (size_t k = 0; k + 1 < n; ++k) {  // the frames between the body's joints
-            const SourceJoint& joint = body.joints[k];
-            SourceBody frame = body;
-            frame.mass = frame_mass;
-            frame.inertia = frame_mass * 0.01 * Mat3::Identity();
-            frame.com = joint.point;
-            const int b = add_body(frame, body_names.unique(body.name + "_" + (joint.name.empty() ? "joint" + std::to_string(k + 1) : joint.name) + "_frame", ""),
-                                   "frame between the joints of " + what + ", moved by its joint '" + joint.name + "'");
-            scene.bodies[b].frame = true;
-            add_joint(body, joint, static_cast<int>(k), previous, b);
-            previous = b;
-        }
-        const int b = add_body(body, body_names.unique(body.name, "body" + std::to_string(i)), what);
-        add_joint(body, body.joints.back(), static_cast<int>(n - 1), previous, b);
-        scene.body_of_source.push_back(b);
-    }
-    // free bodies: their source velocity is the frame origin's
-    for (size_t b = 0; b < scene.bodies.size(); ++b) {
-        if (!free_source[b]) continue;
-        const SourceJoint& free = free_source[b]->joints.front();
-        scene.bodies[b].angular_velocity = free.angular;
-        scene.bodies[b].velocity = free.linear + free.angular.cross(scene.bodies[b].position - free_source[b]->origin);
-    }
-    propagate_velocities(scene, joint_source, parent_joint);
-    if (!welded_to_world.empty())
-        scene.notes.push_back("welded to the world, so part of the ground: " + joined(welded_to_world));
-    if (!slide_passive.empty())
-        scene.unmapped.push_back({"spring / damping on slide joints", slide_passive,
-                                  "no spring-damper along a prismatic joint's axis yet"});
-    return scene;
-}
+    const SourceTree& tree_;
+    ImportedScene scene_;
+    double frame_mass_ = 0.0;
+    Names body_names_, joint_names_, force_names_;
+    std::vector<const SourceJoint*> joint_source_;  // per scene joint
+    std::vector<int> parent_joint_;                 // per scene body: the joint to its parent, -1 none
+    std::vector<const SourceBody*> free_source_;    // per scene body: the source of a free body
+    std::vector<std::string> welded_to_world_, slide_passive_;
+};
+
+}  // namespace
+
+ImportedScene build_scene(const SourceTree& tree) { return SceneBuilder(tree).build(); }
 
 std::string unmapped_summary(const std::vector<Unmapped>& unmapped) {
     std::string out;
