@@ -59,6 +59,9 @@ SourceTree read_model_file(const std::filesystem::path& file) {
             throw InputError(file.string(), "SDF files are not imported yet (MJCF and URDF are; docs/import.md)");
         case ModelFormat::Scene: break;
     }
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(file, error))
+        throw InputError(file.string(), "cannot read the model file: it is not a file that exists");
     throw InputError(file.string(), "not an MJCF or URDF file (no <mujoco> or <robot> root element): it is read as "
                                     "an mbd scene, which needs no import");
 }

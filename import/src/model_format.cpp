@@ -38,8 +38,12 @@ std::string root_element(const std::string& text) {
 }  // namespace
 
 ModelFormat detect_format(const std::filesystem::path& file) {
+    // what is not a readable regular file (missing, a folder, a FIFO) is left to the scene
+    // loader, whose messages say why it cannot be read
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(file, error)) return ModelFormat::Scene;
     std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError(file.string(), "cannot open the file");
+    if (!in) return ModelFormat::Scene;
     std::string head(1 << 16, '\0');  // a prolog of licence comments fits
     in.read(head.data(), static_cast<std::streamsize>(head.size()));
     head.resize(static_cast<size_t>(in.gcount()));

@@ -10,7 +10,8 @@ namespace mbd::import {
 
 enum class ModelFormat { Scene, Mjcf, Urdf, Sdf };
 
-// Throws InputError for an unreadable file or an XML file of another root element.
+// Throws InputError for an XML file of another root element; a file that is not a readable
+// regular file is reported as a Scene (the scene loader then says why it cannot read it).
 ModelFormat detect_format(const std::filesystem::path& file);
 
 std::string format_name(ModelFormat format);
