@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <regex>
 
 namespace mbd::test {
 namespace {
@@ -122,6 +123,27 @@ TEST(ImportCli, GoodUrdfImportsAndSimulates) {
     EXPECT_NE(yaml.find("velocity: [-1, 0, 0]"), std::string::npos) << yaml;
     const CommandResult run = run_mbd("simulate " + out.string() + " --t-end 0.1 -q -o " + (file.parent_path() / "good.csv").string());
     EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
+// Every URDF joint type: continuous and revolute (1 DOF), prismatic (1), planar (3), floating (a
+// free body, 6), fixed (the link merged into its parent: one body fewer).
+TEST(ImportCli, UrdfJointTypesMap) {
+    std::string links, joints;
+    const std::vector<std::pair<std::string, std::string>> types{
+        {"a", "continuous"}, {"b", "prismatic"}, {"c", "planar"}, {"d", "floating"}, {"e", "fixed"}};
+    for (const auto& [link, type] : types) {
+        links += "  <link name=\"" + link + "\"><inertial>" + kInertial + "</inertial></link>\n";
+        joints += "  <joint name=\"j" + link + "\" type=\"" + type + "\"><parent link=\"" +
+                  (link == "e" ? std::string("a") : std::string("base")) + "\"/><child link=\"" + link +
+                  "\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>\n";
+    }
+    const fs::path file = write_file("types.urdf", "<robot name=\"types\">\n  <link name=\"base\"/>\n" + links + joints + "</robot>\n");
+    const CommandResult check = run_mbd("check " + file.string());
+    ASSERT_EQ(check.exit_code, 0) << check.err;
+    EXPECT_NE(check.out.find("bodies (4):"), std::string::npos) << check.out;
+    EXPECT_NE(check.out.find("degrees of freedom (rank of C_q): 11"), std::string::npos) << check.out;
+    for (const char* mapped : {"ja +revolute", "jb +prismatic", "jc +planar"})
+        EXPECT_TRUE(std::regex_search(check.out, std::regex(mapped))) << mapped << "\n" << check.out;
 }
 
 }  // namespace
