@@ -105,7 +105,7 @@ TEST(ImportCli, InertiaOutsideTheTriangleInequalityIsRefusedByName) {
 
 TEST(ImportCli, UnknownJointTypeIsRefusedByName) {
     expect_refused(write_file("hinge.urdf", urdf(kInertial, replaced(kJoint, "revolute", "hinge"))),
-                   {"hinge.urdf", "shoulder", "hinge"});
+                   {"hinge.urdf:7:", "shoulder", "hinge"});
     expect_refused(write_file("screw.xml", "<mujoco>\n  <worldbody>\n    <body>\n      <joint name=\"s\" type=\"screw\"/>\n"
                                       "      <geom size=\"0.1\"/>\n    </body>\n  </worldbody>\n</mujoco>\n"),
                    {"screw.xml", "screw", "line 4"});

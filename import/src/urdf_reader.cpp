@@ -163,7 +163,17 @@ SourceTree read_urdf(const std::filesystem::path& path) {
         model = urdf::parseURDFFile(file);
         messages = log.text();
     }
-    if (!model) throw InputError(file, "urdfdom refused the URDF: " + (messages.empty() ? "no reason given" : messages));
+    if (!model) {
+        // urdfdom names a joint it refuses as "Joint [NAME]": point at its line
+        std::string where = file;
+        const size_t at = messages.find("Joint [");
+        const size_t end = at == std::string::npos ? at : messages.find(']', at);
+        if (end != std::string::npos) {
+            const auto it = layout.joint_where.find(messages.substr(at + 7, end - at - 7));
+            if (it != layout.joint_where.end()) where = it->second;
+        }
+        throw InputError(where, "urdfdom refused the URDF: " + (messages.empty() ? "no reason given" : messages));
+    }
     SourceTree tree;
     tree.file = file;
     tree.format = "URDF";
