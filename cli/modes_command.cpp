@@ -193,7 +193,7 @@ void add_modes_command(CLI::App& app, Commands& commands) {
 
     commands[sub] = [args = args] {
         Registry registry;
-        const Model model = load_scene(args->scene, registry);
+        const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         check_output_path(args->state_space, scene_files(args->scene, model), "--state-space");
         require_linearisable(model);  // before the statics
