@@ -36,7 +36,7 @@ void add_animate_command(CLI::App& app, Commands& commands) {
     commands[sub] = [args = args] {
         viewer::animation_format(args->output);  // a bad name fails before any work
         Registry registry;
-        const Model model = load_scene(args->scene, registry);
+        const Model model = load_scene_file(args->scene, registry);
         std::vector<std::filesystem::path> inputs = scene_files(args->scene, model);
         inputs.emplace_back(args->result);
         check_output_path(args->output, inputs, "--output");

@@ -44,7 +44,7 @@ void add_check_command(CLI::App& app, Commands& commands) {
 
     commands[sub] = [scene, tolerance] {
         Registry registry;
-        const Model model = load_scene(*scene, registry);
+        const Model model = load_scene_file(*scene, registry);
         std::cout << "scene: " << *scene << " (" << to_string(model.dimension) << ")\n";
 
         size_t width = 4;

@@ -41,7 +41,7 @@ void add_inverse_command(CLI::App& app, Commands& commands) {
     commands[sub] = [args = args] {
         args->grid.intervals();  // the row count, before any work
         Registry registry;
-        const Model model = load_scene(args->scene, registry);
+        const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run after a complete row
         const std::vector<std::string> columns = inverse_columns(model, args->reactions);

@@ -81,7 +81,7 @@ void add_kinematics_command(CLI::App& app, Commands& commands) {
         options.newton.algebra = parse_linear_algebra(args->algebra);
 
         Registry registry;
-        const Model model = load_scene(args->scene, registry);
+        const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         const std::vector<std::string> columns = motion_columns(model);
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run after a complete row

@@ -41,7 +41,8 @@ const char* kind_of(const Mode& m) { return m.oscillatory ? "oscillatory" : m.fr
 std::string number(double x) { return format_number(x, 17); }
 
 // Numbers only: mode, oscillatory (1: a complex pair, shown by its Im > 0 member),
-// ignorable (1: a coordinate the dynamics do not depend on, its zero eigenvalue), eigenvalue,
+// ignorable (1: a cyclic coordinate, one the equations of motion do not depend on, its zero
+// eigenvalue; never a mode whose eigenvalue is only small), eigenvalue,
 // frequencies, damping, then the shape (re, im) in the independent coordinates and in the
 // joint coordinates; the ignorable coordinates last.
 std::string mode_table(const LinearModel& linear, const ModeAnalysis& analysis) {
@@ -157,8 +158,8 @@ void print_report(const std::string& scene, const std::string& about, const Line
         std::printf("  %4d  %-13s %12.8g %+12.8gi %16.10g %14.8g %12.8g\n", index++, kind_of(m), m.eigenvalue.real(),
                     m.eigenvalue.imag(), m.natural_frequency, m.natural_frequency / (2 * M_PI), m.damping_ratio);
     for (const IgnorableDirection& d : analysis.ignorable)
-        std::printf("  %4d  %-13s zero by symmetry: the dynamics do not depend on %s%s\n", index++, "ignorable",
-                    d.single ? "" : "the combination ", describe(d, linear.coordinates).c_str());
+        std::printf("  %4d  %-13s %12.8g %+12.8gi   cyclic: the equations of motion do not depend on %s%s\n", index++,
+                    "ignorable", 0.0, 0.0, d.single ? "" : "the combination ", describe(d, linear.coordinates).c_str());
 }
 
 void write_file(const std::string& path, const std::string& text) {
@@ -192,11 +193,15 @@ void add_modes_command(CLI::App& app, Commands& commands) {
 
     commands[sub] = [args = args] {
         Registry registry;
-        const Model model = load_scene(args->scene, registry);
+        const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         check_output_path(args->state_space, scene_files(args->scene, model), "--state-space");
         require_linearisable(model);  // before the statics
         State reference = model.initial_state();
+        {
+            ModelSystem system(model);
+            require_freedom(system, reference);  // a driven mechanism: named, before the statics
+        }
         if (args->about == "statics") {
             StaticsOptions statics;
             statics.max_iterations = args->statics_iterations;

@@ -1,6 +1,7 @@
 // Checked numbers and input files of the subcommands (see options.hpp).
 #include "options.hpp"
 
+#include <mbd/import/import.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/output_times.hpp>
 #include <mbd/viewer/animation_export.hpp>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 
 namespace mbd::cli {
 
@@ -65,6 +67,11 @@ CLI::App* add_scene_subcommand(CLI::App& app, const std::string& name, const std
     CLI::App* sub = app.add_subcommand(name, description);
     sub->add_option("SCENE", scene, scene_help)->required();
     return sub;
+}
+
+Model load_scene_file(const std::string& scene, Registry& registry) {
+    return import::load_scene_or_model(scene, registry,
+                                       [](const std::string& warning) { std::cerr << "mbd: warning: " << warning << '\n'; });
 }
 
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model) {

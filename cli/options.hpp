@@ -5,6 +5,7 @@
 
 #include <mbd/integrator.hpp>  // kSmallestTolerance
 #include <mbd/model.hpp>
+#include <mbd/registry.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -41,6 +42,10 @@ std::pair<std::shared_ptr<Arguments>, CLI::App*> scene_subcommand(CLI::App& app,
     auto args = std::make_shared<Arguments>();
     return {args, add_scene_subcommand(app, name, description, (*args).*file, scene_help)};
 }
+
+// The scene a subcommand reads: an mbd scene, or a model file (MJCF, URDF) imported, the format
+// known from the file's content (docs/import.md); what an import leaves out is warned of on stderr.
+Model load_scene_file(const std::string& scene, Registry& registry);
 
 // The scene file and every `base:` file it inherits from.
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model);

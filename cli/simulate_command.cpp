@@ -234,7 +234,7 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
                                  args->t_end, command_line_spelling);
         if (args->output_step > 0.0) output_intervals(args->t_end, args->output_step, "--output-step", "--t-end");
         Registry registry;
-        const Model model = load_scene(args->scene, registry);
+        const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run at a step boundary
         check_animation_output(args->animation, args->scene, model);

@@ -149,7 +149,7 @@ void add_statics_command(CLI::App& app, Commands& commands) {
 
     commands[sub] = [args = args] {
         Registry registry;
-        const Model model = load_scene(args->scene, registry);
+        const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         check_animation_output(args->animation, args->scene, model);
         StaticsOptions options;

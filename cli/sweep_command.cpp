@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "options.hpp"
 
+#include <mbd/app/input_fingerprint.hpp>
 #include <mbd/app/study.hpp>
 #include <mbd/app/study_design.hpp>
 #include <mbd/app/sweep_mpi.hpp>
@@ -12,6 +13,7 @@
 #include <mbd/app/sweep_runner.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
+#include <mbd/output_lock.hpp>
 #include <mbd/registry.hpp>
 
 #include <unistd.h>
@@ -21,10 +23,18 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace mbd::cli {
 
 namespace {
+
+// Every file the study reads: the study file, its base scene and the scene's `base:` files.
+std::vector<std::filesystem::path> study_files(const Study& study) {
+    std::vector<std::filesystem::path> files{study.file};
+    for (const std::filesystem::path& f : scene_files(study.scene.string(), *study.model)) files.push_back(f);
+    return files;
+}
 
 struct SweepArguments {
     std::string study;
@@ -36,15 +46,25 @@ struct SweepArguments {
     double flush_seconds = 1.0;
 };
 
-// The output files are neither an input (the study, its scene and their bases) nor, without
-// --resume, the unfinished results of an earlier run.
-void check_outputs(const SweepArguments& a, const Study& study) {
-    std::vector<std::filesystem::path> inputs = scene_files(study.scene.string(), *study.model);
-    inputs.push_back(study.file);
+// The output files are neither an input (the study, its scene and their bases) nor, for the
+// results file, anything but a regular file or a new name: it is written as OUTPUT.partial and
+// renamed, which would put a regular file in place of a device (/dev/null), a FIFO or a socket.
+void check_outputs(const SweepArguments& a, const std::vector<std::filesystem::path>& inputs) {
     check_output_path(a.output, inputs, "--output");
     check_output_path(a.csv, inputs, "--csv");
     if (!a.csv.empty() && std::filesystem::absolute(a.csv) == std::filesystem::absolute(a.output))
         throw InputError("--csv", "'" + a.csv + "' is also the --output file; give the table another name");
+    std::error_code ec;
+    const std::filesystem::file_status status = std::filesystem::status(a.output, ec);
+    if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+        throw InputError("--output", "'" + a.output + "' is not a regular file (a device, FIFO or socket): the "
+                                     "HDF5 results are written beside it and renamed over it, which would replace "
+                                     "it; give the name of a regular file (--csv may name a device)");
+}
+
+// Under the output's lock: without --resume, the unfinished results of an earlier run are not
+// overwritten.
+void check_no_unfinished_results(const SweepArguments& a) {
     std::error_code ec;
     const std::string partial = a.output + ".partial";
     if (!a.resume && std::filesystem::exists(partial, ec))
@@ -67,14 +87,18 @@ void print_summary(const SweepArguments& a, const SweepResults& results, const S
 int run_sweep(const SweepArguments& a, const MpiRole& role) {
     Registry registry;
     const Study study = read_study(a.study, registry);
-    const std::vector<std::vector<double>> design = design_cases(study);
+    const CaseDesign design(study);  // each case made when it runs: no table of the cases
     if (role.launched && a.threads != 1)
         throw InputError("--threads", "under mpirun every rank runs one case at a time: give more ranks "
                                       "(mpirun -np N) instead of --threads");
-    check_outputs(a, study);
+    const std::vector<std::filesystem::path> inputs = study_files(study);
+    check_outputs(a, inputs);
     InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP: the finished cases stay in OUTPUT.partial
-    SweepResults results = a.resume ? SweepResults::resume(a.output, study, design)
-                                    : SweepResults::create(a.output, study, design);
+    const OutputLock lock(a.output, "--output", "mbd sweep " + a.study);  // for the whole run
+    check_no_unfinished_results(a);
+    const std::vector<InputFingerprint> contents = fingerprint_inputs(inputs);
+    SweepResults results = a.resume ? SweepResults::resume(a.output, study, design, contents)
+                                    : SweepResults::create(a.output, study, design, contents);
     results.set_flush_interval(a.flush_seconds);
     const auto start = std::chrono::steady_clock::now();
     SweepOptions options;
@@ -110,7 +134,7 @@ void add_sweep_command(CLI::App& app, Commands& commands) {
     sub->add_flag("--resume", args->resume,
                   "Continue an interrupted study from OUTPUT.partial: finished cases are kept, the others run once");
     sub->add_option("--flush-seconds", args->flush_seconds,
-                    "Least time between writes of OUTPUT.partial (a kill loses at most the cases of this time)")
+                    "Least time between syncs of the journal OUTPUT.partial (a kill loses at most the cases of this time)")
         ->capture_default_str()
         ->check(positive_number());
     sub->add_flag("-q,--quiet", args->quiet, "No progress bar and no summary");
@@ -119,15 +143,15 @@ void add_sweep_command(CLI::App& app, Commands& commands) {
         const MpiRole role = mpi_role();
         if (role.launched && role.rank != 0) {
             Registry registry;
-            Study study;
-            std::vector<std::vector<double>> design;
+            std::optional<Study> study;
+            std::optional<CaseDesign> design;
             try {
                 study = read_study(args->study, registry);
-                design = design_cases(study);
+                design.emplace(*study);
             } catch (const InputError&) {
                 return 2;  // rank 0 reads the same study and reports the error once
             }
-            return run_sweep_worker(study, registry, design);
+            return run_sweep_worker(*study, registry, *design);
         }
         try {
             return run_sweep(*args, role);

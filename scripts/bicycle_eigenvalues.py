@@ -4,7 +4,7 @@
 For each speed v in 0..10 m/s this writes the benchmark scene (scenes/reference/whipple-bicycle.yaml)
 with every body moving at [v, 0, 0] and the wheels turning at v / r, runs
 `mbd modes SCENE --about initial --json`, and plots the real and imaginary parts of the
-eigenvalues that are not zero by symmetry (the free forward speed's zero left out), as the
+eigenvalues of the modes (the ignorable directions and the free forward speed's zero left out), as the
 benchmark paper's Fig. 3 does. The weave and capsize speeds are marked where the weave's real
 part and the capsize eigenvalue cross zero (linear interpolation between the speeds).
 

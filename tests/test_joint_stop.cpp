@@ -309,6 +309,69 @@ TEST(JointStop, HuntCrossleyReboundMatchesTheContactOde) {
     }
 }
 
+// Without damping the compliant law is conservative with the potential k delta^(n+1) / (n + 1):
+// through a whole contact (onset, the deepest point, release) the kinetic energy plus that
+// potential stays constant, the element's own potential_energy() is that closed form, and the
+// body leaves the stop at the speed it came in. A revolute's angle (planar and spatial) and a
+// prismatic's travel, each turned or pushed at rate 3 into an upper stop at 0.5.
+TEST(JointStop, UndampedCompliantStopConservesEnergyWithItsPotential) {
+    const double k = 400.0, n = 1.5, upper = 0.5, rate = 3.0;
+    const std::string law = "upper: " + g17(upper) + ", law: hunt_crossley, stiffness: " + g17(k) + ", exponent: " +
+                            g17(n) + ", damping: 0}\n";
+    struct Case {
+        const char* label;
+        std::string yaml;
+        int coordinate, velocity;  // where s and its rate are in q and v (spatial angle: from p)
+        bool spatial_angle;
+    };
+    const std::vector<Case> cases = {
+        {"planar angle",
+         "name: wheel-stop\ndimension: planar\nbodies:\n  - {name: wheel, mass: 1, inertia: 0.2, angular_velocity: 3}\n"
+         "joints:\n  - {name: axle, type: revolute, bodies: [ground, wheel], point: [0, 0]}\n"
+         "forces:\n  - {name: stop, type: joint_stop, bodies: [ground, wheel], " + law,
+         2, 2, false},
+        {"planar travel",
+         "name: block-stop\ndimension: planar\nbodies:\n  - {name: block, mass: 0.2, inertia: 0.1, velocity: [3, 0]}\n"
+         "joints:\n  - {name: guide, type: prismatic, bodies: [ground, block], point: [0, 0], axis: [1, 0]}\n"
+         "forces:\n  - {name: stop, type: joint_stop, bodies: [ground, block], point: [0, 0], axis: [1, 0], "
+         "coordinate: travel, " + law,
+         0, 0, false},
+        {"spatial angle",
+         "name: wheel-stop\ndimension: spatial\nbodies:\n  - {name: wheel, mass: 1, inertia: [0.3, 0.3, 0.2], "
+         "angular_velocity: [0, 0, 3]}\n"
+         "joints:\n  - {name: axle, type: revolute, bodies: [ground, wheel], point: [0, 0, 0], axis: [0, 0, 1]}\n"
+         "forces:\n  - {name: stop, type: joint_stop, bodies: [ground, wheel], point: [0, 0, 0], axis: [0, 0, 1], " + law,
+         3, 5, true},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.label);
+        const mbd::Model model = mbd::test::scene(c.yaml);
+        mbd::ModelSystem system(model);
+        const Outcome r = simulate(model, settings("dop853", 0.5, 0.002, 1e-11));
+        ASSERT_EQ(r.result.events.size(), 2u);  // onset and release
+        double E0 = 0.0, drift = 0.0, potential = 0.0, deepest = 0.0;
+        for (const mbd::State& s : r.states) {
+            const double coordinate =
+                c.spatial_angle ? 2.0 * std::atan2(s.q[c.coordinate + 3], s.q[c.coordinate]) : s.q[c.coordinate];
+            const double delta = std::max(coordinate - upper, 0.0);
+            const double V = k * std::pow(delta, n + 1) / (n + 1);
+            mbd::State copy = s;
+            const double E = system.kinetic_energy(copy) + system.potential_energy(copy);
+            if (&s == &r.states.front()) E0 = E;
+            drift = std::max(drift, std::abs(E - E0));
+            potential = std::max(potential, std::abs(system.potential_energy(copy) - V));
+            deepest = std::max(deepest, delta);
+        }
+        const double exit_rate = r.states.back().v[c.velocity];
+        std::printf("%s: deepest %.6f past the stop, energy drift %.2e of %.6f, potential error %.2e, exit rate %.12f\n",
+                    c.label, deepest, drift, E0, potential, exit_rate);
+        EXPECT_GT(deepest, 0.05);
+        EXPECT_LT(drift, 2e-9 * E0);  // measured 1.1e-10 to 4.3e-10 J of 0.9 J
+        EXPECT_LT(potential, 1e-12 * E0);
+        EXPECT_NEAR(exit_rate, -rate, 1e-8);
+    }
+}
+
 // Restitution with a compliant law: impacts slower than rest_velocity come to rest, and the
 // law holds the pendulum on a stop at lower = 0.3 rad, which gravity loads with the moment
 // m g l sin(phi): it settles at the static deflection k delta^n = m g l sin(0.3 - delta).
@@ -463,6 +526,14 @@ TEST(JointStop, PassesThePluginCheck) {
                                           " --params 'exponent: 1.5' --params 'damping: 2'");
         EXPECT_EQ(r.exit_code, 0) << coordinate << r.out << r.err;
         EXPECT_NE(r.out.find("0 failed"), std::string::npos) << r.out;
+        // without damping the law is conservative, and the check compares Q with -dV/dq too
+        const auto undamped = mbd::test::run_mbd("plugin check " + lib + " --params 'coordinate: " + coordinate +
+                                                 "' --params 'lower: -0.4' --params 'upper: 0.3'"
+                                                 " --params 'law: hunt_crossley' --params 'stiffness: 100'"
+                                                 " --params 'exponent: 1.5' --params 'damping: 0'");
+        EXPECT_EQ(undamped.exit_code, 0) << coordinate << undamped.out << undamped.err;
+        EXPECT_NE(undamped.out.find("0 failed"), std::string::npos) << undamped.out;
+        EXPECT_NE(undamped.out.find("Q = -dV/dq"), std::string::npos) << undamped.out;
     }
 }
 

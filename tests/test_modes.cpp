@@ -18,6 +18,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -225,6 +227,131 @@ TEST(Modes, SpinAboutAnUnsymmetricAxisIsRefusedByName) {
     }
 }
 
+// An inverted pendulum held by a torsion spring of exactly k = m g l: the linearised torque
+// (k - m g l) theta vanishes, so A's column for the angle is zero, but the nonlinear torque
+// m g l (sin theta - theta) is not: the angle is not cyclic, and its double zero eigenvalue is
+// reported as modes (the finite-shift check of linearisation.hpp; by A alone it would be
+// ignorable). Without gravity and spring the same angle is cyclic.
+TEST(Modes, ANeutralButNotCyclicAngleIsReportedAsModes) {
+    const double m = 1.3, J = 0.02, l = 0.7, g = 9.81;
+    auto yaml = [&](double gravity, double k) {
+        return "dimension: planar\ngravity: [0, " + g17(-gravity) + "]\nbodies:\n  - {name: rod, mass: " + g17(m) +
+               ", inertia: " + g17(J) + ", position: [0, " + g17(l) + "], angle: 1.5707963267948966}\n" +
+               "joints:\n  - {name: pivot, type: revolute, bodies: [ground, rod], point: [0, 0]}\n" +
+               "forces:\n  - {name: torsion, type: rotational_spring_damper, bodies: [ground, rod], stiffness: " + g17(k) +
+               "}\n";
+    };
+    mbd::LinearModel linear;
+    const mbd::ModeAnalysis neutral = modes_of_scene(scene(yaml(g, m * g * l)), &linear);
+    ASSERT_EQ(linear.coordinates.size(), 1u);
+    EXPECT_LT(std::abs(linear.A(1, 0)), 1e-9);  // the linear model alone cannot tell
+    EXPECT_TRUE(neutral.ignorable.empty());
+    int count = 0;
+    for (const mbd::Mode& mode : neutral.modes) {
+        EXPECT_FALSE(mode.free_velocity);
+        EXPECT_LT(mode.natural_frequency, 1e-4);
+        count += mode.oscillatory ? 2 : 1;
+    }
+    EXPECT_EQ(count, 2);
+    const mbd::ModeAnalysis free = modes_of_scene(scene(yaml(0.0, 0.0)));
+    ASSERT_EQ(free.ignorable.size(), 1u);
+    ASSERT_EQ(free.modes.size(), 1u);
+    EXPECT_TRUE(free.modes[0].free_velocity);
+}
+
+// ---------------------------------------------------------------- upright rolling disc
+
+// A disc (mass m, radius r, axial moment I_a, diametral I_d about its centre G) rolling upright
+// without slipping at speed v (spin omega = v / r about its horizontal axle h; heading t = h x Z,
+// so that V_G = omega h x r Z = v t), with lean theta (the axle tilted to a = h + theta Z, the
+// in-plane up u = Z - theta h, G = C + r u) and heading psi. Linearised Euler equations about G
+// (Neimark & Fufaev, Dynamics of Nonholonomic Systems, Ch. II; Greenwood, Advanced Dynamics,
+// Sec. 4.7; derived here): H_G = I_a (omega + psi' theta) a + I_d (psi' u + theta' t) to first
+// order. Along Z the moment of the contact force F about G, (-r u x F).Z = -r theta F_t, is of
+// second order (F_t = m dv/dt = 0 at first order), so H_G.Z = I_d psi' + I_a omega theta is
+// constant. Along t: a turns at psi' Z, (da/dt).t = -psi', so (dH_G/dt).t = I_d theta'' -
+// I_a omega psi'; the moment is (-r u x F).t = m g r theta + r F_h with F_h = m (v psi' - r theta'')
+// (G's lateral acceleration: the heading turning, v psi', and the lean, -r theta''). Hence
+//     (I_d + m r^2) theta'' = m g r theta + (I_a + m r^2) omega psi',   I_d psi' = -I_a omega theta + c,
+// whose eigenvalues in (theta, theta', psi') are 0 (a steady turn, c != 0) and lambda^2 = mu with
+//     mu = (m g r - (I_a + m r^2) I_a omega^2 / I_d) / (I_d + m r^2):
+// for a uniform thin disc (I_a = m r^2 / 2, I_d = m r^2 / 4) mu = -4 (3 v^2 - g r) / (5 r^2), stable
+// above the known v_c = sqrt(g r / 3). The rest: x, y, heading and spin angle cyclic, the spin
+// rate free. Here an unequal I_a, I_d, not a thin disc's, so that the test checks the general form.
+struct UprightDisc {
+    double m = 2.0, r = 0.3, Ia = 0.07, Id = 0.04, g = 9.81;
+    double mu(double v) const {
+        const double omega = v / r;
+        return (m * g * r - (Ia + m * r * r) * Ia * omega * omega / Id) / (Id + m * r * r);
+    }
+    double critical_speed() const { return r * std::sqrt(m * g * r * Id / ((Ia + m * r * r) * Ia)); }
+    // body z the axle (world y): a rotation by -pi/2 about world x
+    std::string yaml(double v) const {
+        return "dimension: spatial\ngravity: [0, 0, -" + g17(g) + "]\nbodies:\n  - {name: disc, mass: " + g17(m) +
+               ", inertia: [" + g17(Id) + ", " + g17(Id) + ", " + g17(Ia) + "], position: [0, 0, " + g17(r) +
+               "], orientation: {axis: [1, 0, 0], angle: " + g17(-M_PI / 2) + "}, velocity: [" + g17(v) +
+               ", 0, 0], angular_velocity: [0, " + g17(v / r) + ", 0]}\n"
+               "joints:\n  - {name: contact, type: rolling_disc, bodies: [ground, disc], point: [0, 0, " + g17(r) +
+               "], axis: [0, 1, 0], radius: " + g17(r) + "}\n";
+    }
+};
+
+// The lean (disc.rx: the body x axis is the heading) of a position direction of the linear model.
+double lean_of(const mbd::LinearModel& linear, const Eigen::VectorXd& direction) {
+    return linear.position_map.row(3) * direction;
+}
+
+// Every eigenvalue is reported at every speed, the lean pair's through its zero at v_c (|lambda|
+// down to 1e-3), and only x, y, heading and spin angle are ignorable. Near v_c the steady turn's
+// zero and the lean pair are a near-triple zero (a Jordan block at v_c itself), whose eigenvalues
+// move by eps^(1/3) ~ 5e-5 for a perturbation eps ~ 1e-13 of A (the differences' round-off); the
+// coefficients of their polynomial lambda (lambda^2 - mu) are not sensitive, and are checked to 1e-9.
+TEST(Modes, UprightDiscLeanModeAtEverySpeedAgainstTheEulerEquations) {
+    const UprightDisc disc;
+    const double vc = disc.critical_speed(), cluster = 5e-5;
+    for (double v : {0.0, 0.5, vc - 2e-6, vc - 2e-8, vc + 2e-8, vc + 2e-6, 2.0, 5.0}) {
+        mbd::LinearModel linear;
+        const mbd::ModeAnalysis a = modes_of_scene(scene(disc.yaml(v)), &linear);
+        ASSERT_EQ(linear.coordinates.size(), 5u);
+        ASSERT_EQ(linear.velocity_coordinates.size(), 3u);
+        // the cyclic ones: four directions, none of them leaning
+        ASSERT_EQ(a.ignorable.size(), 4u) << "v = " << v;
+        for (const mbd::IgnorableDirection& d : a.ignorable) EXPECT_LT(std::abs(lean_of(linear, d.shape)), 1e-9) << "v = " << v;
+        // all 8 eigenvalues: 4 ignorable, the free spin rate, the steady turn and the lean pair
+        std::vector<std::complex<double>> lambda;
+        int free = 0;
+        for (const mbd::Mode& m : a.modes) {
+            if (m.free_velocity) {
+                ++free;
+                continue;
+            }
+            lambda.push_back(m.eigenvalue);
+            if (m.oscillatory) lambda.push_back(std::conj(m.eigenvalue));
+        }
+        // at rest the heading's rate is free too (no gyroscopic coupling) and there is no steady turn
+        EXPECT_EQ(free, v == 0.0 ? 2 : 1) << "v = " << v;
+        ASSERT_EQ(lambda.size(), v == 0.0 ? 2u : 3u) << "v = " << v;
+        if (v == 0.0) lambda.push_back(0.0);
+        std::sort(lambda.begin(), lambda.end(), [](auto x, auto y) { return std::abs(x) < std::abs(y); });
+        const double mu = disc.mu(v);
+        const std::complex<double> l0 = lambda[0], l1 = lambda[1], l2 = lambda[2];
+        const std::complex<double> e1 = l0 + l1 + l2, e2 = l0 * l1 + l0 * l2 + l1 * l2, e3 = l0 * l1 * l2;
+        std::printf("v = %.12f: mu = %+.6e, lean pair %+.6e%+.6ei, %+.6e%+.6ei, turn %.1e; e2 + mu = %.1e\n", v, mu,
+                    l1.real(), l1.imag(), l2.real(), l2.imag(), std::abs(l0), std::abs(e2 + mu));
+        const double tolerance = 1e-9 * std::max(1.0, std::abs(mu));
+        EXPECT_LT(std::abs(e1), tolerance) << "v = " << v;
+        EXPECT_LT(std::abs(e2 + mu), tolerance) << "v = " << v;
+        EXPECT_LT(std::abs(e3), tolerance) << "v = " << v;
+        // each eigenvalue: the steady turn at 0, the pair at +-sqrt(mu), real when mu > 0 (falls over)
+        EXPECT_LT(std::abs(l0), cluster) << "v = " << v;
+        for (const std::complex<double>& l : {l1, l2})
+            EXPECT_NEAR(std::abs(l), std::sqrt(std::abs(mu)), 1e-9 * std::sqrt(std::abs(mu)) + cluster) << "v = " << v;
+        EXPECT_EQ(std::abs(l1.imag()) > 0.0, mu < 0.0) << "v = " << v;
+        EXPECT_EQ(std::abs(l2.imag()) > 0.0, mu < 0.0) << "v = " << v;
+        if (std::abs(mu) > 1e-4) EXPECT_LT(std::abs(std::abs(l1) - std::sqrt(std::abs(mu))), 1e-9 * std::sqrt(std::abs(mu)) + 1e-9);
+    }
+}
+
 // ---------------------------------------------------------------- four-bar with a spring
 
 
@@ -404,6 +531,44 @@ TEST_F(ModesCli, JsonHasTheModesAndMatrices) {
     const double k_m = 25.0, c_m = 0.25, w2 = k_m * (2 - std::sqrt(2.0));
     EXPECT_NEAR(j["modes"][0]["natural_frequency"].get<double>(), std::sqrt(w2), 1e-9);
     EXPECT_NEAR(j["modes"][0]["damping_ratio"].get<double>(), c_m * (2 - std::sqrt(2.0)) / (2 * std::sqrt(w2)), 1e-9);
+}
+
+// The four-bar of scenes/four-bar.yaml: its motor drives the only freedom. Refused with the
+// cause named (issue 42: it said to try --about statics, the default), and what to do.
+TEST_F(ModesCli, FullyDrivenMechanismNamesItsDriver) {
+    const std::string csv = (dir / "modes.csv").string();
+    const std::string four_bar = mbd::test::scene_path("four-bar.yaml").string();
+    for (const char* about : {"statics", "initial"}) {
+        const mbd::test::CommandResult r =
+            mbd::test::run_mbd("modes '" + four_bar + "' --about " + about + " --output '" + csv + "'");
+        EXPECT_EQ(r.exit_code, 1) << about;
+        EXPECT_NE(r.err.find("no freedom to linearise"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("the driver 'motor' (joint 'O') prescribes"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("remove the driver"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("actuator"), std::string::npos) << r.err;
+        EXPECT_EQ(r.err.find("--about statics"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(csv));
+    }
+    // the same four-bar with the driver made an actuator has its one mode
+    std::string yaml = mbd::test::read_text(four_bar);
+    const size_t at = yaml.find("drivers:");
+    ASSERT_NE(at, std::string::npos);
+    yaml = yaml.substr(0, at) + "actuators:\n  - {name: motor, joint: O}\n";
+    const mbd::test::CommandResult r = mbd::test::run_mbd("modes '" + write("four-bar.yaml", yaml) + "' --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["modes"].size(), 1u);
+}
+
+// A body held by a fixed joint: no freedom and no driver; said so, not an empty table.
+TEST_F(ModesCli, MechanismWithoutFreedomSaysSo) {
+    const std::string file = write("fixed.yaml",
+                                   "dimension: planar\ngravity: [0, -9.81]\nbodies:\n  - {name: block, mass: 1, inertia: "
+                                   "0.1, position: [0, 0]}\njoints:\n  - {name: weld, type: fixed, bodies: [ground, "
+                                   "block], point: [0, 0]}\n");
+    const mbd::test::CommandResult r = mbd::test::run_mbd("modes '" + file + "' --about initial");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("no freedom to linearise: the joints fix every body"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("mode "), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -17,6 +17,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -141,6 +143,106 @@ TEST(SparseGram, LongChainInItsOwnOrder) {
     const Eigen::VectorXd expected = oracle.solve(x);
     gram.solve(x, 0);
     EXPECT_LT((x - expected).lpNorm<Eigen::Infinity>(), 1e-10 * expected.lpNorm<Eigen::Infinity>());
+}
+
+// Rank-deficient S = W W^T (redundant constraints): factor(0) refuses it, and the damped
+// factorization W W^T + delta I with iterative refinement against the undamped S solves a
+// consistent S x = b, Eigen's complete orthogonal decomposition of the dense S giving the
+// minimum-norm solution x_min as the oracle. W: 12 rows over 18 columns on a banded pattern,
+// row 11 the sum of rows 3 and 7 (dependent), row 5 row 2 plus 1e-3 of a random row (nearly
+// dependent: S's least non-zero eigenvalue some 1e-7 of its largest, so that the damping's
+// error, of order delta / that eigenvalue, is large before refinement).
+//  - Each refinement must shrink the residual b - S x by orders of magnitude (a refinement of
+//    the wrong sign grows it), and W^T x (the constraint forces J^T lambda = Lm^-T W^T x of the
+//    augmented formulation) must then be W^T x_min to round-off.
+//  - x itself is x_min only up to its component in S's null space, where the damped inverse
+//    amplifies the round-off of b and of each residual by max diag(S) / delta = 1e12: some 1e-4
+//    of |x| (the split of a redundant joint's reactions, which no force depends on; the dense
+//    path's pseudo-inverse gives x_min).
+TEST(SparseGram, DampedLeastSquaresWithRefinementSolvesRankDeficientSystems) {
+    const int rows = 12, cols = 18;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    Eigen::MatrixXd W = Eigen::MatrixXd::Zero(rows, cols);
+    for (int r = 0; r < rows; ++r)
+        for (int c = std::max(0, r - 2); c < std::min(cols, r + 5); ++c) W(r, c) = uniform(rng);
+    W.row(11) = W.row(3) + W.row(7);
+    Eigen::RowVectorXd nudge = Eigen::RowVectorXd::Zero(cols);
+    for (int c = 0; c < 7; ++c) nudge[c] = uniform(rng);
+    W.row(5) = W.row(2) + 1e-3 * nudge;
+    std::vector<std::vector<int>> rows_of_column(cols);
+    for (int c = 0; c < cols; ++c)
+        for (int r = 0; r < rows; ++r)
+            if (W(r, c) != 0.0) rows_of_column[c].push_back(r);
+    const Eigen::SparseMatrix<double> Ws = W.sparseView();
+    const Eigen::MatrixXd S = W * W.transpose();
+
+    mbd::SparseGram gram;
+    gram.analyze(rows, cols, rows_of_column);
+    gram.fill(Ws);
+    EXPECT_FALSE(gram.factor(0.0));  // row 11 depends on rows 3 and 7
+    ASSERT_TRUE(gram.factor(1e-12 * gram.max_diagonal()));
+
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(S);
+    cod.setThreshold(1e-12);
+    ASSERT_EQ(cod.rank(), rows - 1);
+    for (int trial = 0; trial < 3; ++trial) {
+        const Eigen::VectorXd b = S * Eigen::VectorXd::NullaryExpr(rows, [&] { return uniform(rng); });  // consistent
+        const Eigen::VectorXd minimum_norm = cod.solve(b);
+        const Eigen::VectorXd forces = W.transpose() * minimum_norm;
+        double residual[4], force[4], error[4];
+        for (int refinements = 0; refinements < 4; ++refinements) {
+            Eigen::VectorXd x = b;
+            gram.solve(x, refinements);
+            residual[refinements] = (b - S * x).norm() / b.norm();
+            force[refinements] = (W.transpose() * x - forces).norm() / forces.norm();
+            error[refinements] = (x - minimum_norm).norm() / minimum_norm.norm();
+        }
+        std::printf("trial %d after 0 to 3 refinements: |b - S x| / |b| %.2e %.2e %.2e %.2e; |W^T (x - x_min)| / "
+                    "|W^T x_min| %.2e %.2e %.2e %.2e; |x - x_min| / |x_min| %.2e %.2e %.2e %.2e\n",
+                    trial, residual[0], residual[1], residual[2], residual[3], force[0], force[1], force[2], force[3],
+                    error[0], error[1], error[2], error[3]);
+        EXPECT_GT(force[0], 1e-10);  // the damping alone is off: the refinement has work to do
+        EXPECT_LT(residual[1], 1e-3 * residual[0]);
+        EXPECT_LT(force[1], 1e-3 * force[0]);
+        for (int k = 2; k < 4; ++k) {
+            EXPECT_LT(residual[k], 1e-14);
+            EXPECT_LT(force[k], 1e-11);
+            EXPECT_LT(error[k], 1e-3);
+        }
+    }
+}
+
+// The same against a mechanism's own J M^-1 J^T: the orthogonal Bricard linkage, whose six
+// revolute joints give 30 rows of rank 29 at its assembled configuration.
+TEST(SparseGram, DampedLeastSquaresSolvesTheBricardsRedundantRows) {
+    Gram g("book/bricard.yaml");
+    mbd::SparseGram gram;
+    gram.analyze(g.system);
+    gram.fill(g.cv.J, g.mass_inverse);
+    const Eigen::MatrixXd S = g.dense_S(g.cv.J);
+    ASSERT_EQ(S.rows(), 30);
+    EXPECT_FALSE(gram.factor(0.0));
+    ASSERT_TRUE(gram.factor(1e-12 * gram.max_diagonal()));
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(S);
+    cod.setThreshold(1e-10);
+    ASSERT_EQ(cod.rank(), 29);
+    const Eigen::MatrixXd Jd(g.cv.J);
+    const Eigen::VectorXd b = S * Eigen::VectorXd::LinSpaced(30, -1.0, 2.0);
+    const Eigen::VectorXd minimum_norm = cod.solve(b), forces = Jd.transpose() * minimum_norm;
+    double residual[3], force[3];
+    for (int refinements = 0; refinements < 3; ++refinements) {
+        Eigen::VectorXd x = b;
+        gram.solve(x, refinements);
+        residual[refinements] = (b - S * x).norm() / b.norm();
+        force[refinements] = (Jd.transpose() * x - forces).norm() / forces.norm();
+    }
+    std::printf("Bricard after 0 to 2 refinements: |b - S x| / |b| %.2e %.2e %.2e, |J^T (x - x_min)| / |J^T x_min| "
+                "%.2e %.2e %.2e\n",
+                residual[0], residual[1], residual[2], force[0], force[1], force[2]);
+    EXPECT_LT(residual[1], 1e-2 * residual[0]);
+    EXPECT_LT(residual[2], 1e-14);
+    EXPECT_LT(force[2], 1e-11);
 }
 
 }  // namespace

@@ -112,10 +112,9 @@ std::vector<std::vector<std::string>> numbers(const Table& t) {
     return out;
 }
 
-// The finished rows of a results file, read back through the HDF5 reader of --resume.
-std::map<long, mbd::SweepRow> stored_rows(const fs::path& study_file, const fs::path& output) {
-    const mbd::Study study = mbd::read_study(study_file, mbd::test::shared_registry());
-    return mbd::SweepResults::resume(output, study, mbd::design_cases(study)).rows();
+// The finished rows of a sweep's output: its journal while it runs, else the HDF5 file.
+std::map<long, mbd::SweepRow> stored_rows(const fs::path&, const fs::path& output) {
+    return mbd::read_sweep_rows(output);
 }
 
 TEST(SweepDesign, LatinHypercubeHasOnePointPerStratumAndIsReproducible) {
@@ -373,6 +372,49 @@ void kill_and_resume(const std::string& name, int rank) {
 TEST(SweepResume, ProcessKilledHalfwayThenResumedRunsEveryCaseOnce) { kill_and_resume("kill-serial", -1); }
 TEST(SweepResume, MpiWorkerKilledHalfwayThenResumedRunsEveryCaseOnce) { kill_and_resume("kill-worker", 1); }
 TEST(SweepResume, MpiMasterKilledHalfwayThenResumedRunsEveryCaseOnce) { kill_and_resume("kill-master", 0); }
+
+// A serial run records its cases in order, so a kill leaves a prefix; the MPI ranks leave gaps.
+// Here a results file with gaps (cases 1, 2, 5, 6, 7 and 10 of 12 finished, their rows those of
+// an uninterrupted run but for a CPU time no run gives, so that a row run again shows) is resumed
+// by one process: every case is then present once, the kept rows are kept (not run again) and
+// every row equals the uninterrupted run's.
+TEST(SweepResume, SerialResumeFillsEveryGapOnce) {
+    const fs::path dir = scratch("gaps");
+    const fs::path study_file = write(dir / "study.yaml", pendulum_study(12));
+    const fs::path fresh = dir / "fresh.h5", output = dir / "gaps.h5";
+    ASSERT_EQ(run_mbd("sweep " + study_file.string() + " -q -o " + fresh.string()).exit_code, 0);
+    const auto expected = stored_rows(study_file, fresh);
+    ASSERT_EQ(expected.size(), 12u);
+    const std::set<long> kept = {1, 2, 5, 6, 7, 10};
+    {
+        const mbd::Study study = mbd::read_study(study_file, mbd::test::shared_registry());
+        mbd::SweepResults partial = mbd::SweepResults::create(output, study, mbd::design_cases(study));
+        for (long k : kept) {
+            mbd::CaseResult row = expected.at(k).result;
+            row.cpu_seconds = 1000.0 + k;
+            partial.add(k, row);
+        }
+        partial.flush(true);
+    }
+    ASSERT_FALSE(fs::exists(output));
+    ASSERT_EQ(stored_rows(study_file, output).size(), kept.size());
+    const auto resumed = run_mbd("sweep " + study_file.string() + " -q -o " + output.string() + " --resume");
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
+    ASSERT_TRUE(fs::exists(output));
+    const auto rows = stored_rows(study_file, output);
+    ASSERT_EQ(rows.size(), 12u);  // a map by case: every case exactly once
+    long index = 0;
+    for (const auto& [k, row] : rows) {
+        EXPECT_EQ(k, index++);
+        EXPECT_EQ(row.values, expected.at(k).values) << "case " << k;
+        EXPECT_EQ(row.result.metrics, expected.at(k).result.metrics) << "case " << k;
+        EXPECT_EQ(row.result.series, expected.at(k).result.series) << "case " << k;
+        if (kept.count(k))
+            EXPECT_EQ(row.result.cpu_seconds, 1000.0 + k) << "case " << k << " was run again";
+        else
+            EXPECT_LT(row.result.cpu_seconds, 1000.0) << "case " << k;
+    }
+}
 
 TEST(SweepResume, RefusesToOverwriteUnfinishedResultsWithoutResume) {
     const fs::path dir = scratch("refuse-partial");

@@ -422,6 +422,66 @@ TEST(WheelRail, TheExampleWheelsetPushedSidewaysStopsWhereItsWheelLeavesTheRail)
     }
 }
 
+// A cylinder rocking on a crown: the contact runs to and fro across the rail's head. A cylinder
+// of radius r0 whose axle, through its centre at height H, is tilted by phi about the track
+// touches a crown of radius R (centre line at depth R under the top) where the distance from
+// the crown's centre to the axle, (H + R) cos(phi), is r0 + R, so
+//     H(phi) = (r0 + R) / cos(phi) - R,   the contact at the lateral position eta = -R sin(phi),
+// with the normal (0, -sin(phi), cos(phi)). H has its least value at phi = 0: under gravity the
+// wheel, on a revolute about the track on a carriage free to move up (and a sled coasting along
+// the track), rocks about the upright. Nothing dissipates (the contact is frictionless), so the
+// energy is constant; the contact's normal is read from the wheel's columns of J.
+TEST(WheelRail, ACylinderRockingOnACrownMovesTheContactAcrossTheHead) {
+    const double r0 = 0.45, R = 0.3, g = 9.81, rocking = 1.4;
+    const std::string H = g17(r0);
+    auto body = [&](const std::string& name, double m, const std::string& w) {
+        return "  - {name: " + name + ", mass: " + g17(m) + ", inertia: [0.5, 0.9, 0.5], position: [0, 0, " + H +
+               "], velocity: [2, 0, 0], angular_velocity: " + w + "}\n";
+    };
+    const std::string yaml =
+        "name: rocking-wheel\ndimension: spatial\ngravity: [0, 0, -" + g17(g) + "]\nbodies:\n" + body("sled", 1, "[0, 0, 0]") +
+        body("carriage", 3, "[0, 0, 0]") + body("wheel", 10, "[" + g17(rocking) + ", 0, 0]") +
+        "joints:\n"
+        "  - {name: along, type: prismatic, bodies: [ground, sled], point: [0, 0, " + H + "], axis: [1, 0, 0]}\n"
+        "  - {name: up, type: prismatic, bodies: [sled, carriage], point: [0, 0, " + H + "], axis: [0, 0, 1]}\n"
+        "  - {name: rock, type: revolute, bodies: [carriage, wheel], point: [0, 0, " + H + "], axis: [1, 0, 0]}\n"
+        "  - {name: contact, type: wheel_rail, bodies: [ground, wheel], point: [0, 0, 0], axis: [0, 0, 1], "
+        "x_axis: [1, 0, 0], wheel: {type: cone, radius: " + g17(r0) + "}, rail: {type: arc, radius: " + g17(R) + "}}\n";
+    const mbd::Model model = mbd::test::scene(yaml);
+    mbd::ModelSystem system(model);
+    const int wheel = model.body_index("wheel"), carriage = model.body_index("carriage");
+    double height = 0, normal = 0, energy = 0, E0 = 0, east = 0, west = 0;
+    int samples = 0;
+    mbd::simulate(model, shared_registry(), mbd::test::adaptive_run("augmented", "dop853", 1e-11, 1.0, 0.01),
+                  [&](const mbd::SimulationSample& s) {
+                      const mbd::Mat3 A = mbd::rotation_from_euler_parameters(s.state.q.segment<4>(model.q_offset(wheel) + 3));
+                      const Vec3 axle = A * kY;
+                      const double phi = std::atan2(axle.z(), axle.y());
+                      height = std::max(height, std::abs(s.state.q[model.q_offset(carriage) + 2] - ((r0 + R) / std::cos(phi) - R)));
+                      mbd::ConstraintValues cv;
+                      system.constraints(s.state, cv);
+                      Vec3 n = Vec3::Zero();
+                      for (int c = 0; c < 3; ++c) n[c] = cv.J.coeff(cv.J.rows() - 1, model.v_offset(wheel) + c);
+                      normal = std::max(normal, (n - Vec3(0, -std::sin(phi), std::cos(phi))).norm());
+                      const double eta = R * n.y();  // the contact's lateral position on the crown
+                      east = std::max(east, eta);
+                      west = std::min(west, eta);
+                      const double E = system.kinetic_energy(s.state) + system.potential_energy(s.state);
+                      if (samples++ == 0) E0 = E;
+                      energy = std::max(energy, std::abs(E - E0));
+                      return true;
+                  });
+    std::cout << "cylinder rocking on a crown, 1 s: contact from " << west << " to " << east << " m across the head, "
+              << "height error " << height << " m, normal error " << normal << ", energy drift " << energy << " J of "
+              << E0 << "\n";
+    EXPECT_EQ(samples, 101);
+    EXPECT_LT(west, -0.02);  // both sides of the crown's top
+    EXPECT_GT(east, 0.02);
+    EXPECT_LT(height, 1e-9);
+    EXPECT_LT(normal, 1e-9);
+    EXPECT_LT(energy, 1e-9 * E0);
+}
+
 TEST(WheelRail, BadInputIsNamed) {
     const std::string good = contact_scene("{type: cone, radius: 0.45, cone_angle: 0.05}", "{type: arc, radius: 0.3}");
     auto error_of = [&](const std::string& text) {

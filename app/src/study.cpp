@@ -3,8 +3,10 @@
 
 #include <mbd/app/study_case.hpp>
 #include <mbd/app/study_design.hpp>
+#include <mbd/integrator.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/scene_parameters.hpp>
+#include <mbd/statics_analysis.hpp>
 #include <mbd/sdk/suggest.hpp>
 #include <mbd/sdk/text.hpp>
 
@@ -118,6 +120,47 @@ StudyAnalysis read_analysis(const Param& node) {
     }
     }
     return a;
+}
+
+// The analysis's options checked once, on the base scene, by the checks its command makes
+// (`mbd simulate`: check_integrator_options and check_simulation_method; `mbd inverse`:
+// check_inverse_dynamics; the solver by the registry), so that a wrong option is refused
+// before any case rather than failing every case. The error is placed at the key it names
+// (the study file's line), else at the analysis's `type`.
+void check_analysis(const Param& node, const StudyAnalysis& a, const Model& model, Registry& registry) {
+    auto spell = [](const std::string& option, const std::string& value) {
+        std::string key = option;
+        std::replace(key.begin(), key.end(), '-', '_');
+        return value.empty() ? "'" + key + "'" : key + ": " + value;
+    };
+    try {
+        switch (a.type) {
+        case AnalysisType::Simulate: {
+            check_integrator_options(a.run.integrator, field(node, "tol") != nullptr, a.run.integration.tolerance,
+                                     field(node, "step") != nullptr, a.run.integration.step, a.run.t_end, spell);
+            SimulationSettings quiet = a.run;
+            quiet.messages = MessageLog::silent();
+            check_simulation_method(model, registry, quiet);
+            break;
+        }
+        case AnalysisType::Inverse:
+            check_inverse_dynamics(model);
+            registry.create_inverse(InverseSpec{a.solver, a.solver, {}}, "analysis.solver");
+            break;
+        case AnalysisType::Statics:
+        case AnalysisType::Modes: registry.create_statics(StaticsSpec{a.solver, a.solver, {}}, "analysis.solver"); break;
+        }
+    } catch (const InputError& e) {
+        std::string key = e.where();
+        if (key.size() > 2 && key.front() == '\'' && key.back() == '\'') key = key.substr(1, key.size() - 2);
+        if (!field(node, key))  // else the key whose value the message quotes (an unknown formulation)
+            for (const auto& [name, value] : node.fields)
+                if (name != "type" && value.is_scalar() && e.message().find("'" + value.text + "'") != std::string::npos)
+                    key = name;
+        if (const Param* at = field(node, key)) at->fail("analysis: '" + key + "': " + e.message());
+        required(node, "type", "analysis").fail("analysis (" + analysis_name(a.type) + "): " + e.what() +
+                                               "; every case would fail, so none is run");
+    }
 }
 
 // A design's value list: `values: [...]` or `range: [lo, hi]` with `count: n` (n >= 2, even spacing).
@@ -323,6 +366,7 @@ Study read_study(const std::filesystem::path& file, Registry& registry) {
     if (s.scene.is_relative()) s.scene = file.parent_path() / s.scene;
     s.model = std::make_shared<const Model>(load_scene(s.scene, registry));
     s.analysis = read_analysis(required(root, "analysis", "study"));
+    check_analysis(required(root, "analysis", "study"), s.analysis, *s.model, registry);
     s.design = read_design(required(root, "design", "study"));
     s.parameters = read_parameters(required(root, "parameters", "study"), s.design, *s.model->document, registry);
     s.columns = case_columns(*s.model, s.analysis);

@@ -2,12 +2,14 @@
 //
 // Messages (MPI_COMM_WORLD):
 //   worker -> master  kReady  int: how many cases it asks for (at the start: 2, one ahead)
-//   worker -> master  kResult bytes: a finished case (encode_result); asks for one more
+//   worker -> master  kResult bytes: a finished case (encode_case, case_record.hpp); asks for one more
 //   master -> worker  kCase   long: the case index to run
 //   master -> worker  kStop   nothing: no case is left, finish the ones in hand and end
 // Only rank 0's main thread calls MPI (MPI_THREAD_FUNNELED); its local threads take cases
 // from the same dispenser the workers' requests draw from.
 #include <mbd/app/sweep_mpi.hpp>
+
+#include <mbd/app/case_record.hpp>
 
 #include <mbd/interrupt.hpp>
 
@@ -49,85 +51,6 @@ public:
     ~Session() { MPI_Finalize(); }
 };
 
-// ---- a finished case as bytes
-
-class Writer {
-public:
-    template <class T>
-    void put(const T& value) {
-        const auto* p = reinterpret_cast<const char*>(&value);
-        bytes.insert(bytes.end(), p, p + sizeof(T));
-    }
-    void put(const std::string& text) {
-        put(static_cast<std::uint64_t>(text.size()));
-        bytes.insert(bytes.end(), text.begin(), text.end());
-    }
-    void put(const std::vector<double>& values) {
-        put(static_cast<std::uint64_t>(values.size()));
-        const auto* p = reinterpret_cast<const char*>(values.data());
-        bytes.insert(bytes.end(), p, p + values.size() * sizeof(double));
-    }
-    std::vector<char> bytes;
-};
-
-class Reader {
-public:
-    explicit Reader(const std::vector<char>& bytes) : bytes_(bytes) {}
-    template <class T>
-    T get() {
-        T value;
-        take(&value, sizeof(T));
-        return value;
-    }
-    std::string text() {
-        std::string out(get<std::uint64_t>(), '\0');
-        take(out.data(), out.size());
-        return out;
-    }
-    std::vector<double> doubles() {
-        std::vector<double> out(get<std::uint64_t>());
-        take(out.data(), out.size() * sizeof(double));
-        return out;
-    }
-
-private:
-    void take(void* into, std::size_t n) {
-        if (at_ + n > bytes_.size()) throw std::runtime_error("sweep: a truncated result message");
-        std::memcpy(into, bytes_.data() + at_, n);
-        at_ += n;
-    }
-    const std::vector<char>& bytes_;
-    std::size_t at_ = 0;
-};
-
-std::vector<char> encode_result(long index, const CaseResult& r) {
-    Writer w;
-    w.put(static_cast<std::int64_t>(index));
-    w.put(static_cast<std::uint8_t>(r.ok ? 1 : 0));
-    w.put(r.cpu_seconds);
-    w.put(r.failure);
-    w.put(r.message);
-    w.put(r.metrics);
-    w.put(static_cast<std::int64_t>(r.series_rows));
-    w.put(r.series);
-    return std::move(w.bytes);
-}
-
-FinishedCase decode_result(const std::vector<char>& bytes) {
-    Reader r(bytes);
-    FinishedCase out;
-    out.first = static_cast<long>(r.get<std::int64_t>());
-    CaseResult& c = out.second;
-    c.ok = r.get<std::uint8_t>() != 0;
-    c.cpu_seconds = r.get<double>();
-    c.failure = r.text();
-    c.message = r.text();
-    c.metrics = r.doubles();
-    c.series_rows = static_cast<long>(r.get<std::int64_t>());
-    c.series = r.doubles();
-    return out;
-}
-
 // ---- the master's side
 
 class Master {
@@ -157,7 +80,7 @@ public:
                 std::memcpy(&count, bytes.data(), sizeof count);
                 for (int k = 0; k < count; ++k) assign(worker);
             } else if (status.MPI_TAG == kResult) {
-                FinishedCase c = decode_result(bytes);
+                FinishedCase c = decode_case(bytes.data(), bytes.size());
                 --outstanding_[static_cast<std::size_t>(worker)];
                 results.add(c.first, std::move(c.second));
                 assign(worker);
@@ -203,13 +126,13 @@ MpiRole mpi_role() {
     return role;
 }
 
-SweepStats run_sweep_master(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+SweepStats run_sweep_master(const Study& study, Registry& registry, const CaseDesign& design,
                             SweepResults& results, const SweepOptions& options) {
     const double cpu_start = thread_cpu_seconds();
     const long finished_before = results.finished();
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    CaseDispenser dispenser(pending_cases(results));
+    CaseDispenser dispenser(results.done_cases());
     SweepProgress progress(results, options.progress);
     Master master(ranks, dispenser);
     {
@@ -237,7 +160,7 @@ SweepStats run_sweep_master(const Study& study, Registry& registry, const std::v
     return SweepStats{results.finished() - finished_before, thread_cpu_seconds() - cpu_start};
 }
 
-int run_sweep_worker(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design) {
+int run_sweep_worker(const Study& study, Registry& registry, const CaseDesign& design) {
     const int ahead = kCasesAhead;
     MPI_Send(&ahead, sizeof ahead, MPI_BYTE, 0, kReady, MPI_COMM_WORLD);
     std::deque<long> in_hand;
@@ -265,7 +188,7 @@ int run_sweep_worker(const Study& study, Registry& registry, const std::vector<s
         const long index = in_hand.front();
         in_hand.pop_front();
         const std::vector<char> bytes =
-            encode_result(index, run_case(study, registry, design[static_cast<std::size_t>(index)]));
+            encode_case(index, run_case(study, registry, design.values(index)));
         MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, 0, kResult, MPI_COMM_WORLD);
     }
 }

@@ -1,8 +1,10 @@
-// The HDF5 results file of a sweep (sweep_results.hpp), with the HDF5 C API.
+// The HDF5 results file of a sweep (sweep_results.hpp), with the HDF5 C API, written from the
+// journal in blocks of cases and read back in blocks of rows: memory bounded whatever the count.
 //
 // Layout (docs/sweep.md):
 //   /                 attributes mbd_version, format ("mbd-sweep 1"), cases, finished, complete
 //   /study            the study file's text (string)
+//   /inputs/path, /inputs/content  every input file and its content's fingerprint
 //   /design           cases x parameters, every planned case (attribute columns: the paths)
 //   /table/case       finished cases, ascending case index (int64)
 //   /table/parameters finished x parameters (attribute columns)
@@ -23,7 +25,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #ifndef MBD_VERSION
@@ -120,7 +124,17 @@ void write_strings(hid_t owner, const char* name, const std::vector<std::string>
     if (n > 0) check(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data()), name);
 }
 
-// ---- reading (resume)
+// A scalar string dataset.
+void write_text(hid_t owner, const char* name, const std::string& text) {
+    Handle type(string_type(), H5Tclose, "make a string type");
+    Handle space(H5Screate(H5S_SCALAR), H5Sclose, "make a dataspace");
+    Handle set(H5Dcreate2(owner, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+               std::string("create /") + name);
+    const char* pointer = text.c_str();
+    check(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, &pointer), std::string("write /") + name);
+}
+
+// ---- reading
 
 std::vector<hsize_t> dimensions(hid_t set) {
     Handle space(H5Dget_space(set), H5Sclose, "read a dataspace");
@@ -157,39 +171,12 @@ std::vector<std::string> read_string_array(hid_t object, hid_t type_of, bool att
     return out;
 }
 
-std::vector<std::string> read_strings(hid_t owner, const char* name) {
-    Handle set(H5Dopen2(owner, name, H5P_DEFAULT), H5Dclose, std::string("open dataset ") + name);
-    const std::vector<hsize_t> dims = dimensions(set);
-    return read_string_array(set, 0, false, dims.empty() ? 1 : dims[0], name);
-}
-
 std::vector<std::string> read_columns(hid_t set) {
     Handle attribute(H5Aopen(set, "columns", H5P_DEFAULT), H5Aclose, "open attribute columns");
     Handle space(H5Aget_space(attribute), H5Sclose, "read a dataspace");
     hsize_t n = 0;
     H5Sget_simple_extent_dims(space, &n, nullptr);
     return read_string_array(attribute, 0, true, n, "columns");
-}
-
-std::string read_text(hid_t owner, const char* name) {
-    Handle set(H5Dopen2(owner, name, H5P_DEFAULT), H5Dclose, std::string("open dataset ") + name);
-    Handle type(string_type(), H5Tclose, "make a string type");
-    char* pointer = nullptr;
-    check(H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, &pointer), name);
-    std::string out = pointer ? pointer : "";
-    Handle space(H5Dget_space(set), H5Sclose, "read a dataspace");
-    H5Dvlen_reclaim(type, space, H5P_DEFAULT, &pointer);
-    return out;
-}
-
-void write_all(int fd, const unsigned char* data, std::size_t size, const fs::path& path) {
-    while (size > 0) {
-        const ssize_t n = ::write(fd, data, size);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) throw OutputError(path, std::strerror(errno));
-        data += n;
-        size -= static_cast<std::size_t>(n);
-    }
 }
 
 std::string csv_field(const std::string& text) {
@@ -205,55 +192,249 @@ std::string g17(double x) {
     return text;
 }
 
+// A dataset of `rows` rows (x `columns` when columns > 0), with its column names.
+hid_t create_table(hid_t owner, const char* name, hid_t type, hsize_t rows, hsize_t columns,
+                   const std::vector<std::string>* names) {
+    const hsize_t dims[2] = {rows, columns};
+    Handle space(H5Screate_simple(columns == 0 ? 1 : 2, dims, nullptr), H5Sclose, "make a dataspace");
+    const hid_t set = H5Dcreate2(owner, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (set < 0) throw std::runtime_error(std::string("HDF5: cannot create dataset ") + name);
+    if (names) write_strings_attribute(set, "columns", *names);
+    return set;
+}
+
+// The rows of `runs` ([first, first + count) each, ascending) of a dataset of `columns` columns
+// (0: a vector) as one file selection.
+hid_t rows_selection(hid_t set, const std::vector<std::pair<hsize_t, hsize_t>>& runs, hsize_t columns) {
+    const hid_t space = H5Dget_space(set);
+    if (space < 0) throw std::runtime_error("HDF5: cannot read a dataspace");
+    H5Sselect_none(space);
+    for (const auto& [first, count] : runs) {
+        const hsize_t start[2] = {first, 0}, size[2] = {count, columns};
+        if (H5Sselect_hyperslab(space, H5S_SELECT_OR, start, nullptr, size, nullptr) < 0) {
+            H5Sclose(space);
+            throw std::runtime_error("HDF5: cannot select rows");
+        }
+    }
+    return space;
+}
+
+// Writes `values` (rows x columns, row-major, in the order of the rows of `runs`) into `set`.
+void write_rows(hid_t set, hid_t memory_type, const void* values, const std::vector<std::pair<hsize_t, hsize_t>>& runs,
+                hsize_t columns, const char* name) {
+    hsize_t rows = 0;
+    for (const auto& run : runs) rows += run.second;
+    if (rows == 0) return;
+    const hsize_t dims[2] = {rows, columns};
+    Handle memory(H5Screate_simple(columns == 0 ? 1 : 2, dims, nullptr), H5Sclose, "make a dataspace");
+    Handle file(rows_selection(set, runs, columns), H5Sclose, "select rows");
+    check(H5Dwrite(set, memory_type, memory, file, H5P_DEFAULT, values), std::string("write ") + name);
+}
+
+// The table of a results file being written, a block of finished cases at a time.
+class TableWriter {
+public:
+    TableWriter(hid_t file, const JournalHeader& header, const CaseDesign& design) : header_(header), design_(design) {
+        const auto n = static_cast<hsize_t>(header.cases);
+        const hsize_t P = header.parameters.size(), M = header.metrics.size();
+        Handle text(string_type(), H5Tclose, "make a string type");
+        design_set_ = create_table(file, "design", H5T_IEEE_F64LE, n, P, &header.parameters);
+        table_ = H5Gcreate2(file, "table", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        if (table_ < 0) throw std::runtime_error("HDF5: cannot create /table");
+        case_ = create_table(table_, "case", H5T_STD_I64LE, n, 0, nullptr);
+        parameters_ = create_table(table_, "parameters", H5T_IEEE_F64LE, n, P, &header.parameters);
+        metrics_ = create_table(table_, "metrics", H5T_IEEE_F64LE, n, M, &header.metrics);
+        cpu_ = create_table(table_, "cpu_s", H5T_IEEE_F64LE, n, 0, nullptr);
+        status_ = create_table(table_, "status", text, n, 0, nullptr);
+        failure_ = create_table(table_, "failure", text, n, 0, nullptr);
+        message_ = create_table(table_, "message", text, n, 0, nullptr);
+        if (!header.series.empty()) {
+            series_ = H5Gcreate2(file, "series", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+            if (series_ < 0) throw std::runtime_error("HDF5: cannot create /series");
+        }
+    }
+    ~TableWriter() {
+        for (hid_t set : {design_set_, case_, parameters_, metrics_, cpu_, status_, failure_, message_})
+            if (set >= 0) H5Dclose(set);
+        if (series_ >= 0) H5Gclose(series_);
+        if (table_ >= 0) H5Gclose(table_);
+    }
+    TableWriter(const TableWriter&) = delete;
+    TableWriter& operator=(const TableWriter&) = delete;
+
+    void add(FinishedCase c) {
+        if (c.first < 0 || c.first >= header_.cases) throw std::runtime_error("sweep: a journal record of no case");
+        if (series_ >= 0 && c.second.ok)
+            write_matrix(series_, ("case_" + std::to_string(c.first)).c_str(), c.second.series,
+                         static_cast<hsize_t>(c.second.series_rows), header_.series.size(), &header_.series);
+        c.second.series.clear();
+        block_.push_back(std::move(c));
+        if (block_.size() >= kBlock) write_block();
+    }
+
+    // The rest of the block; every case must have been given.
+    void finish() { write_block(); }
+
+private:
+    static constexpr std::size_t kBlock = 8192;
+
+    void write_block() {
+        if (block_.empty()) return;
+        std::sort(block_.begin(), block_.end(), [](const FinishedCase& a, const FinishedCase& b) { return a.first < b.first; });
+        std::vector<std::pair<hsize_t, hsize_t>> runs;
+        const std::size_t P = header_.parameters.size(), M = header_.metrics.size();
+        std::vector<long long> cases;
+        std::vector<double> values, metrics, cpu;
+        std::vector<const char*> status, failure, message;
+        for (const FinishedCase& c : block_) {
+            const auto index = static_cast<hsize_t>(c.first);
+            if (!runs.empty() && runs.back().first + runs.back().second == index) ++runs.back().second;
+            else runs.emplace_back(index, 1);
+            cases.push_back(c.first);
+            const std::vector<double> v = design_.values(c.first);
+            values.insert(values.end(), v.begin(), v.end());
+            const CaseResult& r = c.second;
+            if (r.ok && r.metrics.size() == M) metrics.insert(metrics.end(), r.metrics.begin(), r.metrics.end());
+            else metrics.insert(metrics.end(), M, std::numeric_limits<double>::quiet_NaN());
+            cpu.push_back(r.cpu_seconds);
+            status.push_back(r.ok ? "ok" : "failed");
+            failure.push_back(r.failure.c_str());
+            message.push_back(r.message.c_str());
+        }
+        Handle text(string_type(), H5Tclose, "make a string type");
+        write_rows(design_set_, H5T_NATIVE_DOUBLE, values.data(), runs, P, "/design");
+        write_rows(case_, H5T_NATIVE_LLONG, cases.data(), runs, 0, "/table/case");
+        write_rows(parameters_, H5T_NATIVE_DOUBLE, values.data(), runs, P, "/table/parameters");
+        write_rows(metrics_, H5T_NATIVE_DOUBLE, metrics.data(), runs, M, "/table/metrics");
+        write_rows(cpu_, H5T_NATIVE_DOUBLE, cpu.data(), runs, 0, "/table/cpu_s");
+        write_rows(status_, text, status.data(), runs, 0, "/table/status");
+        write_rows(failure_, text, failure.data(), runs, 0, "/table/failure");
+        write_rows(message_, text, message.data(), runs, 0, "/table/message");
+        block_.clear();
+    }
+
+    const JournalHeader& header_;
+    const CaseDesign& design_;
+    hid_t design_set_ = -1, table_ = -1, case_ = -1, parameters_ = -1, metrics_ = -1, cpu_ = -1, status_ = -1,
+          failure_ = -1, message_ = -1, series_ = -1;
+    std::vector<FinishedCase> block_;
+};
+
+// Rows [first, first + count) of a table dataset as doubles (columns 0: a vector).
+std::vector<double> read_rows(hid_t owner, const char* name, hsize_t first, hsize_t count, hsize_t columns) {
+    Handle set(H5Dopen2(owner, name, H5P_DEFAULT), H5Dclose, std::string("open dataset ") + name);
+    std::vector<double> out(count * std::max<hsize_t>(columns, 1));
+    if (count == 0 || out.empty()) return out;
+    const hsize_t dims[2] = {count, columns};
+    Handle memory(H5Screate_simple(columns == 0 ? 1 : 2, dims, nullptr), H5Sclose, "make a dataspace");
+    Handle file(rows_selection(set, {{first, count}}, columns), H5Sclose, "select rows");
+    check(H5Dread(set, H5T_NATIVE_DOUBLE, memory, file, H5P_DEFAULT, out.data()), name);
+    return out;
+}
+
+std::vector<std::string> read_string_rows(hid_t owner, const char* name, hsize_t first, hsize_t count) {
+    Handle set(H5Dopen2(owner, name, H5P_DEFAULT), H5Dclose, std::string("open dataset ") + name);
+    Handle type(string_type(), H5Tclose, "make a string type");
+    std::vector<char*> pointers(count, nullptr);
+    std::vector<std::string> out;
+    if (count == 0) return out;
+    Handle memory(H5Screate_simple(1, &count, nullptr), H5Sclose, "make a dataspace");
+    Handle file(rows_selection(set, {{first, count}}, 0), H5Sclose, "select rows");
+    check(H5Dread(set, type, memory, file, H5P_DEFAULT, pointers.data()), name);
+    for (char* p : pointers) out.emplace_back(p ? p : "");
+    H5Dvlen_reclaim(type, memory, H5P_DEFAULT, pointers.data());
+    return out;
+}
+
+long long read_long_attribute(hid_t owner, const char* name) {
+    Handle attribute(H5Aopen(owner, name, H5P_DEFAULT), H5Aclose, std::string("open attribute ") + name);
+    long long value = 0;
+    check(H5Aread(attribute, H5T_NATIVE_LLONG, &value), std::string("read attribute ") + name);
+    return value;
+}
+
 }  // namespace
 
-SweepResults::SweepResults(fs::path path, const Study& study, std::vector<std::vector<double>> design)
-    : path_(std::move(path)), study_text_(study.text), design_(std::move(design)),
-      last_write_(std::chrono::steady_clock::now()) {
+void write_results_h5(const fs::path& target, const fs::path& journal, const CaseDesign& design) {
     quiet_hdf5();
-    for (const StudyParameter& p : study.parameters) parameters_.push_back(p.path);
-    for (const StudyMetric& m : study.metrics) metrics_.push_back(m.name);
-    series_ = study.series;
+    JournalHeader header;
+    std::unique_ptr<Handle> file;
+    std::unique_ptr<TableWriter> table;
+    long records = 0;
+    auto open = [&] {
+        file = std::make_unique<Handle>(H5Fcreate(target.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+                                        "create " + target.string());
+        write_string_attribute(*file, "mbd_version", MBD_VERSION);
+        write_string_attribute(*file, "format", kFormat);
+        write_long_attribute(*file, "cases", header.cases);
+        write_long_attribute(*file, "finished", header.cases);
+        write_long_attribute(*file, "complete", 1);
+        write_text(*file, "study", header.study_text);
+        Handle inputs(H5Gcreate2(*file, "inputs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "create /inputs");
+        std::vector<std::string> paths, contents;
+        for (const InputFingerprint& f : header.inputs) paths.push_back(f.path), contents.push_back(f.content);
+        write_strings(inputs, "path", paths);
+        write_strings(inputs, "content", contents);
+        table = std::make_unique<TableWriter>(*file, header, design);
+    };
+    read_journal(journal, header, [&](const char* data, std::size_t size) {
+        if (!file) open();
+        table->add(decode_case(data, size));
+        ++records;
+    });
+    if (!file) open();
+    if (records != header.cases)
+        throw std::logic_error("sweep: the journal holds " + std::to_string(records) + " of " +
+                               std::to_string(header.cases) + " cases at commit");
+    table->finish();
+    table.reset();
+    check(H5Fflush(*file, H5F_SCOPE_GLOBAL), "flush " + target.string());
+    file.reset();
+    const int fd = ::open(target.c_str(), O_RDONLY | O_CLOEXEC);  // on disk before it takes the final name
+    if (fd < 0 || ::fsync(fd) != 0) {
+        const std::string why = std::strerror(errno);
+        if (fd >= 0) ::close(fd);
+        throw OutputError(target, why);
+    }
+    ::close(fd);
 }
 
-SweepResults SweepResults::create(const fs::path& path, const Study& study,
-                                  const std::vector<std::vector<double>>& design) {
-    SweepResults results(path, study, design);
-    results.flush(true);
-    return results;
-}
-
-SweepResults SweepResults::resume(const fs::path& path, const Study& study,
-                                  const std::vector<std::vector<double>>& design) {
-    SweepResults results(path, study, design);
-    fs::path source = results.partial_path();
-    std::error_code ec;
-    if (!fs::exists(source, ec)) source = path;
-    if (!fs::exists(source, ec))
-        throw InputError("--resume", "there is no '" + results.partial_path().string() + "' nor '" + path.string() +
-                                         "' to resume; run without --resume to start the study");
-    const std::string where = source.string();
+ResultsShape results_h5_shape(const fs::path& path) {
+    quiet_hdf5();
+    ResultsShape shape;
     try {
-        Handle file(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open the file");
-        if (read_text(file, "study") != study.text)
-            throw InputError(where, "holds the results of another study (its study file differs from " +
-                                        study.file.string() + "); resume with the study that made it, or start anew");
-        std::vector<hsize_t> dims;
-        const std::vector<double> planned = read_doubles(file, "design", dims);
-        std::vector<double> flat;
-        for (const auto& row : design) flat.insert(flat.end(), row.begin(), row.end());
-        if (planned != flat)
-            throw InputError(where, "its design differs from the study's (another mbd version?); start anew");
+        Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open the file");
+        shape.cases = static_cast<long>(read_long_attribute(file, "finished"));
         Handle table(H5Gopen2(file, "table", H5P_DEFAULT), H5Gclose, "open /table");
-        std::vector<double> cases = read_doubles(table, "case", dims);
-        const std::vector<double> values = read_doubles(table, "parameters", dims);
-        const std::vector<double> metrics = read_doubles(table, "metrics", dims);
-        const std::vector<double> cpu = read_doubles(table, "cpu_s", dims);
-        const std::vector<std::string> status = read_strings(table, "status");
-        const std::vector<std::string> failure = read_strings(table, "failure");
-        const std::vector<std::string> message = read_strings(table, "message");
-        const std::size_t P = results.parameters_.size(), M = results.metrics_.size(), S = results.series_.size();
-        for (std::size_t r = 0; r < cases.size(); ++r) {
+        {
+            Handle set(H5Dopen2(table, "parameters", H5P_DEFAULT), H5Dclose, "open /table/parameters");
+            shape.parameters = read_columns(set);
+        }
+        Handle set(H5Dopen2(table, "metrics", H5P_DEFAULT), H5Dclose, "open /table/metrics");
+        shape.metrics = read_columns(set);
+    } catch (const std::runtime_error& e) {
+        throw InputError(path.string(), std::string("is not a complete sweep results file (") + e.what() + ")");
+    }
+    return shape;
+}
+
+std::map<long, SweepRow> read_results_h5(const fs::path& path, long first, long count, bool with_series) {
+    const ResultsShape shape = results_h5_shape(path);
+    if (count < 0 || first + count > shape.cases) count = std::max(0L, shape.cases - first);
+    const auto f = static_cast<hsize_t>(first), n = static_cast<hsize_t>(count);
+    const std::size_t P = shape.parameters.size(), M = shape.metrics.size();
+    std::map<long, SweepRow> rows;
+    try {
+        Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open the file");
+        Handle table(H5Gopen2(file, "table", H5P_DEFAULT), H5Gclose, "open /table");
+        const std::vector<double> cases = read_rows(table, "case", f, n, 0);
+        const std::vector<double> values = read_rows(table, "parameters", f, n, P);
+        const std::vector<double> metrics = read_rows(table, "metrics", f, n, M);
+        const std::vector<double> cpu = read_rows(table, "cpu_s", f, n, 0);
+        const std::vector<std::string> status = read_string_rows(table, "status", f, n);
+        const std::vector<std::string> failure = read_string_rows(table, "failure", f, n);
+        const std::vector<std::string> message = read_string_rows(table, "message", f, n);
+        for (std::size_t r = 0; r < n; ++r) {
             SweepRow row;
             row.values.assign(values.begin() + r * P, values.begin() + (r + 1) * P);
             CaseResult& c = row.result;
@@ -263,151 +444,39 @@ SweepResults SweepResults::resume(const fs::path& path, const Study& study,
             c.cpu_seconds = cpu[r];
             if (c.ok) c.metrics.assign(metrics.begin() + r * M, metrics.begin() + (r + 1) * M);
             const long index = static_cast<long>(cases[r]);
-            if (c.ok && S > 0) {
+            if (with_series && c.ok && H5Lexists(file, "series", H5P_DEFAULT) > 0) {
+                std::vector<hsize_t> dims;
                 const std::string name = "series/case_" + std::to_string(index);
                 c.series = read_doubles(file, name.c_str(), dims);
                 c.series_rows = dims.empty() ? 0 : static_cast<long>(dims[0]);
             }
-            results.rows_.emplace(index, std::move(row));
+            rows.emplace(index, std::move(row));
         }
     } catch (const std::runtime_error& e) {
         if (dynamic_cast<const InputError*>(&e)) throw;
-        throw InputError(where, std::string("cannot be resumed, it is not a complete sweep results file (") +
-                                    e.what() + ")");
+        throw InputError(path.string(), std::string("is not a complete sweep results file (") + e.what() + ")");
     }
-    return results;
-}
-
-long SweepResults::failed() const {
-    long n = 0;
-    for (const auto& [index, row] : rows_) n += row.result.ok ? 0 : 1;
-    return n;
-}
-
-void SweepResults::add(long index, CaseResult result) {
-    SweepRow row;
-    row.values = design_.at(static_cast<std::size_t>(index));
-    row.result = std::move(result);
-    if (!rows_.emplace(index, std::move(row)).second)
-        throw std::logic_error("sweep: case " + std::to_string(index) + " recorded twice");
-    ++unwritten_;
-}
-
-std::vector<unsigned char> SweepResults::image() const {
-    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "make file access properties");
-    check(H5Pset_fapl_core(fapl, 1 << 20, 0), "use the core driver");  // in memory, no backing file
-    Handle file(H5Fcreate("mbd-sweep-image.h5", H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose, "create the file image");
-    write_string_attribute(file, "mbd_version", MBD_VERSION);
-    write_string_attribute(file, "format", kFormat);
-    write_long_attribute(file, "cases", static_cast<long long>(design_.size()));
-    write_long_attribute(file, "finished", static_cast<long long>(rows_.size()));
-    write_long_attribute(file, "complete", rows_.size() == design_.size() ? 1 : 0);
-    {
-        Handle type(string_type(), H5Tclose, "make a string type");
-        Handle space(H5Screate(H5S_SCALAR), H5Sclose, "make a dataspace");
-        Handle set(H5Dcreate2(file, "study", type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
-                   "create /study");
-        const char* text = study_text_.c_str();
-        check(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, &text), "write /study");
-    }
-    const std::size_t P = parameters_.size(), M = metrics_.size(), n = rows_.size();
-    std::vector<double> planned;
-    for (const auto& row : design_) planned.insert(planned.end(), row.begin(), row.end());
-    write_matrix(file, "design", planned, design_.size(), P, &parameters_);
-
-    std::vector<double> cases, values, metrics, cpu;
-    std::vector<std::string> status, failure, message;
-    for (const auto& [index, row] : rows_) {
-        cases.push_back(static_cast<double>(index));
-        values.insert(values.end(), row.values.begin(), row.values.end());
-        if (row.result.ok) metrics.insert(metrics.end(), row.result.metrics.begin(), row.result.metrics.end());
-        else metrics.insert(metrics.end(), M, std::numeric_limits<double>::quiet_NaN());
-        cpu.push_back(row.result.cpu_seconds);
-        status.push_back(row.result.ok ? "ok" : "failed");
-        failure.push_back(row.result.failure);
-        message.push_back(row.result.message);
-    }
-    Handle table(H5Gcreate2(file, "table", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "create /table");
-    {
-        const hsize_t count = n;
-        Handle space(H5Screate_simple(1, &count, nullptr), H5Sclose, "make a dataspace");
-        Handle set(H5Dcreate2(table, "case", H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
-                   "create /table/case");
-        if (n > 0) check(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, cases.data()), "write case");
-    }
-    write_matrix(table, "parameters", values, n, P, &parameters_);
-    write_matrix(table, "metrics", metrics, n, M, &metrics_);
-    write_matrix(table, "cpu_s", cpu, n, 0, nullptr);
-    write_strings(table, "status", status);
-    write_strings(table, "failure", failure);
-    write_strings(table, "message", message);
-    if (!series_.empty()) {
-        Handle series(H5Gcreate2(file, "series", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "create /series");
-        for (const auto& [index, row] : rows_)
-            if (row.result.ok)
-                write_matrix(series, ("case_" + std::to_string(index)).c_str(), row.result.series,
-                             static_cast<hsize_t>(row.result.series_rows), series_.size(), &series_);
-    }
-    check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush the file image");
-    const ssize_t size = H5Fget_file_image(file, nullptr, 0);
-    if (size < 0) throw std::runtime_error("HDF5: cannot size the file image");
-    std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
-    if (H5Fget_file_image(file, bytes.data(), bytes.size()) < 0) throw std::runtime_error("HDF5: cannot get the file image");
-    return bytes;
-}
-
-// The image to `target` through TARGET.tmp, synced and renamed: `target` is never half written.
-void SweepResults::write_image(const fs::path& target) const {
-    const std::vector<unsigned char> bytes = image();
-    const fs::path temporary = target.string() + ".tmp";
-    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    if (fd < 0) throw OutputError(path_, std::string(std::strerror(errno)) + " (creating '" + temporary.string() + "')");
-    try {
-        write_all(fd, bytes.data(), bytes.size(), temporary);
-        if (::fsync(fd) != 0) throw OutputError(temporary, std::strerror(errno));
-    } catch (...) {
-        ::close(fd);
-        ::unlink(temporary.c_str());
-        throw;
-    }
-    ::close(fd);
-    if (::rename(temporary.c_str(), target.c_str()) != 0) {
-        const std::string why = std::strerror(errno);
-        ::unlink(temporary.c_str());
-        throw OutputError(target, why);
-    }
-}
-
-void SweepResults::flush(bool force) {
-    const auto now = std::chrono::steady_clock::now();
-    const double since = std::chrono::duration<double>(now - last_write_).count();
-    if (!force && (unwritten_ == 0 || since < std::max(interval_, 10.0 * last_write_seconds_))) return;
-    write_image(partial_path());
-    last_write_ = std::chrono::steady_clock::now();
-    last_write_seconds_ = std::chrono::duration<double>(last_write_ - now).count();
-    unwritten_ = 0;
-}
-
-void SweepResults::commit() {
-    write_image(partial_path());
-    if (::rename(partial_path().c_str(), path_.c_str()) != 0) throw OutputError(path_, std::strerror(errno));
-    committed_ = true;
+    return rows;
 }
 
 void SweepResults::write_csv(const fs::path& csv) const {
+    const ResultsShape shape = results_h5_shape(path_);
     std::string header = "case";
-    for (const std::string& p : parameters_) header += "," + csv_field(p);
-    for (const std::string& m : metrics_) header += "," + csv_field(m);
+    for (const std::string& p : shape.parameters) header += "," + csv_field(p);
+    for (const std::string& m : shape.metrics) header += "," + csv_field(m);
     header += ",cpu_s,status,failure,message\n";
     OutputFile file(csv, header);
-    for (const auto& [index, row] : rows_) {
-        std::string line = std::to_string(index);
-        for (double v : row.values) line += "," + g17(v);
-        for (std::size_t k = 0; k < metrics_.size(); ++k) line += "," + (row.result.ok ? g17(row.result.metrics[k]) : "");
-        line += "," + g17(row.result.cpu_seconds) + "," + (row.result.ok ? "ok" : "failed") + "," +
-                csv_field(row.result.failure) + "," + csv_field(row.result.message) + "\n";
-        file.write_record(line);
-    }
+    constexpr long kBlock = 8192;  // rows in memory at a time
+    for (long first = 0; first < shape.cases; first += kBlock)
+        for (const auto& [index, row] : read_results_h5(path_, first, kBlock, false)) {
+            std::string line = std::to_string(index);
+            for (double v : row.values) line += "," + g17(v);
+            for (std::size_t k = 0; k < shape.metrics.size(); ++k)
+                line += "," + (row.result.ok ? g17(row.result.metrics[k]) : "");
+            line += "," + g17(row.result.cpu_seconds) + "," + (row.result.ok ? "ok" : "failed") + "," +
+                    csv_field(row.result.failure) + "," + csv_field(row.result.message) + "\n";
+            file.write_record(line);
+        }
     file.commit();
 }
 

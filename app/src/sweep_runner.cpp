@@ -10,8 +10,9 @@ namespace mbd {
 
 std::optional<long> CaseDispenser::next() {
     const std::lock_guard<std::mutex> lock(mutex_);
-    if (stopped_ || next_ >= pending_.size()) return std::nullopt;
-    return pending_[next_++];
+    while (next_ < done_.size() && done_[next_]) ++next_;
+    if (stopped_ || next_ >= done_.size()) return std::nullopt;
+    return static_cast<long>(next_++);
 }
 
 void CaseDispenser::stop() {
@@ -19,7 +20,7 @@ void CaseDispenser::stop() {
     stopped_ = true;
 }
 
-LocalWorkers::LocalWorkers(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+LocalWorkers::LocalWorkers(const Study& study, Registry& registry, const CaseDesign& design,
                            CaseDispenser& dispenser, int threads) {
     running_ = threads;
     for (int k = 0; k < threads; ++k)
@@ -30,12 +31,12 @@ LocalWorkers::~LocalWorkers() {
     for (std::thread& t : threads_) t.join();
 }
 
-void LocalWorkers::work(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+void LocalWorkers::work(const Study& study, Registry& registry, const CaseDesign& design,
                         CaseDispenser& dispenser) {
     bool stopped = false;
     while (const std::optional<long> index = dispenser.next()) {
         try {
-            CaseResult result = run_case(study, registry, design[static_cast<std::size_t>(*index)]);
+            CaseResult result = run_case(study, registry, design.values(*index));
             const std::lock_guard<std::mutex> lock(mutex_);
             done_.emplace_back(*index, std::move(result));
             ready_.notify_all();
@@ -69,13 +70,6 @@ bool LocalWorkers::interrupted() {
     return interrupted_;
 }
 
-std::vector<long> pending_cases(const SweepResults& results) {
-    std::vector<long> out;
-    for (long k = 0; k < results.cases(); ++k)
-        if (!results.done(k)) out.push_back(k);
-    return out;
-}
-
 SweepProgress::SweepProgress(const SweepResults& results, bool enabled)
     : bar_(enabled), start_(results.finished()) {}
 
@@ -93,11 +87,11 @@ double thread_cpu_seconds() {
     return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
-SweepStats run_sweep_threads(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+SweepStats run_sweep_threads(const Study& study, Registry& registry, const CaseDesign& design,
                              SweepResults& results, const SweepOptions& options) {
     const double cpu_start = thread_cpu_seconds();
     const long finished_before = results.finished();
-    CaseDispenser dispenser(pending_cases(results));
+    CaseDispenser dispenser(results.done_cases());
     SweepProgress progress(results, options.progress);
     {
         LocalWorkers workers(study, registry, design, dispenser, options.threads);

@@ -1,6 +1,7 @@
 // Linearised equations of motion in independent coordinates: see linearisation.hpp.
 #include <mbd/linearisation.hpp>
 
+#include "cyclic_directions.hpp"
 #include "reference_motion.hpp"
 
 #include <mbd/body_poses.hpp>
@@ -39,17 +40,21 @@ public:
     // The full consistent state at independent increments z and independent velocities w
     // (in the reference axes: v = T^T u with u_i = w, [J; A_nh] T^T u + C_t = 0).
     State state_at(const Eigen::VectorXd& z, const Eigen::VectorXd& w) {
-        State s = reference_;
-        Eigen::VectorXd dv = Eigen::VectorXd::Zero(system_.nv());
-        scatter(z, positions_.independent, dv);
-        system_.advance_positions(s.q, dv);
-        Eigen::MatrixXd J;
-        correct_dependent_positions(system_, s, positions_, 1e-14, 30, cv_, J, ws_);
+        State s = positioned_at(z);
         const Eigen::MatrixXd T = reference_axes(system_.model(), s.q, reference_.q);
         Eigen::VectorXd u;
-        dependent_velocities(Eigen::MatrixXd(J * T.transpose()), cv_.C_t, velocities_, w, u, ws_);
+        dependent_velocities(Eigen::MatrixXd(J_ * T.transpose()), cv_.C_t, velocities_, w, u, ws_);
         s.v = T.transpose() * u;
         return s;
+    }
+
+    // The independent velocities that keep, at the positions shifted by z, the reference's
+    // velocities in each body's own axes (cyclic_directions.hpp: the velocities a shift carries).
+    Eigen::VectorXd carried_velocities(const Eigen::VectorXd& z) {
+        const State s = positioned_at(z);
+        Eigen::VectorXd w;
+        gather(Eigen::VectorXd(reference_axes(system_.model(), s.q, reference_.q) * reference_.v), velocities_.independent, w);
+        return w;
     }
 
     // vdot from [M J^T; J 0] [vdot; lambda] = [Q + Q_u u; gamma] over every row (Eq. 6.128);
@@ -83,7 +88,20 @@ public:
         return out;
     }
 
+    // whether the last state's dependent positions converged (a far shift may not assemble)
+    bool converged() const { return converged_; }
+
 private:
+    // the reference's positions shifted by z, the dependent ones by Newton-Raphson (J_ at them)
+    State positioned_at(const Eigen::VectorXd& z) {
+        State s = reference_;
+        Eigen::VectorXd dv = Eigen::VectorXd::Zero(system_.nv());
+        scatter(z, positions_.independent, dv);
+        system_.advance_positions(s.q, dv);
+        converged_ = correct_dependent_positions(system_, s, positions_, 1e-14, 30, cv_, J_, ws_);
+        return s;
+    }
+
     ModelSystem& system_;
     const State& reference_;
     const CoordinatePartition& positions_;
@@ -91,6 +109,8 @@ private:
     const Eigen::MatrixXd& actuator_forces_;
     ConstraintValues cv_;
     VelocityTransformWorkspace ws_;
+    Eigen::MatrixXd J_;
+    bool converged_ = true;
 };
 
 // nv x actuators: column a is J_s^T of actuator a's joint coordinate at `state`.
@@ -146,7 +166,101 @@ CoordinatePartition partition_with_map(const ConstraintValues& cv, Eigen::Matrix
     return partition;
 }
 
+// No independent position: nothing moves, so there are no modes. Named by its cause: the
+// drivers that prescribe the freedoms, or the joints that leave none.
+void require_independent_positions(const Model& model, int independent) {
+    if (independent > 0) return;
+    if (model.drivers.empty())
+        throw LinearisationError("no freedom to linearise: the joints fix every body (0 independent coordinates), "
+                                 "so the scene has no modes");
+    std::string drivers;
+    for (const Driver& d : model.drivers)
+        drivers += std::string(drivers.empty() ? "" : ", ") + "'" + d.name + "' (joint '" + model.joints[d.joint].name + "')";
+    const bool one = model.drivers.size() == 1;
+    throw LinearisationError(
+        "no freedom to linearise: the driver" + std::string(one ? " " : "s ") + drivers + (one ? " prescribes" : " prescribe") +
+        " the motion of every coordinate the joints leave free (0 independent coordinates), so the scene has no "
+        "modes; for the modes of the mechanism, remove the driver" + (one ? "" : "s") + " (the free mechanism) or make " +
+        (one ? "it an actuator" : "them actuators") + " (actuators: [{name: " + model.drivers[0].name + ", joint: " +
+        model.joints[model.drivers[0].joint].name + "}], its effort an input of B)");
+}
+
+// Rates at the shifts +-shift along d (unit; the velocities carried along) against those at
+// the reference: unchanged, to `tolerance`, outside the shifts Q (orthonormal states, n x s)?
+bool unchanged_by_shift(ReducedDynamics& dynamics, const Eigen::MatrixXd& Q, const Eigen::VectorXd& d,
+                        const Eigen::VectorXd& u0, const Eigen::VectorXd& rates0, double shift, double tolerance) {
+    for (double s : {-shift, shift}) {
+        const Eigen::VectorXd w = dynamics.carried_velocities(s * d);
+        if (!dynamics.converged()) return false;
+        Eigen::VectorXd change = dynamics.rates(s * d, w, u0) - rates0;
+        if (!dynamics.converged()) return false;
+        change -= Q * (Q.transpose() * change);
+        if (!(change.cwiseAbs().maxCoeff() <= tolerance)) return false;
+    }
+    return true;
+}
+
+// The first-order change of the independent velocities that a position shift carries
+// (k_w x k_z): each spatial body's angular velocity kept in its own axes, so that in the
+// reference axes it changes by delta x wbar0 (delta its rotation increment).
+Eigen::MatrixXd carried_velocity_map(const Model& model, const State& reference, const LinearModel& out,
+                                     const std::vector<int>& velocity_columns) {
+    const Eigen::Index kz = out.position_map.cols();
+    Eigen::MatrixXd full = Eigen::MatrixXd::Zero(model.nv(), kz);
+    if (model.dimension == Dimension::Spatial)
+        for (int b = 0; b < model.body_count(); ++b) {
+            const int o = model.v_offset(b) + 3;
+            const Vec3 w0 = reference.v.segment<3>(o);
+            for (Eigen::Index c = 0; c < kz; ++c)
+                full.block<3, 1>(o, c) = Vec3(out.position_map.block<3, 1>(o, c)).cross(w0);
+        }
+    Eigen::MatrixXd W(velocity_columns.size(), kz);
+    for (size_t r = 0; r < velocity_columns.size(); ++r) W.row(static_cast<Eigen::Index>(r)) = full.row(velocity_columns[r]);
+    return W;
+}
+
+// The cyclic directions (cyclic_directions.hpp): the linear search, then each direction
+// confirmed on the nonlinear equations by a finite shift (a direction that is only neutral
+// to first order, like a bicycle's capsize mode at its critical speed, changes the rates at
+// second order); the search repeated within the confirmed ones until all are.
+void find_cyclic_directions(ReducedDynamics& dynamics, const LinearisationOptions& options, const Eigen::VectorXd& u0,
+                            const Eigen::VectorXd& rates0, LinearModel& out) {
+    const int kz = static_cast<int>(out.coordinates.size());
+    const double scale = out.A.size() ? out.A.cwiseAbs().maxCoeff() : 0.0;
+    const double linear_tolerance = options.cyclic_tolerance * std::max(scale, 1e-300);
+    const double shift_tolerance = options.cyclic_tolerance * std::max(1.0, scale * options.cyclic_shift);
+    const Eigen::MatrixXd W = out.carried_velocities;
+    Eigen::MatrixXd within = Eigen::MatrixXd::Identity(kz, kz);
+    while (true) {
+        const Eigen::MatrixXd S = invariant_position_subspace(out.A, W, within, linear_tolerance);
+        std::vector<int> pivots;
+        const Eigen::MatrixXd E = reduced_echelon(S, pivots);
+        Eigen::MatrixXd states(out.A.rows(), S.cols());
+        states << S, W * S;
+        const Eigen::MatrixXd Q = orthonormal_basis(states);
+        Eigen::MatrixXd confirmed(kz, 0);
+        for (Eigen::Index c = 0; c < E.cols(); ++c)
+            if (unchanged_by_shift(dynamics, Q, E.col(c).normalized(), u0, rates0, options.cyclic_shift, shift_tolerance)) {
+                confirmed.conservativeResize(kz, confirmed.cols() + 1);
+                confirmed.rightCols(1) = E.col(c);
+            }
+        if (confirmed.cols() == E.cols()) {
+            out.cyclic = E;
+            out.cyclic_pivots = pivots;
+            return;
+        }
+        within = confirmed;
+    }
+}
+
 }  // namespace
+
+void require_freedom(ModelSystem& system, const State& state) {
+    ConstraintValues holonomic;
+    system.constraints(state, holonomic, true);
+    require_independent_positions(system.model(),
+                                  static_cast<int>(partition_coordinates(Eigen::MatrixXd(holonomic.J)).independent.size()));
+}
 
 void require_linearisable(const Model& model) {
     // the reduced accelerations solve no reaction loads: such a friction would act at load 0
@@ -172,6 +286,7 @@ LinearModel linearise(ModelSystem& system, const State& start, const std::vector
     system.constraints(reference, holonomic, true);
     system.constraints_with_velocity_rows(reference, all_rows, true);
     const CoordinatePartition positions = partition_with_map(holonomic, out.position_map, "position");
+    require_independent_positions(system.model(), static_cast<int>(positions.independent.size()));
     const CoordinatePartition velocities = partition_with_map(all_rows, out.velocity_map, "velocity");
     const int kz = static_cast<int>(positions.independent.size());
     const int kw = static_cast<int>(velocities.independent.size());
@@ -218,6 +333,8 @@ LinearModel linearise(ModelSystem& system, const State& start, const std::vector
     out.B = Eigen::MatrixXd::Zero(n, Qu.cols());
     for (int a = 0; a < Qu.cols(); ++a)
         out.B.block(kz, a, kw, 1) = dynamics.rates(z0, w0, Eigen::VectorXd::Unit(Qu.cols(), a)).tail(kw) - rates0.tail(kw);
+    out.carried_velocities = carried_velocity_map(system.model(), reference, out, velocities.independent);
+    find_cyclic_directions(dynamics, options, u0, rates0, out);
     return out;
 }
 

@@ -227,24 +227,55 @@ long simulation_rows(const SimulationSettings& settings) {
     return static_cast<long>(output_times_after_start(settings).size()) + 1;
 }
 
+namespace {
+
+// The formulation and integrator of a run, made and checked against each other and the scene
+// before any work (the checks of check_simulation_method).
+struct PreparedRun {
+    std::string formulation_name;
+    FormulationOptions options;
+    std::shared_ptr<Formulation> formulation;
+    std::unique_ptr<Integrator> integrator;
+    IntegratorSettings integration;  // the tolerance chosen or given (run_integration)
+};
+
+PreparedRun prepare_run(const Model& model, Registry& registry, const SimulationSettings& settings) {
+    PreparedRun run;
+    const RunMethod method = run_method(model, settings);
+    run.formulation_name = method.formulation;
+    const std::string& name = run.formulation_name;
+    run.formulation = make_run_formulation(model, registry, settings, name, run.options);
+    check_integration_settings(settings);
+    run.integration = run_integration(model, settings, method.integrator);
+    run.integrator = make_integrator(method.integrator, run.integration);
+    const Integrator& integrator = *run.integrator;
+    if (integrator.needs_index3() && !run.formulation->supports_index3())
+        throw InputError(integrator.name(), integrator.name() + " needs a formulation that supports index-3 (augmented); '" +
+                                                name + "' has none");
+    require_velocity_rows_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
+    require_reaction_loads_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
+    return run;
+}
+
+}  // namespace
+
+void check_simulation_method(const Model& model, Registry& registry, const SimulationSettings& settings) {
+    SimulationSettings quiet = settings;  // a check says nothing of the tolerance it would choose
+    quiet.messages = MessageLog::silent();
+    prepare_run(model, registry, quiet);
+}
+
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
                           const SimulationCallback& callback) {
     SimulationResult result;
-    const RunMethod method = run_method(model, settings);
-    const std::string& name = method.formulation;
-    FormulationOptions options;
-    std::shared_ptr<Formulation> formulation = make_run_formulation(model, registry, settings, name, options);
+    PreparedRun run = prepare_run(model, registry, settings);  // before any work
+    const std::string& name = run.formulation_name;
+    FormulationOptions& options = run.options;
+    std::shared_ptr<Formulation> formulation = run.formulation;
+    std::unique_ptr<Integrator> integrator = std::move(run.integrator);
     result.formulation = name;
-    check_integration_settings(settings);  // before any work
-    const IntegratorSettings integration = run_integration(model, settings, method.integrator);
-    std::unique_ptr<Integrator> integrator = make_integrator(method.integrator, integration);
     result.integrator = integrator->name();
-    result.tolerance = integrator->adaptive() ? integration.tolerance : 0.0;
-    if (integrator->needs_index3() && !formulation->supports_index3())
-        throw InputError(integrator->name(), integrator->name() + " needs a formulation that supports index-3 (augmented); '" +
-                                                 name + "' has none");
-    require_velocity_rows_handled(model, *formulation, name, integrator->needs_index3(), integrator->name());
-    require_reaction_loads_handled(model, *formulation, name, integrator->needs_index3(), integrator->name());
+    result.tolerance = integrator->adaptive() ? run.integration.tolerance : 0.0;
 
     // --- bind and assemble a consistent initial state
     require_positive_masses(model);

@@ -167,14 +167,18 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
     return report;
 }
 
-void run_inverse(const Model& model, Registry& registry, double t_end, double step, const InverseCallback& callback,
-                 InverseOptions options, const std::string& solver) {
+void check_inverse_dynamics(const Model& model, const InverseOptions& options) {
     require_holonomic(model, "inverse dynamics", "simulate the motion (`mbd simulate`) instead");
-    ModelSystem system(model);
-    if (options.actuators.empty()) options.actuators = scene_actuators(model);
-    if (options.actuators.empty())
+    if (options.actuators.empty() && scene_actuators(model).empty())
         throw InputError(model.source, "inverse dynamics needs actuators: add a top-level 'actuators:' list "
                                        "({name, joint, bounds, weight}; see docs/scene-format.md)");
+}
+
+void run_inverse(const Model& model, Registry& registry, double t_end, double step, const InverseCallback& callback,
+                 InverseOptions options, const std::string& solver) {
+    if (options.actuators.empty()) options.actuators = scene_actuators(model);
+    check_inverse_dynamics(model, options);
+    ModelSystem system(model);
     InverseSpec spec;
     spec.name = solver;
     spec.type = solver;

@@ -26,7 +26,8 @@
 //   sparse: W W^T formed on its fixed pattern and factored L D L^T (sparse_gram.hpp);
 //           the ordering and symbolic analysis are done once in bind() on W's fixed
 //           pattern (every row of a joint touches every velocity column of that joint's
-//           bodies); a rank-deficient S is damped (W W^T + delta I) and refined.
+//           bodies); structurally redundant rows are left out as on the dense path
+//           (below); a rank-deficient S is damped (W W^T + delta I) and refined.
 // Velocity-level (nonholonomic) joint rows A v = b (a wheel's no-slip condition) are rows
 // of J with their own multipliers (the no-slip reactions), written as C = 0, J = A, C_t = -b,
 // gamma = db/dt - (dA/dt) v (System::constraints_with_velocity_rows): they enter the
@@ -128,15 +129,20 @@ private:
     RankCertificate rank_certificate_;  // lent to singularity_ (support/rank_certificate.hpp)
     ReactionLoadSolver reaction_loads_;
     // Structurally redundant rows (dependent at the assembled initial state, e.g. the Bricard's
-    // sixth joint) are left out of S with zero multipliers on the dense path, as the embedding
+    // sixth joint) are left out of S with zero multipliers (dense and sparse paths), as the embedding
     // formulation drops them: off the manifold such a row is only NEARLY dependent, and its tiny
     // singular value in J would otherwise produce huge multipliers and accelerations. Which row
     // is the dependent one can change along the motion: when the kept rows become ill-conditioned
     // they are re-selected (as the embedding re-selects its coordinates). If a left-out row stops
     // being dependent (its acceleration constraint fails), every row is used again.
+    // The sparse path selects them in the same way, from W formed densely, up to
+    // kDenseSelectionEntries entries of W (32 MB); beyond, it keeps every row and solves a
+    // rank-deficient S by damped least squares.
+    static constexpr double kDenseSelectionEntries = 4e6;
     std::vector<int> dropped_;
     std::vector<char> is_dropped_;
     bool redundancy_checked_ = false;
+    Eigen::MatrixXd selection_W_;  // sparse path: W = J Lm with every row, for a selection
 };
 
 void Augmented::bind(System& system, const FormulationOptions& options) {
@@ -267,7 +273,16 @@ void Augmented::factor(double t, const char* what, bool robust) {
     }
     // sparse: W = J Lm on W's fixed pattern, the dropped rows decoupled (their multipliers are 0)
     sparse_gram_.fill(J, mass_inverse_, &is_dropped_);
-    if (!robust && sparse_gram_.factor(0.0)) return;
+    bool factored = sparse_gram_.factor(0.0);
+    if (!dropped_.empty() && !robust && (!factored || sparse_gram_.least_relative_pivot() <= 1e-6)) {
+        if (reselect_dropped_rows(t)) {
+            factor(t, what, robust);  // with the new selection (it differs, so this recursion ends)
+            return;
+        }
+        sparse_gram_.fill(J, mass_inverse_, &is_dropped_);  // the selection read W with every row
+        factored = sparse_gram_.factor(0.0);
+    }
+    if (!robust && factored) return;
     // rank deficient: damped least squares (W W^T + delta I), refined and checked by the caller
     if (!sparse_gram_.factor(1e-12 * std::max(sparse_gram_.max_diagonal(), 1e-300))) redundant_rows_error(t, what);
     rank_deficient_ = true;
@@ -306,9 +321,12 @@ void Augmented::keep_all_rows() {
 
 void Augmented::find_structural_redundancy(double t) {
     redundancy_checked_ = true;
-    if (nc_ == 0 || sparse_) return;  // the sparse path solves redundant rows by damped least squares
+    // beyond kDenseSelectionEntries the sparse path solves redundant rows by damped least squares
+    if (nc_ == 0 || (sparse_ && static_cast<double>(nc_) * nv_ > kDenseSelectionEntries)) return;
     factor(t, "J M^-1 J^T");
-    if (rank_deficient_) reselect_dropped_rows(t);  // a full-rank S needs nothing
+    // a full-rank S needs nothing (sparse: every pivot above 1e-8 of its diagonal entry of S,
+    // the dense path's threshold for its pseudo-inverse)
+    if (rank_deficient_ || (sparse_ && sparse_gram_.least_relative_pivot() <= 1e-8)) reselect_dropped_rows(t);
 }
 
 // The left-out rows: the least independent rows of W = J Lm (S = W W^T), i.e. the last columns of
@@ -316,7 +334,11 @@ void Augmented::find_structural_redundancy(double t) {
 // allows. Their number is fixed at the first selection (the rank deficiency of the assembled
 // state). Returns whether the selection changed.
 bool Augmented::reselect_dropped_rows(double t) {
-    const Eigen::MatrixXd& W = dense_.form_W(cv_.J, mass_inverse_);
+    if (sparse_) {  // W with every row, densely (a selection is rare: at the start and on ill conditioning)
+        sparse_gram_.fill(cv_.J, mass_inverse_);
+        selection_W_ = sparse_gram_.W();
+    }
+    const Eigen::MatrixXd& W = sparse_ ? selection_W_ : dense_.form_W(cv_.J, mass_inverse_);
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.transpose());
     qr.setThreshold(1e-8);
     const int count = dropped_.empty() ? nc_ - static_cast<int>(qr.rank()) : static_cast<int>(dropped_.size());

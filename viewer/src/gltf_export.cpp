@@ -7,11 +7,22 @@
 
 #include <tiny_gltf.h>
 
+#include <cmath>
 #include <cstring>
+#include <string>
 #include <map>
 
 namespace mbd::viewer {
 namespace {
+
+// glTF numbers are finite 32-bit floats: `what` names the values in the error otherwise.
+void require_finite(const std::vector<float>& values, int components, const std::string& what) {
+    for (size_t i = 0; i < values.size(); ++i)
+        if (!std::isfinite(values[i]))
+            throw InputError(what, "value " + std::to_string(i / components + 1) +
+                                       " is not a finite 32-bit float (glTF allows none): the motion is too large "
+                                       "to animate");
+}
 
 class GlbBuilder {
 public:
@@ -29,7 +40,10 @@ public:
         return static_cast<int>(model_.bufferViews.size() - 1);
     }
 
-    int accessor(const std::vector<float>& values, int type, int components, int target, bool bounds) {
+    // `what` names the values in the error a non-finite one gets (glTF numbers are finite floats).
+    int accessor(const std::vector<float>& values, int type, int components, int target, bool bounds,
+                 const std::string& what) {
+        require_finite(values, components, what);
         tinygltf::Accessor a;
         a.bufferView = view(values.data(), values.size() * sizeof(float), target);
         a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
@@ -77,8 +91,10 @@ public:
         auto data = vertex_data_.find(index);
         if (data == vertex_data_.end()) {
             const TriangleMesh& m = meshes.meshes[index];
-            const int pos = accessor(m.positions, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
-            const int nor = accessor(m.normals, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+            const int pos = accessor(m.positions, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true,
+                                     "mesh " + std::to_string(index) + " positions");
+            const int nor = accessor(m.normals, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, false,
+                                     "mesh " + std::to_string(index) + " normals");
             data = vertex_data_.emplace(index, std::array<int, 3>{pos, nor, indices(m.indices)}).first;
         }
         tinygltf::Primitive p;
@@ -140,7 +156,7 @@ tinygltf::Node grid_node(GlbBuilder& b, const VisualScene& scene) {
             for (int i = 0; i < 3; ++i) positions.push_back(static_cast<float>(p[i]));
     }
     tinygltf::Primitive p;
-    p.attributes["POSITION"] = b.accessor(positions, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+    p.attributes["POSITION"] = b.accessor(positions, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true, "grid");
     p.mode = TINYGLTF_MODE_LINE;
     p.material = b.material(Vec3(0.55, 0.55, 0.58), 0.0, 1.0);
     tinygltf::Mesh mesh;
@@ -207,12 +223,13 @@ void write_glb(const Model& model, const MotionTable& table, std::ostream& out) 
     if (animated) {
         std::vector<float> times(rows);
         for (size_t r = 0; r < rows; ++r) times[r] = static_cast<float>(table.at(r, 0));
-        time_accessor = b.accessor(times, TINYGLTF_TYPE_SCALAR, 1, 0, true);
+        time_accessor = b.accessor(times, TINYGLTF_TYPE_SCALAR, 1, 0, true, table.source + ": column 't'");
     }
     auto channel = [&](int node, const char* path, const std::vector<float>& values, int type, int components) {
         tinygltf::AnimationSampler s;
         s.input = time_accessor;
-        s.output = b.accessor(values, type, components, 0, false);
+        s.output = b.accessor(values, type, components, 0, false,
+                              table.source + ": " + b.model().nodes[node].name + " " + path);
         s.interpolation = "LINEAR";
         animation.samplers.push_back(s);
         tinygltf::AnimationChannel c;
@@ -262,6 +279,9 @@ void write_glb(const Model& model, const MotionTable& table, std::ostream& out) 
             push(rotation, q, r);
             push(scale, s);
         }
+        require_finite(translation, 3, table.source + ": connector " + c.name + " translation");
+        require_finite(rotation, 4, table.source + ": connector " + c.name + " rotation");
+        require_finite(scale, 3, table.source + ": connector " + c.name + " scale");
         tinygltf::Node n;
         n.name = c.name;
         n.mesh = b.mesh(meshes, meshes.connector_mesh, c.color);

@@ -92,7 +92,11 @@ std::string json_string(const std::string& s) {
     return out + "\"";
 }
 
+// JSON has no inf or nan: a number that is not finite would make the page's scene unreadable.
 std::string json_number(double x) {
+    if (!std::isfinite(x))
+        throw InputError("", "the viewer page would hold a number that is not finite (" + std::to_string(x) +
+                                 "): the motion is too large to show");
     char b[32];
     std::snprintf(b, sizeof b, "%.9g", x);
     return b;

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -135,6 +136,11 @@ void parse_rows(RowBlock& block, const std::vector<std::string>& columns, double
             if (r.ec != std::errc() || rest != cell_end || !std::isfinite(v))
                 return fail("column " + std::to_string(column + 1) + " " + quote(columns[column]) + ": " +
                             quote(std::string(cell, cell_end)) + " is not a finite number");
+            // the glTF file and the page store 32-bit floats: a larger number would become inf there
+            if (std::abs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+                return fail("column " + std::to_string(column + 1) + " " + quote(columns[column]) + ": " +
+                            quote(std::string(cell, cell_end)) + " is beyond the range of the 32-bit floats an "
+                            "animation stores (3.4e38); a motion this large is no result to watch");
             row[column++] = v;
             if (cell_end == row_end) break;
             cell = cell_end + 1;
@@ -211,6 +217,14 @@ MotionTable read_motion_csv(const std::filesystem::path& file, unsigned threads)
                                      std::to_string(before) + ")");
         }
         if (!block.error.empty()) throw InputError(table.source + ":" + std::to_string(block.error_line), block.error);
+    }
+    // a file cut inside its last line (a copy or a write that stopped) may end in a cut number
+    // that still parses: every line of a complete result ends with its line end
+    if (end > text.data() && end[-1] != '\n') {
+        const size_t last_line = blocks.back().first_line + blocks.back().lines - 1;  // blocks follow each other
+        throw InputError(table.source + ":" + std::to_string(last_line),
+                         "the last line has no line end: the file was cut (an unfinished copy or write?); give the "
+                         "complete result");
     }
     return table;
 }

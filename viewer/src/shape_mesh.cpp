@@ -140,6 +140,11 @@ TriangleMesh mesh_file(const VisualShape& shape) {
         const uint32_t base = static_cast<uint32_t>(b.mesh.positions.size() / 3);
         for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
             const aiVector3D& p = mesh->mVertices[v];
+            if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
+                throw InputError(shape.where, "key 'file': the mesh " + shape.mesh_file + " has a vertex that is not a "
+                                              "finite number (vertex " + std::to_string(v + 1) + " of part " +
+                                              std::to_string(m + 1) + ": " + std::to_string(p.x) + ", " +
+                                              std::to_string(p.y) + ", " + std::to_string(p.z) + "); fix the file");
             aiVector3D n = mesh->mNormals[v];
             if (!(n.Length() > 0)) n = aiVector3D(0, 0, 1);
             b.vertex(Vec3(p.x, p.y, p.z), Vec3(n.x, n.y, n.z));

@@ -49,6 +49,13 @@ struct LinearisationOptions {
     // most forces (inertia, constraints), on which the central difference is then exact
     double velocity_step = 0.1;
     double residual_tolerance = 1e-8;   // accepted max |w'| at the reference (and |vdot| along a motion)
+    // cyclic directions (cyclic_directions.hpp): singular values of A's response to a position
+    // direction below this times max |A| count as zero (the differences' round-off is ~1e-13 of it)
+    double cyclic_tolerance = 1e-9;
+    // and each is confirmed by a shift of this size (m or rad) on the nonlinear equations,
+    // which must leave every rate outside the set unchanged to cyclic_tolerance times
+    // max(1, max |A| shift)
+    double cyclic_shift = 0.05;
 };
 
 struct LinearModel {
@@ -65,14 +72,33 @@ struct LinearModel {
     std::vector<std::string> joint_coordinates;  // joints that have a coordinate
     Eigen::MatrixXd joint_map;              // joints x k_z: their coordinate's increment per independent position
     double residual = 0.0;                  // max |w'| at the reference
+    // The cyclic position directions (k_z x s, reduced row-echelon form, each with a pivot
+    // coordinate of entry 1): the equations of motion do not depend on them, neither the
+    // linearised (A's response to them stays among them) nor the nonlinear (a finite shift
+    // along each leaves every other rate unchanged); a position on the ground, a heading, a
+    // wheel's spin angle. Never found from the eigenvalues (modes.hpp).
+    // A position shift carries the velocities along (each spatial body's angular velocity kept
+    // in its own axes, so a wheel turned in heading spins about its new axle): the independent
+    // velocities change by carried_velocities (k_w x k_z) times the shift. The state of a
+    // cyclic direction d is (d, carried_velocities d).
+    Eigen::MatrixXd cyclic;
+    std::vector<int> cyclic_pivots;         // each one's pivot: the independent coordinate it is named by
+    Eigen::MatrixXd carried_velocities;
 };
 
 // Refuses (LinearisationError naming the element and its file:line) what the linearisation
 // does not model: a force loaded by a joint's reaction (Force::load_joint).
 void require_linearisable(const Model& model);
 
+// Refuses (LinearisationError) a scene without freedom at `state` (the rank of the holonomic
+// rows, drivers included, is that of the assembled state's): every coordinate fixed by the
+// joints, or prescribed by drivers, which the message names with what to do. linearise checks
+// it too; this is for before a statics.
+void require_freedom(ModelSystem& system, const State& state);
+
 // Linearises about `reference` (its positions assembled and velocities made consistent
-// first). Throws LinearisationError when the residual exceeds the tolerance, the
+// first). Throws LinearisationError when the scene has no freedom (every coordinate fixed by
+// the joints and drivers; the message names the drivers), the residual exceeds the tolerance, the
 // constraints are singular there, the model is not linearisable (above), or the reference moves but is not a steady motion
 // (reference_motion.hpp).
 LinearModel linearise(ModelSystem& system, const State& reference, const std::vector<ActuatorInfo>& actuators,

@@ -1,7 +1,8 @@
 // Modes of a linearised system (issue 17): eigenvalues of A, natural frequencies, damping
 // ratios and mode shapes in the independent and joint coordinates; coordinates on which
-// the dynamics do not depend (ignorable: position on the ground, heading, a wheel's spin
-// angle) are set apart with their zero eigenvalues instead of being mixed with the rest.
+// the equations of motion do not depend (ignorable, cyclic: position on the ground, heading,
+// a wheel's spin angle; found from the equations, linearisation.hpp) are set apart with their
+// zero eigenvalues. Every other eigenvalue is reported, however close to zero (issue 42).
 #pragma once
 
 #include <mbd/linearisation.hpp>
@@ -25,11 +26,11 @@ struct Mode {
     Eigen::VectorXcd joint_shape;         // the same in joint coordinates
 };
 
-// A direction of the independent positions that the rest of the motion does not see: the
-// span of these is the largest set S of position directions with A S within S and A
-// nilpotent on S (a position the dynamics do not depend on, A s = 0, such as the position
-// on the ground or a wheel's spin angle; or one that only drives another such, like the
-// heading of a bicycle, whose rate moves its lateral position). Each has eigenvalue zero.
+// A cyclic direction of the independent positions (LinearModel::cyclic): the equations of
+// motion do not depend on it; the position on the ground, a wheel's spin angle, or the
+// heading of a bicycle, whose rate moves only its lateral position. Each has eigenvalue zero.
+// Never inferred from an eigenvalue's size: a mode that is only neutral (lambda = 0 or near
+// it: a bicycle's capsize mode at its critical speed, a disc's steady turn) is a Mode.
 struct IgnorableDirection {
     Eigen::VectorXd shape;                // in the independent coordinates, its pivot entry 1
     Eigen::VectorXd joint_shape;          // the same in joint coordinates
@@ -42,12 +43,11 @@ struct ModeAnalysis {
     std::vector<IgnorableDirection> ignorable;
 };
 
-// Singular values below tolerance * max|A| count as zero in finding the ignorable directions.
-// The eigenvalues of the rest are polished by Newton's method as roots of det(lambda I - A) /
-// lambda^s (s zero eigenvalues set apart), whose coefficients carry A's error only, not the
-// eps^(1/s) spread that differences give a nilpotent block (an eigenvalue near zero: a
-// bicycle's capsize mode near its critical speed, tests/test_bicycle.cpp).
-ModeAnalysis modes_of(const LinearModel& linear, double ignorable_tolerance = 1e-8);
+// The ignorable directions are linear.cyclic; free velocities (a velocity direction whose
+// rates all lie in the span of the cyclic directions' states) are found with singular values
+// below free_tolerance * max|A| counting as zero; every other eigenvalue is one of C^T A C,
+// C the orthonormal complement of the two (A is block triangular in that basis).
+ModeAnalysis modes_of(const LinearModel& linear, double free_tolerance = 1e-8);
 
 // "frame.x" for a single coordinate, "frame.rz + 0.35 fork.rz" for a combination.
 std::string describe(const IgnorableDirection& direction, const std::vector<std::string>& coordinates);

@@ -88,6 +88,12 @@ std::vector<std::string> diagnostic_columns();  // kinetic_energy potential_ener
 // interval may be shorter).
 long simulation_rows(const SimulationSettings& settings);
 
+// The checks simulate() makes before any work, alone: the formulation and the integrator (named
+// or chosen automatically) made, the integration settings, and what the integrator needs of the
+// formulation and the scene (index-3, velocity rows, reaction loads); InputError as simulate()
+// throws it. `mbd sweep` checks a study's analysis with it once, before any case.
+void check_simulation_method(const Model& model, Registry& registry, const SimulationSettings& settings);
+
 // Returns false to stop the run early.
 using SimulationCallback = std::function<bool(const SimulationSample& sample)>;
 

@@ -68,6 +68,10 @@ StaticIndeterminacy resolve_indeterminacy(const Model& model, System& system, co
 // Reactions from multipliers of every constraint row (or of the joint rows only).
 std::vector<JointLoad> joint_loads(System& system, const State& state, const Eigen::VectorXd& lambda);
 
+// What inverse dynamics needs of the scene before any work (holonomic constraints, actuators:
+// the options' or the scene's); InputError naming the scene otherwise.
+void check_inverse_dynamics(const Model& model, const InverseOptions& options = {});
+
 // Inverse dynamics at t = 0, step, ..., t_end (kinematics from the drivers).
 // Throws DynamicsError naming the first time it fails, KinematicsError when the
 // drivers cannot be assembled.

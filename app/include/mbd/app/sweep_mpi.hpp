@@ -10,6 +10,7 @@
 #pragma once
 
 #include <mbd/app/study.hpp>
+#include <mbd/app/study_design.hpp>
 #include <mbd/app/sweep_results.hpp>
 #include <mbd/app/sweep_runner.hpp>
 
@@ -29,11 +30,11 @@ MpiRole mpi_role();
 // Rank 0: runs the pending cases of `results` on its local threads and on the workers,
 // records them and commits the file; a stop signal flushes the file, then aborts the job
 // (MPI_Abort) with Interrupted's exit status.
-SweepStats run_sweep_master(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+SweepStats run_sweep_master(const Study& study, Registry& registry, const CaseDesign& design,
                             SweepResults& results, const SweepOptions& options);
 
 // Ranks > 0: cases on request until the master says stop; returns the exit status (0).
-int run_sweep_worker(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design);
+int run_sweep_worker(const Study& study, Registry& registry, const CaseDesign& design);
 
 // Rank 0 failed before the cases began (bad input): tell every worker to stop.
 void release_workers(const MpiRole& role);

@@ -6,7 +6,9 @@
 // dispenser and local threads.
 #pragma once
 
+#include <mbd/app/case_record.hpp>
 #include <mbd/app/study.hpp>
+#include <mbd/app/study_design.hpp>
 #include <mbd/app/study_case.hpp>
 #include <mbd/app/sweep_results.hpp>
 #include <mbd/progress_bar.hpp>
@@ -22,26 +24,25 @@
 
 namespace mbd {
 
-// The cases still to run, handed out one at a time to whoever asks (thread-safe).
+// The cases still to run (those not done at the start), handed out one at a time in ascending
+// order to whoever asks (thread-safe); one bit per case, no list of them.
 class CaseDispenser {
 public:
-    explicit CaseDispenser(std::vector<long> pending) : pending_(std::move(pending)) {}
+    explicit CaseDispenser(std::vector<bool> done) : done_(std::move(done)) {}
     std::optional<long> next();
     void stop();  // hand out nothing more (a stop signal)
 
 private:
     std::mutex mutex_;
-    std::vector<long> pending_;
+    std::vector<bool> done_;
     std::size_t next_ = 0;
     bool stopped_ = false;
 };
 
-using FinishedCase = std::pair<long, CaseResult>;
-
 // `threads` threads running cases from a dispenser until it is empty.
 class LocalWorkers {
 public:
-    LocalWorkers(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+    LocalWorkers(const Study& study, Registry& registry, const CaseDesign& design,
                  CaseDispenser& dispenser, int threads);
     ~LocalWorkers();  // joins (the dispenser must be empty or stopped)
     LocalWorkers(const LocalWorkers&) = delete;
@@ -55,7 +56,7 @@ public:
     bool interrupted();
 
 private:
-    void work(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+    void work(const Study& study, Registry& registry, const CaseDesign& design,
               CaseDispenser& dispenser);
 
     std::mutex mutex_;
@@ -65,9 +66,6 @@ private:
     bool interrupted_ = false;
     std::vector<std::thread> threads_;
 };
-
-// The cases of `design` not yet in `results` (ascending).
-std::vector<long> pending_cases(const SweepResults& results);
 
 // The recording thread's progress bar (progress_bar.hpp): the fraction of this run's cases
 // done (a resumed run counts from where it resumed, so the time left is this run's) and the
@@ -101,7 +99,7 @@ double thread_cpu_seconds();
 // Runs every pending case with `options.threads` threads, recording each in `results`; commits
 // the file when all are done. A stop signal ends the run after the cases in progress are
 // abandoned: the file keeps every finished case and Interrupted is thrown.
-SweepStats run_sweep_threads(const Study& study, Registry& registry, const std::vector<std::vector<double>>& design,
+SweepStats run_sweep_threads(const Study& study, Registry& registry, const CaseDesign& design,
                              SweepResults& results, const SweepOptions& options);
 
 }  // namespace mbd

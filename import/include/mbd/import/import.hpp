@@ -1,0 +1,40 @@
+// The import layer's entry points (docs/import.md): a model file (MJCF, URDF) read by its own
+// parser into an mbd scene, and the loader that takes a scene or a model file wherever a
+// command accepts a scene, knowing the format from the file's content.
+#pragma once
+
+#include <mbd/import/imported_scene.hpp>
+#include <mbd/model.hpp>
+#include <mbd/registry.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace mbd::import {
+
+struct ImportOptions {
+    // initial joint velocities by joint name, in MuJoCo's qvel convention: hinge and slide one
+    // rate; ball the angular velocity in the body's axes; free / floating six numbers, the
+    // velocity of the body frame's origin in world axes, then the angular velocity in body axes
+    std::map<std::string, std::vector<double>> joint_velocities;
+};
+
+// Sets the velocities of `options` on the tree's joints; InputError for an unknown joint or a
+// wrong count of numbers.
+void apply_joint_velocities(SourceTree& tree, const ImportOptions& options);
+
+// The source tree of an MJCF or URDF file (InputError for an mbd scene or SDF).
+SourceTree read_model_file(const std::filesystem::path& file);
+
+// read_model_file, the options' velocities, build_scene.
+ImportedScene import_model(const std::filesystem::path& file, const ImportOptions& options = {});
+
+// A scene file (YAML) as load_scene does, or a model file imported with default options;
+// `warn` receives the one-line list of what the import left out (not called when nothing was).
+Model load_scene_or_model(const std::filesystem::path& file, Registry& registry,
+                          const std::function<void(const std::string&)>& warn);
+
+}  // namespace mbd::import

@@ -1,0 +1,20 @@
+// MJCF through MuJoCo's own compiler (Debian libmujoco-dev): mj_loadXML compiles the file
+// (defaults, classes, includes, inertiafromgeom, frames, angles in degrees are all MuJoCo's),
+// and the compiled mjModel is read at its reference configuration qpos0 (mj_kinematics).
+#pragma once
+
+#include <mbd/import/source_tree.hpp>
+
+#include <filesystem>
+
+struct mjModel_;
+
+namespace mbd::import {
+
+// Throws InputError with MuJoCo's message (which has the XML line) when the file does not compile.
+SourceTree read_mjcf(const std::filesystem::path& file);
+
+// A model compiled by the caller (a test that changes its options first); `file` labels it.
+SourceTree read_mjcf_model(const mjModel_* model, const std::string& file);
+
+}  // namespace mbd::import

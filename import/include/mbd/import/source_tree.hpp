@@ -1,0 +1,61 @@
+// What a model reader hands over: the source file's bodies (MJCF bodies, URDF links) in its
+// own tree, each with its pose at the model's reference configuration, its mass properties
+// and the joints that connect it to its parent, all in world axes at t = 0. The readers
+// (mjcf_reader.hpp, urdf_reader.hpp) fill it from their parsers; scene_builder.hpp turns it
+// into mbd's bodies and joints. Nothing in it is specific to one format.
+#pragma once
+
+#include <mbd/sdk/rotation.hpp>
+
+#include <string>
+#include <vector>
+
+namespace mbd::import {
+
+enum class SourceJointKind { Hinge, Slide, Ball, Free, Planar };
+
+struct SourceJoint {
+    std::string name;   // as in the file ("" when unnamed)
+    std::string where;  // "file" or "file:line" of its definition
+    SourceJointKind kind = SourceJointKind::Hinge;
+    Vec3 point = Vec3::Zero();          // anchor, world, at the reference configuration
+    Vec3 axis = Vec3::UnitZ();          // hinge / slide axis, planar normal, world (unit)
+    // initial velocity: hinge, slide: one rate; ball: angular velocity of the child relative to
+    // the parent, world; free: (velocity of the body frame's origin, angular velocity), world
+    double rate = 0.0;
+    Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
+    // passive joint elements (hinge / slide): spring about the reference position and damping
+    double stiffness = 0.0, spring_reference = 0.0, damping = 0.0;
+};
+
+struct SourceBody {
+    std::string name;
+    std::string where;
+    int parent = -1;    // index of the parent in SourceTree::bodies, -1: the world
+    double mass = 0.0;
+    Mat3 inertia = Mat3::Zero();        // about the mass centre, in the body frame's axes
+    Vec3 origin = Vec3::Zero();         // body frame origin, world
+    Mat3 rotation = Mat3::Identity();   // body frame axes -> world axes
+    Vec3 com = Vec3::Zero();            // mass centre, world
+    // the joints between the parent and this body, parent side first; none: welded to the parent
+    std::vector<SourceJoint> joints;
+};
+
+// What the file holds that the import does not map, by kind ("tendon", "sensor", ...), each
+// with the element's name (and where, when the parser gives it).
+struct Unmapped {
+    std::string kind;
+    std::vector<std::string> names;
+    std::string note;  // why, or what mbd lacks
+};
+
+struct SourceTree {
+    std::string name;                   // the model's name
+    std::string file;                   // the file it was read from
+    std::string format;                 // "MJCF" or "URDF"
+    Vec3 gravity = Vec3(0, 0, -9.81);
+    std::vector<SourceBody> bodies;     // parents before children
+    std::vector<Unmapped> unmapped;
+};
+
+}  // namespace mbd::import

@@ -1,0 +1,140 @@
+// mjModel -> SourceTree (mjcf_reader.hpp). Every quantity is read from the compiled model, so
+// MuJoCo's defaults and frame conventions apply exactly (docs/import.md, "MJCF").
+#include <mbd/import/mjcf_reader.hpp>
+
+#include <mbd/sdk/params.hpp>  // InputError
+
+#include <mujoco/mujoco.h>
+
+#include <cctype>
+#include <memory>
+#include <string>
+
+namespace mbd::import {
+
+namespace {
+
+std::string name_of(const mjModel* m, int type, int id, const char* kind) {
+    const char* name = mj_id2name(m, type, id);
+    return (name && *name) ? std::string(name) : std::string(kind) + " #" + std::to_string(id);
+}
+
+Vec3 vec(const mjtNum* v) { return Vec3(v[0], v[1], v[2]); }
+
+Mat3 mat(const mjtNum* v) {  // MuJoCo's 3x3 matrices are row-major
+    Mat3 a;
+    a << v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8];
+    return a;
+}
+
+Mat3 quat(const mjtNum* q) { return rotation_from_euler_parameters(Vec4(q[0], q[1], q[2], q[3]).normalized()); }
+
+SourceJoint joint(const mjModel* m, const mjData* d, int j, const std::string& file) {
+    SourceJoint out;
+    out.name = name_of(m, mjOBJ_JOINT, j, "joint");
+    out.where = file;
+    switch (m->jnt_type[j]) {
+        case mjJNT_HINGE: out.kind = SourceJointKind::Hinge; break;
+        case mjJNT_SLIDE: out.kind = SourceJointKind::Slide; break;
+        case mjJNT_BALL: out.kind = SourceJointKind::Ball; break;
+        default: out.kind = SourceJointKind::Free; break;
+    }
+    out.point = vec(d->xanchor + 3 * j);
+    out.axis = vec(d->xaxis + 3 * j);
+    if (out.kind == SourceJointKind::Hinge || out.kind == SourceJointKind::Slide) {
+        const int q = m->jnt_qposadr[j];
+        out.stiffness = m->jnt_stiffness[j];
+        out.spring_reference = m->qpos_spring[q] - m->qpos0[q];  // mbd's angle is zero at qpos0
+        out.damping = m->dof_damping[m->jnt_dofadr[j]];
+    }
+    return out;
+}
+
+// The named elements of one kind (count n, names of type `type`).
+std::vector<std::string> names(const mjModel* m, int type, int n, const char* kind) {
+    std::vector<std::string> out;
+    for (int k = 0; k < n; ++k) out.push_back(name_of(m, type, k, kind));
+    return out;
+}
+
+void list_unmapped(const mjModel* m, SourceTree& tree) {
+    auto add = [&](const std::string& kind, std::vector<std::string> list, const std::string& note) {
+        if (!list.empty()) tree.unmapped.push_back({kind, std::move(list), note});
+    };
+    add("geoms", names(m, mjOBJ_GEOM, m->ngeom, "geom"), "contact and visual geometry (contacts are not imported)");
+    add("sites", names(m, mjOBJ_SITE, m->nsite, "site"), "");
+    add("tendons", names(m, mjOBJ_TENDON, m->ntendon, "tendon"), "");
+    add("actuators", names(m, mjOBJ_ACTUATOR, m->nu, "actuator"), "");
+    add("sensors", names(m, mjOBJ_SENSOR, m->nsensor, "sensor"), "");
+    add("equality constraints", names(m, mjOBJ_EQUALITY, m->neq, "equality"), "");
+    add("keyframes", names(m, mjOBJ_KEY, m->nkey, "key"), "");
+    std::vector<std::string> limited, armature, friction, ball_damping;
+    for (int j = 0; j < m->njnt; ++j) {
+        const std::string name = name_of(m, mjOBJ_JOINT, j, "joint");
+        const int dofs = m->jnt_type[j] == mjJNT_FREE ? 6 : m->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+        const int d0 = m->jnt_dofadr[j];
+        bool has_armature = false, has_friction = false, has_damping = false;
+        for (int k = d0; k < d0 + dofs; ++k) {
+            has_armature |= m->dof_armature[k] != 0.0;
+            has_friction |= m->dof_frictionloss[k] != 0.0;
+            has_damping |= m->dof_damping[k] != 0.0;
+        }
+        if (m->jnt_limited[j]) limited.push_back(name);
+        if (has_armature) armature.push_back(name);
+        if (has_friction) friction.push_back(name);
+        if (dofs > 1 && (has_damping || m->jnt_stiffness[j] != 0.0)) ball_damping.push_back(name);
+    }
+    add("joint limits", limited, "no joint stops imported yet");
+    add("joint armatures", armature, "mbd has no rotor inertia in a joint yet; the armature is left out");
+    add("joint friction losses", friction, "");
+    add("ball / free joint springs and damping", ball_damping, "");
+}
+
+}  // namespace
+
+SourceTree read_mjcf_model(const mjModel* m, const std::string& file) {
+    std::unique_ptr<mjData, void (*)(mjData*)> data(mj_makeData(m), mj_deleteData);
+    mjData* d = data.get();
+    for (int k = 0; k < m->nq; ++k) d->qpos[k] = m->qpos0[k];
+    mj_kinematics(m, d);
+
+    SourceTree tree;
+    tree.file = file;
+    tree.format = "MJCF";
+    const char* model_name = m->names;  // the model's name is the first entry of names
+    tree.name = (model_name && *model_name) ? model_name : std::filesystem::path(file).stem().string();
+    tree.gravity = vec(m->opt.gravity);
+    for (int b = 1; b < m->nbody; ++b) {  // body 0 is the world
+        SourceBody body;
+        body.name = name_of(m, mjOBJ_BODY, b, "body");
+        body.where = file;
+        body.parent = m->body_parentid[b] - 1;  // -1: the world
+        body.mass = m->body_mass[b];
+        const Mat3 principal = quat(m->body_iquat + 4 * b);  // inertial frame in the body frame
+        body.inertia = principal * vec(m->body_inertia + 3 * b).asDiagonal() * principal.transpose();
+        body.origin = vec(d->xpos + 3 * b);
+        body.rotation = mat(d->xmat + 9 * b);
+        body.com = vec(d->xipos + 3 * b);
+        for (int j = m->body_jntadr[b]; j < m->body_jntadr[b] + m->body_jntnum[b]; ++j)
+            body.joints.push_back(joint(m, d, j, file));
+        tree.bodies.push_back(std::move(body));
+    }
+    list_unmapped(m, tree);
+    return tree;
+}
+
+SourceTree read_mjcf(const std::filesystem::path& file) {
+    char error[1000] = "";
+    std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(file.c_str(), nullptr, error, sizeof error),
+                                                       mj_deleteModel);
+    if (!model) {
+        std::string message = error;
+        while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back()))) message.pop_back();
+        for (char& c : message)
+            if (c == '\n') c = ' ';
+        throw InputError(file.string(), "MuJoCo's compiler refused the MJCF file: " + message);
+    }
+    return read_mjcf_model(model.get(), file.string());
+}
+
+}  // namespace mbd::import

@@ -1,0 +1,98 @@
+// ImportedScene -> YAML text (scene_writer.hpp).
+#include <mbd/import/scene_writer.hpp>
+
+#include <cctype>
+#include <cstdio>
+#include <sstream>
+
+namespace mbd::import {
+
+namespace {
+
+std::string number(double x) {
+    if (x == 0.0) return "0";  // also -0
+    char text[40];
+    std::snprintf(text, sizeof text, "%.17g", x);
+    return text;
+}
+
+std::string vector(const Vec3& v) { return "[" + number(v.x()) + ", " + number(v.y()) + ", " + number(v.z()) + "]"; }
+
+std::string matrix(const Mat3& m) {
+    const Mat3 s = 0.5 * (m + m.transpose());
+    return "[" + vector(s.row(0).transpose()) + ", " + vector(s.row(1).transpose()) + ", " + vector(s.row(2).transpose()) + "]";
+}
+
+// The model's name as a plain YAML scalar: letters, digits, '_' and '-' kept, the rest '_'.
+std::string label(const std::string& name) {
+    std::string out;
+    for (char c : name) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
+    return out.empty() ? std::string("imported") : out;
+}
+
+std::string body_name(const ImportedScene& scene, int index) {
+    return index < 0 ? std::string("ground") : scene.bodies[index].name;
+}
+
+std::string source(const std::string& where, const std::string& what) {
+    return "  # " + (where.empty() ? std::string() : where + ": ") + what + "\n";
+}
+
+void write_bodies(std::ostringstream& out, const ImportedScene& scene) {
+    out << "bodies:\n";
+    for (const SceneBody& b : scene.bodies) {
+        out << source(b.where, b.comment);
+        const Vec4 p = euler_parameters_from_rotation(b.rotation);
+        out << "  - name: " << b.name << "\n"
+            << "    mass: " << number(b.mass) << "\n"
+            << "    inertia: " << matrix(b.inertia) << "\n"
+            << "    position: " << vector(b.position) << "\n"
+            << "    orientation: {euler_parameters: [" << number(p[0]) << ", " << number(p[1]) << ", " << number(p[2])
+            << ", " << number(p[3]) << "]}\n";
+        if (!b.velocity.isZero(0.0)) out << "    velocity: " << vector(b.velocity) << "\n";
+        if (!b.angular_velocity.isZero(0.0)) out << "    angular_velocity: " << vector(b.angular_velocity) << "\n";
+    }
+}
+
+void write_joints(std::ostringstream& out, const ImportedScene& scene) {
+    if (scene.joints.empty()) return;
+    out << "joints:\n";
+    for (const SceneJoint& j : scene.joints) {
+        out << source(j.where, scene.format + " joint '" + j.name + "'");
+        out << "  - {name: " << j.name << ", type: " << j.type << ", bodies: [" << body_name(scene, j.parent) << ", "
+            << body_name(scene, j.child) << "], point: " << vector(j.point);
+        if (j.type != "spherical") out << ", axis: " << vector(j.axis);
+        out << "}\n";
+    }
+}
+
+void write_forces(std::ostringstream& out, const ImportedScene& scene) {
+    if (scene.forces.empty()) return;
+    out << "forces:\n";
+    for (const SceneForce& f : scene.forces) {
+        out << source(f.where, "stiffness and damping of " + scene.format + " joint '" + f.name + "'");
+        out << "  - {name: " << f.name << ", type: rotational_spring_damper, bodies: [" << body_name(scene, f.parent)
+            << ", " << body_name(scene, f.child) << "], point: " << vector(f.point) << ", axis: " << vector(f.axis)
+            << ", stiffness: " << number(f.stiffness) << ", damping: " << number(f.damping)
+            << ", rest_angle: " << number(f.rest_angle) << "}\n";
+    }
+}
+
+}  // namespace
+
+std::string scene_yaml(const ImportedScene& scene) {
+    std::ostringstream out;
+    out << "# Imported by `mbd import` from " << scene.file << " (" << scene.format << "; docs/import.md).\n";
+    for (const std::string& note : scene.notes) out << "# " << note << "\n";
+    const std::string missing = unmapped_summary(scene.unmapped);
+    if (!missing.empty()) out << "# Not imported: " << missing << "\n";
+    out << "name: " << label(scene.name) << "\n"
+        << "dimension: spatial\n"
+        << "gravity: " << vector(scene.gravity) << "\n";
+    write_bodies(out, scene);
+    write_joints(out, scene);
+    write_forces(out, scene);
+    return out.str();
+}
+
+}  // namespace mbd::import
