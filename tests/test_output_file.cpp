@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <filesystem>
@@ -155,6 +156,45 @@ TEST(OutputFile, ADocumentWrittenInPartsIsWholeOrAbsent) {
         EXPECT_TRUE(contains(e.what(), "full.glb")) << e.what();
     }
     EXPECT_FALSE(fs::exists(dir / "full.glb"));
+}
+
+// Two runs on one output (issue 42): the second refuses at its start, naming the first, and
+// the first's records are untouched; once the first has ended the name is free again. A FIFO
+// (a device's case) gets no lock file beside it.
+TEST(OutputFile, ASecondWriterOfTheSameOutputRefusesWhileTheFirstRuns) {
+    const fs::path dir = scratch("lock");
+    const fs::path out = dir / "run.csv";
+    {
+        mbd::OutputFile first(out, "t,x\n");
+        first.write_record("0,1\n");
+        EXPECT_TRUE(fs::exists(dir / "run.csv.lock"));
+        try {
+            mbd::OutputFile second(out, "t,y\n");
+            FAIL() << "the second writer was not refused";
+        } catch (const mbd::InputError& e) {
+            EXPECT_TRUE(contains(e.what(), "being written by another run")) << e.what();
+            EXPECT_TRUE(contains(e.what(), "process " + std::to_string(::getpid()))) << e.what();
+        }
+        first.write_record("1,2\n");
+        first.commit();
+    }
+    EXPECT_EQ(read_text(out), "t,x\n0,1\n1,2\n");
+    EXPECT_FALSE(fs::exists(dir / "run.csv.lock"));
+    {
+        mbd::OutputFile again(out, "t,x\n");  // free once the first has ended
+        again.write_record("0,3\n");
+        again.commit();
+    }
+    EXPECT_EQ(read_text(out), "t,x\n0,3\n");
+    const fs::path fifo = dir / "rows";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::thread reader([&] { read_text(fifo); });
+    {
+        mbd::OutputFile stream(fifo, "t,x\n");
+        EXPECT_FALSE(fs::exists(dir / "rows.lock"));
+        stream.commit();
+    }
+    reader.join();
 }
 
 TEST(OutputFile, AMissingFolderIsNamed) {

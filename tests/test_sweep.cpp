@@ -388,7 +388,10 @@ TEST(SweepResume, SerialResumeFillsEveryGapOnce) {
     const std::set<long> kept = {1, 2, 5, 6, 7, 10};
     {
         const mbd::Study study = mbd::read_study(study_file, mbd::test::shared_registry());
-        mbd::SweepResults partial = mbd::SweepResults::create(output, study, mbd::design_cases(study));
+        const mbd::CaseDesign design(study);
+        // the inputs --resume checks: the study file and its scene (which has no `base:` files)
+        mbd::SweepResults partial = mbd::SweepResults::create(output, study, design,
+                                                              mbd::fingerprint_inputs({study.file, study.scene}));
         for (long k : kept) {
             mbd::CaseResult row = expected.at(k).result;
             row.cpu_seconds = 1000.0 + k;

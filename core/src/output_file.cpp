@@ -85,6 +85,7 @@ OutputFile::OutputFile(fs::path path, std::string_view header)
     const fs::file_status status = fs::status(path_, ec);
     stream_ = !ec && fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status);
     if (stream_) partial_ = path_;
+    else lock_ = std::make_unique<OutputLock>(path_, "", "an mbd run writing it");
     fd_ = ::open(partial_.c_str(), O_WRONLY | O_CREAT | (stream_ ? 0 : O_TRUNC) | O_CLOEXEC, 0666);
     if (fd_ < 0) throw OutputError(path_, std::string(std::strerror(errno)) + " (creating " + quoted(partial_) + ")");
 }

@@ -16,13 +16,17 @@
 //    file, a CSV read), also through a symbolic link, `./` or `..`, is refused by
 //    check_output_path() before anything runs;
 //  - a file that cannot be written (missing or unwritable folder, disk full)
-//    throws OutputError naming the path.
+//    throws OutputError naming the path;
+//  - a regular file is locked for the writer's life (NAME.lock, output_lock.hpp): a second
+//    run on the same output refuses at its start instead of overwriting the first one's.
 #pragma once
 
+#include <mbd/output_lock.hpp>
 #include <mbd/sdk/params.hpp>
 
 #include <chrono>
 #include <filesystem>
+#include <memory>
 #include <ostream>
 #include <streambuf>
 #include <string>
@@ -80,6 +84,7 @@ private:
     void close_descriptor();
 
     std::filesystem::path path_, partial_;
+    std::unique_ptr<OutputLock> lock_;  // none on a device or FIFO: nothing is made beside it
     int fd_ = -1;
     std::string buffer_;  // whole records not yet written
     long records_ = 0;           // records given, on disk or buffered
