@@ -16,6 +16,7 @@ void ByteWriter::put(const std::vector<double>& values) {
 
 void ByteReader::take(void* into, std::size_t n) {
     if (n > size_ - at_) throw std::runtime_error("sweep: a truncated case record");
+    if (n == 0) return;  // (an empty vector's data() may be null, which memcpy must not be given)
     std::memcpy(into, data_ + at_, n);
     at_ += n;
 }

@@ -96,8 +96,10 @@ ModeAnalysis modes_of(const LinearModel& linear, double free_tolerance) {
                                       linear.joint_map));
         out.modes.back().free_velocity = true;
     }
-    set_apart.conservativeResizeLike(Eigen::MatrixXd::Zero(n, set_apart.cols() + free_velocities.cols()));
-    set_apart.bottomRightCorner(kw, free_velocities.cols()) = free_velocities;
+    if (free_velocities.cols() > 0) {  // (an empty block of an empty matrix is undefined in Eigen)
+        set_apart.conservativeResizeLike(Eigen::MatrixXd::Zero(n, set_apart.cols() + free_velocities.cols()));
+        set_apart.bottomRightCorner(kw, free_velocities.cols()) = free_velocities;
+    }
     Eigen::MatrixXd C = Eigen::MatrixXd::Identity(n, n);
     if (set_apart.cols() > 0) {
         const Eigen::JacobiSVD<Eigen::MatrixXd> svd(set_apart, Eigen::ComputeFullU);
