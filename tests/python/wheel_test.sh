@@ -13,8 +13,11 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 wheel=$(bash "$source_dir/scripts/build-wheel.sh" "$build_dir" "$work/dist" "$python")
 echo "wheel: $(basename "$wheel"), $(du -k "$wheel" | cut -f1) kB"
-"$python" -m venv --system-site-packages "$work/venv"
+# --without-pip: Debian's pip, seen through --system-site-packages, installs into the venv
+# (ensurepip's own copy of pip would take most of the test's time)
+"$python" -m venv --system-site-packages --without-pip "$work/venv"
 "$work/venv/bin/python" -m pip install --no-index --disable-pip-version-check --quiet "$wheel"
+test -d "$work/venv/lib/python3"*/site-packages/mbd  # installed into the venv, not elsewhere
 clean=(env -u PYTHONPATH -u LD_LIBRARY_PATH -u MBD_PLUGIN_PATH -u PYTHONHOME)
 cd "$work"  # nothing of the tree on sys.path
 
