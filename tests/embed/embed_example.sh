@@ -4,9 +4,12 @@
 # prefix alone (CMAKE_PREFIX_PATH, nothing of the source or build tree) and runs it: the period
 # of the IFToMM A01 pendulum it prints must be the closed form 4 K(k) / w and its energy drift
 # below 1e-8 J (the period to 1e-9 s: the turning points are interpolated where omega is linear in t).
+#   embed_example.sh BUILD_DIR SOURCE_DIR [CMAKE_ARGS...]   (the compiler, sanitizer flags)
 set -euo pipefail
 build_dir=$1
 source_dir=$2
+shift 2
+cmake_args=("$@")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build_dir" --prefix "$work/prefix" >/dev/null
@@ -32,7 +35,8 @@ cmake -S "$work/probe" -B "$work/probe/build" -DCMAKE_PREFIX_PATH="$work/prefix"
 version=$(cat "$work/probe/build/version.txt")
 echo "find_package(mbd): version $version, mbd::engine"
 
-cmake -S "$work/embed" -B "$work/embed/build" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S "$work/embed" -B "$work/embed/build" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release \
+  "${cmake_args[@]}" >/dev/null
 cmake --build "$work/embed/build" -j2 >/dev/null
 # the plugins and the scene come from the prefix alone: no plugin path, no library path
 env -u MBD_PLUGIN_PATH -u LD_LIBRARY_PATH "$work/embed/build/pendulum_period" | tee "$work/out.txt"
