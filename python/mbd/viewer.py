@@ -13,7 +13,10 @@ class ViewerPage:
 
     def viewer_page(self, plot=None):
         """The self-contained HTML page of this motion, as ``mbd animate`` writes it; ``plot``:
-        the column plotted when it opens (default: the first body's x)."""
+        the column plotted when it opens (default: the first body's x); an unknown column raises
+        KeyError naming the near matches, as ``result[name]``."""
+        if plot is not None and plot not in self.columns:
+            raise KeyError(self._unknown(plot))
         return _mbd.viewer_page(self._model_handle, list(self.columns), self.data, plot or "")
 
     def _repr_html_(self):

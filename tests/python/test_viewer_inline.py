@@ -7,6 +7,7 @@ import json
 import re
 
 import numpy as np
+import pytest
 
 import mbd
 from conftest import run_cli, scene
@@ -60,3 +61,12 @@ def test_kinematics_shows_the_same_viewer():
     model = mbd.load(scene("four-bar.yaml"))
     page = inline_page(model.kinematics(0.1, 0.01))
     assert '"name":"crank.angle"' in page and '"rows":11' in page
+
+
+def test_the_plotted_column_is_chosen_by_name():
+    result = mbd.load(scene("dynamics/four-bar-spring-damper.yaml")).simulate(0.2, reactions=True, diagnostics=True,
+                                                                              output_step=0.01)
+    assert '"plotColumn":"kinetic_energy"' in result.viewer_page(plot="kinetic_energy")
+    assert '"plotColumn":"crank.x"' in result.viewer_page()
+    with pytest.raises(KeyError, match="no column 'kinetic_enrgy'; did you mean 'kinetic_energy'"):
+        result.viewer_page(plot="kinetic_enrgy")
