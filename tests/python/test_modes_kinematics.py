@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mbd
-from conftest import bit_identical, read_csv, run_cli, scene
+from conftest import Cli, bit_identical, read_csv, run_cli, scene
 
 
 def same_json(a, b):
@@ -90,3 +90,15 @@ def test_bad_arguments_are_named():
     # released from the horizontal: not at rest, as `mbd modes` says
     with pytest.raises(mbd.LinearisationError, match="not an equilibrium or steady motion"):
         mbd.load(scene("dynamics/pendulum-a01.yaml")).modes(about="initial")
+
+
+def test_a_statics_that_does_not_converge_gives_no_modes():
+    path = scene("dynamics/pendulum-a01.yaml")
+    cli = Cli("modes", path, "--statics-iterations", "1", "--json")
+    assert cli.code == 1 and "did not converge" in cli.error
+    with pytest.raises(mbd.StaticsError, match="no modes: the statics of .*pendulum-a01.yaml did not converge"):
+        mbd.load(path).modes(statics_iterations=1)
+    with pytest.raises(mbd.InputError, match="statics_iterations"):
+        mbd.load(path).modes(statics_iterations=0)
+    with pytest.raises(mbd.InputError, match="residual_tolerance"):
+        mbd.load(path).modes(residual_tolerance=-1.0)
