@@ -4,6 +4,9 @@
 // lines for springs and dampers, and a grid on the ground.
 #include <mbd/model.hpp>
 #include <mbd/visual.hpp>
+#include <mbd/visual_joint_markers.hpp>
+
+#include "visual_wheels.hpp"
 
 #include <mbd/sdk/rotation.hpp>
 
@@ -22,6 +25,9 @@ Vec3 body_color(int index) {
     return palette[index % 6];
 }
 const Vec3 kJointColor(0.22, 0.22, 0.25);
+// The thinnest derived link, as a fraction of the mechanism's extent (the diagonal of its box
+// at t = 0): at the default camera, which frames that box, about 4 pixels in a 750-pixel view.
+constexpr double kMinThicknessOfExtent = 0.005;
 
 // Rotation taking the z axis onto `direction` (unit).
 Mat3 z_onto(const Vec3& direction) {
@@ -83,9 +89,30 @@ bool inertia_box(const Body& body, VisualShape& box) {
     return true;
 }
 
+// The size of the mechanism as placed at t = 0: the diagonal of the box around every mass
+// centre and joint point (world).
+double initial_extent(const Model& model, const std::vector<std::vector<Vec3>>& points) {
+    Eigen::AlignedBox3d box;
+    for (size_t b = 0; b < model.bodies.size(); ++b) {
+        const Body& body = model.bodies[b];
+        const Mat3 A = model.dimension == Dimension::Planar
+                           ? (Mat3() << planar_rotation(body.angle), Vec2::Zero(), 0, 0, 1).finished()
+                           : rotation_from_euler_parameters(body.euler_parameters);
+        box.extend(body.position);
+        for (const Vec3& p : points[b]) box.extend(body.position + A * p);
+    }
+    return box.isEmpty() ? 0.0 : box.diagonal().norm();
+}
+
 }  // namespace
 
 VisualScene build_visual_scene(const Model& model) {
+    std::vector<JointMarkerShape> markers;
+    return build_visual_scene(model, markers);
+}
+
+VisualScene build_visual_scene(const Model& model, std::vector<JointMarkerShape>& markers) {
+    markers.clear();
     VisualScene scene;
     const bool planar = model.dimension == Dimension::Planar;
     const int nb = model.body_count();
@@ -101,13 +128,19 @@ VisualScene build_visual_scene(const Model& model) {
         for (size_t k = 0; k < joint.bodies.size() && k < joint.markers.size(); ++k)
             if (joint.bodies[k] != kGround) add_unique(points[joint.bodies[k]], joint.markers[k].u_bar);
 
-    // typical link size: the median over bodies of the largest distance from the mass
-    // centre to an attachment point
+    // typical link size: the median over bodies of the largest distance between two of its
+    // attachment points, or with one point twice its distance from the mass centre (a frame
+    // carrying a rider far from its joints is as long as its joints are apart)
     std::vector<double> reach;
     for (int b = 0; b < nb; ++b) {
         double r = 0.0;
-        for (const Vec3& p : points[b]) r = std::max(r, p.norm());
-        if (r > 0) reach.push_back(2.0 * r);
+        for (const Vec3& p : points[b]) r = std::max(r, 2.0 * p.norm());
+        if (points[b].size() >= 2) {
+            r = 0.0;
+            for (const Vec3& p : points[b])
+                for (const Vec3& q : points[b]) r = std::max(r, (p - q).norm());
+        }
+        if (r > 0) reach.push_back(r);
     }
     double scale = 0.0;
     if (!reach.empty()) {
@@ -119,9 +152,15 @@ VisualScene build_visual_scene(const Model& model) {
             if (!planar && inertia_box(b, box)) scale = std::max(scale, box.size.maxCoeff());
         }
     }
+    const double mechanism_size = initial_extent(model, points);
     if (!(scale > 0)) scale = 0.1;
     scene.length_scale = scale;
-    const double link_radius = 0.04 * scale, centre_radius = 0.1 * scale;
+    // Links are at least a fraction of the whole mechanism thick: a chain of many short links
+    // is drawn at its overall size, where links of 4 % of their own length would be hairlines.
+    const double thickness = std::max(0.04 * scale, kMinThicknessOfExtent * mechanism_size);
+    const double link_radius = thickness, centre_radius = std::max(0.1 * scale, 1.5 * thickness);
+    std::vector<std::vector<DerivedWheel>> wheels(nb);
+    for (const DerivedWheel& w : rolling_contact_wheels(model)) wheels[w.body].push_back(w);
 
     for (int b = 0; b < nb; ++b) {
         const Body& body = model.bodies[b];
@@ -140,19 +179,27 @@ VisualScene build_visual_scene(const Model& model) {
                 if (p.norm() > 1e-9) shapes.push_back(cylinder_between(p, Vec3::Zero(), link_radius, color));
         }
         VisualShape box;
-        if (!planar && pts.size() < 2 && inertia_box(body, box)) {
+        DerivedWheel rotor;
+        if (!wheels[b].empty()) {  // a wheel: its contact radius, not its inertia's box
+            for (const DerivedWheel& w : wheels[b]) add_marked_wheel(shapes, w, link_radius, color);
+        } else if (!planar && pts.size() < 2 && rotor_of_inertia(body, rotor)) {
+            add_marked_wheel(shapes, rotor, link_radius, color);
+        } else if (!planar && pts.size() < 2 && inertia_box(body, box)) {
             box.color = color;
             shapes.push_back(box);
         }
     }
 
-    // joint axes on the ground when the joint holds a body to it (a fixed pivot), else on
-    // the joint's first body
-    for (const auto& joint : model.joints) {
+    // joint axes on the ground when the joint holds a body to it (a fixed pivot or guide),
+    // else on the joint's first body; a rolling contact's on its wheel, which rolls away from
+    // the point it touched at t = 0
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+        const JointInstance& joint = model.joints[j];
         if (joint.bodies.empty() || joint.markers.size() != joint.bodies.size()) continue;
         size_t on = 0;
         for (size_t k = 0; k < joint.bodies.size(); ++k)
-            if (joint.bodies[k] == kGround) on = k;
+            if (joint.bodies[k] == kGround && !is_rolling_contact(joint.type)) on = k;
+        if (joint.bodies[on] == kGround && is_rolling_contact(joint.type)) on = joint.bodies.size() - 1;
         const Marker& m = joint.markers[on];
         VisualShape s;
         if (joint.type == "spherical") {
@@ -165,10 +212,9 @@ VisualScene build_visual_scene(const Model& model) {
             s = cylinder_between(m.u_bar - half * axis, m.u_bar + half * axis,
                                  (joint.type == "prismatic" ? 0.6 : 1.6) * link_radius, kJointColor);
         }
-        if (joint.bodies[on] == kGround)
-            scene.ground.push_back(s);
-        else
-            scene.bodies[joint.bodies[on]].push_back(s);
+        std::vector<VisualShape>& list = joint.bodies[on] == kGround ? scene.ground : scene.bodies[joint.bodies[on]];
+        markers.push_back({static_cast<int>(j), joint.bodies[on], list.size()});
+        list.push_back(s);
     }
 
     for (const auto& force : model.forces) {
