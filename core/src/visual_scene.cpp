@@ -104,6 +104,67 @@ double initial_extent(const Model& model, const std::vector<std::vector<Vec3>>& 
     return box.isEmpty() ? 0.0 : box.diagonal().norm();
 }
 
+// Typical link size: the median over bodies of the largest distance between two of its
+// attachment points, or with one point twice its distance from the mass centre (a frame
+// carrying a rider far from its joints is as long as its joints are apart); with no joint
+// points, the largest inertia box (spatial).
+double typical_link_size(const Model& model, const std::vector<std::vector<Vec3>>& points) {
+    std::vector<double> reach;
+    for (const auto& pts : points) {
+        double r = 0.0;
+        for (const Vec3& p : pts) r = std::max(r, 2.0 * p.norm());
+        if (pts.size() >= 2) {
+            r = 0.0;
+            for (const Vec3& p : pts)
+                for (const Vec3& q : pts) r = std::max(r, (p - q).norm());
+        }
+        if (r > 0) reach.push_back(r);
+    }
+    double scale = 0.0;
+    if (!reach.empty()) {
+        std::nth_element(reach.begin(), reach.begin() + reach.size() / 2, reach.end());
+        scale = reach[reach.size() / 2];
+    } else {
+        for (const Body& b : model.bodies) {
+            VisualShape box;
+            if (model.dimension != Dimension::Planar && inertia_box(b, box)) scale = std::max(scale, box.size.maxCoeff());
+        }
+    }
+    return scale;
+}
+
+// A short cylinder along each joint axis (a sphere for a spherical joint): on the ground when
+// the joint holds a body to it (a fixed pivot or guide), else on the joint's first body; a
+// rolling contact's on its wheel, which rolls away from the point it touched at t = 0.
+void add_joint_markers(const Model& model, double scale, double link_radius, VisualScene& scene,
+                       std::vector<JointMarkerShape>& markers) {
+    const bool planar = model.dimension == Dimension::Planar;
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+        const JointInstance& joint = model.joints[j];
+        if (joint.bodies.empty() || joint.markers.size() != joint.bodies.size()) continue;
+        const bool rolling = is_rolling_contact(joint.type);
+        size_t on = 0;
+        for (size_t k = 0; k < joint.bodies.size(); ++k)
+            if (joint.bodies[k] == kGround && !rolling) on = k;
+        if (joint.bodies[on] == kGround && rolling) on = joint.bodies.size() - 1;
+        const Marker& m = joint.markers[on];
+        VisualShape s;
+        if (joint.type == "spherical") {
+            s = sphere_at(m.u_bar, 0.09 * scale, kJointColor);
+        } else {
+            Vec3 axis = m.axis_z();
+            if (planar && (joint.type == "prismatic" || joint.type == "rack_pinion")) axis = m.axis_x();
+            // planar pins stay behind the front of the mass-centre spheres (radius 0.1 scale)
+            const double half = (joint.type == "prismatic" ? 0.6 : planar ? 0.07 : 0.18) * scale;
+            s = cylinder_between(m.u_bar - half * axis, m.u_bar + half * axis,
+                                 (joint.type == "prismatic" ? 0.6 : 1.6) * link_radius, kJointColor);
+        }
+        std::vector<VisualShape>& list = joint.bodies[on] == kGround ? scene.ground : scene.bodies[joint.bodies[on]];
+        markers.push_back({static_cast<int>(j), joint.bodies[on], list.size()});
+        list.push_back(s);
+    }
+}
+
 }  // namespace
 
 VisualScene build_visual_scene(const Model& model) {
@@ -128,30 +189,7 @@ VisualScene build_visual_scene(const Model& model, std::vector<JointMarkerShape>
         for (size_t k = 0; k < joint.bodies.size() && k < joint.markers.size(); ++k)
             if (joint.bodies[k] != kGround) add_unique(points[joint.bodies[k]], joint.markers[k].u_bar);
 
-    // typical link size: the median over bodies of the largest distance between two of its
-    // attachment points, or with one point twice its distance from the mass centre (a frame
-    // carrying a rider far from its joints is as long as its joints are apart)
-    std::vector<double> reach;
-    for (int b = 0; b < nb; ++b) {
-        double r = 0.0;
-        for (const Vec3& p : points[b]) r = std::max(r, 2.0 * p.norm());
-        if (points[b].size() >= 2) {
-            r = 0.0;
-            for (const Vec3& p : points[b])
-                for (const Vec3& q : points[b]) r = std::max(r, (p - q).norm());
-        }
-        if (r > 0) reach.push_back(r);
-    }
-    double scale = 0.0;
-    if (!reach.empty()) {
-        std::nth_element(reach.begin(), reach.begin() + reach.size() / 2, reach.end());
-        scale = reach[reach.size() / 2];
-    } else {
-        for (const Body& b : model.bodies) {
-            VisualShape box;
-            if (!planar && inertia_box(b, box)) scale = std::max(scale, box.size.maxCoeff());
-        }
-    }
+    double scale = typical_link_size(model, points);
     const double mechanism_size = initial_extent(model, points);
     if (!(scale > 0)) scale = 0.1;
     scene.length_scale = scale;
@@ -190,32 +228,7 @@ VisualScene build_visual_scene(const Model& model, std::vector<JointMarkerShape>
         }
     }
 
-    // joint axes on the ground when the joint holds a body to it (a fixed pivot or guide),
-    // else on the joint's first body; a rolling contact's on its wheel, which rolls away from
-    // the point it touched at t = 0
-    for (size_t j = 0; j < model.joints.size(); ++j) {
-        const JointInstance& joint = model.joints[j];
-        if (joint.bodies.empty() || joint.markers.size() != joint.bodies.size()) continue;
-        size_t on = 0;
-        for (size_t k = 0; k < joint.bodies.size(); ++k)
-            if (joint.bodies[k] == kGround && !is_rolling_contact(joint.type)) on = k;
-        if (joint.bodies[on] == kGround && is_rolling_contact(joint.type)) on = joint.bodies.size() - 1;
-        const Marker& m = joint.markers[on];
-        VisualShape s;
-        if (joint.type == "spherical") {
-            s = sphere_at(m.u_bar, 0.09 * scale, kJointColor);
-        } else {
-            Vec3 axis = m.axis_z();
-            if (planar && (joint.type == "prismatic" || joint.type == "rack_pinion")) axis = m.axis_x();
-            // planar pins stay behind the front of the mass-centre spheres (radius 0.1 scale)
-            const double half = (joint.type == "prismatic" ? 0.6 : planar ? 0.07 : 0.18) * scale;
-            s = cylinder_between(m.u_bar - half * axis, m.u_bar + half * axis,
-                                 (joint.type == "prismatic" ? 0.6 : 1.6) * link_radius, kJointColor);
-        }
-        std::vector<VisualShape>& list = joint.bodies[on] == kGround ? scene.ground : scene.bodies[joint.bodies[on]];
-        markers.push_back({static_cast<int>(j), joint.bodies[on], list.size()});
-        list.push_back(s);
-    }
+    add_joint_markers(model, scale, link_radius, scene, markers);
 
     for (const auto& force : model.forces) {
         if (force.bodies.size() != 2 || force.markers.size() != 2 || !is_connector_force(force.type)) continue;

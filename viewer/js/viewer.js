@@ -210,6 +210,7 @@ let follow = false, lastMean = null, framing = null;
 function frameMechanism() {
   const start = bodiesBox(instanced, new THREE.Box3());
   if (start.isEmpty()) start.copy(massCentres.startBox).expandByScalar(0.3 * scene.lengthScale);
+  if (start.isEmpty()) start.setFromCenterAndSize(new THREE.Vector3(), new THREE.Vector3().setScalar(scene.lengthScale));
   framing = chooseFraming(start, massCentres, meanPath);
   // a vehicle is seen from its side, a little ahead and above
   const travel = meanEnd.clone().sub(meanStart);
