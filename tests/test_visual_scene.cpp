@@ -108,11 +108,24 @@ TEST(VisualScale, WhippleWheelsAreDiscsOfTheirContactRadius) {
 }
 
 // The railway wheelset: two conical wheels of tape radius 0.45 m at y = +-0.75 m on the axle (body y).
+// The contacts' points on the wheelset are rim points where the wheels touched at t = 0: no link
+// joins them (it would turn with the wheels); each contact's marker is the hub of its wheel.
 TEST(VisualScale, WheelsetWheelsAtTheirTapeRadius) {
     const mbd::Model model = mbd::test::load("examples/spatial-wheelset.yaml");
-    const mbd::VisualScene scene = mbd::build_visual_scene(model);
+    std::vector<mbd::JointMarkerShape> markers;
+    const mbd::VisualScene scene = mbd::build_visual_scene(model, markers);
     for (double y : {0.75, -0.75})
         EXPECT_NE(disc(scene.bodies[0], 0.45, Vec3::UnitY(), Vec3(0, y, 0)), nullptr) << "wheel at y = " << y;
+    for (const VisualShape* c : shapes_of(scene.bodies[0], ShapeKind::Cylinder))
+        EXPECT_NEAR(std::abs(c->position.y()), 0.75, 1e-9) << "a cylinder away from the wheels, at " << c->position.transpose();
+    ASSERT_EQ(markers.size(), 2u);
+    for (const auto& m : markers) {
+        ASSERT_EQ(m.body, 0);
+        const VisualShape& hub = scene.bodies[0][m.shape];
+        EXPECT_NEAR(std::abs(hub.position.y()), 0.75, 1e-9);
+        EXPECT_NEAR(hub.position.x(), 0.0, 1e-9);
+        EXPECT_NEAR(hub.position.z(), 0.0, 1e-9);
+    }
 }
 
 // The gyroscope's top (m = 1, i_xx = i_yy = 0.002, i_zz = 0.004): the thin disc of its axial

@@ -133,11 +133,42 @@ double typical_link_size(const Model& model, const std::vector<std::vector<Vec3>
     return scale;
 }
 
+// The look of a body without `visual:`: its mass-centre sphere, its links, and its wheels, its
+// rotor's disc or its inertia box.
+struct DerivedLook {
+    double link_radius, centre_radius;
+    Vec3 color;
+};
+
+void add_derived_shapes(const Body& body, const std::vector<Vec3>& pts, const std::vector<DerivedWheel>& wheels,
+                        bool planar, const DerivedLook& look, std::vector<VisualShape>& shapes) {
+    const Vec3& color = look.color;
+    double hub = look.centre_radius;  // inside a wheel's hub, not over its face
+    for (const DerivedWheel& w : wheels) hub = std::min(hub, 0.25 * w.radius);
+    shapes.push_back(sphere_at(Vec3::Zero(), hub, color));
+    if (pts.size() == 2) {
+        shapes.push_back(cylinder_between(pts[0], pts[1], look.link_radius, color));
+    } else {
+        for (const Vec3& p : pts)
+            if (p.norm() > 1e-9) shapes.push_back(cylinder_between(p, Vec3::Zero(), look.link_radius, color));
+    }
+    VisualShape box;
+    DerivedWheel rotor;
+    if (!wheels.empty()) {  // a wheel: its contact radius, not its inertia's box
+        for (const DerivedWheel& w : wheels) add_marked_wheel(shapes, w, look.link_radius, color);
+    } else if (!planar && pts.size() < 2 && rotor_of_inertia(body, rotor)) {
+        add_marked_wheel(shapes, rotor, look.link_radius, color);
+    } else if (!planar && pts.size() < 2 && inertia_box(body, box)) {
+        box.color = color;
+        shapes.push_back(box);
+    }
+}
+
 // A short cylinder along each joint axis (a sphere for a spherical joint): on the ground when
 // the joint holds a body to it (a fixed pivot or guide), else on the joint's first body; a
-// rolling contact's on its wheel, which rolls away from the point it touched at t = 0.
-void add_joint_markers(const Model& model, double scale, double link_radius, VisualScene& scene,
-                       std::vector<JointMarkerShape>& markers) {
+// rolling contact's is the hub of its wheel, which rolls away from the point it touched at t = 0.
+void add_joint_markers(const Model& model, double scale, double link_radius, const std::vector<DerivedWheel>& wheels,
+                       VisualScene& scene, std::vector<JointMarkerShape>& markers) {
     const bool planar = model.dimension == Dimension::Planar;
     for (size_t j = 0; j < model.joints.size(); ++j) {
         const JointInstance& joint = model.joints[j];
@@ -149,7 +180,13 @@ void add_joint_markers(const Model& model, double scale, double link_radius, Vis
         if (joint.bodies[on] == kGround && rolling) on = joint.bodies.size() - 1;
         const Marker& m = joint.markers[on];
         VisualShape s;
-        if (joint.type == "spherical") {
+        const auto wheel = std::find_if(wheels.begin(), wheels.end(),
+                                        [&](const DerivedWheel& w) { return w.joint == static_cast<int>(j); });
+        if (wheel != wheels.end()) {
+            const double half = wheel_thickness(*wheel, link_radius);
+            s = cylinder_between(wheel->centre - half * wheel->axis, wheel->centre + half * wheel->axis,
+                                 0.12 * wheel->radius, kJointColor);
+        } else if (joint.type == "spherical") {
             s = sphere_at(m.u_bar, 0.09 * scale, kJointColor);
         } else {
             Vec3 axis = m.axis_z();
@@ -183,10 +220,12 @@ VisualScene build_visual_scene(const Model& model, std::vector<JointMarkerShape>
     else
         scene.up = planar ? Vec3::UnitY() : Vec3::UnitZ();
 
-    // joint points, in each body's frame
+    // joint points, in each body's frame; not a rolling contact's, which is a point of the rim
+    // (or of the plane) that the wheel turns away from, not an attachment a link would join
     std::vector<std::vector<Vec3>> points(nb);
     for (const auto& joint : model.joints)
-        for (size_t k = 0; k < joint.bodies.size() && k < joint.markers.size(); ++k)
+        if (!is_rolling_contact(joint.type))
+            for (size_t k = 0; k < joint.bodies.size() && k < joint.markers.size(); ++k)
             if (joint.bodies[k] != kGround) add_unique(points[joint.bodies[k]], joint.markers[k].u_bar);
 
     double scale = typical_link_size(model, points);
@@ -197,8 +236,9 @@ VisualScene build_visual_scene(const Model& model, std::vector<JointMarkerShape>
     // is drawn at its overall size, where links of 4 % of their own length would be hairlines.
     const double thickness = std::max(0.04 * scale, kMinThicknessOfExtent * mechanism_size);
     const double link_radius = thickness, centre_radius = std::max(0.1 * scale, 1.5 * thickness);
+    const std::vector<DerivedWheel> rolling = rolling_contact_wheels(model);
     std::vector<std::vector<DerivedWheel>> wheels(nb);
-    for (const DerivedWheel& w : rolling_contact_wheels(model)) wheels[w.body].push_back(w);
+    for (const DerivedWheel& w : rolling) wheels[w.body].push_back(w);
 
     for (int b = 0; b < nb; ++b) {
         const Body& body = model.bodies[b];
@@ -206,29 +246,11 @@ VisualScene build_visual_scene(const Model& model, std::vector<JointMarkerShape>
             scene.bodies[b] = body.visuals;
             continue;
         }
-        auto& shapes = scene.bodies[b];
-        const Vec3 color = body_color(b);
-        const std::vector<Vec3>& pts = points[b];
-        shapes.push_back(sphere_at(Vec3::Zero(), centre_radius, color));
-        if (pts.size() == 2) {
-            shapes.push_back(cylinder_between(pts[0], pts[1], link_radius, color));
-        } else {
-            for (const Vec3& p : pts)
-                if (p.norm() > 1e-9) shapes.push_back(cylinder_between(p, Vec3::Zero(), link_radius, color));
-        }
-        VisualShape box;
-        DerivedWheel rotor;
-        if (!wheels[b].empty()) {  // a wheel: its contact radius, not its inertia's box
-            for (const DerivedWheel& w : wheels[b]) add_marked_wheel(shapes, w, link_radius, color);
-        } else if (!planar && pts.size() < 2 && rotor_of_inertia(body, rotor)) {
-            add_marked_wheel(shapes, rotor, link_radius, color);
-        } else if (!planar && pts.size() < 2 && inertia_box(body, box)) {
-            box.color = color;
-            shapes.push_back(box);
-        }
+        add_derived_shapes(body, points[b], wheels[b], planar, {link_radius, centre_radius, body_color(b)},
+                           scene.bodies[b]);
     }
 
-    add_joint_markers(model, scale, link_radius, scene, markers);
+    add_joint_markers(model, scale, link_radius, rolling, scene, markers);
 
     for (const auto& force : model.forces) {
         if (force.bodies.size() != 2 || force.markers.size() != 2 || !is_connector_force(force.type)) continue;

@@ -55,12 +55,14 @@ bool is_rolling_contact(const std::string& joint_type) {
 
 std::vector<DerivedWheel> rolling_contact_wheels(const Model& model) {
     std::vector<DerivedWheel> wheels;
-    for (const JointInstance& joint : model.joints) {
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+        const JointInstance& joint = model.joints[j];
         if (!is_rolling_contact(joint.type) || joint.bodies.size() != 2 || joint.markers.size() != 2) continue;
         const int body = joint.bodies[1];
         if (body == kGround) continue;
         const Param* node = joint_node(model, joint.name);
         DerivedWheel w;
+        w.joint = static_cast<int>(j);
         w.body = body;
         if (joint.type == "rolling_disc") {  // the marker on the disc: its centre and axis
             w.radius = positive_field(node, "radius");
@@ -93,9 +95,13 @@ bool rotor_of_inertia(const Body& body, DerivedWheel& rotor) {
     return true;
 }
 
+double wheel_thickness(const DerivedWheel& wheel, double min_thickness) {
+    return std::max({wheel.thickness, min_thickness, 0.08 * wheel.radius});
+}
+
 void add_marked_wheel(std::vector<VisualShape>& shapes, const DerivedWheel& wheel, double min_thickness,
                       const Vec3& color) {
-    const double thickness = std::max({wheel.thickness, min_thickness, 0.08 * wheel.radius});
+    const double thickness = wheel_thickness(wheel, min_thickness);
     const Vec3 axis = wheel.axis.normalized();
     Mat3 frame;  // z along the axis
     frame.col(2) = axis;

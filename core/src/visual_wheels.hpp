@@ -12,6 +12,7 @@ namespace mbd {
 
 // A disc in its body's frame: centre, unit axis, radius, thickness.
 struct DerivedWheel {
+    int joint = -1;  // the rolling contact (index into Model::joints), -1 for a rotor
     int body = -1;
     Vec3 centre = Vec3::Zero();
     Vec3 axis = Vec3::UnitZ();
@@ -32,6 +33,9 @@ std::vector<DerivedWheel> rolling_contact_wheels(const Model& model);
 // thin disc of its mass and axial moment (I_a = m r^2 / 2) about the symmetry axis through
 // its mass centre, thickened so that I_t = m r^2 / 4 + m h^2 / 12 where the moments allow it.
 bool rotor_of_inertia(const Body& body, DerivedWheel& rotor);
+
+// The disc's thickness: its own, else at least `min_thickness` and 8 % of the radius.
+double wheel_thickness(const DerivedWheel& wheel, double min_thickness);
 
 // The disc and the bar across its face (a contrasting colour), appended to `shapes`.
 void add_marked_wheel(std::vector<VisualShape>& shapes, const DerivedWheel& wheel, double min_thickness,
