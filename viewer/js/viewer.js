@@ -377,7 +377,6 @@ window.mbdViewer = {
   },
   // pixels of the view each body covers now, by name (pixel_coverage.js); the plot panel hides what is under it
   bodyCoverage() {
-    renderer.render(world, camera);
     const panel = document.getElementById('plot').getBoundingClientRect();
     const { counts, unknown } = countBodyPixels(renderer, world, camera, instanced, [grid], [panel], bodies.length);
     return { pixels: Object.fromEntries(scene.bodies.map((b, i) => [b.name, counts[i]])), unknown };
