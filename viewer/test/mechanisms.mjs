@@ -43,7 +43,6 @@ const norm = (v) => Math.hypot(...v);
 const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 
 async function checkWheels(page, csv, c, r) {
-  const body = csv.columns;  // (names only)
   for (const [wheel, radius] of Object.entries(c.wheels)) {
     const shapes = await page.evaluate((n) => window.mbdViewer.bodyShapes(n), wheel);
     const pose = csvPose(csv, wheel, r);
@@ -63,7 +62,6 @@ async function checkWheels(page, csv, c, r) {
           `${c.name}: ${wheel}'s disc has radius ${d.half[0].toFixed(5)} m (contact radius ${radius}), ` +
           `axis . axle = ${dot(d.axis, axle).toFixed(6)}, its lowest rim point at z = ${lowest.toExponential(2)} m`);
   }
-  void body;
 }
 
 const browser = await launch();
