@@ -243,7 +243,7 @@ TEST(Bench, MissingPeerIsReportedNotFatal) {
     BenchOptions options;
     options.repeat = 1;
     options.progress = false;
-    options.peers_dir = (dir / "no-such-peers").string();
+    options.peer_dirs = {(dir / "no-such-peers").string()};
     const BenchSceneResult result = run_bench_scene(scene, test::shared_registry(), options);
     ASSERT_EQ(result.rows.size(), 1u);
     EXPECT_EQ(result.rows[0].status, "ok");
@@ -254,7 +254,7 @@ TEST(Bench, MissingPeerIsReportedNotFatal) {
 
     // and through the command, which writes CSV and JSON
     const std::string csv = (dir / "b.csv").string(), json = (dir / "b.json").string();
-    const auto r = test::run_mbd("bench " + scene + " --repeat 1 -q --peers " + options.peers_dir + " --csv " + csv +
+    const auto r = test::run_mbd("bench " + scene + " --repeat 1 -q --peers " + options.peer_dirs[0] + " --csv " + csv +
                                  " --json " + json);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.err.find("not installed"), std::string::npos) << r.err;
