@@ -9,6 +9,8 @@
 
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
+#include <mbd/progress_bar.hpp>
+#include <mbd/sdk/text.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/app/stability.hpp>
@@ -28,6 +30,7 @@ struct StabilityArguments {
     std::vector<std::string> formulations;
     std::vector<std::string> integrators;
     bool quick = false;
+    bool quiet = false;
 };
 }  // namespace
 
@@ -40,6 +43,7 @@ void add_stability_command(CLI::App& app, Commands& commands) {
     sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable; default: all found)");
     sub->add_option("--integrator", args->integrators, "Only these integrators (default: dopri5, generalized_alpha, cvode)");
     sub->add_flag("--quick", args->quick, "Use each case's quick_t_end (shorter runs)");
+    sub->add_flag("-q,--quiet", args->quiet, "No progress line (the running case and its simulated time)");
 
     commands[sub] = [args] {
         std::vector<std::string> scenes = args->scenes;
@@ -79,16 +83,31 @@ void add_stability_command(CLI::App& app, Commands& commands) {
 
         std::vector<StabilityCase> cases;
         int wrong = 0, crashes = 0;
+        // the running cell and its simulated time on a progress line; the finished cells above it
+        ProgressBar bar(!args->quiet);
+        const int cells = static_cast<int>(pending.size() * formulations.size() * integrators.size());
+        int cell = 0;
         for (StabilityCase& c : pending) {
             const std::string& scene = c.scene;
             for (const std::string& f : formulations)
                 for (const std::string& i : integrators) {
                     stop_if_interrupted();
-                    CellOutcome o = run_case_isolated(scene, f, i, args->quick ? c.expect.quick_t_end : 0.0);
-                    std::printf("%-28s %-12s %-18s %s (%.1f s)\n", c.name.c_str(), f.c_str(), i.c_str(),
-                                o.cell().c_str(), o.seconds);
-                    if (!o.message.empty() && o.kind != "pass") std::printf("    %s\n", o.message.substr(0, 300).c_str());
-                    std::fflush(stdout);
+                    const std::string running = c.name + " " + f + " " + i;
+                    CellOutcome o = run_case_isolated(scene, f, i, args->quick ? c.expect.quick_t_end : 0.0,
+                                                      [&](double t, double t_end) {
+                                                          const double part = t_end > 0.0 ? t / t_end : 0.0;
+                                                          bar.update((cell + part) / cells,
+                                                                     running + " t = " + format_number(t, 4) + " / " +
+                                                                         format_number(t_end, 4) + " s, cell " +
+                                                                         std::to_string(cell + 1) + "/" +
+                                                                         std::to_string(cells));
+                                                      });
+                    ++cell;
+                    char line[512];
+                    std::snprintf(line, sizeof line, "%-28s %-12s %-18s %s (%.1f s)", c.name.c_str(), f.c_str(),
+                                  i.c_str(), o.cell().c_str(), o.seconds);
+                    console_line(line, stdout);
+                    if (!o.message.empty() && o.kind != "pass") console_line("    " + o.message.substr(0, 300), stdout);
                     if (o.kind == "crashed" || o.kind == "error") ++crashes;
                     if (f == c.expect.formulation && i == c.expect.integrator && !outcome_matches(c.expect, o)) ++wrong;
                     c.cells.push_back(o);
@@ -101,6 +120,7 @@ void add_stability_command(CLI::App& app, Commands& commands) {
                                   "the matrix of the first " + std::to_string(cases.size()) + " of " +
                                       std::to_string(pending.size()) + " cases");
         }
+        bar.finish();
         if (markdown) {
             markdown->commit();
             std::printf("wrote %s\n", args->markdown.c_str());

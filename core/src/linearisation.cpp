@@ -182,7 +182,8 @@ void require_independent_positions(const Model& model, int independent) {
         " the motion of every coordinate the joints leave free (0 independent coordinates), so the scene has no "
         "modes; for the modes of the mechanism, remove the driver" + (one ? "" : "s") + " (the free mechanism) or make " +
         (one ? "it an actuator" : "them actuators") + " (actuators: [{name: " + model.drivers[0].name + ", joint: " +
-        model.joints[model.drivers[0].joint].name + "}], its effort an input of B)");
+        model.joints[model.drivers[0].joint].name + "}], its effort an input of B); for the driven motion itself, run "
+        "`mbd kinematics`");
 }
 
 // Rates at the shifts +-shift along d (unit; the velocities carried along) against those at

@@ -95,19 +95,20 @@ std::string format_duration(double seconds) {
 
 std::string progress_line(double fraction, double elapsed_seconds, const std::string& detail, int width) {
     fraction = std::clamp(std::isfinite(fraction) ? fraction : 0.0, 0.0, 1.0);
-    const int bar_width = 30, filled = static_cast<int>(fraction * bar_width);
-    std::string bar(filled, '=');
-    if (filled < bar_width) bar += '>' + std::string(bar_width - filled - 1, ' ');
     // the time left at the mean rate so far
     const double left = fraction > 0.0 ? elapsed_seconds * (1.0 - fraction) / fraction : NAN;
-    char head[160];
-    std::snprintf(head, sizeof head, "[%s] %3d%%  %s elapsed, %s left", bar.c_str(),
-                  static_cast<int>(100.0 * fraction), format_duration(elapsed_seconds).c_str(),
-                  format_duration(left).c_str());
-    std::string line = head;
-    if (!detail.empty()) line += "  " + detail;
+    char times[96];
+    std::snprintf(times, sizeof times, " %3d%%  %s elapsed, %s left", static_cast<int>(100.0 * fraction),
+                  format_duration(elapsed_seconds).c_str(), format_duration(left).c_str());
+    const std::string tail = detail.empty() ? std::string() : "  " + detail;
     // one column fewer than the terminal: a full line would wrap on some terminals
-    return fit_to_width(line, std::max(1, width - 1));
+    const int columns = std::max(1, width - 1);
+    // the bar gives up columns (30 down to 10) before the detail is cut
+    const int room = columns - 2 - static_cast<int>(std::string(times).size() + fit_to_width(tail, columns).size());
+    const int bar_width = std::clamp(room, 10, 30), filled = static_cast<int>(fraction * bar_width);
+    std::string bar(filled, '=');
+    if (filled < bar_width) bar += '>' + std::string(bar_width - filled - 1, ' ');
+    return fit_to_width("[" + bar + "]" + times + tail, columns);
 }
 
 void console_line(const std::string& line, std::FILE* stream) {
