@@ -11,6 +11,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <pty.h>
+#include <mbd/progress_bar.hpp>
 #include <signal.h>
 #include <sys/wait.h>
 #include <termios.h>
@@ -19,7 +20,11 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <iostream>
+#include <thread>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <string>
 #include <vector>
@@ -35,10 +40,11 @@ struct TerminalRun {
     std::string raw;  // every byte the program wrote to the terminal
 };
 
-// Runs `command` (through sh) with stdout and stderr on a new pseudo-terminal of `columns`
-// columns (0: the size unknown, as on a serial line), killed after `timeout` seconds.
-// Output post-processing is off (no "\n" -> "\r\n"), so the bytes are the program's own.
-TerminalRun run_on_terminal(const std::string& command, int columns, double timeout = 120.0) {
+// Runs `child` in a forked process whose stdout and stderr are a new pseudo-terminal of
+// `columns` columns (0: the size unknown, as on a serial line), killed after `timeout` seconds;
+// `child` ends the process with its exit status. Output post-processing is off (no "\n" ->
+// "\r\n"), so the bytes are the program's own.
+TerminalRun run_on_terminal(const std::function<int()>& child, int columns, double timeout = 120.0) {
     TerminalRun run;
     struct winsize size {};
     size.ws_row = 24;
@@ -59,8 +65,7 @@ TerminalRun run_on_terminal(const std::string& command, int columns, double time
         ::dup2(slave, 1);
         ::dup2(slave, 2);
         ::close(master);
-        ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-        ::_exit(127);
+        ::_exit(child());
     }
     ::close(slave);
     const auto start = std::chrono::steady_clock::now();
@@ -74,7 +79,7 @@ TerminalRun run_on_terminal(const std::string& command, int columns, double time
         }
         if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout) {
             ::kill(pid, SIGKILL);
-            ADD_FAILURE() << "timed out: " << command;
+            ADD_FAILURE() << "timed out";
             break;
         }
     }
@@ -83,6 +88,16 @@ TerminalRun run_on_terminal(const std::string& command, int columns, double time
     ::waitpid(pid, &status, 0);
     run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return run;
+}
+
+// The same for a shell command.
+TerminalRun run_on_terminal(const std::string& command, int columns, double timeout = 120.0) {
+    return run_on_terminal(
+        [&command] {
+            ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+            return 127;
+        },
+        columns, timeout);
 }
 
 // Columns of a UTF-8 text (a character is one column).
@@ -258,6 +273,52 @@ TEST(Terminal, StabilityShowsTheRunningCaseAndItsTime) {
     ASSERT_GE(r.lines.size(), 2u);
     EXPECT_EQ(r.lines[0].rfind("pendulum-a01-2000s", 0), 0u) << r.lines[0];
     EXPECT_NE(r.lines[0].find("pass"), std::string::npos) << r.lines[0];
+}
+
+// The mechanism itself: while a bar is shown, a line through console_line, a line written to
+// std::clog, one written to std::cerr in two pieces, and lines of two threads at once each land
+// on a cleared line of their own, the bar drawn again after each; the line is cleared at the end.
+TEST(Terminal, MessagesWhileTheBarIsShownGoAboveIt) {
+    const TerminalRun run = run_on_terminal(
+        [] {
+            {
+                mbd::ProgressBar bar(true);
+                std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // the bar waits a second
+                bar.update(0.25, "first");
+                mbd::console_line("a note");
+                std::clog << "a formulation message\n";
+                std::cerr << "two " << "pieces" << std::flush;
+                std::cerr << " of one line" << std::endl;
+                auto talk = [](const char* who) {
+                    for (int k = 0; k < 50; ++k) std::clog << who << " line " << k << '\n';
+                };
+                std::thread a(talk, "thread a"), b(talk, "thread b");
+                a.join();
+                b.join();
+                std::this_thread::sleep_for(std::chrono::milliseconds(150));
+                bar.update(0.5, std::string(200, 'x'));  // a detail far wider than the terminal
+                mbd::console_line("done", stdout);
+            }
+            std::cerr << "after the bar\n";
+            return 0;
+        },
+        60);
+    ASSERT_EQ(run.exit_code, 0) << run.raw;
+    const Replay r = replay(run.raw);
+    expect_clean_terminal(r, 60, "messages");
+    ASSERT_EQ(r.bars.size(), 106u);  // two updates, and a redraw after each of the 104 messages
+    EXPECT_EQ(columns_of(r.bars.back()), 59);
+    ASSERT_EQ(r.lines.size(), 105u);
+    EXPECT_EQ(r.lines[0], "a note");
+    EXPECT_EQ(r.lines[1], "a formulation message");
+    EXPECT_EQ(r.lines[2], "two pieces of one line");
+    std::map<std::string, int> seen;
+    for (size_t k = 3; k < 103; ++k) ++seen[r.lines[k]];
+    for (const char* who : {"thread a", "thread b"})
+        for (int k = 0; k < 50; ++k) EXPECT_EQ(seen[std::string(who) + " line " + std::to_string(k)], 1) << who << k;
+    EXPECT_EQ(r.lines[103], "done");
+    EXPECT_EQ(r.lines[104], "after the bar");  // std::cerr is itself again
+    for (size_t k = 0; k < 104; ++k) EXPECT_TRUE(r.after_bar[k]) << k << ": " << r.lines[k];
 }
 
 // mbd bench finds the peers beside its own executable (bin/peers in the build tree) without
