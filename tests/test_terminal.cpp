@@ -17,7 +17,9 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -171,15 +173,31 @@ void expect_clean_terminal(const Replay& r, int columns, const std::string& what
 
 std::string mbd_command(const std::string& arguments) { return "'" + std::string(MBD_EXECUTABLE) + "' " + arguments; }
 
-// A bench scene: the A01 pendulum with its closed form, an rk4 series that runs two to three
-// seconds and peers that are not installed (their three runs are skipped).
-fs::path bench_scene(const fs::path& dir) {
+// The wall time of a shell command, its output captured.
+double wall_seconds(const std::string& command) {
+    const auto start = std::chrono::steady_clock::now();
+    const mbd::test::CommandResult r = mbd::test::run_command(command);
+    EXPECT_EQ(r.exit_code, 0) << command << "\n" << r.err;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A simulated duration (a multiple of 0.5 s) that makes `command(t_end)` last about `seconds` of
+// wall time on this machine, so the bar (shown after a second) is seen on a fast machine and a
+// slow one alike: timed at `base`, scaled (the cost grows with t_end), from `base` to 40 `base`.
+double t_end_lasting(double seconds, double base, const std::function<std::string(double)>& command) {
+    const double wall = wall_seconds(command(base));
+    return std::ceil(2.0 * std::clamp(base * seconds / std::max(wall, 0.05), base, 40.0 * base)) / 2.0;
+}
+
+// A bench scene: the A01 pendulum with its closed form run to t_end, an rk4 series of seven
+// steps, and peers that are not installed (their three runs are skipped).
+fs::path bench_scene(const fs::path& dir, double t_end) {
     std::ifstream src(mbd::test::scene_path("dynamics/pendulum-a01.yaml"));
     const fs::path scene = dir / "pendulum.yaml";
     std::ofstream out(scene);
     std::string line;
     while (std::getline(src, line) && line.rfind("bench:", 0) != 0) out << line << '\n';
-    out << "bench:\n  t_end: 30\n  output_step: 0.5\n  measure: {body: bob, quantity: position, norm: max}\n"
+    out << "bench:\n  t_end: " << t_end << "\n  output_step: 0.5\n  measure: {body: bob, quantity: position, norm: max}\n"
            "  reference: {kind: closed_form, name: pendulum_a01}\n"
            "  runs:\n    - {formulation: embedding, integrator: rk4, steps: {from: 1.0e-3, to: 1.0e-4, ratio: 1.5}}\n"
            "  peers:\n    model: pendulum_a01\n    simbody: {tolerances: [1.0e-6, 1.0e-7]}\n"
@@ -187,17 +205,25 @@ fs::path bench_scene(const fs::path& dir) {
     return scene;
 }
 
+// The bench of bench_scene (missing peers, outputs in `dir`); `quiet`: -q.
+std::string bench_command(const fs::path& dir, const fs::path& scene, bool quiet = false) {
+    return mbd_command("bench '" + scene.string() + "' --repeat 1 --peers '" + (dir / "no-peers").string() +
+                       "' --csv '" + (dir / "b.csv").string() + "' --json '" + (dir / "b.json").string() + "'" +
+                       (quiet ? " -q" : ""));
+}
+
+// A bench_scene t_end for a bench of about three seconds.
+double lasting_bench(const fs::path& dir) {
+    return t_end_lasting(3.0, 5.0, [&dir](double t_end) { return bench_command(dir, bench_scene(dir, t_end), true); });
+}
+
 // mbd bench on an 80-column terminal: the notes of the missing peers go above the bar (the
 // bar is drawn again below each), no line is wider than the terminal, and the summary counts
 // the three skipped peer runs and says why.
 TEST(Terminal, BenchPrintsItsNotesAboveTheBarWithinTheWidth) {
     const fs::path dir = scratch("terminal-bench");
-    const fs::path scene = bench_scene(dir);
-    const TerminalRun run = run_on_terminal(mbd_command("bench '" + scene.string() + "' --repeat 1 --peers '" +
-                                                        (dir / "no-peers").string() + "' --csv '" +
-                                                        (dir / "b.csv").string() + "' --json '" +
-                                                        (dir / "b.json").string() + "'"),
-                                            80);
+    const fs::path scene = bench_scene(dir, lasting_bench(dir));
+    const TerminalRun run = run_on_terminal(bench_command(dir, scene), 80);
     ASSERT_EQ(run.exit_code, 0) << run.raw;
     const Replay r = replay(run.raw);
     expect_clean_terminal(r, 80, "bench");
@@ -223,12 +249,17 @@ TEST(Terminal, BenchPrintsItsNotesAboveTheBarWithinTheWidth) {
 TEST(Terminal, SweepBarStaysWithinTheWidthAndIsClearedAtTheEnd) {
     const fs::path dir = scratch("terminal-sweep");
     const fs::path study = dir / "study.yaml";
-    std::ofstream(study) << "scene: " << mbd::test::scene_path("dynamics/pendulum-a01.yaml").string()
-                         << "\nanalysis: {type: simulate, t_end: 5, integrator: rk4, step: 1.0e-4}\n"
-                            "parameters:\n  - {path: bodies.bob.mass, values: [0.5, 0.75, 1, 1.25, 1.5, 1.75, 2, 2.5]}\n"
-                            "design: {type: grid}\nmetrics: [{final: bob.y}]\n";
-    const TerminalRun run =
-        run_on_terminal(mbd_command("sweep '" + study.string() + "' -o '" + (dir / "r.h5").string() + "'"), 80);
+    auto sweep = [&](double t_end) {
+        std::ofstream(study) << "scene: " << mbd::test::scene_path("dynamics/pendulum-a01.yaml").string()
+                             << "\nanalysis: {type: simulate, t_end: " << t_end
+                             << ", integrator: rk4, step: 1.0e-4}\nparameters:\n"
+                                "  - {path: bodies.bob.mass, values: [0.5, 0.75, 1, 1.25, 1.5, 1.75, 2, 2.5]}\n"
+                                "design: {type: grid}\nmetrics: [{final: bob.y}]\n";
+        fs::remove(dir / "r.h5");
+        return mbd_command("sweep '" + study.string() + "' -o '" + (dir / "r.h5").string() + "'");
+    };
+    const std::string command = sweep(t_end_lasting(3.0, 1.0, [&](double t_end) { return sweep(t_end) + " -q"; }));
+    const TerminalRun run = run_on_terminal(command, 80);
     ASSERT_EQ(run.exit_code, 0) << run.raw;
     const Replay r = replay(run.raw);
     expect_clean_terminal(r, 80, "sweep");
@@ -238,38 +269,42 @@ TEST(Terminal, SweepBarStaysWithinTheWidthAndIsClearedAtTheEnd) {
 // On a terminal whose size is unknown (0 columns), $COLUMNS sets the width.
 TEST(Terminal, ColumnsSetsTheWidthWhenTheTerminalDoesNotSay) {
     const fs::path dir = scratch("terminal-columns");
-    const fs::path scene = bench_scene(dir);
-    const TerminalRun run = run_on_terminal(
-        "COLUMNS=50 " + mbd_command("bench '" + scene.string() + "' --repeat 1 --peers '" + (dir / "no-peers").string() +
-                                    "' --csv '" + (dir / "b.csv").string() + "' --json '" + (dir / "b.json").string() +
-                                    "'"),
-        0);
+    const fs::path scene = bench_scene(dir, lasting_bench(dir));
+    const TerminalRun run = run_on_terminal("COLUMNS=50 " + bench_command(dir, scene), 0);
     ASSERT_EQ(run.exit_code, 0) << run.raw;
     const Replay r = replay(run.raw);
     ASSERT_FALSE(r.bars.empty());
     for (const std::string& bar : r.bars) EXPECT_EQ(columns_of(bar), 49) << bar;  // cut at the width less one
 }
 
-// mbd stability shows the running case and its simulated time on a progress line: the 2,000 s
-// pendulum (a few seconds of wall time) is seen at several times of its run, and its matrix
-// line goes above the bar.
+// mbd stability shows the running case and its simulated time on a progress line: the A01
+// pendulum case, run for about three seconds, is seen at several times of its run, and its
+// matrix line goes above the bar.
 TEST(Terminal, StabilityShowsTheRunningCaseAndItsTime) {
-    const std::string scene = mbd::test::scene_path("extreme/pendulum-a01-2000s.yaml").string();
-    const TerminalRun run = run_on_terminal(
-        mbd_command("stability '" + scene + "' --formulation augmented --integrator dopri5"), 120);
+    const fs::path dir = scratch("terminal-stability");
+    const std::string original = read_text(mbd::test::scene_path("extreme/pendulum-a01-2000s.yaml"));
+    const fs::path scene = dir / "pendulum-a01-2000s.yaml";  // the matrix names a case by its file
+    auto stability = [&](double t_end) {
+        std::ofstream(scene) << mbd::test::replaced(original, "t_end: 2000.0", "t_end: " + mbd::test::g17(t_end));
+        return mbd_command("stability '" + scene.string() + "' --formulation augmented --integrator dopri5");
+    };
+    const double t_end = t_end_lasting(3.0, 100.0, stability);
+    const TerminalRun run = run_on_terminal(stability(t_end), 120);
     ASSERT_EQ(run.exit_code, 0) << run.raw;
     const Replay r = replay(run.raw);
     expect_clean_terminal(r, 120, "stability");
-    const std::regex shown(R"(pendulum-a01-2000s augmented dopri5 t = ([0-9.e+]+) / 2000 s, cell 1/1$)");
+    const std::regex shown(R"(pendulum-a01-2000s augmented dopri5 t = ([0-9.e+]+) / ([0-9.e+]+) s, cell 1/1$)");
     std::vector<double> times;
     for (const std::string& bar : r.bars) {
         std::smatch m;
-        if (std::regex_search(bar, m, shown)) times.push_back(std::stod(m[1]));
+        if (!std::regex_search(bar, m, shown)) continue;
+        times.push_back(std::stod(m[1]));
+        EXPECT_NEAR(std::stod(m[2]), t_end, 5e-4 * t_end) << bar;  // four digits of the case's t_end
     }
     ASSERT_GE(times.size(), 2u) << (r.bars.empty() ? std::string() : r.bars.back());
     for (size_t k = 1; k < times.size(); ++k) EXPECT_GE(times[k], times[k - 1]);  // time only goes forward
     EXPECT_GT(times.back(), times.front()) << "the progress line did not move during the case";
-    EXPECT_LE(times.back(), 2000.0);
+    EXPECT_LE(times.back(), t_end);
     ASSERT_GE(r.lines.size(), 2u);
     EXPECT_EQ(r.lines[0].rfind("pendulum-a01-2000s", 0), 0u) << r.lines[0];
     EXPECT_NE(r.lines[0].find("pass"), std::string::npos) << r.lines[0];
@@ -321,19 +356,23 @@ TEST(Terminal, MessagesWhileTheBarIsShownGoAboveIt) {
     for (size_t k = 0; k < 104; ++k) EXPECT_TRUE(r.after_bar[k]) << k << ": " << r.lines[k];
 }
 
-// mbd bench finds the peers beside its own executable (bin/peers in the build tree) without
-// --peers: a copy of mbd in a folder of its own, with a peer program in its peers/ folder that
-// prints a fixed CPU time and the closed-form positions, runs that peer.
-TEST(Terminal, BenchFindsThePeersBesideItsExecutable) {
+// mbd bench finds the peers built with it without --peers: a copy of mbd in a folder of its
+// own finds a peer in bin/peers beside it (the build tree's layout) and one in
+// libexec/mbd/peers (the install tree's); each fake peer prints a CPU time and step count of
+// its own and the bob at rest at its start, so its row shows it was the one that ran.
+TEST(BenchPeers, FoundBesideTheExecutableWithoutThePeersOption) {
     const fs::path dir = scratch("peer-discovery");
     const fs::path bin = dir / "bin";
     fs::create_directories(bin / "peers");
+    fs::create_directories(dir / "libexec" / "mbd" / "peers");
     fs::copy_file(MBD_EXECUTABLE, bin / "mbd");
-    // the peer protocol (bench.cpp): "cpu_s steps", then "t x y z" per output time; the bob of
-    // A01 released from (1, 0) is printed at rest there, so its error is the closed form's distance
-    const fs::path peer = bin / "peers" / "mbd_peer_simbody";
-    std::ofstream(peer) << "#!/bin/sh\necho '0.125 42'\necho '0.5 1 0 0'\necho '1 1 0 0'\n";
-    fs::permissions(peer, fs::perms::owner_all);
+    // the peer protocol (bench.cpp): "cpu_s steps", then "t x y z" per output time
+    auto fake_peer = [](const fs::path& path, const std::string& cpu_and_steps) {
+        std::ofstream(path) << "#!/bin/sh\necho '" << cpu_and_steps << "'\necho '0.5 1 0 0'\necho '1 1 0 0'\n";
+        fs::permissions(path, fs::perms::owner_all);
+    };
+    fake_peer(bin / "peers" / "mbd_peer_simbody", "0.125 42");
+    fake_peer(dir / "libexec" / "mbd" / "peers" / "mbd_peer_mujoco", "0.25 7");
     std::ifstream src(mbd::test::scene_path("dynamics/pendulum-a01.yaml"));
     const fs::path scene = dir / "pendulum.yaml";
     {
@@ -351,19 +390,20 @@ TEST(Terminal, BenchFindsThePeersBesideItsExecutable) {
         mbd::test::run_command("'" + (bin / "mbd").string() + "' bench '" + scene.string() + "' --repeat 1 --csv '" +
                                csv.string() + "' --json '" + (dir / "b.json").string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    const std::string table = read_text(csv);
-    const std::regex simbody_row(R"(\nsimbody,pendulum-a01,simbody,[^,]*,1e-06,,0.125,42,([0-9.e+-]+),[^\n]*,ok\n)");
-    std::smatch m;
-    ASSERT_TRUE(std::regex_search(table, m, simbody_row)) << table;
+    EXPECT_EQ(r.err.find("not installed"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("pendulum-a01: 3 runs (3 ok, 0 failed, 0 skipped after a failure of their series); reference"),
+              std::string::npos)
+        << r.out;
     // the bob at rest at (1, 0) against the closed form: the largest distance over t = 0.5, 1
     double worst = 0.0;
     for (double t : {0.5, 1.0}) worst = std::max(worst, (mbd::test::a01_bob_position(t) - Eigen::Vector2d(1, 0)).norm());
-    EXPECT_NEAR(std::stod(m[1]), worst, 1e-6 * worst);
-    // mujoco is not there: said where it was looked for, its run counted as skipped
-    EXPECT_NE(r.err.find("peer mujoco: not installed (no mbd_peer_mujoco in " + (bin / "peers").string()),
-              std::string::npos)
-        << r.err;
-    EXPECT_NE(r.out.find("1 peer runs skipped (not installed: mujoco)"), std::string::npos) << r.out;
+    const std::string table = read_text(csv);
+    for (const char* row : {R"(\nsimbody,pendulum-a01,simbody,[^,]*,1e-06,,0.125,42,([0-9.e+-]+),[^\n]*,ok\n)",
+                            R"(\nmujoco,pendulum-a01,mujoco,rk4,,0.001,0.25,7,([0-9.e+-]+),[^\n]*,ok\n)"}) {
+        std::smatch m;
+        ASSERT_TRUE(std::regex_search(table, m, std::regex(row))) << row << "\n" << table;
+        EXPECT_NEAR(std::stod(m[1]), worst, 1e-6 * worst) << row;
+    }
 }
 
 }  // namespace
