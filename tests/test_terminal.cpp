@@ -310,7 +310,8 @@ TEST(Terminal, StabilityShowsTheRunningCaseAndItsTime) {
     EXPECT_NE(r.lines[0].find("pass"), std::string::npos) << r.lines[0];
 }
 
-// The mechanism itself: while a bar is shown, a line through console_line, a line written to
+// The mechanism itself (mbd simulate's formulation messages reach it through std::clog, the
+// default MessageLog): while a bar is shown, a line through console_line, a line written to
 // std::clog, one written to std::cerr in two pieces, and lines of two threads at once each land
 // on a cleared line of their own, the bar drawn again after each; the line is cleared at the end.
 TEST(Terminal, MessagesWhileTheBarIsShownGoAboveIt) {
