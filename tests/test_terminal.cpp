@@ -169,6 +169,14 @@ void expect_clean_terminal(const Replay& r, int columns, const std::string& what
     for (const std::string& line : r.lines) EXPECT_FALSE(is_bar(line) || line.find(" elapsed, ") != std::string::npos)
         << what << ": a message on the bar's line: " << line;
     EXPECT_EQ(r.last, "") << what << ": the bar's line is not cleared at the end";
+    // the percentage never goes back (a redraw after a message shows the bar as it was)
+    int before = 0;
+    for (const std::string& bar : r.bars) {
+        const int percent = std::stoi(bar.substr(bar.find(']') + 1));
+        EXPECT_GE(percent, before) << what << ": " << bar;
+        EXPECT_LE(percent, 100) << what << ": " << bar;
+        before = percent;
+    }
 }
 
 std::string mbd_command(const std::string& arguments) { return "'" + std::string(MBD_EXECUTABLE) + "' " + arguments; }
