@@ -32,6 +32,26 @@ struct StabilityArguments {
     bool quick = false;
     bool quiet = false;
 };
+
+// Runs one cell of the matrix (cell `index` of `cells`) in its child, its simulated time on the
+// progress line, and prints its matrix line (and a failure's message) above the bar.
+CellOutcome run_cell(const StabilityCase& c, const std::string& formulation, const std::string& integrator, bool quick,
+                     ProgressBar& bar, int index, int cells) {
+    const std::string running = c.name + " " + formulation + " " + integrator;
+    auto progress = [&](double t, double t_end) {
+        const double part = t_end > 0.0 ? t / t_end : 0.0;
+        bar.update((index + part) / cells, running + " t = " + format_number(t, 4) + " / " + format_number(t_end, 4) +
+                                               " s, cell " + std::to_string(index + 1) + "/" + std::to_string(cells));
+    };
+    const CellOutcome o =
+        run_case_isolated(c.scene, formulation, integrator, quick ? c.expect.quick_t_end : 0.0, progress);
+    char line[512];
+    std::snprintf(line, sizeof line, "%-28s %-12s %-18s %s (%.1f s)", c.name.c_str(), formulation.c_str(),
+                  integrator.c_str(), o.cell().c_str(), o.seconds);
+    console_line(line, stdout);
+    if (!o.message.empty() && o.kind != "pass") console_line("    " + o.message.substr(0, 300), stdout);
+    return o;
+}
 }  // namespace
 
 void add_stability_command(CLI::App& app, Commands& commands) {
@@ -88,26 +108,10 @@ void add_stability_command(CLI::App& app, Commands& commands) {
         const int cells = static_cast<int>(pending.size() * formulations.size() * integrators.size());
         int cell = 0;
         for (StabilityCase& c : pending) {
-            const std::string& scene = c.scene;
             for (const std::string& f : formulations)
                 for (const std::string& i : integrators) {
                     stop_if_interrupted();
-                    const std::string running = c.name + " " + f + " " + i;
-                    CellOutcome o = run_case_isolated(scene, f, i, args->quick ? c.expect.quick_t_end : 0.0,
-                                                      [&](double t, double t_end) {
-                                                          const double part = t_end > 0.0 ? t / t_end : 0.0;
-                                                          bar.update((cell + part) / cells,
-                                                                     running + " t = " + format_number(t, 4) + " / " +
-                                                                         format_number(t_end, 4) + " s, cell " +
-                                                                         std::to_string(cell + 1) + "/" +
-                                                                         std::to_string(cells));
-                                                      });
-                    ++cell;
-                    char line[512];
-                    std::snprintf(line, sizeof line, "%-28s %-12s %-18s %s (%.1f s)", c.name.c_str(), f.c_str(),
-                                  i.c_str(), o.cell().c_str(), o.seconds);
-                    console_line(line, stdout);
-                    if (!o.message.empty() && o.kind != "pass") console_line("    " + o.message.substr(0, 300), stdout);
+                    CellOutcome o = run_cell(c, f, i, args->quick, bar, cell++, cells);
                     if (o.kind == "crashed" || o.kind == "error") ++crashes;
                     if (f == c.expect.formulation && i == c.expect.integrator && !outcome_matches(c.expect, o)) ++wrong;
                     c.cells.push_back(o);
