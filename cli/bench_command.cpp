@@ -77,7 +77,7 @@ void add_bench_command(CLI::App& app, Commands& commands) {
                     "this mbd (bin/peers beside it, or libexec/mbd/peers when installed); a missing one is reported "
                     "and its runs skipped");
     sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable)");
-    sub->add_option("--min-tol", args->tolerance_floor, "Skip grid tolerances below this (a quick run)")
+    sub->add_option("--min-tol", args->tolerance_floor, "Skip grid tolerances below this, the peers' too (a quick run)")
         ->check(non_negative_number());
     sub->add_flag("-q,--quiet", args->quiet, "No progress bar and no summary");
 

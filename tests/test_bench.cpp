@@ -267,5 +267,39 @@ TEST(Bench, MissingPeerIsReportedNotFatal) {
     std::filesystem::remove_all(dir);
 }
 
+// --min-tol leaves out the tighter tolerances of the peers too, and a missing peer's skipped
+// runs are counted from the same grid: simbody (found, a fake program printing the bob at rest)
+// runs 1e-6 but not 1e-8; mujoco (missing) has its one tolerance above the floor skipped.
+TEST(Bench, MinimumToleranceAppliesToThePeersAndTheSkippedCount) {
+    const auto dir = std::filesystem::temp_directory_path() / "mbd_test_bench_min_tol";
+    std::filesystem::remove_all(dir);
+    const std::string scene = pendulum_bench_scene(
+        dir, "  runs:\n    - {formulation: augmented, integrator: dopri5, tolerances: [1.0e-5, 1.0e-9]}\n"
+             "  peers:\n    model: pendulum_a01\n    simbody: {tolerances: [1.0e-6, 1.0e-8]}\n"
+             "    mujoco: {tolerances: [1.0e-4, 1.0e-10]}\n");
+    const auto peers = dir / "peers";
+    std::filesystem::create_directories(peers);
+    std::ofstream(peers / "mbd_peer_simbody") << "#!/bin/sh\necho '0.5 3'\necho '0.5 1 0 0'\necho '1 1 0 0'\n";
+    std::filesystem::permissions(peers / "mbd_peer_simbody", std::filesystem::perms::owner_all);
+    BenchOptions options;
+    options.repeat = 1;
+    options.progress = false;
+    options.tolerance_floor = 1e-6;
+    options.peer_dirs = {peers.string()};
+    const BenchSceneResult result = run_bench_scene(scene, test::shared_registry(), options);
+    ASSERT_EQ(result.rows.size(), 2u);  // augmented at 1e-5, simbody at 1e-6
+    EXPECT_EQ(result.rows[0].engine, "mbd");
+    EXPECT_EQ(result.rows[0].tolerance, 1e-5);
+    EXPECT_EQ(result.rows[1].engine, "simbody");
+    EXPECT_EQ(result.rows[1].tolerance, 1e-6);
+    EXPECT_EQ(result.rows[1].status, "ok");
+    EXPECT_EQ(result.rows[1].cpu_s, 0.5);
+    EXPECT_EQ(result.skipped_peer_runs, 1);  // mujoco at 1e-4; 1e-10 is below the floor
+    const BenchTally t = tally(result);
+    EXPECT_EQ(t.ok, 2);
+    EXPECT_EQ(t.runs(), 3);
+    std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace mbd

@@ -442,7 +442,8 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
     for (const auto& s : spec.runs)
         if (wanted(s.formulation))
             total += static_cast<int>(grid_points(s.tolerances, s.steps, options.tolerance_floor).size());
-    for (const auto& p : spec.peers) total += static_cast<int>(p.tolerances.size() + p.steps.size());
+    for (const auto& p : spec.peers)
+        total += static_cast<int>(grid_points(p.tolerances, p.steps, options.tolerance_floor).size());
     GridProgress progress(options.progress, spec.name, total);
     int done = 0;
 
@@ -481,14 +482,15 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
     for (const auto& series : spec.peers) {
         std::string missing;
         const std::string exe = peer_executable(options.peer_dirs, series.engine, missing);
+        const auto grid = grid_points(series.tolerances, series.steps, options.tolerance_floor);
         if (exe.empty()) {
-            const int points = static_cast<int>(series.tolerances.size() + series.steps.size());
+            const int points = static_cast<int>(grid.size());
             done += points;
             out.skipped_peer_runs += points;
             if (std::find(out.notes.begin(), out.notes.end(), missing) == out.notes.end()) note(missing);
             continue;
         }
-        for (const auto& [adaptive, value] : grid_points(series.tolerances, series.steps, 0.0)) {
+        for (const auto& [adaptive, value] : grid) {
             BenchRow row = grid_row(series.engine, series.engine, series.integrator, adaptive, value);
             time_peer_point(exe, spec, series, out.reference.trajectory, times.front(), adaptive, value, repeat, row);
             out.rows.push_back(row);

@@ -119,7 +119,7 @@ struct BenchOptions {
     std::vector<std::string> peer_dirs;  // folders searched in turn for mbd_peer_<engine> (default_peer_dirs())
     bool progress = true;            // progress bar on stderr when it is a terminal
     std::vector<std::string> only_formulations;  // empty: all of the scene's
-    double tolerance_floor = 0.0;    // skip grid tolerances below this (quick runs)
+    double tolerance_floor = 0.0;    // skip grid tolerances below this, the peers' too (quick runs)
 };
 
 struct BenchSceneResult {
