@@ -8,6 +8,7 @@
 #include <mbd/sdk/text.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
+#include <mbd/progress_bar.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 
@@ -32,6 +33,31 @@ struct BenchArguments {
     bool quiet = false;
 };
 
+// "NAME: 12 runs (9 ok, 1 failed, 2 skipped after a failure of their series); 8 peer runs
+// skipped (not installed: simbody); reference ...; best mbd CPU at error <= 1e-6: ..."
+std::string summary_line(const BenchSceneResult& r) {
+    const BenchTally t = tally(r);
+    std::string line = r.spec.name + ": " + std::to_string(t.runs()) + " runs (" + std::to_string(t.ok) + " ok, " +
+                       std::to_string(t.failed) + " failed, " + std::to_string(t.skipped) +
+                       " skipped after a failure of their series)";
+    if (t.skipped_peers > 0) {
+        std::string engines;  // from the notes "peer ENGINE: not installed (...); skipped"
+        for (const std::string& note : r.notes)
+            if (note.rfind("peer ", 0) == 0 && note.find(": not installed") != std::string::npos)
+                engines += (engines.empty() ? "" : ", ") + note.substr(5, note.find(':') - 5);
+        line += "; " + std::to_string(t.skipped_peers) + " peer runs skipped (not installed: " + engines + ")";
+    }
+    double best_cpu_at = NAN, best_err = NAN;
+    for (const BenchRow& row : r.rows)
+        if (row.engine == "mbd" && row.status == "ok" && row.error <= 1e-6 && !(row.cpu_s >= best_cpu_at)) {
+            best_cpu_at = row.cpu_s;
+            best_err = row.error;
+        }
+    return line + "; reference " + r.reference.description + "; best mbd CPU at error <= 1e-6: " +
+           (std::isfinite(best_cpu_at) ? format_number(best_cpu_at, 3) + " s (error " + format_number(best_err, 3) + ")"
+                                       : std::string("not reached"));
+}
+
 }  // namespace
 
 void add_bench_command(CLI::App& app, Commands& commands) {
@@ -47,10 +73,11 @@ void add_bench_command(CLI::App& app, Commands& commands) {
         ->capture_default_str()
         ->check(positive_number());
     sub->add_option("--peers", args->peers,
-                    "Folder of the peer programs (mbd_peer_simbody, mbd_peer_mujoco); a missing one is reported and "
-                    "skipped");
+                    "Folder of the peer programs (mbd_peer_simbody, mbd_peer_mujoco); default: the peers built with "
+                    "this mbd (bin/peers beside it, or libexec/mbd/peers when installed); a missing one is reported "
+                    "and its runs skipped");
     sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable)");
-    sub->add_option("--min-tol", args->tolerance_floor, "Skip grid tolerances below this (a quick run)")
+    sub->add_option("--min-tol", args->tolerance_floor, "Skip grid tolerances below this, the peers' too (a quick run)")
         ->check(non_negative_number());
     sub->add_flag("-q,--quiet", args->quiet, "No progress bar and no summary");
 
@@ -69,7 +96,7 @@ void add_bench_command(CLI::App& app, Commands& commands) {
         OutputFile csv(args->csv), json(args->json);
         BenchOptions options;
         options.repeat = args->repeat;
-        options.peers_dir = args->peers;
+        options.peer_dirs = args->peers.empty() ? default_peer_dirs() : std::vector<std::string>{args->peers};
         options.progress = !args->quiet;
         options.only_formulations = args->formulations;
         options.tolerance_floor = args->tolerance_floor;
@@ -77,32 +104,15 @@ void add_bench_command(CLI::App& app, Commands& commands) {
         const auto start = std::chrono::steady_clock::now();
         for (const std::string& scene : args->scenes) {
             results.push_back(run_bench_scene(scene, registry, options, [&](const std::string& text) {
-                std::fprintf(stderr, "mbd bench: %s: %s\n", scene.c_str(), text.c_str());
+                console_line("mbd bench: " + scene + ": " + text);  // above the progress bar
             }));
             // the scenes done so far, in NAME.partial until the end
             const std::string done = "the runs of the first " + std::to_string(results.size()) + " of " +
                                      std::to_string(args->scenes.size()) + " scenes";
             csv.replace(bench_csv(results), done);
             json.replace(bench_json(results), done);
-            if (!args->quiet) {
-                const BenchSceneResult& r = results.back();
-                int ok = 0, failed = 0;
-                double best_cpu_at = NAN, best_err = NAN;
-                for (const BenchRow& row : r.rows) {
-                    if (row.status == "ok") ++ok; else ++failed;
-                    if (row.engine == "mbd" && row.status == "ok" && row.error <= 1e-6 &&
-                        !(row.cpu_s >= best_cpu_at)) {
-                        best_cpu_at = row.cpu_s;
-                        best_err = row.error;
-                    }
-                }
-                std::printf("%s: %d runs (%d failed or skipped); reference %s; best mbd CPU at error <= 1e-6: %s\n",
-                            r.spec.name.c_str(), ok + failed, failed, r.reference.description.c_str(),
-                            std::isfinite(best_cpu_at)
-                                ? (format_number(best_cpu_at, 3) + " s (error " + format_number(best_err, 3) + ")").c_str()
-                                : "not reached");
-                std::fflush(stdout);
-            }
+            if (!args->quiet) std::printf("%s\n", summary_line(results.back()).c_str());
+            std::fflush(stdout);
         }
         csv.commit();
         json.commit();

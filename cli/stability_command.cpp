@@ -9,6 +9,8 @@
 
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
+#include <mbd/progress_bar.hpp>
+#include <mbd/sdk/text.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/app/stability.hpp>
@@ -28,7 +30,28 @@ struct StabilityArguments {
     std::vector<std::string> formulations;
     std::vector<std::string> integrators;
     bool quick = false;
+    bool quiet = false;
 };
+
+// Runs one cell of the matrix (cell `index` of `cells`) in its child, its simulated time on the
+// progress line, and prints its matrix line (and a failure's message) above the bar.
+CellOutcome run_cell(const StabilityCase& c, const std::string& formulation, const std::string& integrator, bool quick,
+                     ProgressBar& bar, int index, int cells) {
+    const std::string running = c.name + " " + formulation + " " + integrator;
+    auto progress = [&](double t, double t_end) {
+        const double part = t_end > 0.0 ? t / t_end : 0.0;
+        bar.update((index + part) / cells, running + " t = " + format_number(t, 4) + " / " + format_number(t_end, 4) +
+                                               " s, cell " + std::to_string(index + 1) + "/" + std::to_string(cells));
+    };
+    const CellOutcome o =
+        run_case_isolated(c.scene, formulation, integrator, quick ? c.expect.quick_t_end : 0.0, progress);
+    char line[512];
+    std::snprintf(line, sizeof line, "%-28s %-12s %-18s %s (%.1f s)", c.name.c_str(), formulation.c_str(),
+                  integrator.c_str(), o.cell().c_str(), o.seconds);
+    console_line(line, stdout);
+    if (!o.message.empty() && o.kind != "pass") console_line("    " + o.message.substr(0, 300), stdout);
+    return o;
+}
 }  // namespace
 
 void add_stability_command(CLI::App& app, Commands& commands) {
@@ -40,6 +63,7 @@ void add_stability_command(CLI::App& app, Commands& commands) {
     sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable; default: all found)");
     sub->add_option("--integrator", args->integrators, "Only these integrators (default: dopri5, generalized_alpha, cvode)");
     sub->add_flag("--quick", args->quick, "Use each case's quick_t_end (shorter runs)");
+    sub->add_flag("-q,--quiet", args->quiet, "No progress line (the running case and its simulated time)");
 
     commands[sub] = [args] {
         std::vector<std::string> scenes = args->scenes;
@@ -79,16 +103,15 @@ void add_stability_command(CLI::App& app, Commands& commands) {
 
         std::vector<StabilityCase> cases;
         int wrong = 0, crashes = 0;
+        // the running cell and its simulated time on a progress line; the finished cells above it
+        ProgressBar bar(!args->quiet);
+        const int cells = static_cast<int>(pending.size() * formulations.size() * integrators.size());
+        int cell = 0;
         for (StabilityCase& c : pending) {
-            const std::string& scene = c.scene;
             for (const std::string& f : formulations)
                 for (const std::string& i : integrators) {
                     stop_if_interrupted();
-                    CellOutcome o = run_case_isolated(scene, f, i, args->quick ? c.expect.quick_t_end : 0.0);
-                    std::printf("%-28s %-12s %-18s %s (%.1f s)\n", c.name.c_str(), f.c_str(), i.c_str(),
-                                o.cell().c_str(), o.seconds);
-                    if (!o.message.empty() && o.kind != "pass") std::printf("    %s\n", o.message.substr(0, 300).c_str());
-                    std::fflush(stdout);
+                    CellOutcome o = run_cell(c, f, i, args->quick, bar, cell++, cells);
                     if (o.kind == "crashed" || o.kind == "error") ++crashes;
                     if (f == c.expect.formulation && i == c.expect.integrator && !outcome_matches(c.expect, o)) ++wrong;
                     c.cells.push_back(o);
@@ -101,6 +124,7 @@ void add_stability_command(CLI::App& app, Commands& commands) {
                                   "the matrix of the first " + std::to_string(cases.size()) + " of " +
                                       std::to_string(pending.size()) + " cases");
         }
+        bar.finish();
         if (markdown) {
             markdown->commit();
             std::printf("wrote %s\n", args->markdown.c_str());

@@ -243,7 +243,7 @@ TEST(Bench, MissingPeerIsReportedNotFatal) {
     BenchOptions options;
     options.repeat = 1;
     options.progress = false;
-    options.peers_dir = (dir / "no-such-peers").string();
+    options.peer_dirs = {(dir / "no-such-peers").string()};
     const BenchSceneResult result = run_bench_scene(scene, test::shared_registry(), options);
     ASSERT_EQ(result.rows.size(), 1u);
     EXPECT_EQ(result.rows[0].status, "ok");
@@ -254,7 +254,7 @@ TEST(Bench, MissingPeerIsReportedNotFatal) {
 
     // and through the command, which writes CSV and JSON
     const std::string csv = (dir / "b.csv").string(), json = (dir / "b.json").string();
-    const auto r = test::run_mbd("bench " + scene + " --repeat 1 -q --peers " + options.peers_dir + " --csv " + csv +
+    const auto r = test::run_mbd("bench " + scene + " --repeat 1 -q --peers " + options.peer_dirs[0] + " --csv " + csv +
                                  " --json " + json);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.err.find("not installed"), std::string::npos) << r.err;
@@ -264,6 +264,40 @@ TEST(Bench, MissingPeerIsReportedNotFatal) {
     std::getline(in, row);
     EXPECT_EQ(header.rfind("engine,scene,formulation,integrator,tolerance,step,cpu_s,steps,error,error_measure,reference_kind", 0), 0u);
     EXPECT_NE(row.find("closed_form"), std::string::npos) << row;
+    std::filesystem::remove_all(dir);
+}
+
+// --min-tol leaves out the tighter tolerances of the peers too, and a missing peer's skipped
+// runs are counted from the same grid: simbody (found, a fake program printing the bob at rest)
+// runs 1e-6 but not 1e-8; mujoco (missing) has its one tolerance above the floor skipped.
+TEST(Bench, MinimumToleranceAppliesToThePeersAndTheSkippedCount) {
+    const auto dir = std::filesystem::temp_directory_path() / "mbd_test_bench_min_tol";
+    std::filesystem::remove_all(dir);
+    const std::string scene = pendulum_bench_scene(
+        dir, "  runs:\n    - {formulation: augmented, integrator: dopri5, tolerances: [1.0e-5, 1.0e-9]}\n"
+             "  peers:\n    model: pendulum_a01\n    simbody: {tolerances: [1.0e-6, 1.0e-8]}\n"
+             "    mujoco: {tolerances: [1.0e-4, 1.0e-10]}\n");
+    const auto peers = dir / "peers";
+    std::filesystem::create_directories(peers);
+    std::ofstream(peers / "mbd_peer_simbody") << "#!/bin/sh\necho '0.5 3'\necho '0.5 1 0 0'\necho '1 1 0 0'\n";
+    std::filesystem::permissions(peers / "mbd_peer_simbody", std::filesystem::perms::owner_all);
+    BenchOptions options;
+    options.repeat = 1;
+    options.progress = false;
+    options.tolerance_floor = 1e-6;
+    options.peer_dirs = {peers.string()};
+    const BenchSceneResult result = run_bench_scene(scene, test::shared_registry(), options);
+    ASSERT_EQ(result.rows.size(), 2u);  // augmented at 1e-5, simbody at 1e-6
+    EXPECT_EQ(result.rows[0].engine, "mbd");
+    EXPECT_EQ(result.rows[0].tolerance, 1e-5);
+    EXPECT_EQ(result.rows[1].engine, "simbody");
+    EXPECT_EQ(result.rows[1].tolerance, 1e-6);
+    EXPECT_EQ(result.rows[1].status, "ok");
+    EXPECT_EQ(result.rows[1].cpu_s, 0.5);
+    EXPECT_EQ(result.skipped_peer_runs, 1);  // mujoco at 1e-4; 1e-10 is below the floor
+    const BenchTally t = tally(result);
+    EXPECT_EQ(t.ok, 2);
+    EXPECT_EQ(t.runs(), 3);
     std::filesystem::remove_all(dir);
 }
 

@@ -542,10 +542,11 @@ TEST_F(ModesCli, FullyDrivenMechanismNamesItsDriver) {
         const mbd::test::CommandResult r =
             mbd::test::run_mbd("modes '" + four_bar + "' --about " + about + " --output '" + csv + "'");
         EXPECT_EQ(r.exit_code, 1) << about;
-        EXPECT_NE(r.err.find("no freedom to linearise"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(four_bar + ": no freedom to linearise"), std::string::npos) << r.err;  // the file named
         EXPECT_NE(r.err.find("the driver 'motor' (joint 'O') prescribes"), std::string::npos) << r.err;
         EXPECT_NE(r.err.find("remove the driver"), std::string::npos) << r.err;
         EXPECT_NE(r.err.find("actuator"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("run `mbd kinematics`"), std::string::npos) << r.err;  // the driven motion's own command
         EXPECT_EQ(r.err.find("--about statics"), std::string::npos) << r.err;
         EXPECT_FALSE(std::filesystem::exists(csv));
     }

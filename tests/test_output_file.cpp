@@ -328,4 +328,26 @@ TEST(ProgressLine, ShowsElapsedTimeAndTimeLeftWithinTheWidth) {
     EXPECT_TRUE(contains(mbd::progress_line(0.0, 1.0, "", 80), "--:-- left"));
 }
 
+// The width is counted in characters, not bytes: a UTF-8 character is one column and is never
+// cut in half; and the bar (30 columns when there is room) gives up columns, down to 10, before
+// the detail is cut.
+TEST(ProgressLine, CountsCharactersAndShrinksTheBarBeforeTheDetail) {
+    const std::string theta = "\u03b8";  // two bytes, one column
+    EXPECT_EQ(mbd::fit_to_width(theta + theta + theta, 2), theta + theta);
+    EXPECT_EQ(mbd::fit_to_width("abc", 5), "abc");
+    EXPECT_EQ(mbd::fit_to_width("a" + theta + "c", 2), "a" + theta);
+    auto bar_columns = [](const std::string& line) { return static_cast<int>(line.find(']')) - 1; };
+    EXPECT_EQ(bar_columns(mbd::progress_line(0.5, 1.0, "short", 200)), 30);
+    // 79 columns: "[" bar "]" (2) + "  50%  0:01 elapsed, 0:01 left" (30) + "  " + a 30-column detail (32)
+    const std::string detail(30, 'd');
+    const std::string line = mbd::progress_line(0.5, 1.0, detail, 80);
+    EXPECT_EQ(bar_columns(line), 79 - 2 - 30 - 32) << line;
+    EXPECT_EQ(line.size(), 79u) << line;
+    EXPECT_TRUE(contains(line, detail)) << line;
+    // no room at all: the bar keeps 10 columns and the detail is cut at the width
+    const std::string narrow = mbd::progress_line(0.5, 1.0, detail + theta, 50);
+    EXPECT_EQ(bar_columns(narrow), 10) << narrow;
+    EXPECT_EQ(narrow.size(), 49u) << narrow;
+}
+
 }  // namespace

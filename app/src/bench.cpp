@@ -329,6 +329,7 @@ BenchReferenceData make_bench_reference(const Model& model, Registry& registry, 
         s.t_end = spec.t_end;
         s.output_step = times.front();
         s.progress = false;
+        s.messages = MessageLog::silent();  // one line per run would bury the bar; each row has its status
         SimulationResult r;
         ref.trajectory = sample_trajectory(model, registry, s, spec.measure, r);
         ref.description = "tight run: " + s.formulation + " + " + s.integrator + " at tol " +
@@ -365,6 +366,7 @@ bool time_mbd_point(const Model& model, Registry& registry, const BenchSpec& spe
     s.t_end = spec.t_end;
     s.output_step = output_step;
     s.progress = false;
+    s.messages = MessageLog::silent();  // one line per run would bury the bar; each row has its status
     std::vector<double> cpu;
     try {
         for (int k = 0; k < repeat; ++k) {
@@ -414,18 +416,6 @@ void time_peer_point(const std::string& exe, const BenchSpec& spec, const BenchP
     row.cpu_s = median(cpu);
 }
 
-// The peer program of a series, or why it is missing (`missing` set, empty result).
-std::string peer_executable(const BenchOptions& options, const BenchPeerSeries& series, std::string& missing) {
-    const std::string exe =
-        options.peers_dir.empty() ? std::string() : options.peers_dir + "/mbd_peer_" + series.engine;
-    if (!exe.empty() && std::filesystem::exists(exe)) return exe;
-    missing = "peer " + series.engine + ": not installed (" +
-              (exe.empty() ? std::string("no --peers directory given")
-                           : "no " + exe + "; install lib" + series.engine + "-dev and rebuild bench/peers") +
-              "); skipped";
-    return std::string();
-}
-
 }  // namespace
 
 BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& registry, const BenchOptions& options,
@@ -450,8 +440,10 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
                    options.only_formulations.end();
     };
     for (const auto& s : spec.runs)
-        if (wanted(s.formulation)) total += static_cast<int>(s.tolerances.size() + s.steps.size());
-    for (const auto& p : spec.peers) total += static_cast<int>(p.tolerances.size() + p.steps.size());
+        if (wanted(s.formulation))
+            total += static_cast<int>(grid_points(s.tolerances, s.steps, options.tolerance_floor).size());
+    for (const auto& p : spec.peers)
+        total += static_cast<int>(grid_points(p.tolerances, p.steps, options.tolerance_floor).size());
     GridProgress progress(options.progress, spec.name, total);
     int done = 0;
 
@@ -489,13 +481,16 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
 
     for (const auto& series : spec.peers) {
         std::string missing;
-        const std::string exe = peer_executable(options, series, missing);
+        const std::string exe = peer_executable(options.peer_dirs, series.engine, missing);
+        const auto grid = grid_points(series.tolerances, series.steps, options.tolerance_floor);
         if (exe.empty()) {
-            done += static_cast<int>(series.tolerances.size() + series.steps.size());
+            const int points = static_cast<int>(grid.size());
+            done += points;
+            out.skipped_peer_runs += points;
             if (std::find(out.notes.begin(), out.notes.end(), missing) == out.notes.end()) note(missing);
             continue;
         }
-        for (const auto& [adaptive, value] : grid_points(series.tolerances, series.steps, 0.0)) {
+        for (const auto& [adaptive, value] : grid) {
             BenchRow row = grid_row(series.engine, series.engine, series.integrator, adaptive, value);
             time_peer_point(exe, spec, series, out.reference.trajectory, times.front(), adaptive, value, repeat, row);
             out.rows.push_back(row);
@@ -503,6 +498,17 @@ BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& regist
     }
     progress.finish();
     return out;
+}
+
+BenchTally tally(const BenchSceneResult& result) {
+    BenchTally t;
+    for (const BenchRow& row : result.rows) {
+        if (row.status == "ok") ++t.ok;
+        else if (row.status.rfind("skipped", 0) == 0) ++t.skipped;
+        else ++t.failed;
+    }
+    t.skipped_peers = result.skipped_peer_runs;
+    return t;
 }
 
 std::string bench_csv(const std::vector<BenchSceneResult>& results) {

@@ -249,7 +249,7 @@ private:
 };
 
 CellOutcome run_case(const Model& model, Registry& registry, const Expectation& e, const std::string& formulation,
-                     const std::string& integrator, double t_end) {
+                     const std::string& integrator, double t_end, const CaseProgress& progress) {
     CellOutcome out;
     out.bound = e.bound;
     if (!(t_end > 0.0)) t_end = e.t_end;
@@ -259,6 +259,7 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
     s.t_end = t_end;
     s.output_step = e.output_step > 0.0 ? std::min(e.output_step, t_end) : t_end / 200.0;
     s.progress = false;
+    s.messages = MessageLog::silent();
     s.integration.tolerance = e.tolerance;
     s.integration.rho_infinity = e.rho_infinity;
     if (integrator == "generalized_alpha" || integrator == "rk4" || integrator == "euler")
@@ -275,6 +276,7 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
     auto callback = [&](const SimulationSample& sample) -> bool {
         last_t = sample.state.t;
         measure.sample(sample.state);
+        if (progress) progress(last_t, t_end);
         if (elapsed() > e.budget) {
             over_budget = true;
             return false;
@@ -327,8 +329,86 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
     return out;
 }
 
+namespace {
+
+void write_all(int fd, const std::string& text) {
+    size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t w = write(fd, text.data() + done, text.size() - done);
+        if (w <= 0) break;
+        done += static_cast<size_t>(w);
+    }
+}
+
+// The forked child of run_case_isolated: runs the case, writing "progress\tT\tT_END" lines
+// (at most ten a second) and then its result line "KIND\tERROR\tBOUND\tTIME\tSECONDS\tMESSAGE".
+[[noreturn]] void run_child(const std::string& scene, const std::string& formulation, const std::string& integrator,
+                            double t_end, int fd) {
+    CellOutcome c;
+    auto last = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+    const CaseProgress report = [&](double t, double end) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last < std::chrono::milliseconds(100)) return;
+        last = now;
+        char line[96];
+        std::snprintf(line, sizeof line, "progress\t%.17g\t%.17g\n", t, end);
+        write_all(fd, line);
+    };
+    try {
+        Registry registry;
+        const Model model = load_scene(scene, registry);
+        c = run_case(model, registry, read_expectation(model), formulation, integrator, t_end, report);
+    } catch (const std::exception& x) {
+        c.kind = "error";
+        c.message = x.what();
+    } catch (const Interrupted& x) {
+        _exit(x.exit_status());  // the parent stops too (interrupt.hpp)
+    }
+    std::string msg = c.message.substr(0, 2000);
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    char head[256];
+    std::snprintf(head, sizeof head, "%s\t%.17g\t%.17g\t%.17g\t%.17g\t", c.kind.c_str(), c.error, c.bound, c.time,
+                  c.seconds);
+    write_all(fd, head + msg + "\n");
+    close(fd);
+    _exit(0);
+}
+
+// What the parent reads from the child: its latest progress, and its result line.
+struct ChildReport {
+    double t = 0.0, t_end = 0.0;
+    std::string result;
+
+    void append(const char* data, size_t size) {
+        partial_.append(data, size);
+        size_t end;
+        while ((end = partial_.find('\n')) != std::string::npos) {
+            const std::string line = partial_.substr(0, end + 1);
+            partial_.erase(0, end + 1);
+            if (line.rfind("progress\t", 0) != 0) {
+                result += line;
+                continue;
+            }
+            std::istringstream in(line.substr(9));
+            double time = 0.0, end_time = 0.0;
+            if (in >> time >> end_time) t = time, t_end = end_time;
+        }
+    }
+
+    // At the end of the pipe: a last line without its newline is part of the result.
+    void end() {
+        result += partial_;
+        partial_.clear();
+    }
+
+private:
+    std::string partial_;  // a line not yet complete
+};
+
+}  // namespace
+
 CellOutcome run_case_isolated(const std::string& scene, const std::string& formulation, const std::string& integrator,
-                              double t_end) {
+                              double t_end, const CaseProgress& progress) {
     double budget = 30.0;
     {
         Registry registry;
@@ -346,31 +426,7 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
-        CellOutcome c;
-        try {
-            Registry registry;
-            const Model model = load_scene(scene, registry);
-            c = run_case(model, registry, read_expectation(model), formulation, integrator, t_end);
-        } catch (const std::exception& x) {
-            c.kind = "error";
-            c.message = x.what();
-        } catch (const Interrupted& x) {
-            _exit(x.exit_status());  // the parent stops too (interrupt.hpp)
-        }
-        std::string msg = c.message.substr(0, 2000);
-        std::replace(msg.begin(), msg.end(), '\n', ' ');
-        char head[256];
-        std::snprintf(head, sizeof head, "%s\t%.17g\t%.17g\t%.17g\t%.17g\t", c.kind.c_str(), c.error, c.bound, c.time,
-                      c.seconds);
-        const std::string line = head + msg + "\n";
-        size_t done = 0;
-        while (done < line.size()) {
-            const ssize_t w = write(fds[1], line.data() + done, line.size() - done);
-            if (w <= 0) break;
-            done += static_cast<size_t>(w);
-        }
-        close(fds[1]);
-        _exit(0);
+        run_child(scene, formulation, integrator, t_end, fds[1]);
     }
     close(fds[1]);
     if (pid < 0) {
@@ -379,7 +435,7 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
         out.message = "fork() failed";
         return out;
     }
-    std::string text;
+    ChildReport report;
     int status = 0;
     bool killed = false;
     const double hard_limit = budget + 10.0;
@@ -389,9 +445,10 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
         if (ready > 0) {
             char buf[4096];
             const ssize_t n = read(fds[0], buf, sizeof buf);
-            if (n > 0) text.append(buf, static_cast<size_t>(n));
+            if (n > 0) report.append(buf, static_cast<size_t>(n));
             if (n == 0) break;  // EOF: the child closed its end (exited)
         }
+        if (progress) progress(report.t, report.t_end);
         if (pending_interrupt() != 0) {  // a stop signal: end the child and stop the matrix here
             kill(pid, SIGKILL);
             close(fds[0]);
@@ -414,6 +471,7 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
             }
         }
     }
+    report.end();
     close(fds[0]);
     waitpid(pid, &status, 0);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -426,7 +484,7 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
         out.signal = WTERMSIG(status);
         return out;
     }
-    std::istringstream in(text);
+    std::istringstream in(report.result);
     std::string kind, error, bound, time, seconds, message;
     if (!std::getline(in, kind, '\t') || !std::getline(in, error, '\t') || !std::getline(in, bound, '\t') ||
         !std::getline(in, time, '\t') || !std::getline(in, seconds, '\t')) {

@@ -170,19 +170,21 @@ CoordinatePartition partition_with_map(const ConstraintValues& cv, Eigen::Matrix
 // drivers that prescribe the freedoms, or the joints that leave none.
 void require_independent_positions(const Model& model, int independent) {
     if (independent > 0) return;
+    const std::string where = model.source.empty() ? std::string() : model.source + ": ";
     if (model.drivers.empty())
-        throw LinearisationError("no freedom to linearise: the joints fix every body (0 independent coordinates), "
-                                 "so the scene has no modes");
+        throw LinearisationError(where + "no freedom to linearise: the joints fix every body (0 independent "
+                                         "coordinates), so the scene has no modes");
     std::string drivers;
     for (const Driver& d : model.drivers)
         drivers += std::string(drivers.empty() ? "" : ", ") + "'" + d.name + "' (joint '" + model.joints[d.joint].name + "')";
     const bool one = model.drivers.size() == 1;
     throw LinearisationError(
-        "no freedom to linearise: the driver" + std::string(one ? " " : "s ") + drivers + (one ? " prescribes" : " prescribe") +
+        where + "no freedom to linearise: the driver" + std::string(one ? " " : "s ") + drivers + (one ? " prescribes" : " prescribe") +
         " the motion of every coordinate the joints leave free (0 independent coordinates), so the scene has no "
         "modes; for the modes of the mechanism, remove the driver" + (one ? "" : "s") + " (the free mechanism) or make " +
         (one ? "it an actuator" : "them actuators") + " (actuators: [{name: " + model.drivers[0].name + ", joint: " +
-        model.joints[model.drivers[0].joint].name + "}], its effort an input of B)");
+        model.joints[model.drivers[0].joint].name + "}], its effort an input of B); for the driven motion itself, run "
+        "`mbd kinematics`");
 }
 
 // Rates at the shifts +-shift along d (unit; the velocities carried along) against those at

@@ -116,10 +116,10 @@ struct BenchRow {
 
 struct BenchOptions {
     int repeat = 3;                  // runs per grid point; cpu_s is their median
-    std::string peers_dir;           // where mbd_peer_simbody / mbd_peer_mujoco are; empty: no peers
+    std::vector<std::string> peer_dirs;  // folders searched in turn for mbd_peer_<engine> (default_peer_dirs())
     bool progress = true;            // progress bar on stderr when it is a terminal
     std::vector<std::string> only_formulations;  // empty: all of the scene's
-    double tolerance_floor = 0.0;    // skip grid tolerances below this (quick runs)
+    double tolerance_floor = 0.0;    // skip grid tolerances below this, the peers' too (quick runs)
 };
 
 struct BenchSceneResult {
@@ -128,7 +128,24 @@ struct BenchSceneResult {
     BenchReferenceData reference;
     std::vector<BenchRow> rows;
     std::vector<std::string> notes;  // e.g. "peer simbody: not installed (...); skipped"
+    int skipped_peer_runs = 0;       // grid points of peers that are not installed (no rows)
 };
+
+// The folders of the peer programs built with this mbd, from the running executable's
+// location: bin/peers (build tree), then libexec/mbd/peers (install tree).
+std::vector<std::string> default_peer_dirs();
+
+// The first `dirs`/mbd_peer_<engine> that is an executable file; else empty, and `missing`
+// says which folders were searched and what to do.
+std::string peer_executable(const std::vector<std::string>& dirs, const std::string& engine, std::string& missing);
+
+// How a scene's runs ended: ok, failed, skipped (an mbd grid point after a failure of its
+// series, or a peer's point when the peer is not installed), for the summary line.
+struct BenchTally {
+    int ok = 0, failed = 0, skipped = 0, skipped_peers = 0;
+    int runs() const { return ok + failed + skipped + skipped_peers; }
+};
+BenchTally tally(const BenchSceneResult& result);
 
 // Runs the grid of one scene (and its peers). `log` gets the notes as they happen.
 BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& registry, const BenchOptions& options,

@@ -9,6 +9,7 @@
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -57,14 +58,22 @@ struct CellOutcome {
     std::string cell() const;  // the matrix text, e.g. "pass (error 3e-09)"
 };
 
-// Run one case in this process (t_end <= 0: the expectation's t_end).
+// How far a running case got: the simulated time t of its run to t_end.
+using CaseProgress = std::function<void(double t, double t_end)>;
+
+// Run one case in this process (t_end <= 0: the expectation's t_end); `progress` gets the
+// time of each output sample. The formulation's messages are dropped (the cell says how the
+// case ended).
 CellOutcome run_case(const Model& model, Registry& registry, const Expectation& expect,
-                     const std::string& formulation, const std::string& integrator, double t_end = 0.0);
+                     const std::string& formulation, const std::string& integrator, double t_end = 0.0,
+                     const CaseProgress& progress = {});
 
 // Run one case in a forked child that loads the scene itself; the parent kills it after
-// budget + 10 s (budget_exceeded) and reports a signal as "crashed".
+// budget + 10 s (budget_exceeded) and reports a signal as "crashed". The child reports its
+// simulated time through the pipe (at most ten times a second); `progress` gets the latest
+// about every 0.1 s while the parent waits (before the first report: t = 0, t_end = 0).
 CellOutcome run_case_isolated(const std::string& scene, const std::string& formulation,
-                              const std::string& integrator, double t_end = 0.0);
+                              const std::string& integrator, double t_end = 0.0, const CaseProgress& progress = {});
 
 // Does the outcome satisfy the declaration?
 bool outcome_matches(const Expectation& expect, const CellOutcome& outcome);
