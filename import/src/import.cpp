@@ -4,6 +4,7 @@
 #include <mbd/import/mjcf_reader.hpp>
 #include <mbd/import/model_format.hpp>
 #include <mbd/import/scene_writer.hpp>
+#include <mbd/import/sdf_reader.hpp>
 #include <mbd/import/urdf_reader.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/sdk/params.hpp>  // InputError
@@ -17,7 +18,9 @@ Vec3 three(const std::vector<double>& v, size_t at) { return Vec3(v[at], v[at + 
 size_t velocity_count(SourceJointKind kind) {
     switch (kind) {
         case SourceJointKind::Hinge:
-        case SourceJointKind::Slide: return 1;
+        case SourceJointKind::Slide:
+        case SourceJointKind::Screw: return 1;
+        case SourceJointKind::Universal: return 2;
         case SourceJointKind::Ball: return 3;
         case SourceJointKind::Free: return 6;
         case SourceJointKind::Planar: break;
@@ -43,6 +46,7 @@ void apply_joint_velocities(SourceTree& tree, const ImportOptions& options) {
                                                            : "its initial velocity has " + std::to_string(count) +
                                                                  " numbers, " + std::to_string(values.size()) + " given"));
         if (count == 1) found->rate = values[0];
+        if (count == 2) found->angular = values[0] * found->axis + values[1] * found->axis2;
         if (count == 3) found->angular = owner->rotation * three(values, 0);
         if (count == 6) {
             found->linear = three(values, 0);
@@ -55,14 +59,13 @@ SourceTree read_model_file(const std::filesystem::path& file) {
     switch (detect_format(file)) {
         case ModelFormat::Mjcf: return read_mjcf(file);
         case ModelFormat::Urdf: return read_urdf(file);
-        case ModelFormat::Sdf:
-            throw InputError(file.string(), "SDF files are not imported yet (MJCF and URDF are; docs/import.md)");
+        case ModelFormat::Sdf: return read_sdf(file);
         case ModelFormat::Scene: break;
     }
     std::error_code error;
     if (!std::filesystem::is_regular_file(file, error))
         throw InputError(file.string(), "cannot read the model file: it is not a file that exists");
-    throw InputError(file.string(), "not an MJCF or URDF file (no <mujoco> or <robot> root element): it is read as "
+    throw InputError(file.string(), "not an MJCF, URDF or SDF file (no <mujoco>, <robot> or <sdf> root element): it is read as "
                                     "an mbd scene, which needs no import");
 }
 

@@ -91,6 +91,8 @@ std::string joint_type(SourceJointKind kind) {
         case SourceJointKind::Slide: return "prismatic";
         case SourceJointKind::Ball: return "spherical";
         case SourceJointKind::Planar: return "planar";
+        case SourceJointKind::Universal: return "universal";
+        case SourceJointKind::Screw: return "screw";
         case SourceJointKind::Free: break;
     }
     return "free";
@@ -113,8 +115,12 @@ void propagate_velocities(ImportedScene& scene, const std::vector<const SourceJo
         }
         Vec3 w_rel = Vec3::Zero();
         if (source.kind == SourceJointKind::Hinge) w_rel = source.rate * joint.axis;
-        if (source.kind == SourceJointKind::Ball) w_rel = source.angular;
+        if (source.kind == SourceJointKind::Ball || source.kind == SourceJointKind::Universal) w_rel = source.angular;
         if (source.kind == SourceJointKind::Slide) v += source.rate * joint.axis;
+        if (source.kind == SourceJointKind::Screw) {  // a turn advances pitch / (2 pi) along the axis
+            w_rel = source.rate * joint.axis;
+            v += source.pitch / (2.0 * M_PI) * source.rate * joint.axis;
+        }
         body.angular_velocity = w + w_rel;
         body.velocity = v + w_rel.cross(body.position - joint.point);
     }
@@ -220,6 +226,8 @@ private:
         j.child = child;
         j.point = source.point;
         j.axis = source.axis.normalized();
+        j.axis2 = source.axis2.normalized();
+        j.pitch = source.pitch;
         scene_.joints.push_back(j);
         joint_source_.push_back(&source);
         parent_joint_[child] = static_cast<int>(scene_.joints.size()) - 1;

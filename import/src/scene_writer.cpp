@@ -61,7 +61,11 @@ void write_joints(std::ostringstream& out, const ImportedScene& scene) {
         out << source(j.where, scene.format + " joint '" + j.name + "'");
         out << "  - {name: " << j.name << ", type: " << j.type << ", bodies: [" << body_name(scene, j.parent) << ", "
             << body_name(scene, j.child) << "], point: " << vector(j.point);
-        if (j.type != "spherical") out << ", axis: " << vector(j.axis);
+        if (j.type == "universal")
+            out << ", axes: [" << vector(j.axis) << ", " << vector(j.axis2) << "]";
+        else if (j.type != "spherical")
+            out << ", axis: " << vector(j.axis);
+        if (j.type == "screw") out << ", pitch: " << number(j.pitch);
         out << "}\n";
     }
 }

@@ -1,4 +1,4 @@
-// The import layer's entry points (docs/import.md): a model file (MJCF, URDF) read by its own
+// The import layer's entry points (docs/import.md): a model file (MJCF, URDF, SDF) read by its own
 // parser into an mbd scene, and the loader that takes a scene or a model file wherever a
 // command accepts a scene, knowing the format from the file's content.
 #pragma once
@@ -17,7 +17,8 @@ namespace mbd::import {
 
 struct ImportOptions {
     // initial joint velocities by joint name, in MuJoCo's qvel convention: hinge and slide one
-    // rate; ball the angular velocity in the body's axes; free / floating six numbers, the
+    // rate (screw: the turning rate); universal two, the rates about its first and second
+    // axes; ball the angular velocity in the body's axes; free / floating six numbers, the
     // velocity of the body frame's origin in world axes, then the angular velocity in body axes
     std::map<std::string, std::vector<double>> joint_velocities;
 };
@@ -26,7 +27,7 @@ struct ImportOptions {
 // wrong count of numbers.
 void apply_joint_velocities(SourceTree& tree, const ImportOptions& options);
 
-// The source tree of an MJCF or URDF file (InputError for an mbd scene or SDF).
+// The source tree of an MJCF, URDF or SDF file (InputError for an mbd scene).
 SourceTree read_model_file(const std::filesystem::path& file);
 
 // read_model_file, the options' velocities, build_scene.

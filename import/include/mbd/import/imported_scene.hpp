@@ -34,11 +34,13 @@ struct SceneBody {
 struct SceneJoint {
     std::string name;
     std::string where;
-    std::string type;      // revolute, prismatic, spherical, planar
+    std::string type;      // revolute, prismatic, spherical, planar, universal, screw
     int parent = -1;       // index in ImportedScene::bodies, -1: ground
     int child = -1;
     Vec3 point = Vec3::Zero();
     Vec3 axis = Vec3::UnitZ();
+    Vec3 axis2 = Vec3::UnitX();  // universal: `axes: [axis, axis2]`
+    double pitch = 0.0;          // screw
     SourceJointKind kind = SourceJointKind::Hinge;
 };
 

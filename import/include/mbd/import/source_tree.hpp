@@ -12,16 +12,18 @@
 
 namespace mbd::import {
 
-enum class SourceJointKind { Hinge, Slide, Ball, Free, Planar };
+enum class SourceJointKind { Hinge, Slide, Ball, Free, Planar, Universal, Screw };
 
 struct SourceJoint {
     std::string name;   // as in the file ("" when unnamed)
     std::string where;  // "file" or "file:line" of its definition
     SourceJointKind kind = SourceJointKind::Hinge;
     Vec3 point = Vec3::Zero();          // anchor, world, at the reference configuration
-    Vec3 axis = Vec3::UnitZ();          // hinge / slide axis, planar normal, world (unit)
+    Vec3 axis = Vec3::UnitZ();          // hinge / slide / screw axis, planar normal, world (unit)
+    Vec3 axis2 = Vec3::UnitX();         // universal: the second axis (fixed in the child), world
+    double pitch = 0.0;                 // screw: travel along `axis` per revolution, m (> 0 right-handed)
     // initial velocity: hinge, slide: one rate; ball: angular velocity of the child relative to
-    // the parent, world; free: (velocity of the body frame's origin, angular velocity), world
+    // the parent, world (also universal); free: (velocity of the body frame's origin, angular velocity), world
     double rate = 0.0;
     Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
     // passive joint elements (hinge / slide): spring about the reference position and damping
@@ -52,7 +54,7 @@ struct Unmapped {
 struct SourceTree {
     std::string name;                   // the model's name
     std::string file;                   // the file it was read from
-    std::string format;                 // "MJCF" or "URDF"
+    std::string format;                 // "MJCF", "URDF" or "SDF"
     Vec3 gravity = Vec3(0, 0, -9.81);
     std::vector<SourceBody> bodies;     // parents before children
     std::vector<Unmapped> unmapped;
