@@ -178,14 +178,15 @@ struct Agreement {
 };
 
 // MuJoCo at h and h / 2 and mbd (the scene imported with `options`) over 1 s, body frames compared.
-Agreement agreement(mjModel* m, const ImportedScene& scene, const std::vector<double>& qvel, double h) {
+Agreement agreement(mjModel* m, const ImportedScene& scene, const std::vector<double>& qvel, double h,
+                    const std::vector<double>& qpos = {}) {
     const Model model = load_scene_text(import::scene_yaml(scene), "imported.yaml", shared_registry());
     std::vector<std::vector<double>> xpos[2], xmat[2];
     for (int k = 0; k < 2; ++k)
         mujoco_samples(m, qvel, k ? h / 2 : h, 1.0, 0.01, [&](const mjData* d) {
             xpos[k].emplace_back(d->xpos, d->xpos + 3 * m->nbody);
             xmat[k].emplace_back(d->xmat, d->xmat + 9 * m->nbody);
-        });
+        }, qpos);
     Agreement a;
     a.mujoco_self = std::max(max_difference(xpos[0], xpos[1]), max_difference(xmat[0], xmat[1]));
     a.mbd = body_frame_difference(m, scene, model, mbd_run(model, 1.0, 0.01), xpos[1], xmat[1], a.compared);
@@ -264,6 +265,31 @@ TEST(ImportSdf, SharedDoublePendulumAgreesWithMuJoCo) {
     EXPECT_EQ(a.compared, 3);
     EXPECT_LT(a.mujoco_self / 3, 1e-9);
     EXPECT_LT(a.mbd, 1e-6);
+}
+
+// Initial joint positions (--position): the double pendulum started with its joints at 0.4 and
+// -0.7 rad from the file's configuration, against MuJoCo started at qpos0 + the same angles
+// (every body frame compared from t = 0, so a subtree turned about the wrong point or axis shows).
+TEST(ImportSdf, InitialJointPositionsAgreeWithMuJoCo) {
+    const fs::path sdf = shared_models() / "sdf_double_pendulum" / "double_pendulum.sdf";
+    MjModelPtr m = compile(write_file("double_pendulum.xml", double_pendulum_mjcf()));
+    ASSERT_TRUE(m);
+    std::vector<double> qpos(m->qpos0, m->qpos0 + m->nq);
+    qpos[7] += 0.4;   // upper_joint, after the free base's 7
+    qpos[8] -= 0.7;   // lower_joint
+    const std::vector<double> qvel{0, 0, 0, 0, 0, 0, 1.0, 0.5};
+    import::ImportOptions options;
+    options.joint_positions = {{"upper_joint", 0.4}, {"lower_joint", -0.7}};
+    options.joint_velocities = {{"upper_joint", {1.0}}, {"lower_joint", {0.5}}};
+    const ImportedScene scene = import::import_model(sdf, options);
+    const Agreement a = agreement(m.get(), scene, qvel, 4e-5, qpos);
+    std::printf("SDF double pendulum from moved joints: MuJoCo h against h / 2: %.3g; mbd against MuJoCo: %.3g\n",
+                a.mujoco_self, a.mbd);
+    EXPECT_EQ(a.compared, 3);
+    EXPECT_LT(a.mujoco_self / 3, 1e-9);
+    EXPECT_LT(a.mbd, 1e-6);
+    options.joint_positions = {{"no_such_joint", 0.1}};
+    EXPECT_THROW(import::import_model(sdf, options), InputError);
 }
 
 // A nut of mass m and axial moment I on a vertical screw (the world's), released at rest: with

@@ -33,15 +33,16 @@ inline MjModelPtr compile(const std::filesystem::path& file) {
     return m;
 }
 
-// Calls `at_sample` with MuJoCo's data at t = 0 and every `sample` s to t_end, from qpos0 with
-// velocity qvel, RK4 at step h.
+// Calls `at_sample` with MuJoCo's data at t = 0 and every `sample` s to t_end, from qpos (qpos0
+// when empty) with velocity qvel, RK4 at step h.
 inline void mujoco_samples(mjModel* m, const std::vector<double>& qvel, double h, double t_end, double sample,
-                           const std::function<void(const mjData*)>& at_sample) {
+                           const std::function<void(const mjData*)>& at_sample, const std::vector<double>& qpos = {}) {
     m->opt.integrator = mjINT_RK4;
     m->opt.timestep = h;
     std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
     mj_resetData(m, d.get());
     std::copy(qvel.begin(), qvel.end(), d->qvel);
+    std::copy(qpos.begin(), qpos.end(), d->qpos);
     mj_forward(m, d.get());
     at_sample(d.get());
     const long per_sample = std::lround(sample / h), samples = std::lround(t_end / sample);
