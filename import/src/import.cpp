@@ -89,6 +89,13 @@ void apply_joint_positions(SourceTree& tree, const ImportOptions& options) {
             moved[b] = true;
             move_body(tree.bodies[b], m, 0);
         }
+        for (SourceLoop& loop : tree.loops) {  // a loop moves with the subtree only if it lies in it
+            const bool a = loop.body_a >= 0 && moved[loop.body_a], b = loop.body_b >= 0 && moved[loop.body_b];
+            if (a != b)
+                throw InputError(joint.where, "joint '" + name + "' lies in the closed loop of '" + loop.joint.name +
+                                              "': its position cannot be set alone (the loop would open)");
+            if (a) loop.joint.point = m.moved(loop.joint.point);
+        }
     }
 }
 

@@ -152,6 +152,7 @@ public:
             scene_.bodies[b].velocity = free.linear + free.angular.cross(scene_.bodies[b].position - free_source_[b]->origin);
         }
         propagate_velocities(scene_, joint_source_, parent_joint_);
+        for (const SourceLoop& loop : tree_.loops) add_loop(loop);
         if (!welded_to_world_.empty())
             scene_.notes.push_back("welded to the world, so part of the ground: " + joined(welded_to_world_));
         if (!slide_passive_.empty())
@@ -199,6 +200,29 @@ private:
         const int b = add_body(body, name, what);
         add_joint(body, body.joints.back(), static_cast<int>(n - 1), previous, b);
         return b;
+    }
+
+    // A loop-closing constraint as a joint between the scene bodies its source bodies became.
+    void add_loop(const SourceLoop& loop) {
+        auto scene_body = [&](int source) { return source < 0 ? -1 : scene_.body_of_source[source]; };
+        const int a = scene_body(loop.body_a), b = scene_body(loop.body_b);
+        const std::string kind = loop.weld ? "weld" : "connect";
+        if (a == b) {  // both ends in one rigid body (welded, merged): the constraint holds by itself
+            scene_.notes.push_back(tree_.format + " " + kind + " '" + loop.joint.name +
+                                   "' joins two parts of one rigid body: nothing to constrain");
+            return;
+        }
+        SceneJoint j;
+        j.name = joint_names_.unique(loop.joint.name, kind);
+        j.where = loop.joint.where;
+        j.type = loop.weld ? "fixed" : joint_type(loop.joint.kind);
+        j.kind = loop.joint.kind;
+        j.parent = a;
+        j.child = b;
+        j.point = loop.joint.point;
+        j.axis = loop.joint.axis.normalized();
+        j.comment = tree_.format + " equality " + kind + " '" + loop.joint.name + "' (closes a loop)";
+        scene_.joints.push_back(j);
     }
 
     int add_body(const SourceBody& source, const std::string& name, const std::string& comment) {

@@ -58,12 +58,12 @@ void write_joints(std::ostringstream& out, const ImportedScene& scene) {
     if (scene.joints.empty()) return;
     out << "joints:\n";
     for (const SceneJoint& j : scene.joints) {
-        out << source(j.where, scene.format + " joint '" + j.name + "'");
+        out << source(j.where, j.comment.empty() ? scene.format + " joint '" + j.name + "'" : j.comment);
         out << "  - {name: " << j.name << ", type: " << j.type << ", bodies: [" << body_name(scene, j.parent) << ", "
             << body_name(scene, j.child) << "], point: " << vector(j.point);
         if (j.type == "universal")
             out << ", axes: [" << vector(j.axis) << ", " << vector(j.axis2) << "]";
-        else if (j.type != "spherical")
+        else if (j.type != "spherical" && j.type != "fixed")
             out << ", axis: " << vector(j.axis);
         if (j.type == "screw") out << ", pitch: " << number(j.pitch);
         out << "}\n";

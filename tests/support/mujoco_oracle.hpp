@@ -68,10 +68,11 @@ inline double max_difference(const std::vector<std::vector<double>>& a, const st
     return worst;
 }
 
-// mbd's body poses every `sample` s: q of every output row (embedding, dop853 at tol 1e-11).
-inline std::vector<Eigen::VectorXd> mbd_run(const Model& model, double t_end, double sample) {
+// mbd's body poses every `sample` s: q of every output row (dop853 at tol 1e-11).
+inline std::vector<Eigen::VectorXd> mbd_run(const Model& model, double t_end, double sample,
+                                            const std::string& formulation = "embedding") {
     std::vector<Eigen::VectorXd> out;
-    simulate(model, shared_registry(), adaptive_run("embedding", "dop853", 1e-11, t_end, sample),
+    simulate(model, shared_registry(), adaptive_run(formulation, "dop853", 1e-11, t_end, sample),
              [&](const SimulationSample& s) {
                  out.push_back(s.state.q);
                  return true;

@@ -34,13 +34,14 @@ struct SceneBody {
 struct SceneJoint {
     std::string name;
     std::string where;
-    std::string type;      // revolute, prismatic, spherical, planar, universal, screw
+    std::string type;      // revolute, prismatic, spherical, planar, universal, screw, fixed
     int parent = -1;       // index in ImportedScene::bodies, -1: ground
     int child = -1;
     Vec3 point = Vec3::Zero();
     Vec3 axis = Vec3::UnitZ();
     Vec3 axis2 = Vec3::UnitX();  // universal: `axes: [axis, axis2]`
     double pitch = 0.0;          // screw
+    std::string comment;         // what it stands for, when not the source joint of its name
     SourceJointKind kind = SourceJointKind::Hinge;
 };
 

@@ -43,6 +43,14 @@ struct SourceBody {
     std::vector<SourceJoint> joints;
 };
 
+// A constraint that closes a loop of the tree (MJCF equality `connect` and `weld`): `joint`
+// (kind Ball, or none for a weld) between two bodies of the tree, anchored at `joint.point`.
+struct SourceLoop {
+    SourceJoint joint;
+    bool weld = false;  // fixes the two bodies in their relative pose at the reference configuration
+    int body_a = -1, body_b = -1;  // indices in SourceTree::bodies, -1: the world
+};
+
 // What the file holds that the import does not map, by kind ("tendon", "sensor", ...), each
 // with the element's name (and where, when the parser gives it).
 struct Unmapped {
@@ -57,6 +65,7 @@ struct SourceTree {
     std::string format;                 // "MJCF", "URDF" or "SDF"
     Vec3 gravity = Vec3(0, 0, -9.81);
     std::vector<SourceBody> bodies;     // parents before children
+    std::vector<SourceLoop> loops;      // constraints beyond the tree
     std::vector<Unmapped> unmapped;
 };
 
