@@ -91,7 +91,7 @@ void add_import_command(CLI::App& app, Commands& commands) {
         file.commit();
         if (!missing.empty()) std::cerr << "mbd: warning: " << args->scene << ": not imported: " << missing << "\n";
         std::cout << "imported " << args->scene << " (" << scene.format << "): " << scene.bodies.size() << " bodies, "
-                  << scene.joints.size() << " joints, " << scene.forces.size() << " forces -> " << args->output << "\n";
+                  << scene.joints.size() << " joints, " << scene.forces.size() + scene.stops.size() << " forces -> " << args->output << "\n";
         return 0;
     };
 }

@@ -78,7 +78,9 @@ void apply_joint_positions(SourceTree& tree, const ImportOptions& options) {
                 throw InputError(joint.where, "joint '" + name + "': an initial position can be given to hinge, slide "
                                               "and screw joints only");
         }
-        joint.spring_reference -= q;
+        joint.spring_reference -= q;  // mbd's coordinates are zero at the scene's start
+        joint.lower -= q;
+        joint.upper -= q;
         const int index = static_cast<int>(owner - tree.bodies.data());
         std::vector<bool> moved(tree.bodies.size(), false);  // the owner's subtree (parents come first)
         moved[index] = true;

@@ -155,6 +155,9 @@ public:
         for (const SourceLoop& loop : tree_.loops) add_loop(loop);
         if (!welded_to_world_.empty())
             scene_.notes.push_back("welded to the world, so part of the ground: " + joined(welded_to_world_));
+        if (!wide_limits_.empty())
+            scene_.unmapped.push_back({"joint limits at or beyond +-pi", wide_limits_,
+                                       "a joint_stop measures the angle in (-pi, pi)"});
         if (!slide_passive_.empty())
             scene_.unmapped.push_back({"spring / damping on slide joints", slide_passive_,
                                        "no spring-damper along a prismatic joint's axis yet"});
@@ -225,6 +228,32 @@ private:
         scene_.joints.push_back(j);
     }
 
+    // The limits of a hinge or slide as a joint_stop. The stop's angle is zero at the scene's
+    // start like the source's coordinate; its travel is measured from the joint's point to the
+    // child's mass centre, so the limits move by that distance at the start.
+    void add_stop(const SceneJoint& joint, const SourceJoint& source) {
+        SceneStop stop;
+        stop.name = force_names_.unique(joint.name + "_limits", "");
+        stop.where = source.where;
+        stop.parent = joint.parent;
+        stop.child = joint.child;
+        stop.point = joint.point;
+        stop.axis = joint.axis;
+        stop.travel = source.kind == SourceJointKind::Slide;
+        const double start = stop.travel ? joint.axis.dot(scene_.bodies[joint.child].position - joint.point) : 0.0;
+        stop.lower = source.lower + start;
+        stop.upper = source.upper + start;
+        stop.stiffness = source.stop_stiffness;
+        if (!stop.travel) {  // mbd's spatial angle lies in (-pi, pi): a limit beyond cannot be met there
+            stop.has_lower = stop.lower > -M_PI;
+            stop.has_upper = stop.upper < M_PI;
+            if (!stop.has_lower || !stop.has_upper)
+                wide_limits_.push_back(joint.name + (stop.has_lower || stop.has_upper ? " (one side)" : ""));
+            if (!stop.has_lower && !stop.has_upper) return;
+        }
+        scene_.stops.push_back(stop);
+    }
+
     int add_body(const SourceBody& source, const std::string& name, const std::string& comment) {
         SceneBody b;
         b.name = name;
@@ -255,6 +284,7 @@ private:
         scene_.joints.push_back(j);
         joint_source_.push_back(&source);
         parent_joint_[child] = static_cast<int>(scene_.joints.size()) - 1;
+        if (source.limited) add_stop(j, source);
         if (source.stiffness == 0.0 && source.damping == 0.0) return;
         if (source.kind != SourceJointKind::Hinge) {
             slide_passive_.push_back(j.name);
@@ -280,7 +310,7 @@ private:
     std::vector<const SourceJoint*> joint_source_;  // per scene joint
     std::vector<int> parent_joint_;                 // per scene body: the joint to its parent, -1 none
     std::vector<const SourceBody*> free_source_;    // per scene body: the source of a free body
-    std::vector<std::string> welded_to_world_, slide_passive_;
+    std::vector<std::string> welded_to_world_, slide_passive_, wide_limits_;
 };
 
 }  // namespace

@@ -70,9 +70,23 @@ void write_joints(std::ostringstream& out, const ImportedScene& scene) {
     }
 }
 
+void write_stops(std::ostringstream& out, const ImportedScene& scene) {
+    for (const SceneStop& s : scene.stops) {
+        out << source(s.where, "limits of " + scene.format + " joint '" + s.name.substr(0, s.name.rfind("_limits")) + "'");
+        out << "  - {name: " << s.name << ", type: joint_stop, bodies: [" << body_name(scene, s.parent) << ", "
+            << body_name(scene, s.child) << "], point: " << vector(s.point) << ", axis: " << vector(s.axis)
+            << ", coordinate: " << (s.travel ? "travel" : "angle");
+        if (s.has_lower) out << ", lower: " << number(s.lower);
+        if (s.has_upper) out << ", upper: " << number(s.upper);
+        out << ", restitution: 0, law: hunt_crossley, exponent: 1, stiffness: "
+            << number(s.stiffness) << "}\n";
+    }
+}
+
 void write_forces(std::ostringstream& out, const ImportedScene& scene) {
-    if (scene.forces.empty()) return;
+    if (scene.forces.empty() && scene.stops.empty()) return;
     out << "forces:\n";
+    write_stops(out, scene);
     for (const SceneForce& f : scene.forces) {
         out << source(f.where, "stiffness and damping of " + scene.format + " joint '" + f.name + "'");
         out << "  - {name: " << f.name << ", type: rotational_spring_damper, bodies: [" << body_name(scene, f.parent)

@@ -84,7 +84,7 @@ public:
         };
         add_unmapped("links' visual and collision geometry", geometry_, "contacts and meshes are not imported");
         add_unmapped("sensors", sensors_, "");
-        add_unmapped("joint limits", limited_, "no joint stops imported yet");
+        add_unmapped("joint limits", limited_, "limits of ball, universal and screw joints, and empty ranges, are not imported");
         add_unmapped("joint friction", friction_, "");
         add_unmapped("gearbox joints", gearbox_, "no gear coupling of spatial joints yet");
         add_unmapped("loop-closing joints", loops_, "a link that is the child of a second joint: closed loops are not imported yet");
@@ -220,7 +220,15 @@ private:
         }
         if (a->Friction() != 0.0) friction_.push_back(out.name);
         const bool continuous = joint.Type() == sdf::JointType::CONTINUOUS;
-        if (!continuous && (a->Lower() > -1e15 || a->Upper() < 1e15)) limited_.push_back(out.name);
+        if (continuous || (a->Lower() <= -1e15 && a->Upper() >= 1e15)) return;  // SDF's "no limit" is +-1e16
+        if (one_coordinate && a->Lower() < a->Upper() && a->Stiffness() > 0.0) {
+            out.limited = true;
+            out.lower = a->Lower();
+            out.upper = a->Upper();
+            out.stop_stiffness = a->Stiffness();
+        } else {
+            limited_.push_back(out.name);
+        }
     }
 
     const sdf::Model& model_;

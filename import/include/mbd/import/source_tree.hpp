@@ -28,6 +28,10 @@ struct SourceJoint {
     Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
     // passive joint elements (hinge / slide): spring about the reference position and damping
     double stiffness = 0.0, spring_reference = 0.0, damping = 0.0;
+    // hinge / slide limits, from the reference configuration (rad, m), held by a stiff stop:
+    // `stop_stiffness` N m/rad or N/m (SDF <limit><stiffness>; Gazebo's 1e8 for URDF)
+    bool limited = false;
+    double lower = 0.0, upper = 0.0, stop_stiffness = 1e8;
 };
 
 struct SourceBody {
