@@ -209,7 +209,7 @@ private:
     void add_loop(const SourceLoop& loop) {
         auto scene_body = [&](int source) { return source < 0 ? -1 : scene_.body_of_source[source]; };
         const int a = scene_body(loop.body_a), b = scene_body(loop.body_b);
-        const std::string kind = loop.weld ? "weld" : "connect";
+        const std::string kind = loop.weld ? "weld" : tree_.format == "MJCF" ? "connect" : "joint";
         if (a == b) {  // both ends in one rigid body (welded, merged): the constraint holds by itself
             scene_.notes.push_back(tree_.format + " " + kind + " '" + loop.joint.name +
                                    "' joins two parts of one rigid body: nothing to constrain");
@@ -224,7 +224,9 @@ private:
         j.child = b;
         j.point = loop.joint.point;
         j.axis = loop.joint.axis.normalized();
-        j.comment = tree_.format + " equality " + kind + " '" + loop.joint.name + "' (closes a loop)";
+        j.axis2 = loop.joint.axis2.normalized();
+        j.pitch = loop.joint.pitch;
+        j.comment = tree_.format + (tree_.format == "MJCF" ? " equality " : " ") + kind + " '" + loop.joint.name + "' (closes a loop)";
         scene_.joints.push_back(j);
     }
 

@@ -79,6 +79,7 @@ public:
                                  "link: its joints form a cycle (each link needs one parent joint, ending at a link "
                                  "that has none or at `world`)");
         }
+        for (const LoopJoint& loop : loop_joints_) add_loop(loop);
         auto add_unmapped = [&](const std::string& kind, const std::vector<std::string>& names, const std::string& note) {
             if (!names.empty()) tree_.unmapped.push_back({kind, names, note});
         };
@@ -87,7 +88,8 @@ public:
         add_unmapped("joint limits", limited_, "limits of ball, universal and screw joints, and empty ranges, are not imported");
         add_unmapped("joint friction", friction_, "");
         add_unmapped("gearbox joints", gearbox_, "no gear coupling of spatial joints yet");
-        add_unmapped("loop-closing joints", loops_, "a link that is the child of a second joint: closed loops are not imported yet");
+        add_unmapped("loop-closing joints", loops_, "revolute2 loop-closing joints are not imported");
+        add_unmapped("loop-closing joints' limits, springs and damping", loop_passive_, "");
     }
 
 private:
@@ -104,8 +106,8 @@ private:
                 gearbox_.push_back(joint.Name() + " (" + at + ")");
                 continue;
             }
-            if (parent_joint_.count(child)) {
-                loops_.push_back(joint.Name() + " (" + at + ")");
+            if (parent_joint_.count(child)) {  // closes a loop: mapped once every link is placed
+                loop_joints_.push_back({&joint, parent, child});
                 continue;
             }
             parent_joint_[child] = &joint;
@@ -231,13 +233,43 @@ private:
         }
     }
 
+    struct LoopJoint {
+        const sdf::Joint* joint;
+        std::string parent, child;
+    };
+
+    // A second joint into a link: a constraint between two placed links (a fixed one a weld).
+    void add_loop(const LoopJoint& loop) {
+        const std::vector<SourceJoint> mapped = joints(*loop.joint);
+        if (mapped.size() > 1) {
+            loops_.push_back(loop.joint->Name() + " (" + where(loop.joint->Element(), tree_.file) + ")");
+            return;
+        }
+        SourceLoop out;
+        out.weld = mapped.empty();
+        if (out.weld) {
+            out.joint.name = loop.joint->Name();
+            out.joint.where = where(loop.joint->Element(), tree_.file);
+            ignition::math::Pose3d pose;
+            throw_errors(loop.joint->SemanticPose().Resolve(pose, kModelFrame), tree_.file, "could not resolve the pose of joint '" + loop.joint->Name() + "'");
+            out.joint.point = placement_.point(pose.Pos());
+        } else {
+            out.joint = mapped.front();
+        }
+        if (out.joint.limited || out.joint.stiffness != 0.0 || out.joint.damping != 0.0) loop_passive_.push_back(out.joint.name);
+        out.body_a = loop.parent == "world" ? -1 : index_.at(loop.parent);
+        out.body_b = index_.at(loop.child);
+        tree_.loops.push_back(out);
+    }
+
     const sdf::Model& model_;
     Placement placement_;
     SourceTree& tree_;
     std::map<std::string, const sdf::Joint*> parent_joint_;      // child link -> its joint
     std::map<std::string, std::vector<std::string>> children_;  // parent link ("world") -> child links
     std::map<std::string, int> index_;                          // link -> SourceTree::bodies index
-    std::vector<std::string> geometry_, sensors_, limited_, friction_, gearbox_, loops_;
+    std::vector<LoopJoint> loop_joints_;
+    std::vector<std::string> geometry_, sensors_, limited_, friction_, gearbox_, loops_, loop_passive_;
 };
 
 }  // namespace

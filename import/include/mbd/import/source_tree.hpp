@@ -47,8 +47,9 @@ struct SourceBody {
     std::vector<SourceJoint> joints;
 };
 
-// A constraint that closes a loop of the tree (MJCF equality `connect` and `weld`): `joint`
-// (kind Ball, or none for a weld) between two bodies of the tree, anchored at `joint.point`.
+// A constraint that closes a loop of the tree (MJCF equality `connect` and `weld`, an SDF joint
+// into a link that already has one): `joint` (or none for a weld) between two bodies of the
+// tree, anchored at `joint.point`.
 struct SourceLoop {
     SourceJoint joint;
     bool weld = false;  // fixes the two bodies in their relative pose at the reference configuration
