@@ -76,5 +76,30 @@ TEST(ImportLimits, SdfLimitStiffnessHoldsTheBlock) {
     EXPECT_NEAR(-deepest, 2 * deflection, 0.02 * deflection);  // sampled every 1 ms of an 89 ms swing
 }
 
+// A range that the start lies outside is not a stop (it would throw the joint back at once with
+// the stop's full stiffness) but listed; --position inside the range makes it a stop again.
+TEST(ImportLimits, ARangeTheStartViolatesIsListedNotStopped) {
+    const fs::path urdf = write_file("outside.urdf", R"(<?xml version="1.0"?>
+<robot name="outside"><link name="base"/>
+  <link name="block"><inertial><mass value="2"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="rail" type="prismatic"><parent link="base"/><child link="block"/><axis xyz="0 0 1"/>
+    <limit lower="0.1" upper="0.5" effort="1" velocity="1"/></joint>
+</robot>
+)");
+    const import::ImportedScene outside = import::import_model(urdf);
+    EXPECT_TRUE(outside.stops.empty());
+    EXPECT_NE(import::unmapped_summary(outside.unmapped).find("joint limits that the start violates (rail)"), std::string::npos)
+        << import::unmapped_summary(outside.unmapped);
+    import::ImportOptions options;
+    options.joint_positions = {{"rail", 0.3}};
+    const import::ImportedScene inside = import::import_model(urdf, options);
+    ASSERT_EQ(inside.stops.size(), 1u);
+    // the stop measures the travel from the joint's point on the base, where the block's mass
+    // centre was at the reference: the block starts at 0.3 and the range stays 0.1..0.5
+    EXPECT_NEAR(inside.stops[0].lower, 0.1, 1e-15);
+    EXPECT_NEAR(inside.stops[0].upper, 0.5, 1e-15);
+    EXPECT_NEAR(inside.bodies[0].position.z(), 0.3, 1e-15);
+}
+
 }  // namespace
 }  // namespace mbd::test

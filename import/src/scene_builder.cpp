@@ -155,6 +155,9 @@ public:
         for (const SourceLoop& loop : tree_.loops) add_loop(loop);
         if (!welded_to_world_.empty())
             scene_.notes.push_back("welded to the world, so part of the ground: " + joined(welded_to_world_));
+        if (!outside_limits_.empty())
+            scene_.unmapped.push_back({"joint limits that the start violates", outside_limits_,
+                                       "the joint starts outside its range (give --position inside it)"});
         if (!wide_limits_.empty())
             scene_.unmapped.push_back({"joint limits at or beyond +-pi", wide_limits_,
                                        "a joint_stop measures the angle in (-pi, pi)"});
@@ -234,6 +237,10 @@ private:
     // start like the source's coordinate; its travel is measured from the joint's point to the
     // child's mass centre, so the limits move by that distance at the start.
     void add_stop(const SceneJoint& joint, const SourceJoint& source) {
+        if (source.lower > 0.0 || source.upper < 0.0) {  // the stop would throw the joint back at once
+            outside_limits_.push_back(joint.name);
+            return;
+        }
         SceneStop stop;
         stop.name = force_names_.unique(joint.name + "_limits", "");
         stop.where = source.where;
@@ -312,7 +319,7 @@ private:
     std::vector<const SourceJoint*> joint_source_;  // per scene joint
     std::vector<int> parent_joint_;                 // per scene body: the joint to its parent, -1 none
     std::vector<const SourceBody*> free_source_;    // per scene body: the source of a free body
-    std::vector<std::string> welded_to_world_, slide_passive_, wide_limits_;
+    std::vector<std::string> welded_to_world_, slide_passive_, wide_limits_, outside_limits_;
 };
 
 }  // namespace
