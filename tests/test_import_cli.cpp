@@ -116,8 +116,9 @@ TEST(ImportCli, GoodUrdfImportsAndSimulates) {
     const fs::path out = file.parent_path() / "good.yaml";
     const CommandResult r = run_mbd("import " + file.string() + " --velocity shoulder=2 -o " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.err.find("joint limits (shoulder)"), std::string::npos) << r.err;
     const std::string yaml = read_text(out);
+    EXPECT_NE(yaml.find("name: shoulder_limits, type: joint_stop"), std::string::npos) << yaml;  // <limit> -1..1
+    EXPECT_NE(yaml.find("coordinate: angle, lower: -1, upper: 1, restitution: 0"), std::string::npos) << yaml;
     EXPECT_NE(yaml.find("# " + file.string() + ":4: URDF link 'arm'"), std::string::npos) << yaml;
     // the arm's mass centre, 0.5 m below the shoulder turning at 2 rad/s about y: w x r = (-1, 0, 0) m/s
     EXPECT_NE(yaml.find("velocity: [-1, 0, 0]"), std::string::npos) << yaml;

@@ -7,6 +7,7 @@
 // Both sides have contacts, joint limits, equality constraints, actuators and passive forces
 // off (opt.disableflags), and MuJoCo's damping, stiffness and armature set to zero in the
 // compiled model that both read (mbd has no rotor inertia yet; docs/import.md).
+#include "support/mujoco_oracle.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/import/import.hpp>
@@ -29,24 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 using import::ImportedScene;
 
-// ../shared/models beside the repository (docs/import.md): the real models of the tests.
-fs::path shared_models() {
-    const fs::path dir = source_dir() / ".." / "shared" / "models";
-    if (!fs::is_directory(dir))
-        ADD_FAILURE() << "the shared models folder " << dir << " is missing (it lies beside the repository)";
-    return dir;
-}
-
 const fs::path kHumanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml";  // Debian libmujoco-samples
-
-using MjModelPtr = std::unique_ptr<mjModel, void (*)(mjModel*)>;
-
-MjModelPtr compile(const fs::path& file) {
-    char error[1000] = "";
-    MjModelPtr m(mj_loadXML(file.c_str(), nullptr, error, sizeof error), mj_deleteModel);
-    EXPECT_TRUE(m) << file << ": " << error;
-    return m;
-}
 
 // The comparison's settings on both sides: RK4, no contact, limit, equality, actuation,
 // friction loss or passive force; zero damping, stiffness and armature.
@@ -56,29 +40,6 @@ void conservative_tree(mjModel* m) {
                            mjDSBL_FRICTIONLOSS | mjDSBL_PASSIVE;
     for (int k = 0; k < m->nv; ++k) m->dof_armature[k] = m->dof_damping[k] = m->dof_frictionloss[k] = 0.0;
     for (int j = 0; j < m->njnt; ++j) m->jnt_stiffness[j] = 0.0;
-}
-
-// qpos every `sample` s to t_end, from qpos0 with velocity qvel, RK4 at step h.
-std::vector<std::vector<double>> mujoco_run(mjModel* m, const std::vector<double>& qvel, double h, double t_end,
-                                            double sample) {
-    m->opt.timestep = h;
-    std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
-    mj_resetData(m, d.get());
-    std::copy(qvel.begin(), qvel.end(), d->qvel);
-    std::vector<std::vector<double>> out{std::vector<double>(d->qpos, d->qpos + m->nq)};
-    const long per_sample = std::lround(sample / h), samples = std::lround(t_end / sample);
-    for (long s = 0; s < samples; ++s) {
-        for (long k = 0; k < per_sample; ++k) mj_step(m, d.get());
-        out.emplace_back(d->qpos, d->qpos + m->nq);
-    }
-    return out;
-}
-
-double max_difference(const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b) {
-    double worst = 0.0;
-    for (size_t s = 0; s < a.size(); ++s)
-        for (size_t k = 0; k < a[s].size(); ++k) worst = std::max(worst, std::abs(a[s][k] - b[s][k]));
-    return worst;
 }
 
 // The documented initial velocities: hinge number k (MuJoCo's joint order, from 0) turns at
@@ -97,17 +58,6 @@ std::pair<std::vector<double>, import::ImportOptions> initial_velocities(const m
         if (!v.empty()) options.joint_velocities[mj_id2name(m, mjOBJ_JOINT, j)] = v;
     }
     return {qvel, options};
-}
-
-// mbd's body poses every `sample` s: q of every output row.
-std::vector<Eigen::VectorXd> mbd_run(const Model& model, double t_end, double sample) {
-    std::vector<Eigen::VectorXd> out;
-    simulate(model, shared_registry(), adaptive_run("embedding", "dop853", 1e-11, t_end, sample),
-             [&](const SimulationSample& s) {
-                 out.push_back(s.state.q);
-                 return true;
-             });
-    return out;
 }
 
 Mat3 body_rotation(const Model& model, const Eigen::VectorXd& q, int scene_body, const ImportedScene& scene) {

@@ -4,9 +4,14 @@
 #include <mbd/import/mjcf_reader.hpp>
 #include <mbd/import/model_format.hpp>
 #include <mbd/import/scene_writer.hpp>
+#include <mbd/import/sdf_reader.hpp>
 #include <mbd/import/urdf_reader.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/sdk/params.hpp>  // InputError
+
+#include <Eigen/Geometry>
+
+#include <cmath>
 
 namespace mbd::import {
 
@@ -17,7 +22,9 @@ Vec3 three(const std::vector<double>& v, size_t at) { return Vec3(v[at], v[at + 
 size_t velocity_count(SourceJointKind kind) {
     switch (kind) {
         case SourceJointKind::Hinge:
-        case SourceJointKind::Slide: return 1;
+        case SourceJointKind::Slide:
+        case SourceJointKind::Screw: return 1;
+        case SourceJointKind::Universal: return 2;
         case SourceJointKind::Ball: return 3;
         case SourceJointKind::Free: return 6;
         case SourceJointKind::Planar: break;
@@ -25,17 +32,79 @@ size_t velocity_count(SourceJointKind kind) {
     return 0;
 }
 
+// The joint named `name` and its body (InputError naming the file when there is none).
+std::pair<SourceBody*, size_t> find_joint(SourceTree& tree, const std::string& name, const char* what) {
+    for (SourceBody& body : tree.bodies)
+        for (size_t k = 0; k < body.joints.size(); ++k)
+            if (body.joints[k].name == name) return {&body, k};
+    throw InputError(tree.file, std::string("an initial ") + what + " is given for joint '" + name + "', which the " +
+                                    tree.format + " file does not have");
+}
+
+// A rigid motion: x -> point + turn (x - point) + shift.
+struct Motion {
+    Vec3 point, shift;
+    Mat3 turn;
+    Vec3 moved(const Vec3& x) const { return point + turn * (x - point) + shift; }
+};
+
+void move_body(SourceBody& body, const Motion& m, size_t first_joint) {
+    body.origin = m.moved(body.origin);
+    body.com = m.moved(body.com);
+    body.rotation = m.turn * body.rotation;
+    for (size_t k = first_joint; k < body.joints.size(); ++k) {
+        SourceJoint& j = body.joints[k];
+        j.point = m.moved(j.point);
+        j.axis = m.turn * j.axis;
+        j.axis2 = m.turn * j.axis2;
+    }
+}
+
 }  // namespace
+
+void apply_joint_positions(SourceTree& tree, const ImportOptions& options) {
+    for (const auto& [name, q] : options.joint_positions) {
+        auto [owner, k] = find_joint(tree, name, "position");
+        SourceJoint& joint = owner->joints[k];
+        Motion m{joint.point, Vec3::Zero(), Mat3::Identity()};
+        switch (joint.kind) {
+            case SourceJointKind::Hinge: m.turn = Eigen::AngleAxisd(q, joint.axis).toRotationMatrix(); break;
+            case SourceJointKind::Slide: m.shift = q * joint.axis; break;
+            case SourceJointKind::Screw:
+                m.turn = Eigen::AngleAxisd(q, joint.axis).toRotationMatrix();
+                m.shift = joint.pitch / (2.0 * M_PI) * q * joint.axis;
+                break;
+            default:
+                throw InputError(joint.where, "joint '" + name + "': an initial position can be given to hinge, slide "
+                                              "and screw joints only");
+        }
+        joint.spring_reference -= q;  // mbd's coordinates are zero at the scene's start
+        joint.lower -= q;
+        joint.upper -= q;
+        const int index = static_cast<int>(owner - tree.bodies.data());
+        std::vector<bool> moved(tree.bodies.size(), false);  // the owner's subtree (parents come first)
+        moved[index] = true;
+        move_body(*owner, m, k + 1);
+        for (size_t b = index + 1; b < tree.bodies.size(); ++b) {
+            const int parent = tree.bodies[b].parent;
+            if (parent < 0 || !moved[parent]) continue;
+            moved[b] = true;
+            move_body(tree.bodies[b], m, 0);
+        }
+        for (SourceLoop& loop : tree.loops) {  // a loop moves with the subtree only if it lies in it
+            const bool a = loop.body_a >= 0 && moved[loop.body_a], b = loop.body_b >= 0 && moved[loop.body_b];
+            if (a != b)
+                throw InputError(joint.where, "joint '" + name + "' lies in the closed loop of '" + loop.joint.name +
+                                              "': its position cannot be set alone (the loop would open)");
+            if (a) loop.joint.point = m.moved(loop.joint.point);
+        }
+    }
+}
 
 void apply_joint_velocities(SourceTree& tree, const ImportOptions& options) {
     for (const auto& [name, values] : options.joint_velocities) {
-        SourceJoint* found = nullptr;
-        const SourceBody* owner = nullptr;
-        for (SourceBody& body : tree.bodies)
-            for (SourceJoint& joint : body.joints)
-                if (joint.name == name) found = &joint, owner = &body;
-        if (!found) throw InputError(tree.file, "an initial velocity is given for joint '" + name + "', which the " +
-                                                    tree.format + " file does not have");
+        auto [owner, k] = find_joint(tree, name, "velocity");
+        SourceJoint* found = &owner->joints[k];
         const size_t count = velocity_count(found->kind);
         if (count == 0 || values.size() != count)
             throw InputError(found->where, "joint '" + name + "': " +
@@ -43,6 +112,7 @@ void apply_joint_velocities(SourceTree& tree, const ImportOptions& options) {
                                                            : "its initial velocity has " + std::to_string(count) +
                                                                  " numbers, " + std::to_string(values.size()) + " given"));
         if (count == 1) found->rate = values[0];
+        if (count == 2) found->angular = values[0] * found->axis + values[1] * found->axis2;
         if (count == 3) found->angular = owner->rotation * three(values, 0);
         if (count == 6) {
             found->linear = three(values, 0);
@@ -55,19 +125,19 @@ SourceTree read_model_file(const std::filesystem::path& file) {
     switch (detect_format(file)) {
         case ModelFormat::Mjcf: return read_mjcf(file);
         case ModelFormat::Urdf: return read_urdf(file);
-        case ModelFormat::Sdf:
-            throw InputError(file.string(), "SDF files are not imported yet (MJCF and URDF are; docs/import.md)");
+        case ModelFormat::Sdf: return read_sdf(file);
         case ModelFormat::Scene: break;
     }
     std::error_code error;
     if (!std::filesystem::is_regular_file(file, error))
         throw InputError(file.string(), "cannot read the model file: it is not a file that exists");
-    throw InputError(file.string(), "not an MJCF or URDF file (no <mujoco> or <robot> root element): it is read as "
+    throw InputError(file.string(), "not an MJCF, URDF or SDF file (no <mujoco>, <robot> or <sdf> root element): it is read as "
                                     "an mbd scene, which needs no import");
 }
 
 ImportedScene import_model(const std::filesystem::path& file, const ImportOptions& options) {
     SourceTree tree = read_model_file(file);
+    apply_joint_positions(tree, options);
     apply_joint_velocities(tree, options);
     return build_scene(tree);
 }

@@ -50,6 +50,44 @@ SourceJoint joint(const mjModel* m, const mjData* d, int j, const std::string& f
     return out;
 }
 
+// MuJoCo's equality constraints that close loops: `connect` as a ball joint at its anchor, `weld`
+// as a fixed joint (in the relative pose at qpos0, which must be its relpose). Returns the names
+// of those not mapped (joint and tendon couplings, inactive ones).
+std::vector<std::string> read_equalities(const mjModel* m, const mjData* d, SourceTree& tree) {
+    std::vector<std::string> left;
+    for (int e = 0; e < m->neq; ++e) {
+        const std::string name = name_of(m, mjOBJ_EQUALITY, e, "equality");
+        const int type = m->eq_type[e];
+        if (!m->eq_active[e] || (type != mjEQ_CONNECT && type != mjEQ_WELD)) {
+            left.push_back(name + (m->eq_active[e] ? "" : " (inactive)"));
+            continue;
+        }
+        const int b1 = m->eq_obj1id[e], b2 = m->eq_obj2id[e];
+        const mjtNum* data = m->eq_data + mjNEQDATA * e;
+        SourceLoop loop;
+        loop.joint.name = name;
+        loop.joint.where = tree.file;
+        loop.joint.kind = SourceJointKind::Ball;
+        loop.body_a = b1 - 1;  // body 0 is the world
+        loop.body_b = b2 - 1;
+        const Mat3 r1 = mat(d->xmat + 9 * b1), r2 = mat(d->xmat + 9 * b2);
+        if (type == mjEQ_CONNECT) {  // anchor in body1's frame; body2's point is where it lies at qpos0
+            loop.joint.point = vec(d->xpos + 3 * b1) + r1 * vec(data);
+        } else {  // anchor in body2's frame, then relpose: body2's frame in body1's
+            loop.weld = true;
+            loop.joint.point = vec(d->xpos + 3 * b2) + r2 * vec(data);
+            const Vec3 at = r1.transpose() * (vec(d->xpos + 3 * b2) - vec(d->xpos + 3 * b1));
+            const Mat3 turn = r1.transpose() * r2;
+            if ((at - vec(data + 3)).norm() > 1e-9 || (turn - quat(data + 6)).norm() > 1e-9)
+                throw InputError(tree.file, "MJCF weld '" + name + "': its relpose is not the bodies' relative pose at "
+                                            "qpos0; mbd welds them as they are at the start (leave relpose out, or "
+                                            "place the bodies so that the weld holds at qpos0)");
+        }
+        tree.loops.push_back(loop);
+    }
+    return left;
+}
+
 // The named elements of one kind (count n, names of type `type`).
 std::vector<std::string> names(const mjModel* m, int type, int n, const char* kind) {
     std::vector<std::string> out;
@@ -66,7 +104,6 @@ void list_unmapped(const mjModel* m, SourceTree& tree) {
     add("tendons", names(m, mjOBJ_TENDON, m->ntendon, "tendon"), "");
     add("actuators", names(m, mjOBJ_ACTUATOR, m->nu, "actuator"), "");
     add("sensors", names(m, mjOBJ_SENSOR, m->nsensor, "sensor"), "");
-    add("equality constraints", names(m, mjOBJ_EQUALITY, m->neq, "equality"), "");
     add("keyframes", names(m, mjOBJ_KEY, m->nkey, "key"), "");
     std::vector<std::string> limited, armature, friction, ball_damping;
     for (int j = 0; j < m->njnt; ++j) {
@@ -120,6 +157,10 @@ SourceTree read_mjcf_model(const mjModel* m, const std::string& file) {
         tree.bodies.push_back(std::move(body));
     }
     list_unmapped(m, tree);
+    const std::vector<std::string> equalities = read_equalities(m, d, tree);
+    if (!equalities.empty())
+        tree.unmapped.push_back({"equality constraints", equalities,
+                                 "joint and tendon couplings are not imported yet; inactive ones are left out"});
     return tree;
 }
 

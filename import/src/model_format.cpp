@@ -53,7 +53,7 @@ ModelFormat detect_format(const std::filesystem::path& file) {
     if (root == "robot") return ModelFormat::Urdf;
     if (root == "sdf") return ModelFormat::Sdf;
     throw InputError(file.string(), "an XML file whose root element is <" + root +
-                                        ">: mbd reads MJCF (<mujoco>), URDF (<robot>) and its own YAML scenes");
+                                        ">: mbd reads MJCF (<mujoco>), URDF (<robot>), SDF (<sdf>) and its own YAML scenes");
 }
 
 std::string format_name(ModelFormat format) {

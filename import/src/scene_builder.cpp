@@ -91,6 +91,8 @@ std::string joint_type(SourceJointKind kind) {
         case SourceJointKind::Slide: return "prismatic";
         case SourceJointKind::Ball: return "spherical";
         case SourceJointKind::Planar: return "planar";
+        case SourceJointKind::Universal: return "universal";
+        case SourceJointKind::Screw: return "screw";
         case SourceJointKind::Free: break;
     }
     return "free";
@@ -113,8 +115,12 @@ void propagate_velocities(ImportedScene& scene, const std::vector<const SourceJo
         }
         Vec3 w_rel = Vec3::Zero();
         if (source.kind == SourceJointKind::Hinge) w_rel = source.rate * joint.axis;
-        if (source.kind == SourceJointKind::Ball) w_rel = source.angular;
+        if (source.kind == SourceJointKind::Ball || source.kind == SourceJointKind::Universal) w_rel = source.angular;
         if (source.kind == SourceJointKind::Slide) v += source.rate * joint.axis;
+        if (source.kind == SourceJointKind::Screw) {  // a turn advances pitch / (2 pi) along the axis
+            w_rel = source.rate * joint.axis;
+            v += source.pitch / (2.0 * M_PI) * source.rate * joint.axis;
+        }
         body.angular_velocity = w + w_rel;
         body.velocity = v + w_rel.cross(body.position - joint.point);
     }
@@ -146,8 +152,15 @@ public:
             scene_.bodies[b].velocity = free.linear + free.angular.cross(scene_.bodies[b].position - free_source_[b]->origin);
         }
         propagate_velocities(scene_, joint_source_, parent_joint_);
+        for (const SourceLoop& loop : tree_.loops) add_loop(loop);
         if (!welded_to_world_.empty())
             scene_.notes.push_back("welded to the world, so part of the ground: " + joined(welded_to_world_));
+        if (!outside_limits_.empty())
+            scene_.unmapped.push_back({"joint limits that the start violates", outside_limits_,
+                                       "the joint starts outside its range (give --position inside it)"});
+        if (!wide_limits_.empty())
+            scene_.unmapped.push_back({"joint limits at or beyond +-pi", wide_limits_,
+                                       "a joint_stop measures the angle in (-pi, pi)"});
         if (!slide_passive_.empty())
             scene_.unmapped.push_back({"spring / damping on slide joints", slide_passive_,
                                        "no spring-damper along a prismatic joint's axis yet"});
@@ -195,6 +208,61 @@ private:
         return b;
     }
 
+    // A loop-closing constraint as a joint between the scene bodies its source bodies became.
+    void add_loop(const SourceLoop& loop) {
+        auto scene_body = [&](int source) { return source < 0 ? -1 : scene_.body_of_source[source]; };
+        const int a = scene_body(loop.body_a), b = scene_body(loop.body_b);
+        const std::string kind = loop.weld ? "weld" : tree_.format == "MJCF" ? "connect" : "joint";
+        if (a == b) {  // both ends in one rigid body (welded, merged): the constraint holds by itself
+            scene_.notes.push_back(tree_.format + " " + kind + " '" + loop.joint.name +
+                                   "' joins two parts of one rigid body: nothing to constrain");
+            return;
+        }
+        SceneJoint j;
+        j.name = joint_names_.unique(loop.joint.name, kind);
+        j.where = loop.joint.where;
+        j.type = loop.weld ? "fixed" : joint_type(loop.joint.kind);
+        j.kind = loop.joint.kind;
+        j.parent = a;
+        j.child = b;
+        j.point = loop.joint.point;
+        j.axis = loop.joint.axis.normalized();
+        j.axis2 = loop.joint.axis2.normalized();
+        j.pitch = loop.joint.pitch;
+        j.comment = tree_.format + (tree_.format == "MJCF" ? " equality " : " ") + kind + " '" + loop.joint.name + "' (closes a loop)";
+        scene_.joints.push_back(j);
+    }
+
+    // The limits of a hinge or slide as a joint_stop. The stop's angle is zero at the scene's
+    // start like the source's coordinate; its travel is measured from the joint's point to the
+    // child's mass centre, so the limits move by that distance at the start.
+    void add_stop(const SceneJoint& joint, const SourceJoint& source) {
+        if (source.lower > 0.0 || source.upper < 0.0) {  // the stop would throw the joint back at once
+            outside_limits_.push_back(joint.name);
+            return;
+        }
+        SceneStop stop;
+        stop.name = force_names_.unique(joint.name + "_limits", "");
+        stop.where = source.where;
+        stop.parent = joint.parent;
+        stop.child = joint.child;
+        stop.point = joint.point;
+        stop.axis = joint.axis;
+        stop.travel = source.kind == SourceJointKind::Slide;
+        const double start = stop.travel ? joint.axis.dot(scene_.bodies[joint.child].position - joint.point) : 0.0;
+        stop.lower = source.lower + start;
+        stop.upper = source.upper + start;
+        stop.stiffness = source.stop_stiffness;
+        if (!stop.travel) {  // mbd's spatial angle lies in (-pi, pi): a limit beyond cannot be met there
+            stop.has_lower = stop.lower > -M_PI;
+            stop.has_upper = stop.upper < M_PI;
+            if (!stop.has_lower || !stop.has_upper)
+                wide_limits_.push_back(joint.name + (stop.has_lower || stop.has_upper ? " (one side)" : ""));
+            if (!stop.has_lower && !stop.has_upper) return;
+        }
+        scene_.stops.push_back(stop);
+    }
+
     int add_body(const SourceBody& source, const std::string& name, const std::string& comment) {
         SceneBody b;
         b.name = name;
@@ -220,9 +288,12 @@ private:
         j.child = child;
         j.point = source.point;
         j.axis = source.axis.normalized();
+        j.axis2 = source.axis2.normalized();
+        j.pitch = source.pitch;
         scene_.joints.push_back(j);
         joint_source_.push_back(&source);
         parent_joint_[child] = static_cast<int>(scene_.joints.size()) - 1;
+        if (source.limited) add_stop(j, source);
         if (source.stiffness == 0.0 && source.damping == 0.0) return;
         if (source.kind != SourceJointKind::Hinge) {
             slide_passive_.push_back(j.name);
@@ -248,7 +319,7 @@ private:
     std::vector<const SourceJoint*> joint_source_;  // per scene joint
     std::vector<int> parent_joint_;                 // per scene body: the joint to its parent, -1 none
     std::vector<const SourceBody*> free_source_;    // per scene body: the source of a free body
-    std::vector<std::string> welded_to_world_, slide_passive_;
+    std::vector<std::string> welded_to_world_, slide_passive_, wide_limits_, outside_limits_;
 };
 
 }  // namespace

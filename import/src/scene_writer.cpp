@@ -58,17 +58,35 @@ void write_joints(std::ostringstream& out, const ImportedScene& scene) {
     if (scene.joints.empty()) return;
     out << "joints:\n";
     for (const SceneJoint& j : scene.joints) {
-        out << source(j.where, scene.format + " joint '" + j.name + "'");
+        out << source(j.where, j.comment.empty() ? scene.format + " joint '" + j.name + "'" : j.comment);
         out << "  - {name: " << j.name << ", type: " << j.type << ", bodies: [" << body_name(scene, j.parent) << ", "
             << body_name(scene, j.child) << "], point: " << vector(j.point);
-        if (j.type != "spherical") out << ", axis: " << vector(j.axis);
+        if (j.type == "universal")
+            out << ", axes: [" << vector(j.axis) << ", " << vector(j.axis2) << "]";
+        else if (j.type != "spherical" && j.type != "fixed")
+            out << ", axis: " << vector(j.axis);
+        if (j.type == "screw") out << ", pitch: " << number(j.pitch);
         out << "}\n";
     }
 }
 
+void write_stops(std::ostringstream& out, const ImportedScene& scene) {
+    for (const SceneStop& s : scene.stops) {
+        out << source(s.where, "limits of " + scene.format + " joint '" + s.name.substr(0, s.name.rfind("_limits")) + "'");
+        out << "  - {name: " << s.name << ", type: joint_stop, bodies: [" << body_name(scene, s.parent) << ", "
+            << body_name(scene, s.child) << "], point: " << vector(s.point) << ", axis: " << vector(s.axis)
+            << ", coordinate: " << (s.travel ? "travel" : "angle");
+        if (s.has_lower) out << ", lower: " << number(s.lower);
+        if (s.has_upper) out << ", upper: " << number(s.upper);
+        out << ", restitution: 0, law: hunt_crossley, exponent: 1, stiffness: "
+            << number(s.stiffness) << "}\n";
+    }
+}
+
 void write_forces(std::ostringstream& out, const ImportedScene& scene) {
-    if (scene.forces.empty()) return;
+    if (scene.forces.empty() && scene.stops.empty()) return;
     out << "forces:\n";
+    write_stops(out, scene);
     for (const SceneForce& f : scene.forces) {
         out << source(f.where, "stiffness and damping of " + scene.format + " joint '" + f.name + "'");
         out << "  - {name: " << f.name << ", type: rotational_spring_damper, bodies: [" << body_name(scene, f.parent)

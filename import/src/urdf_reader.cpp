@@ -145,7 +145,16 @@ struct Walker {
             out.damping = j.dynamics->damping;
             if (j.dynamics->friction != 0.0) friction.push_back(j.name);
         }
-        if (j.limits && j.type != urdf::Joint::CONTINUOUS) limited.push_back(j.name);
+        if (j.limits && j.type != urdf::Joint::CONTINUOUS) {
+            if (j.limits->lower < j.limits->upper && (out.kind == SourceJointKind::Hinge || out.kind == SourceJointKind::Slide)) {
+                out.limited = true;  // a hard limit; Gazebo gives a URDF limit SDF's default stiffness 1e8
+                out.lower = j.limits->lower;
+                out.upper = j.limits->upper;
+            } else {
+                limited.push_back(j.name + " (lower " + std::to_string(j.limits->lower) + " not below upper " +
+                                  std::to_string(j.limits->upper) + ")");
+            }
+        }
         if (j.mimic) mimic.push_back(j.name + " mimics " + j.mimic->joint_name);
         return {out};
     }
@@ -185,7 +194,7 @@ SourceTree read_urdf(const std::filesystem::path& path) {
         if (!names.empty()) tree.unmapped.push_back({kind, names, note});
     };
     add("links' visual and collision geometry", geometry, "contacts and meshes are not imported");
-    add("joint limits", limited, "no joint stops imported yet");
+    add("joint limits", limited, "an empty range is not imported as a stop");
     add("joint friction", friction, "");
     add("mimic couplings", mimic, "no coupling constraint imported yet: the joints move independently");
     return tree;

@@ -34,11 +34,14 @@ struct SceneBody {
 struct SceneJoint {
     std::string name;
     std::string where;
-    std::string type;      // revolute, prismatic, spherical, planar
+    std::string type;      // revolute, prismatic, spherical, planar, universal, screw, fixed
     int parent = -1;       // index in ImportedScene::bodies, -1: ground
     int child = -1;
     Vec3 point = Vec3::Zero();
     Vec3 axis = Vec3::UnitZ();
+    Vec3 axis2 = Vec3::UnitX();  // universal: `axes: [axis, axis2]`
+    double pitch = 0.0;          // screw
+    std::string comment;         // what it stands for, when not the source joint of its name
     SourceJointKind kind = SourceJointKind::Hinge;
 };
 
@@ -51,6 +54,19 @@ struct SceneForce {
     double stiffness = 0.0, damping = 0.0, rest_angle = 0.0;
 };
 
+// A joint_stop on a hinge (coordinate angle) or slide (travel) with joint limits: a plastic
+// impact at the limit (restitution 0) and a linear compliant law (hunt_crossley, exponent 1,
+// no damping) that holds the joint there (docs/import.md, "Joint limits").
+struct SceneStop {
+    std::string name;
+    std::string where;
+    int parent = -1, child = -1;
+    Vec3 point = Vec3::Zero(), axis = Vec3::UnitZ();
+    bool travel = false;  // prismatic: the stop's coordinate is a travel
+    double lower = 0.0, upper = 0.0, stiffness = 1e8;
+    bool has_lower = true, has_upper = true;  // an angle limit at or beyond +-pi is left out
+};
+
 struct ImportedScene {
     std::string name;
     std::string file;
@@ -59,6 +75,7 @@ struct ImportedScene {
     std::vector<SceneBody> bodies;
     std::vector<SceneJoint> joints;
     std::vector<SceneForce> forces;
+    std::vector<SceneStop> stops;
     std::vector<Unmapped> unmapped;
     std::vector<std::string> notes;  // mapping decisions the scene's header comment states
     // index of the scene body each source body became (-1: the ground), by source index

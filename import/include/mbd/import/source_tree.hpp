@@ -12,20 +12,26 @@
 
 namespace mbd::import {
 
-enum class SourceJointKind { Hinge, Slide, Ball, Free, Planar };
+enum class SourceJointKind { Hinge, Slide, Ball, Free, Planar, Universal, Screw };
 
 struct SourceJoint {
     std::string name;   // as in the file ("" when unnamed)
     std::string where;  // "file" or "file:line" of its definition
     SourceJointKind kind = SourceJointKind::Hinge;
     Vec3 point = Vec3::Zero();          // anchor, world, at the reference configuration
-    Vec3 axis = Vec3::UnitZ();          // hinge / slide axis, planar normal, world (unit)
+    Vec3 axis = Vec3::UnitZ();          // hinge / slide / screw axis, planar normal, world (unit)
+    Vec3 axis2 = Vec3::UnitX();         // universal: the second axis (fixed in the child), world
+    double pitch = 0.0;                 // screw: travel along `axis` per revolution, m (> 0 right-handed)
     // initial velocity: hinge, slide: one rate; ball: angular velocity of the child relative to
-    // the parent, world; free: (velocity of the body frame's origin, angular velocity), world
+    // the parent, world (also universal); free: (velocity of the body frame's origin, angular velocity), world
     double rate = 0.0;
     Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
     // passive joint elements (hinge / slide): spring about the reference position and damping
     double stiffness = 0.0, spring_reference = 0.0, damping = 0.0;
+    // hinge / slide limits, from the reference configuration (rad, m), held by a stiff stop:
+    // `stop_stiffness` N m/rad or N/m (SDF <limit><stiffness>; Gazebo's 1e8 for URDF)
+    bool limited = false;
+    double lower = 0.0, upper = 0.0, stop_stiffness = 1e8;
 };
 
 struct SourceBody {
@@ -41,6 +47,15 @@ struct SourceBody {
     std::vector<SourceJoint> joints;
 };
 
+// A constraint that closes a loop of the tree (MJCF equality `connect` and `weld`, an SDF joint
+// into a link that already has one): `joint` (or none for a weld) between two bodies of the
+// tree, anchored at `joint.point`.
+struct SourceLoop {
+    SourceJoint joint;
+    bool weld = false;  // fixes the two bodies in their relative pose at the reference configuration
+    int body_a = -1, body_b = -1;  // indices in SourceTree::bodies, -1: the world
+};
+
 // What the file holds that the import does not map, by kind ("tendon", "sensor", ...), each
 // with the element's name (and where, when the parser gives it).
 struct Unmapped {
@@ -52,9 +67,10 @@ struct Unmapped {
 struct SourceTree {
     std::string name;                   // the model's name
     std::string file;                   // the file it was read from
-    std::string format;                 // "MJCF" or "URDF"
+    std::string format;                 // "MJCF", "URDF" or "SDF"
     Vec3 gravity = Vec3(0, 0, -9.81);
     std::vector<SourceBody> bodies;     // parents before children
+    std::vector<SourceLoop> loops;      // constraints beyond the tree
     std::vector<Unmapped> unmapped;
 };
 
