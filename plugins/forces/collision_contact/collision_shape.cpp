@@ -129,9 +129,13 @@ Shape read_shape(const Param& node, const std::string& owner, bool ground) {
         s.mask = 0;
         for (const Param& g : with.items) s.mask |= group_bit(g, s.label);
     }
-    if (!node.fields.count("material"))
+    if (node.fields.count("material")) {
+        s.material = read_material(node.fields.at("material"), s.label, ground);
+    } else if (ground) {
+        s.material.rigid = true;  // a rigid, frictionless ground: the other shape's law acts
+    } else {
         node.fail(s.label + ": missing key 'material' (stiffness, exponent, restitution, friction, ...)");
-    s.material = read_material(node.fields.at("material"), s.label, ground);
+    }
     return s;
 }
 
