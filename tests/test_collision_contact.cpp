@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -418,6 +419,54 @@ TEST(CollisionContact, BadShapesAndMaterialsAreRefusedNamingTheBody) {
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_NE(r.err.find("body 'ball', collision shape 1 (sphere): 'radius' must be positive"), std::string::npos)
         << r.err;
+}
+
+// ------------------------------------------------------------------ Hertz materials
+// Materials given by Young's modulus and Poisson's ratio: two equal steel spheres pressed
+// together by delta, and one on a rigid plane, push with Hertz's F = 4/3 E* sqrt(R*) delta^1.5,
+// 1/E* = sum (1 - nu^2) / E, 1/R* = sum 1/R (Johnson, Contact Mechanics, Eq. 4.22).
+TEST(CollisionContact, YoungsModulusGivesHertzsForce) {
+    const double E = 2.1e11, nu = 0.3, R = 0.05, delta = 1e-5;
+    const std::string steel = "{young_modulus: 2.1e11, poisson_ratio: 0.3}";
+    const std::string scene =
+        "dimension: spatial\nground:\n  collision:\n    - {shape: plane, normal: [0, 0, 1]}\nbodies:\n"
+        "  - {name: a, mass: 1, inertia: [0.001, 0.001, 0.001], position: [0, 0, 1], "
+        "collision: [{shape: sphere, radius: 0.05, material: " + steel + "}]}\n"
+        "  - {name: b, mass: 1, inertia: [0.001, 0.001, 0.001], position: [0, 0, 1.2], "
+        "collision: [{shape: sphere, radius: 0.05, material: " + steel + "}]}\n";
+    const mbd::Model model = mbd::test::scene(scene);
+    const mbd::ForceInstance& f = element(model, "collision_contact");
+    ASSERT_EQ(f.bodies.size(), 3u);  // ground, a, b
+    mbd::State s;
+    s.q.resize(14);
+    s.v = Eigen::VectorXd::Zero(12);
+    const Eigen::Vector3d axis = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();
+    s.q << 0.4, 0.1, R - delta, 1, 0, 0, 0, 0.4, 0.1, R - delta, 1, 0, 0, 0;
+    s.q.segment<3>(7) += (2 * R - delta) * axis;  // b on a, overlapping by delta
+    ElementStates states(model, f, s);
+    Eigen::VectorXd Q = Eigen::VectorXd::Zero(18);
+    f.force->evaluate(states.view, Q);
+    const double sphere_sphere = 4.0 / 3.0 * (E / (2 * (1 - nu * nu))) * std::sqrt(R / 2) * std::pow(delta, 1.5);
+    const double sphere_plane = 4.0 / 3.0 * (E / (1 - nu * nu)) * std::sqrt(R) * std::pow(delta, 1.5);
+    // b: pushed along the axis by a only (it is clear of the plane)
+    EXPECT_LT((Q.segment<3>(12) - sphere_sphere * axis).norm(), 1e-10 * sphere_sphere);
+    // a: pushed back by b, up by the plane
+    EXPECT_LT((Q.segment<3>(6) - (sphere_plane * Eigen::Vector3d::UnitZ() - sphere_sphere * axis)).norm(),
+              1e-10 * sphere_plane);
+    RecordProperty("sphere_sphere_force", g17(sphere_sphere));
+    // Hertz needs a curved surface, and a Poisson ratio below 1/2
+    for (const auto& [from, to, says] : std::vector<std::array<std::string, 3>>{
+             {"poisson_ratio: 0.3}}]}\n  - {name: b", "poisson_ratio: 0.5}}]}\n  - {name: b", "'poisson_ratio' must be in [0, 0.5)"},
+             {"shape: sphere, radius: 0.05, material: {young", "shape: box, size: [0.1, 0.1, 0.1], material: {young",
+              "'young_modulus' gives Hertz's law of a curved surface"}}) {
+        try {
+            mbd::test::scene(mbd::test::replaced(scene, from, to));
+            ADD_FAILURE() << "accepted: " << to;
+        } catch (const mbd::InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("body 'a'"), std::string::npos) << e.what();
+        }
+    }
 }
 
 }  // namespace

@@ -51,7 +51,7 @@ public:
         for (const Contact& c : world->detect(bodies)) {
             const Shape& si = shapes_[c.shape_i];
             const Shape& sj = shapes_[c.shape_j];
-            const PairLaw law = pair_law(si.material, sj.material);
+            const PairLaw law = pair_law(si.material, curvature_radius(si), sj.material, curvature_radius(sj));
             const auto bi = kinematics(bodies.spatial(si.body));
             const auto bj = kinematics(bodies.spatial(sj.body));
             const contact::ContactGeometry<double, 3> g{c.normal, c.point, -c.depth, true};
@@ -67,7 +67,9 @@ public:
         Borrowed world(*this);
         double V = 0.0;
         for (const Contact& c : world->detect(bodies))
-            V += pair_law(shapes_[c.shape_i].material, shapes_[c.shape_j].material).normal.energy(c.depth);
+            V += pair_law(shapes_[c.shape_i].material, curvature_radius(shapes_[c.shape_i]),
+                          shapes_[c.shape_j].material, curvature_radius(shapes_[c.shape_j]))
+                     .normal.energy(c.depth);
         return V;
     }
 

@@ -32,9 +32,39 @@ auto read_for(const Param& node, const std::string& owner, Read&& read) {
 void refuse_unread(const Params& params, const Param& node, const std::string& owner) {
     for (const std::string& key : params.unread_keys())
         node.fields.at(key).fail(owner + " material: unknown key '" + key +
-                                 "'; a material takes stiffness, exponent, damping or restitution with "
+                                 "'; a material takes stiffness and exponent (or young_modulus and poisson_ratio), damping or "
+                                 "restitution with "
                                  "impact_velocity and restitution_model, static_friction, kinetic_friction, "
                                  "stiction_velocity");
+}
+
+// young_modulus E (> 0) and poisson_ratio nu (0 <= nu < 0.5); the damping keys read by the
+// shared reader as for a unit stiffness, so normal.damping is alpha = c / k.
+void read_hertz(const ForceSpec& spec, const Param& node, Material& m) {
+    for (const char* key : {"stiffness", "exponent"})
+        if (spec.params.has(key))
+            force_support::fail(spec, std::string("give either 'young_modulus' with 'poisson_ratio' (Hertz: n = 1.5) "
+                                                  "or '") + key + "', not both", &spec.params.at(key));
+    const double E = force_support::number(spec, "young_modulus");
+    if (!(E > 0.0))
+        force_support::fail(spec, "'young_modulus' must be positive (Pa)", &spec.params.at("young_modulus"));
+    if (!spec.params.has("poisson_ratio"))
+        force_support::fail(spec, "'young_modulus' needs 'poisson_ratio' (0 <= nu < 0.5)");
+    const double nu = force_support::number(spec, "poisson_ratio");
+    if (!(nu >= 0.0 && nu < 0.5))
+        force_support::fail(spec, "'poisson_ratio' must be in [0, 0.5)", &spec.params.at("poisson_ratio"));
+    Param unit = node;  // the damping keys, as the law of a unit stiffness
+    unit.fields.erase("young_modulus");
+    unit.fields.erase("poisson_ratio");
+    unit.fields["stiffness"] = node.fields.at("young_modulus");
+    unit.fields["stiffness"].text = "1";
+    ForceSpec as_unit = spec;
+    as_unit.params = Params(spec.params.owner(), &unit);
+    m.normal = contact::read_normal_law(as_unit);
+    m.normal.exponent = 1.5;
+    for (const std::string& key : as_unit.params.asked_keys()) spec.params.mark_read(key);
+    m.hertz = true;
+    m.hertz_compliance = (1.0 - nu * nu) / E;
 }
 
 }  // namespace
@@ -43,7 +73,9 @@ Material read_material(const Param& node, const std::string& owner, bool ground)
     if (!node.is_map()) node.fail(owner + ": 'material' must be a map of keys (stiffness, exponent, restitution, ...)");
     Material m;
     read_for(node, owner, [&](const ForceSpec& spec) {
-        if (spec.params.has("stiffness")) {
+        if (spec.params.has("young_modulus")) {
+            read_hertz(spec, node, m);
+        } else if (spec.params.has("stiffness")) {
             m.normal = contact::read_normal_law(spec);
         } else if (ground) {
             m.rigid = true;
@@ -64,13 +96,26 @@ Material read_material(const Param& node, const std::string& owner, bool ground)
     return m;
 }
 
-PairLaw pair_law(const Material& i, const Material& j) {
+PairLaw pair_law(const Material& i, double radius_i, const Material& j, double radius_j) {
     PairLaw law;
     const Material* compliant[2] = {i.rigid ? nullptr : &i, j.rigid ? nullptr : &j};
     const double n = compliant[0] ? i.normal.exponent : j.normal.exponent;
+    // Hertz: the elastic compliances add (1/E*), then k = 4/3 E* sqrt(R*) as one term of the series
+    const double root_R = std::sqrt(1.0 / (1.0 / radius_i + 1.0 / radius_j));
+    double hertz = 0.0, hertz_alpha = 0.0;  // sum of (1 - nu^2) / E, and of alpha times it
+    for (const Material* m : compliant)
+        if (m && m->hertz) {
+            hertz += m->hertz_compliance;
+            hertz_alpha += m->normal.damping * m->hertz_compliance;
+        }
     double compliance = 0.0, alpha_weighted = 0.0;  // sum of k^(-1/n), and of alpha k^(-1/n)
+    if (hertz > 0.0) {
+        const double c = std::pow(4.0 / 3.0 * root_R / hertz, -1.0 / n);
+        compliance += c;
+        alpha_weighted += hertz_alpha / hertz * c;
+    }
     for (const Material* m : compliant) {
-        if (!m) continue;
+        if (!m || m->hertz) continue;
         const double c = std::pow(m->normal.stiffness, -1.0 / n);
         compliance += c;
         alpha_weighted += m->normal.damping / m->normal.stiffness * c;

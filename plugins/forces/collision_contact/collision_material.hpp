@@ -6,6 +6,11 @@
 // friction and the stiction velocity. A ground shape may leave out the normal law (no
 // stiffness): it is then rigid, and its friction keys alone count.
 //
+// A material may instead give `young_modulus` E and `poisson_ratio` nu (spheres and capsules: a
+// curved surface): Hertz's law of two elastic bodies, k = 4/3 E* sqrt(R*), n = 1.5, with
+// 1/E* = sum (1 - nu_i^2) / E_i over the Hertz materials and 1/R* = 1/R_i + 1/R_j (Johnson,
+// Contact Mechanics, Eq. 4.22); against a stiffness material, the two in series as below.
+//
 // A pair of shapes (docs/scene-format.md "Collision shapes", the rules):
 //  - the two materials act in series: each is compressed by delta_i with F = k_i delta_i^n, so
 //    F = k delta^n with k^(-1/n) = k_i^(-1/n) + k_j^(-1/n) (a rigid one adds nothing); both
@@ -25,6 +30,11 @@ namespace mbd::collision {
 
 struct Material {
     bool rigid = false;           // a ground material without a normal law
+    // Hertz: `young_modulus` E and `poisson_ratio` nu instead of stiffness: the pair's k follows
+    // from its curvature (k = 4/3 E* sqrt(R*), n = 1.5); normal.stiffness is then 1 and
+    // normal.damping the Hunt-Crossley alpha = c / k
+    bool hertz = false;
+    double hertz_compliance = 0.0;  // (1 - nu^2) / E
     contact::NormalLaw normal;    // stiffness, exponent, damping (unused when rigid)
     friction::CoulombLaw friction;
     bool stiction_given = false;  // the stiction velocity was given (not the default)
@@ -38,6 +48,8 @@ struct PairLaw {
     friction::CoulombLaw friction;
 };
 
-PairLaw pair_law(const Material& i, const Material& j);
+// The law of two shapes' materials at their contact; `radius_i`, `radius_j` are the shapes'
+// radii of curvature there (infinity for a flat face), which a Hertz material needs.
+PairLaw pair_law(const Material& i, double radius_i, const Material& j, double radius_j);
 
 }  // namespace mbd::collision

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <limits>
 #include <map>
 
 namespace mbd::collision {
@@ -136,10 +137,19 @@ Shape read_shape(const Param& node, const std::string& owner, bool ground) {
     } else {
         node.fail(s.label + ": missing key 'material' (stiffness, exponent, restitution, friction, ...)");
     }
+    if (s.material.hertz && s.kind != ShapeKind::Sphere && s.kind != ShapeKind::Capsule)
+        node.fields.at("material").fail(s.label + ": 'young_modulus' gives Hertz's law of a curved surface (spheres "
+                                                  "and capsules); give a " + kind->first + " a 'stiffness' and "
+                                                  "'exponent'");
     return s;
 }
 
 }  // namespace
+
+double curvature_radius(const Shape& s) {
+    return s.kind == ShapeKind::Sphere || s.kind == ShapeKind::Capsule ? s.radius
+                                                                        : std::numeric_limits<double>::infinity();
+}
 
 const char* kind_name(ShapeKind kind) {
     for (const auto& [name, k] : kinds())

@@ -37,4 +37,8 @@ std::vector<Shape> read_shapes(const Param& list, const std::string& body_name, 
 
 const char* kind_name(ShapeKind kind);
 
+// The radius of curvature of the shape's surface at a contact (Hertz materials): a sphere's or
+// capsule's radius, infinity for the flat faces of boxes and planes.
+double curvature_radius(const Shape& s);
+
 }  // namespace mbd::collision
