@@ -469,4 +469,45 @@ TEST(CollisionContact, YoungsModulusGivesHertzsForce) {
     }
 }
 
+// ------------------------------------------------------------------ which pairs touch
+// Two overlapping spheres push each other apart, unless a joint connects their bodies or their
+// groups and masks exclude each other; the ground's plane still pushes both.
+TEST(CollisionContact, JoinedBodiesAndExcludedGroupsDoNotTouch) {
+    const std::string base =
+        "dimension: spatial\nground:\n  collision:\n    - {shape: plane, normal: [0, 0, 1]}\nbodies:\n"
+        "  - {name: a, mass: 1, inertia: [0.001, 0.001, 0.001], position: [0, 0, 0.099], "
+        "collision: [{shape: sphere, radius: 0.1, GROUP_A material: {stiffness: 1e6}}]}\n"
+        "  - {name: b, mass: 1, inertia: [0.001, 0.001, 0.001], position: [0.15, 0, 0.099], "
+        "collision: [{shape: sphere, radius: 0.1, GROUP_B material: {stiffness: 1e6}}]}\n";
+    auto between = [&](const std::string& groups_a, const std::string& groups_b, const std::string& joints) {
+        const std::string yaml =
+            mbd::test::replaced(mbd::test::replaced(base, "GROUP_A ", groups_a), "GROUP_B ", groups_b) + joints;
+        const mbd::Model model = mbd::test::scene(yaml);
+        const mbd::ForceInstance& f = element(model, "collision_contact");
+        mbd::State s;
+        s.q.resize(14);
+        s.v = Eigen::VectorXd::Zero(12);
+        for (int b = 0; b < 2; ++b) s.q.segment<7>(7 * b) << model.bodies[b].position, 1, 0, 0, 0;
+        ElementStates states(model, f, s);
+        Eigen::VectorXd Q = Eigen::VectorXd::Zero(18);
+        f.force->evaluate(states.view, Q);
+        return std::make_pair(Q[12], Q[14]);  // on b: x (from a), z (from the plane)
+    };
+    const double plane = 1e6 * std::pow(0.001, 1.5);  // k d^n, 1 mm deep
+    // 5 cm overlap of two equal materials in series: k^(-2/3) = 2 (1e6)^(-2/3), k = 1e6 / 2^1.5
+    const double pair = 1e6 / std::pow(2.0, 1.5) * std::pow(0.05, 1.5);
+    const auto touching = between("", "", "");
+    EXPECT_NEAR(touching.first, pair, 1e-9 * pair);
+    EXPECT_NEAR(touching.second, plane, 1e-9 * plane);
+    const auto joined = between("", "", "joints:\n  - {name: link, type: spherical, bodies: [a, b], point: [0.075, 0, 0.099]}\n");
+    EXPECT_EQ(joined.first, 0.0);
+    EXPECT_NEAR(joined.second, plane, 1e-9 * plane);
+    const auto excluded = between("group: 1, collides_with: [0, 1], ", "group: 2, collides_with: [0, 2], ", "");
+    EXPECT_EQ(excluded.first, 0.0);
+    EXPECT_NEAR(excluded.second, plane, 1e-9 * plane);
+    const auto admitted = between("group: 1, collides_with: [0, 2], ", "group: 2, collides_with: [1], ", "");
+    EXPECT_NEAR(admitted.first, pair, 1e-9 * pair);
+    EXPECT_EQ(admitted.second, 0.0);  // b's mask leaves out the ground's group 0
+}
+
 }  // namespace
