@@ -10,6 +10,7 @@
 #include <fcl/narrowphase/collision_object.h>
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
+#include <cmath>
 #include <cstdint>
 
 namespace mbd::collision {
@@ -94,7 +95,11 @@ void World::Detail::narrow_phase(int i, int j) {
     const int plane = a.kind == ShapeKind::Plane ? i : b.kind == ShapeKind::Plane ? j : -1;
     for (size_t k = 0; k < result.numContacts(); ++k) {
         const fcl::Contactd& c = result.getContact(k);
-        if (!(c.penetration_depth > 0.0)) continue;
+        // no force from a contact without a direction (EPA on a degenerate overlap can give a
+        // zero or non-finite normal): a NaN would stop the run
+        if (!(c.penetration_depth > 0.0) || !std::isfinite(c.penetration_depth) || !c.normal.allFinite() ||
+            !(c.normal.norm() > 0.5))
+            continue;
         Contact out{i, j, c.pos, c.normal.normalized(), c.penetration_depth};
         if (plane >= 0) {
             // against a plane the force acts on the plane (as the sphere_plane element's does):
