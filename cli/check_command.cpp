@@ -53,16 +53,20 @@ void add_check_command(CLI::App& app, Commands& commands) {
         for (const auto& f : model.forces) width = std::max(width, f.name.size());
         for (const auto& d : model.drivers) width = std::max(width, d.name.size());
         const int w = static_cast<int>(width) + 2;
+        size_t type_width = 13;  // a type column at least 14 wide, wider for a longer type (collision_contact)
+        for (const auto& j : model.joints) type_width = std::max(type_width, j.type.size());
+        for (const auto& f : model.forces) type_width = std::max(type_width, f.type.size());
+        const int tw = static_cast<int>(type_width) + 1;
 
         std::cout << "\nbodies (" << model.bodies.size() << "):\n";
         for (const auto& b : model.bodies) std::cout << "  " << std::left << std::setw(w) << b.name << "mass " << format_number(b.mass) << '\n';
         std::cout << "joints (" << model.joints.size() << "):\n";
         for (const auto& j : model.joints)
-            std::cout << "  " << std::left << std::setw(w) << j.name << std::setw(14) << j.type << body_list(model, j.bodies)
+            std::cout << "  " << std::left << std::setw(w) << j.name << std::setw(tw) << j.type << body_list(model, j.bodies)
                       << "  (" << plural(j.joint->rows(), "equation") << ")\n";
         std::cout << "forces (" << model.forces.size() << "):\n";
         for (const auto& f : model.forces)
-            std::cout << "  " << std::left << std::setw(w) << f.name << std::setw(14) << f.type << body_list(model, f.bodies) << '\n';
+            std::cout << "  " << std::left << std::setw(w) << f.name << std::setw(tw) << f.type << body_list(model, f.bodies) << '\n';
         std::cout << "drivers (" << model.drivers.size() << "):\n";
         for (const auto& d : model.drivers)
             std::cout << "  " << std::left << std::setw(w) << d.name << "drives joint '" << model.joints[d.joint].name

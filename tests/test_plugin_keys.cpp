@@ -38,13 +38,13 @@ std::vector<Listed> listed_types() {
 
 TEST(PluginKeys, EveryShippedJointAndForceTypeDescribesItsKeys) {
     const std::vector<Listed> types = listed_types();
-    // the 16 joint and 13 force types shipped (issue 42 counted 29)
-    EXPECT_EQ(types.size(), 29u);
+    // the 16 joint and 14 force types shipped (issue 42 counted 29; issue 39 added collision_contact)
+    EXPECT_EQ(types.size(), 30u);
     for (const Listed& t : types) {
         const PluginDescription* d = plugin_description(test::shared_registry(), t.kind, t.type);
         ASSERT_NE(d, nullptr) << t.kind << " " << t.type;
         EXPECT_TRUE(d->summary && *d->summary) << t.type;
-        EXPECT_EQ(d->bodies, t.type == "gravity" ? kEveryBody
+        EXPECT_EQ(d->bodies, t.type == "gravity" || t.type == "collision_contact" ? kEveryBody
                              : t.type == "point_force" || t.type == "point_torque" ? kOneBody
                                                                                     : kTwoBodies)
             << t.type;
@@ -172,7 +172,7 @@ TEST(PluginKeys, SceneFormatDocumentsEveryDescribedKeyAndNoOther) {
                 << "docs/scene-format.md's example of " << t.kind << " '" << t.type << "' uses key '" << key
                 << "', which the type does not describe";
     }
-    EXPECT_EQ(sections, 29);
+    EXPECT_EQ(sections, 30);
     EXPECT_GT(keys_checked, 60);
 }
 

@@ -118,8 +118,8 @@ void Loader::build() {
         root_.fail("a scene must be a map of keys (name, dimension, gravity, bodies, joints, forces, drivers)");
 
     check_keys(root_, "scene",
-               {"name", "dimension", "gravity", "bodies", "joints", "forces", "drivers", "formulation", "actuators",
-                "bench", "expect"});  // bench: read by `mbd bench` (app/src/bench.cpp) from Model::document;
+               {"name", "dimension", "gravity", "ground", "bodies", "joints", "forces", "drivers", "formulation",
+                "actuators", "bench", "expect"});  // bench: read by `mbd bench` (app/src/bench.cpp) from Model::document;
                                       // expect: stored raw for `mbd stability` (app/src/stability.cpp)
 
     model_.source = file_;
@@ -161,6 +161,7 @@ void Loader::build() {
         const Param& forces = list_section("forces");
         for (size_t k = 0; k < forces.items.size(); ++k) load_force(forces.items[k], static_cast<int>(k));
     }
+    add_collision_contact();  // after the joints: joined bodies do not collide
     if (find(root_, "drivers")) {
         const Param& drivers = list_section("drivers");
         for (size_t k = 0; k < drivers.items.size(); ++k) load_driver(drivers.items[k], static_cast<int>(k));
@@ -200,10 +201,13 @@ void Loader::load_body(const Param& node, int index) {
 
     if (planar)
         check_keys(node, what, {"name", "mass", "inertia", "position", "angle", "velocity", "angular_velocity", "visual"},
-                   {{"orientation", "planar bodies take 'angle' (radians), not 'orientation'"}});
+                   {{"orientation", "planar bodies take 'angle' (radians), not 'orientation'"},
+                    {"collision", "collision shapes are spatial only; in a planar scene use the circle_line and "
+                                  "circle_circle contact forces"}});
     else
         check_keys(node, what,
-                   {"name", "mass", "inertia", "position", "orientation", "velocity", "angular_velocity", "visual"},
+                   {"name", "mass", "inertia", "position", "orientation", "velocity", "angular_velocity", "visual",
+                    "collision"},
                    {{"angle", "spatial bodies take 'orientation' ({euler_parameters: [..]}, {axis: [..], angle: ..} "
                               "or {matrix: [[..], [..], [..]]}), not 'angle'"}});
 

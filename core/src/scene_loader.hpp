@@ -257,6 +257,7 @@ private:
     void load_driver(const Param& node, int index);
     void load_actuator(const Param& node, int index);
     void load_joint_limits(const Param& node, JointInstance& joint) const;
+    void add_collision_contact();  // scene_collision.cpp
     // A second element of this kind with this name is refused at its 'name' key.
     template <class Elements>
     void require_unique_name(const Elements& existing, const std::string& name, const Param& node,

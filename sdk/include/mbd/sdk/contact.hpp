@@ -202,6 +202,25 @@ void add_point_force(const force_support::SpatialT<S>& b, const Vec<S, 3>& X, co
     Q.template tail<3>() += b.A.transpose() * Vec<S, 3>((X - b.R).cross(F));
 }
 
+// The force on body j of one contact: the normal law on the penetration -g and its rate, and
+// friction on the tangential part of v_rel = v_j(X) - v_i(X) (the slip of j's material point
+// over i's at X). Zero while the surfaces are apart. Shared by the two-body contact elements
+// and by the collision-detected contacts (plugins/forces/collision_contact).
+template <class S, int D>
+Vec<S, D> contact_load(const NormalLaw& normal, const friction::CoulombLaw& friction,
+                       const ContactGeometry<S, D>& g, const Vec<S, D>& v_rel) {
+    if (!g.defined || value_of(g.gap) >= 0.0) return Vec<S, D>::Zero();
+    const S gap_rate = g.normal.dot(v_rel);
+    const S Fn = normal.force(S(-g.gap), S(-gap_rate));
+    if (value_of(Fn) == 0.0) return Vec<S, D>::Zero();
+    Vec<S, D> F = Fn * g.normal;
+    if (friction.mu_static > 0.0) {
+        const Vec<S, D> v_t = v_rel - gap_rate * g.normal;
+        F -= Fn * friction.coefficient_per_speed(S(v_t.squaredNorm())) * v_t;
+    }
+    return F;
+}
+
 // The gap and its rate at one state: what an event function of the contact watches.
 struct GapAndRate {
     double gap = 0.0;   // signed distance, m (< 0: penetration)
@@ -335,14 +354,7 @@ force_support::VX<S> ContactForce<Derived>::contact_force(const States& s) const
     force_support::VX<S> Q = force_support::VX<S>::Zero(2 * nv);
     if (!g.defined || value_of(g.gap) >= 0.0) return Q;  // separated: no force, no Jacobian
     const Vec<S, D> v_rel = material_velocity(s[1], g.point) - material_velocity(s[0], g.point);
-    const S gap_rate = g.normal.dot(v_rel);
-    const S Fn = normal_.force(S(-g.gap), S(-gap_rate));
-    if (value_of(Fn) == 0.0) return Q;
-    Vec<S, D> F = Fn * g.normal;  // on j
-    if (friction_.mu_static > 0.0) {
-        const Vec<S, D> v_t = v_rel - gap_rate * g.normal;
-        F -= Fn * friction_.coefficient_per_speed(S(v_t.squaredNorm())) * v_t;
-    }
+    const Vec<S, D> F = contact_load(normal_, friction_, g, v_rel);  // on j
     add_point_force(s[1], g.point, F, Q.template segment<nv>(nv));
     add_point_force(s[0], g.point, Vec<S, D>(-F), Q.template segment<nv>(0));
     return Q;

@@ -1,0 +1,151 @@
+// The force element 'collision_contact': compliant contact between any collision shapes of a
+// spatial scene, found by FCL (collision_world.hpp) and loaded by the laws of the two-body
+// contact elements (mbd/sdk/contact.hpp: Hunt-Crossley normal force, regularized Coulomb
+// friction). The core adds one such element over every body with `collision:` shapes
+// (core/src/scene_collision.cpp); it is never written under `forces:`.
+//
+// Each contact's force F = contact_load(...) acts on shape j's body at the contact point and -F
+// on shape i's, so the element conserves the momentum and angular momentum of the bodies it
+// touches. It declares no events: the set of contacts changes between evaluations, and the
+// force's onset is smooth enough (F_n = k delta^n with n > 1 has a continuous first derivative
+// at delta = 0) for the adaptive integrators to find their steps.
+#include "collision_world.hpp"
+
+#include <mbd/sdk/plugin.hpp>
+#include <mbd/sdk/plugin_keys.hpp>
+
+#include <mutex>
+
+namespace mbd::collision {
+namespace {
+
+force_support::SpatialT<double> kinematics(const SpatialBody& b) { return {b.R, b.Rdot, b.omega_bar, b.A}; }
+
+class CollisionContact final : public Force {
+public:
+    explicit CollisionContact(const ForceSpec& spec) {
+        if (spec.dimension != Dimension::Spatial)
+            force_support::fail(spec, "collision shapes are spatial only; in a planar scene use circle_line and "
+                                      "circle_circle");
+        const Param& lists = spec.params.at("shapes");
+        for (size_t k = 0; k < lists.items.size(); ++k) {
+            const Param& entry = lists.items[k];
+            const BodyInfo& body = spec.bodies[k];
+            const bool massless = !body.ground && (body.mass <= 0.0 || body.inertia.diagonal().minCoeff() <= 0.0);
+            std::vector<Shape> read =
+                read_shapes(entry.fields.at("collision"), body.name, static_cast<int>(k), body.ground, massless);
+            shapes_.insert(shapes_.end(), read.begin(), read.end());
+        }
+        check_exponents();
+        std::set<std::pair<int, int>> joined;
+        for (const Param& pair : spec.params.at("joined").items) {
+            const int a = static_cast<int>(pair.items[0].as_integer("joined", 0, 1 << 30));
+            const int b = static_cast<int>(pair.items[1].as_integer("joined", 0, 1 << 30));
+            joined.insert({std::min(a, b), std::max(a, b)});
+        }
+        filter_ = PairFilter(shapes_, std::move(joined));
+    }
+
+    void evaluate(const BodyStates& bodies, Eigen::Ref<Eigen::VectorXd> Q) const override {
+        Borrowed world(*this);
+        for (const Contact& c : world->detect(bodies)) {
+            const Shape& si = shapes_[c.shape_i];
+            const Shape& sj = shapes_[c.shape_j];
+            const PairLaw law = pair_law(si.material, curvature_radius(si), sj.material, curvature_radius(sj));
+            const auto bi = kinematics(bodies.spatial(si.body));
+            const auto bj = kinematics(bodies.spatial(sj.body));
+            const contact::ContactGeometry<double, 3> g{c.normal, c.point, -c.depth, true};
+            const Vec3 v_rel = contact::material_velocity(bj, c.point) - contact::material_velocity(bi, c.point);
+            const Vec3 F = contact::contact_load(law.normal, law.friction, g, v_rel);
+            contact::add_point_force(bj, c.point, F, Q.segment<6>(6 * sj.body));
+            contact::add_point_force(bi, c.point, Vec3(-F), Q.segment<6>(6 * si.body));
+        }
+    }
+
+    // The elastic energy stored in the contacts (k delta^(n+1) / (n + 1) each).
+    double potential_energy(const BodyStates& bodies) const override {
+        Borrowed world(*this);
+        double V = 0.0;
+        for (const Contact& c : world->detect(bodies))
+            V += pair_law(shapes_[c.shape_i].material, curvature_radius(shapes_[c.shape_i]),
+                          shapes_[c.shape_j].material, curvature_radius(shapes_[c.shape_j]))
+                     .normal.energy(c.depth);
+        return V;
+    }
+
+    // Undamped and frictionless, the contacts' forces derive from their elastic energy (exactly
+    // where the gap rate is the depth's derivative: spheres, planes; collision_world.hpp).
+    bool is_conservative() const override {
+        for (const Shape& s : shapes_)
+            if ((!s.material.rigid && s.material.normal.damping != 0.0) || s.material.friction.mu_static != 0.0)
+                return false;
+        return true;
+    }
+
+private:
+    // A World from the pool for one evaluation, returned when done: threads evaluating the same
+    // Model each get their own, and after the first evaluations none is allocated.
+    class Borrowed {
+    public:
+        explicit Borrowed(const CollisionContact& owner) : owner_(owner) {
+            std::lock_guard<std::mutex> lock(owner_.pool_mutex_);
+            if (owner_.pool_.empty()) {
+                world_ = std::make_unique<World>(owner_.shapes_, owner_.filter_);
+            } else {
+                world_ = std::move(owner_.pool_.back());
+                owner_.pool_.pop_back();
+            }
+        }
+        ~Borrowed() {
+            std::lock_guard<std::mutex> lock(owner_.pool_mutex_);
+            owner_.pool_.push_back(std::move(world_));
+        }
+        World* operator->() { return world_.get(); }
+
+    private:
+        const CollisionContact& owner_;
+        std::unique_ptr<World> world_;
+    };
+
+    // The series law of two compliant materials needs one exponent (collision_material.hpp).
+    void check_exponents() const {
+        const Shape* first = nullptr;
+        for (const Shape& s : shapes_) {
+            if (s.material.rigid) continue;
+            if (!first) first = &s;
+            else if (s.material.normal.exponent != first->material.normal.exponent)
+                throw InputError(s.where, s.label + ": its material's exponent " +
+                                         format_number(s.material.normal.exponent) + " differs from " + first->label +
+                                         "'s " + format_number(first->material.normal.exponent) +
+                                         ": the contact law of two materials in series needs one exponent n; give "
+                                         "every collision material the same 'exponent'");
+        }
+    }
+
+    std::vector<Shape> shapes_;
+    PairFilter filter_;
+    // the evaluation workspaces (collision_world.hpp): not part of the element's value
+    mutable std::mutex pool_mutex_;
+    mutable std::vector<std::unique_ptr<World>> pool_;
+};
+
+std::unique_ptr<Force> make_collision_contact(const ForceSpec& spec) { return std::make_unique<CollisionContact>(spec); }
+
+}  // namespace
+}  // namespace mbd::collision
+
+MBD_FORCE_PLUGIN(collision_contact, mbd::collision::make_collision_contact)
+
+// The keys of the element the core builds from the bodies' `collision:` shapes
+// (core/src/scene_collision.cpp); a scene gives them through `collision:`, never directly.
+namespace {
+const mbd::PluginKey collision_contact_keys[] = {
+    {"shapes", "built by the core: one {body, collision} entry per body with `collision:` shapes", nullptr,
+     "[{body: a, collision: [{shape: sphere, radius: 0.4, material: {stiffness: 100}}]}, "
+     "{body: b, collision: [{shape: sphere, radius: 0.5, material: {stiffness: 100}}]}]"},
+    {"joined", "built by the core: the pairs of positions in `shapes` of bodies a joint connects", nullptr, "[]"},
+    {}};
+}  // namespace
+
+MBD_FORCE_KEYS(collision_contact, "contact between the `collision:` shapes of every body, found by FCL",
+               mbd::kEveryBody, mbd::kSpatialOnly, collision_contact_keys)

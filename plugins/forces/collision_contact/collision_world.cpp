@@ -1,0 +1,149 @@
+#include "collision_world.hpp"
+
+#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/halfspace.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/collision_object.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+
+#include <cmath>
+#include <cstdint>
+
+namespace mbd::collision {
+
+bool PairFilter::may_touch(int i, int j) const {
+    const Shape& a = (*shapes_)[i];
+    const Shape& b = (*shapes_)[j];
+    if (a.body == b.body) return false;
+    if (!(a.mask & b.group_bit) || !(b.mask & a.group_bit)) return false;
+    return !joined_.count({std::min(a.body, b.body), std::max(a.body, b.body)});
+}
+
+namespace {
+
+std::shared_ptr<fcl::CollisionGeometryd> geometry_of(const Shape& s) {
+    switch (s.kind) {
+        case ShapeKind::Sphere: return std::make_shared<fcl::Sphered>(s.radius);
+        case ShapeKind::Capsule: return std::make_shared<fcl::Capsuled>(s.radius, s.length);
+        case ShapeKind::Cylinder: return std::make_shared<fcl::Cylinderd>(s.radius, s.length);
+        case ShapeKind::Box: return std::make_shared<fcl::Boxd>(s.size);
+        case ShapeKind::Plane: return std::make_shared<fcl::Halfspaced>(Vec3::UnitZ(), 0.0);  // z <= 0 is solid
+    }
+    return nullptr;
+}
+
+fcl::Transform3d pose(const Vec3& R, const Mat3& A, const Shape& s) {
+    fcl::Transform3d t = fcl::Transform3d::Identity();
+    t.linear() = A * s.rotation;
+    t.translation() = R + A * s.position;
+    return t;
+}
+
+int shape_of(const fcl::CollisionObjectd* o) { return static_cast<int>(reinterpret_cast<std::intptr_t>(o->getUserData())); }
+
+}  // namespace
+
+struct World::Detail {
+    const std::vector<Shape>* shapes = nullptr;
+    PairFilter filter;
+    std::vector<std::unique_ptr<fcl::CollisionObjectd>> objects;  // one per shape
+    std::vector<int> planes;                                      // shapes that are ground planes
+    fcl::DynamicAABBTreeCollisionManagerd manager;                // every shape but the planes
+    fcl::detail::GJKSolver_libccd<double> solver;
+    fcl::CollisionRequestd request{8, true};  // up to 8 contacts a pair (a box face on a box: its corners)
+    fcl::CollisionResultd result;
+    std::vector<Contact> contacts;
+
+    void narrow_phase(int i, int j);
+    void box_on_plane(int plane, int box);
+    static bool on_candidate(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* self) {
+        static_cast<Detail*>(self)->narrow_phase(shape_of(a), shape_of(b));
+        return false;  // go on: every candidate pair
+    }
+};
+
+// A box against a plane: FCL (0.7, boxHalfspaceIntersect) gives only the deepest corner, which
+// cannot hold a box face resting on the plane; the contacts are every corner below the plane,
+// each at its depth (exact), acting at its foot on the plane.
+void World::Detail::box_on_plane(int plane, int box) {
+    const fcl::Transform3d& P = objects[plane]->getTransform();
+    const fcl::Transform3d& B = objects[box]->getTransform();
+    const Vec3 n = P.linear().col(2);
+    const Vec3 half = 0.5 * (*shapes)[box].size;
+    for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 local((corner & 1 ? 1 : -1) * half.x(), (corner & 2 ? 1 : -1) * half.y(),
+                         (corner & 4 ? 1 : -1) * half.z());
+        const Vec3 v = B * local;
+        const double height = n.dot(v - P.translation());
+        if (height >= 0.0) continue;
+        contacts.push_back({plane, box, Vec3(v - height * n), n, -height});
+    }
+}
+
+void World::Detail::narrow_phase(int i, int j) {
+    if (!filter.may_touch(i, j)) return;
+    const Shape& a = (*shapes)[i];
+    const Shape& b = (*shapes)[j];
+    if (a.kind == ShapeKind::Plane && b.kind == ShapeKind::Box) return box_on_plane(i, j);
+    if (b.kind == ShapeKind::Plane && a.kind == ShapeKind::Box) return box_on_plane(j, i);
+    result.clear();
+    fcl::collide(objects[i].get(), objects[j].get(), &solver, request, result);
+    const int plane = a.kind == ShapeKind::Plane ? i : b.kind == ShapeKind::Plane ? j : -1;
+    for (size_t k = 0; k < result.numContacts(); ++k) {
+        const fcl::Contactd& c = result.getContact(k);
+        // no force from a contact without a direction (EPA on a degenerate overlap can give a
+        // zero or non-finite normal): a NaN would stop the run
+        if (!(c.penetration_depth > 0.0) || !std::isfinite(c.penetration_depth) || !c.normal.allFinite() ||
+            !(c.normal.norm() > 0.5))
+            continue;
+        Contact out{i, j, c.pos, c.normal.normalized(), c.penetration_depth};
+        if (plane >= 0) {
+            // against a plane the force acts on the plane (as the sphere_plane element's does):
+            // FCL's point is the middle of the overlap
+            const fcl::Transform3d& P = objects[plane]->getTransform();
+            const Vec3 n = P.linear().col(2);
+            out.point -= n * n.dot(out.point - P.translation());
+        }
+        contacts.push_back(out);
+    }
+}
+
+World::World(const std::vector<Shape>& shapes, const PairFilter& filter) : detail_(std::make_unique<Detail>()) {
+    Detail& d = *detail_;
+    d.shapes = &shapes;
+    d.filter = filter;
+    std::vector<fcl::CollisionObjectd*> listed;
+    for (size_t k = 0; k < shapes.size(); ++k) {
+        d.objects.push_back(std::make_unique<fcl::CollisionObjectd>(geometry_of(shapes[k])));
+        d.objects.back()->setUserData(reinterpret_cast<void*>(static_cast<std::intptr_t>(k)));
+        if (shapes[k].kind == ShapeKind::Plane)
+            d.planes.push_back(static_cast<int>(k));
+        else
+            listed.push_back(d.objects.back().get());
+    }
+    d.manager.registerObjects(listed);
+    d.manager.setup();
+}
+
+World::~World() = default;
+
+const std::vector<Contact>& World::detect(const BodyStates& bodies) {
+    Detail& d = *detail_;
+    for (size_t k = 0; k < d.objects.size(); ++k) {
+        const Shape& s = (*d.shapes)[k];
+        const SpatialBody& b = bodies.spatial(s.body);
+        d.objects[k]->setTransform(pose(b.R, b.A, s));
+        d.objects[k]->computeAABB();
+    }
+    d.manager.update();  // refit the tree to the new boxes
+    d.contacts.clear();
+    d.manager.collide(&d, &Detail::on_candidate);
+    for (int plane : d.planes) d.manager.collide(d.objects[plane].get(), &d, &Detail::on_candidate);
+    return d.contacts;
+}
+
+}  // namespace mbd::collision
