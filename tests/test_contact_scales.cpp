@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -75,6 +76,44 @@ TEST(ContactScales, TwoFreeBodiesUseTheirReducedMassAndAnImpactWithoutGravity) {
     EXPECT_TRUE(mbd::contact_scales(mbd::test::scene(free_ball)).empty());
     // elements without a compliant law hold none
     EXPECT_TRUE(mbd::contact_scales(mbd::test::load("dynamics/pendulum-a01.yaml")).empty());
+}
+
+// Collision shapes (collision_contact): each body's stiffest law against the ground's shapes, or
+// against its own kind when the ground has none: two equal materials in series,
+// k^(-1/n) = 2 k_1^(-1/n), k = k_1 / 2^n, carrying the reduced mass m / 2.
+TEST(ContactScales, CollisionShapesGiveEachBodyItsStiffestLaw) {
+    const std::string sphere = "collision: [{shape: sphere, radius: 0.1, material: {stiffness: 1.0e8, exponent: 1.5}}]";
+    const std::string bodies = "  - {name: a, mass: 2.0, inertia: [0.01, 0.01, 0.01], position: [0, 0, 0.3], " + sphere +
+                               "}\n  - {name: b, mass: 0.5, inertia: [0.01, 0.01, 0.01], position: [1, 0, 0.2], " +
+                               sphere + "}\n";
+    const std::string head = "name: shapes\ndimension: spatial\ngravity: [0, 0, -9.81]\n";
+    const double n = 1.5;
+    {   // on a rigid ground plane: each body carries its own weight, k as given
+        const mbd::Model model = mbd::test::scene(head + "ground:\n  collision: [{shape: plane, normal: [0, 0, 1]}]\n"
+                                                  "bodies:\n" + bodies);
+        const std::vector<mbd::ContactScale> scales = mbd::contact_scales(model);
+        ASSERT_EQ(scales.size(), 2u);
+        for (const auto& [m, extent] : {std::pair{2.0, 0.3}, std::pair{0.5, 1.0}}) {
+            const auto s = std::find_if(scales.begin(), scales.end(), [&](const auto& x) { return x.mass == m; });
+            ASSERT_NE(s, scales.end()) << m;
+            const double delta = std::pow(m * g / 1e8, 1.0 / n);
+            EXPECT_NEAR(s->penetration, delta, 1e-12 * delta);
+            EXPECT_NEAR(s->frequency, std::sqrt(n * 1e8 * std::pow(delta, n - 1.0) / m), 1e-9 * s->frequency);
+            EXPECT_NEAR(s->extent, extent, 1e-15);
+        }
+    }
+    {   // no ground shapes: each against its own kind, half its mass on the series law
+        const std::vector<mbd::ContactScale> scales = mbd::contact_scales(mbd::test::scene(head + "bodies:\n" + bodies));
+        ASSERT_EQ(scales.size(), 2u);
+        const double k = 1e8 / std::pow(2.0, n);
+        for (const double m : {2.0, 0.5}) {
+            const auto s = std::find_if(scales.begin(), scales.end(), [&](const auto& x) { return x.mass == m / 2; });
+            ASSERT_NE(s, scales.end()) << m;
+            const double delta = std::pow(m / 2 * g / k, 1.0 / n);
+            EXPECT_NEAR(s->penetration, delta, 1e-12 * delta);
+            EXPECT_NEAR(s->frequency, std::sqrt(n * k * std::pow(delta, n - 1.0) / (m / 2)), 1e-9 * s->frequency);
+        }
+    }
 }
 
 TEST(AutomaticTolerance, ResolvesTheRestingPenetrationOfAStiffContact) {

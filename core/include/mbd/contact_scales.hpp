@@ -1,4 +1,4 @@
-// The scales a compliant contact holds (Force::compliant_law, F_n = k delta^n + damping), for the
+// The scales a compliant contact holds (Force::compliant_laws, F_n = k delta^n + damping), for the
 // automatic choice (docs/user-guide.md "The automatic choice"):
 //  - the penetration: at rest under the weight of the mass it carries, delta_s = (m g / k)^(1/n)
 //    (the law balancing m g), and, when the damping was fitted to a restitution at an impact
@@ -37,7 +37,7 @@ struct ContactScale {
     double tolerance = 0.0;     // penetration / (kPenetrationResolution (1 + L))
 };
 
-// The scales of the scene's compliant contacts, in scene order.
+// The scales of the scene's compliant contacts (each law of each element), in scene order.
 std::vector<ContactScale> contact_scales(const Model& model);
 
 }  // namespace mbd

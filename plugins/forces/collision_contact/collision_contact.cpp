@@ -14,6 +14,8 @@
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/plugin_keys.hpp>
 
+#include <algorithm>
+#include <map>
 #include <mutex>
 
 namespace mbd::collision {
@@ -31,6 +33,7 @@ public:
         for (size_t k = 0; k < lists.items.size(); ++k) {
             const Param& entry = lists.items[k];
             const BodyInfo& body = spec.bodies[k];
+            if (body.ground) ground_body_ = static_cast<int>(k);
             const bool massless = !body.ground && (body.mass <= 0.0 || body.inertia.diagonal().minCoeff() <= 0.0);
             std::vector<Shape> read =
                 read_shapes(entry.fields.at("collision"), body.name, static_cast<int>(k), body.ground, massless);
@@ -82,6 +85,31 @@ public:
         return true;
     }
 
+    // For the automatic choice (Force::compliant_laws): each body's stiffest law against the
+    // ground's shapes, or, with none, against its own shapes (two bodies of one kind).
+    std::vector<CompliantLaw> compliant_laws() const override {
+        std::vector<const Shape*> ground;
+        for (const Shape& s : shapes_)
+            if (ground_body_ >= 0 && s.body == ground_body_) ground.push_back(&s);
+        std::map<int, CompliantLaw> stiffest;  // by body
+        for (const Shape& s : shapes_) {
+            if (s.body == ground_body_) continue;
+            std::vector<const Shape*> partners = ground;
+            if (partners.empty()) partners.push_back(&s);
+            for (const Shape* p : partners) {
+                const PairLaw law = pair_law(s.material, curvature_radius(s), p->material, curvature_radius(*p));
+                const double v = std::max(s.material.normal.impact_velocity, p->material.normal.impact_velocity);
+                CompliantLaw& best = stiffest.try_emplace(s.body).first->second;
+                if (law.normal.stiffness > best.stiffness)
+                    best = {law.normal.stiffness, law.normal.exponent, v, p->body, s.body};
+            }
+        }
+        std::vector<CompliantLaw> laws;
+        for (const auto& entry : stiffest)
+            if (entry.second.stiffness > 0.0) laws.push_back(entry.second);
+        return laws;
+    }
+
 private:
     // A World from the pool for one evaluation, returned when done: threads evaluating the same
     // Model each get their own, and after the first evaluations none is allocated.
@@ -123,6 +151,7 @@ private:
     }
 
     std::vector<Shape> shapes_;
+    int ground_body_ = -1;  // the ground's position in the element's bodies (-1: it has no shapes)
     PairFilter filter_;
     // the evaluation workspaces (collision_world.hpp): not part of the element's value
     mutable std::mutex pool_mutex_;

@@ -260,8 +260,8 @@ public:
         return gap_and_rate_of(force_support::spatial_states<double>(b));
     }
     double potential_energy(const BodyStates& b) const override { return normal_.energy(-gap_and_rate(b).gap); }
-    CompliantLaw compliant_law() const override {
-        return {normal_.stiffness, normal_.exponent, normal_.impact_velocity};
+    std::vector<CompliantLaw> compliant_laws() const override {
+        return {{normal_.stiffness, normal_.exponent, normal_.impact_velocity, 0, 1}};
     }
 
     // --- the event: the gap, so that no step straddles the onset of the contact force (its
