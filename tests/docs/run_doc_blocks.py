@@ -16,6 +16,8 @@ block may use the files an earlier block of the same page wrote (a result CSV, s
 - ```python: run as a program with `python3` (Debian's) when it is complete (it imports what it
   uses); its ```text block right after, if any, is its expected output (as for console).
 - A ```text block right after a sh block is that block's expected output.
+- Every `--option` in an inline `mbd COMMAND ...` span of the prose must be an option of that
+  command (`mbd COMMAND --help`).
 
 An HTML comment on the line before a block marks what it needs:
 - `<!-- doc-test: needs mpi -->`: runs under OpenMPI (mpirun on PATH, as root allowed); the test
@@ -114,7 +116,7 @@ def line_pattern(expected):
         if token.group(0) == "...":
             pattern += ".*?"
         else:
-            pattern += r"([-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|nan|inf)"
+            pattern += r"(?<![\d.])([-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|nan|inf)(?![\d.])"
             numbers.append(token.group(0))
         position = token.end()
     pattern += re.escape(expected[position:])
@@ -276,6 +278,29 @@ def run_block(block, work, env, timeout):
     return None
 
 
+def inline_option_problems(pages, source, env):
+    """Each `--option` of an inline `mbd COMMAND ...` span of the prose is an option of that
+    command (`mbd COMMAND --help`): a renamed or removed option cannot linger in a sentence."""
+    listing = subprocess.run(["mbd", "--help"], env=env, capture_output=True, text=True).stdout
+    commands = set(re.findall(r"^  ([a-z]+) ", listing, re.M))
+    helps, problems = {}, []
+    for page in pages:
+        text = page.read_text()
+        for span in re.finditer(r"`(mbd (plugin check|[a-z]+)\b[^`]*)`", text):
+            command = span.group(2)
+            if command.split()[0] not in commands:
+                continue  # a command named as not there yet (`mbd export`)
+            if command not in helps:
+                helps[command] = subprocess.run(["mbd", *command.split(), "--help"], env=env,
+                                                capture_output=True, text=True).stdout
+            for option in re.findall(r"(?<![\w-])(--[a-z][a-z0-9-]*)", span.group(1)):
+                if not re.search(r"(^|[\s,])" + re.escape(option) + r"\b", helps[command]):
+                    line = text.count("\n", 0, span.start()) + 1
+                    problems.append(f"{page.relative_to(source)}:{line}: `{span.group(1)}`: "
+                                    f"{option} is not an option of `mbd {command}`")
+    return problems
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--source", required=True)
@@ -317,6 +342,9 @@ def main():
                     failures.append(f"{block.where()} ({block.language}): {problem}")
                     outcome = "FAILED"
                 report.append(f"{block.where():28s} {block.language:8s} {took:6.1f} s  {outcome}")
+    inline = inline_option_problems(pages, source, environment(args, source))
+    failures.extend(inline)
+    report.append(f"inline `mbd COMMAND --option` spans of the prose: {len(inline)} unknown options")
     print("\n".join(report))
     print(f"callers, not run here: {', '.join(sorted(CALLERS))} (README.md; they run this test)")
     print(f"{len(report)} blocks in {time.monotonic() - total_start:.1f} s, {len(failures)} failed")
