@@ -10,7 +10,8 @@ block may use the files an earlier block of the same page wrote (a result CSV, s
 - ```sh / ```bash: one bash script (`set -eo pipefail`): every command must succeed.
 - ```console: `$ COMMAND` lines, each followed by its documented output. Each command must exit 0
   (a doc that shows a failure says so with `; echo "exit status $?"`), and the lines shown must
-  appear in its output (stdout and stderr) in that order. `...` in a line stands for any text;
+  appear in its output (stdout and stderr) in that order. `...` in a line stands for any text,
+  a run of spaces for any run of spaces;
   a number matches the output's number rounded to the digits shown (1.2e-06 matches
   1.2345e-06, 0.722 matches 0.72249).
 - ```python: run as a program with `python3` (Debian's) when it is complete (it imports what it
@@ -108,18 +109,35 @@ def number_matches(shown, actual):
     return abs(value - float(shown)) <= 0.5 * 10.0 ** (-decimals) * (1 + 1e-9)
 
 
+def number_pattern(shown):
+    """A regex for the output's number that a shown number stands for: its digits but the last
+    (which rounding may change) and any further digits; number_matches then checks the rounding
+    (a carry into the leading digits, 1.9999 shown as 2.000, is not found: show a digit less).
+    Pinning the leading digits keeps `...` from skipping to another number of the line."""
+    mantissa, _, exponent = shown.lower().partition("e")
+    lead = mantissa[:-1]
+    more = r"\d*" if re.search(r"\d", lead) else r"\d+"  # at least one digit
+    body = re.escape(lead) + more + (r"(?:\.\d*)?" if "." not in lead else "")
+    if exponent:
+        body += r"[eE][-+]?\d+"
+    return r"(?<![\d.])(" + body + r")(?![\d.])"
+
+
 def line_pattern(expected):
     """A regex for one expected line: literal text, `...` as any text, numbers captured."""
+    def literal(text):  # a run of spaces stands for any run (columns are aligned with spaces)
+        return r"\s+".join(re.escape(piece) for piece in re.split(r"\s+", text))
+
     pattern, numbers, position = "", [], 0
     for token in re.finditer(r"\.\.\.|" + NUMBER.pattern, expected):
-        pattern += re.escape(expected[position:token.start()])
+        pattern += literal(expected[position:token.start()])
         if token.group(0) == "...":
             pattern += ".*?"
         else:
-            pattern += r"(?<![\d.])([-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|nan|inf)(?![\d.])"
+            pattern += number_pattern(token.group(0))
             numbers.append(token.group(0))
         position = token.end()
-    pattern += re.escape(expected[position:])
+    pattern += literal(expected[position:])
     return re.compile(pattern), numbers
 
 

@@ -71,3 +71,13 @@ def test_an_inline_option_the_command_lacks_is_found(tmp_path):
     env = {"PATH": f"{fake.parent}:/usr/bin:/bin"}
     assert runner.inline_option_problems([page], tmp_path, env) == [
         "p.md:1: `mbd simulate --t-end 1 --bogus`: --bogus is not an option of `mbd simulate`"]
+
+
+def test_a_wildcard_does_not_skip_to_another_number_of_the_line():
+    line = "     2  real           -0.32286643           +0i      0.322866429    0.051385788            1"
+    assert runner.check_output(["2  real ... -0.32286643 ..."], line) is None
+    assert runner.check_output(["2  real ... -0.3228664 ..."], line) is None
+    assert runner.check_output(["2  real ... -0.32286649 ..."], line) == "2  real ... -0.32286649 ..."
+    assert runner.check_output(["3  real ..."], line) == "3  real ..."
+    assert runner.check_output(["exit status 2"], "exit status 2\n") is None
+    assert runner.check_output(["exit status 2"], "exit status \n") == "exit status 2"
