@@ -6,14 +6,12 @@
 #include "commands.hpp"
 #include "options.hpp"
 
-#include <mbd/app/json_output.hpp>
-#include <mbd/linearisation.hpp>
-#include <mbd/modes.hpp>
+#include <mbd/app/modes_json.hpp>
+#include <mbd/modes_study.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/sdk/text.hpp>
-#include <mbd/statics_analysis.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -35,8 +33,6 @@ struct ModesArguments {
     std::string solver = "ipopt";
     int statics_iterations = 500;
 };
-
-const char* kind_of(const Mode& m) { return m.oscillatory ? "oscillatory" : m.free_velocity ? "free_velocity" : "real"; }
 
 std::string number(double x) { return format_number(x, 17); }
 
@@ -70,13 +66,6 @@ std::string mode_table(const LinearModel& linear, const ModeAnalysis& analysis) 
     return s.str();
 }
 
-std::vector<std::string> state_names(const LinearModel& linear) {
-    std::vector<std::string> out;
-    for (const std::string& c : linear.coordinates) out.push_back(c);
-    for (const std::string& c : linear.velocity_coordinates) out.push_back(c + "_rate");
-    return out;
-}
-
 // One row per state, in the order of the A columns: its row of A, then its row of B.
 std::string state_space_table(const LinearModel& linear) {
     const std::vector<std::string> names = state_names(linear);
@@ -93,54 +82,6 @@ std::string state_space_table(const LinearModel& linear) {
     return s.str();
 }
 
-Json complex_array(const Eigen::VectorXcd& x) {
-    Json out = Json::array();
-    for (Eigen::Index i = 0; i < x.size(); ++i) out.push_back(Json::array({x[i].real(), x[i].imag()}));
-    return out;
-}
-
-Json matrix_json(const Eigen::MatrixXd& M) {
-    Json out = Json::array();
-    for (Eigen::Index i = 0; i < M.rows(); ++i) {
-        // a matrix without columns (B of a scene without actuators) has no row to take a block of
-        if (M.cols() == 0)
-            out.push_back(Json::array());
-        else
-            out.push_back(json_array(M.row(i).transpose()));
-    }
-    return out;
-}
-
-Json modes_json(const std::string& about, const LinearModel& linear, const ModeAnalysis& analysis) {
-    Json doc;
-    doc["about"] = about;
-    doc["residual"] = linear.residual;
-    doc["coordinates"] = linear.coordinates;
-    doc["velocity_coordinates"] = linear.velocity_coordinates;
-    doc["joint_coordinates"] = linear.joint_coordinates;
-    doc["states"] = state_names(linear);
-    doc["inputs"] = linear.inputs;
-    Json modes = Json::array();
-    for (const Mode& m : analysis.modes) {
-        Json j;
-        j["kind"] = kind_of(m);
-        j["eigenvalue"] = Json::array({m.eigenvalue.real(), m.eigenvalue.imag()});
-        j["natural_frequency"] = m.natural_frequency;
-        j["damped_frequency"] = m.damped_frequency;
-        j["damping_ratio"] = m.damping_ratio;
-        j["shape"] = complex_array(m.shape);
-        j["joint_shape"] = complex_array(m.joint_shape);
-        modes.push_back(j);
-    }
-    doc["modes"] = modes;
-    Json ignorable = Json::array();
-    for (const IgnorableDirection& d : analysis.ignorable) ignorable.push_back(describe(d, linear.coordinates));
-    doc["ignorable"] = ignorable;
-    doc["A"] = matrix_json(linear.A);
-    doc["B"] = matrix_json(linear.B);
-    return doc;
-}
-
 void print_report(const std::string& scene, const std::string& about, const LinearModel& linear,
                   const ModeAnalysis& analysis) {
     std::printf("modes of %s about %s (residual max |vdot_i| = %.3e)\n", scene.c_str(),
@@ -155,7 +96,7 @@ void print_report(const std::string& scene, const std::string& about, const Line
                 "damping");
     int index = 1;
     for (const Mode& m : analysis.modes)
-        std::printf("  %4d  %-13s %12.8g %+12.8gi %16.10g %14.8g %12.8g\n", index++, kind_of(m), m.eigenvalue.real(),
+        std::printf("  %4d  %-13s %12.8g %+12.8gi %16.10g %14.8g %12.8g\n", index++, mode_kind(m), m.eigenvalue.real(),
                     m.eigenvalue.imag(), m.natural_frequency, m.natural_frequency / (2 * M_PI), m.damping_ratio);
     for (const IgnorableDirection& d : analysis.ignorable)
         std::printf("  %4d  %-13s %12.8g %+12.8gi   cyclic: the equations of motion do not depend on %s%s\n", index++,
@@ -196,29 +137,19 @@ void add_modes_command(CLI::App& app, Commands& commands) {
         const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         check_output_path(args->state_space, scene_files(args->scene, model), "--state-space");
-        require_linearisable(model);  // before the statics
-        State reference = model.initial_state();
-        {
-            ModelSystem system(model);
-            require_freedom(system, reference);  // a driven mechanism: named, before the statics
-        }
-        if (args->about == "statics") {
-            StaticsOptions statics;
-            statics.max_iterations = args->statics_iterations;
-            const StaticsReport rep = run_statics(model, registry, statics, args->solver);
-            if (!rep.result.converged) {
-                std::cerr << "mbd: error: no modes: the statics of " << args->scene
-                          << " did not converge: " << rep.result.message << '\n';
-                return 1;
-            }
-            reference = rep.result.state;
-            reference.v = Eigen::VectorXd::Zero(model.nv());
-        }
-        ModelSystem system(model);
-        LinearisationOptions options;
+        ModesStudyOptions options;
+        options.about = args->about;
         options.residual_tolerance = args->residual_tolerance;
-        const LinearModel linear = linearise(system, reference, scene_actuators(model), options);
-        const ModeAnalysis analysis = modes_of(linear);
+        options.solver = args->solver;
+        options.statics_iterations = args->statics_iterations;
+        const ModesStudy study = study_modes(model, registry, options);
+        if (!study.statics_converged) {
+            std::cerr << "mbd: error: no modes: the statics of " << args->scene
+                      << " did not converge: " << study.statics_message << '\n';
+            return 1;
+        }
+        const LinearModel& linear = study.linear;
+        const ModeAnalysis& analysis = study.analysis;
         if (args->json) std::cout << json_text(modes_json(args->about, linear, analysis)) << std::endl;
         else print_report(args->scene, args->about, linear, analysis);
         if (!args->output.empty()) write_file(args->output, mode_table(linear, analysis));

@@ -11,6 +11,8 @@ packages=(
   libgtest-dev
   python3 python3-numpy
   python3-dev pybind11-dev python3-pytest  # the Python module (python/, docs/python.md) and its tests
+  python3-venv python3-pip python3-setuptools python3-wheel  # the wheel and its venv test (scripts/build-wheel.sh, docs/python.md)
+  python3-nbconvert python3-ipykernel  # the notebook of the wheel test, executed headless
   python3-matplotlib
   libsimbody-dev libmujoco-dev  # the bench peers (bench/peers/, docs/benchmarks.md)
   clang libclang-rt-dev  # libFuzzer (scripts/fuzz.sh, run by CI through scripts/fuzz-ci.sh)

@@ -17,14 +17,10 @@
 namespace {
 
 namespace fs = std::filesystem;
+using mbd::test::write_text;
 using mbd::test::read_text;
 using mbd::test::run_mbd;
 using mbd::test::scratch;
-
-fs::path write(const fs::path& path, const std::string& text) {
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
-}
 
 std::string pendulum_scene() { return mbd::test::scene_path("dynamics/pendulum-a01.yaml").string(); }
 
@@ -74,14 +70,14 @@ TEST(AnimateNumbers, CellsBeyondTheFloatRangeAreRefusedNamingLineAndColumn) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
 
     // 1e39 in bob.x (column 2) of the fourth line: once inf in the .glb; +-1e308 once -nan in the page
-    const fs::path big = write(dir / "big.csv", with_cell(good, 4, 2, "1e39"));
+    const fs::path big = write_text(dir / "big.csv", with_cell(good, 4, 2, "1e39"));
     expect_refused(pendulum_scene(), big, dir / "big.glb", {big.string() + ":4:", "column 2 'bob.x'", "'1e39'", "3.4e38"});
     expect_refused(pendulum_scene(), big, dir / "big.html", {big.string() + ":4:", "'bob.x'"});
-    const fs::path huge = write(dir / "huge.csv", with_cell(with_cell(good, 6, 3, "1e308"), 7, 3, "-1e308"));
+    const fs::path huge = write_text(dir / "huge.csv", with_cell(with_cell(good, 6, 3, "1e308"), 7, 3, "-1e308"));
     expect_refused(pendulum_scene(), huge, dir / "huge.html", {huge.string() + ":6:", "column 3 'bob.y'", "'1e308'"});
     expect_refused(pendulum_scene(), huge, dir / "huge.glb", {huge.string() + ":6:", "'bob.y'"});
     // the largest float itself is still a number the files can hold
-    const fs::path edge = write(dir / "edge.csv", with_cell(good, 4, 5, "3.4e38"));
+    const fs::path edge = write_text(dir / "edge.csv", with_cell(good, 4, 5, "3.4e38"));
     r = run_mbd("animate " + pendulum_scene() + " " + edge.string() + " -o " + (dir / "edge.html").string());
     EXPECT_EQ(r.exit_code, 0) << r.err;
 }
@@ -90,11 +86,11 @@ TEST(AnimateNumbers, CsvCutInsideItsLastLineIsRefused) {
     const fs::path dir = scratch("animate-cut");
     const std::string good = pendulum_csv(dir);
     // 12 lines: the header and 11 rows; cut two characters off the last number
-    const fs::path cut = write(dir / "cut.csv", good.substr(0, good.size() - 3));
+    const fs::path cut = write_text(dir / "cut.csv", good.substr(0, good.size() - 3));
     expect_refused(pendulum_scene(), cut, dir / "cut.glb", {cut.string() + ":12:", "no line end"});
     // a last line cut before its last cells: the short row is named
     const std::string shorter = good.substr(0, good.rfind(',', good.size() - 2)) + "\n";
-    const fs::path few = write(dir / "few.csv", shorter);
+    const fs::path few = write_text(dir / "few.csv", shorter);
     expect_refused(pendulum_scene(), few, dir / "few.html", {few.string() + ":12:", "6 values for the 7 columns"});
 }
 
@@ -112,18 +108,18 @@ std::string binary_stl(float x) {
 TEST(AnimateNumbers, MeshWithANanVertexIsRefusedNamingTheFile) {
     const fs::path dir = scratch("animate-mesh");
     const std::string good = pendulum_csv(dir);
-    write(dir / "motion.csv", good);
+    write_text(dir / "motion.csv", good);
     const std::string scene_text = read_text(pendulum_scene());
     const std::string visual = "mass: 1.0, inertia: 1.0e-6, position: [1.0, 0.0], angle: 0.0,\n"
                                "     visual: [{shape: mesh, file: bob.stl, scale: 0.1}]";
-    const fs::path scene = write(dir / "scene.yaml", mbd::test::replaced(scene_text, "mass: 1.0, inertia: 1.0e-6, "
+    const fs::path scene = write_text(dir / "scene.yaml", mbd::test::replaced(scene_text, "mass: 1.0, inertia: 1.0e-6, "
                                                                                     "position: [1.0, 0.0], angle: 0.0",
                                                                          visual));
-    write(dir / "bob.stl", binary_stl(0.5f));
+    write_text(dir / "bob.stl", binary_stl(0.5f));
     auto r = run_mbd("animate " + scene.string() + " " + (dir / "motion.csv").string() + " -o " + (dir / "ok.glb").string());
     ASSERT_EQ(r.exit_code, 0) << "the finite mesh animates: " << r.err;
 
-    write(dir / "bob.stl", binary_stl(std::numeric_limits<float>::quiet_NaN()));
+    write_text(dir / "bob.stl", binary_stl(std::numeric_limits<float>::quiet_NaN()));
     for (const char* output : {"nan.glb", "nan.html"})
         expect_refused(scene.string(), dir / "motion.csv", dir / output,
                        {"bob.stl", "has a vertex that is not a finite number", "nan"});

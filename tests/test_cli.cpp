@@ -27,12 +27,7 @@ std::string book_scene(const std::string& name) {
     return (fs::path(MBD_SOURCE_DIR) / "scenes/book" / name).string();
 }
 
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using mbd::test::read_text;
 
 std::vector<std::string> split(const std::string& line, char sep) {
     std::vector<std::string> out;

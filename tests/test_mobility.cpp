@@ -27,12 +27,7 @@ std::filesystem::path book_scene(const std::string& name) {
     return std::filesystem::path(MBD_SOURCE_DIR) / "scenes/book" / name;
 }
 
-std::string read_text(const std::filesystem::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using mbd::test::read_text;
 
 mbd::MobilityReport mobility_of(const std::string& scene) {
     const mbd::Model model = mbd::load_scene(book_scene(scene), registry());

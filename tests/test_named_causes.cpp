@@ -16,6 +16,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using mbd::test::write_text;
 
 #define EXPECT_CONTAINS(text, part) \
     EXPECT_NE(std::string(text).find(part), std::string::npos) << "'" << (text) << "' lacks '" << (part) << "'"
@@ -39,17 +40,12 @@ std::string text_error(const std::string& yaml) {
     return "loaded";
 }
 
-fs::path write(const fs::path& file, const std::string& text) {
-    std::ofstream(file) << text;
-    return file;
-}
-
 const std::string kBob = "dimension: planar\nbodies:\n  - name: bob\n    mass: 1\n    inertia: 0.01\n"
                          "    visual: {shape: mesh, file: meshes}\n";
 
 TEST(NamedCauses, AMeshPathThatIsAFolderIsCalledAFolder) {
     const fs::path dir = mbd::test::scratch("mesh-folder");
-    const fs::path scene = write(dir / "scene.yaml", kBob);
+    const fs::path scene = write_text(dir / "scene.yaml", kBob);
     // no such path: not found
     EXPECT_CONTAINS(file_error(scene), "scene.yaml:6: body 'bob': key 'file': mesh file '" + (dir / "meshes").string() +
                                            "' not found");

@@ -31,12 +31,7 @@ using mbd::test::scratch;
 
 std::string scene(const std::string& relative) { return mbd::test::scene_path(relative).string(); }
 
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using mbd::test::read_text;
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

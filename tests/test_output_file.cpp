@@ -24,16 +24,16 @@
 namespace {
 
 namespace fs = std::filesystem;
+using mbd::test::write_text;
 using mbd::test::scratch;
 
+// Any file's bytes: a FIFO's too (mbd::test::read_text takes regular files only).
 std::string read_text(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::stringstream s;
     s << in.rdbuf();
     return s.str();
 }
-
-void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

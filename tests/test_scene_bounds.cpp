@@ -18,6 +18,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using mbd::test::write_text;
 using mbd::SceneLimits;
 using mbd::test::run_command;
 using mbd::test::scratch;
@@ -44,11 +45,6 @@ std::string file_error(const fs::path& file) {
     }
     ADD_FAILURE() << "expected an InputError, " << file << " loaded";
     return {};
-}
-
-fs::path write(const fs::path& file, const std::string& text) {
-    std::ofstream(file, std::ios::binary) << text;
-    return file;
 }
 
 // `mbd check FILE` under coreutils' timeout: a hang shows as status 124 instead of
@@ -121,7 +117,7 @@ TEST(SceneBounds, AliasBombIsRefusedByItsExpandedSize) {
     EXPECT_CONTAINS(msg, "more than " + std::to_string(SceneLimits::max_values) + " values");
     EXPECT_CONTAINS(msg, "aliases");
 
-    const fs::path file = write(scratch("bomb") / "bomb.yaml", bomb);
+    const fs::path file = write_text(scratch("bomb") / "bomb.yaml", bomb);
     EXPECT_CONTAINS(file_error(file), file.string() + ":");
     expect_refused_by_cli(file, "aliases are expanded");
 }
@@ -141,15 +137,15 @@ TEST(SceneBounds, NestingDepthIsLimited) {
 
 TEST(SceneBounds, AliasCycleInsideABaseFileNamesTheBase) {
     const fs::path dir = scratch("base-alias");
-    write(dir / "base.yaml", kPendulum + "notes: &n [a, *n]\n");
-    const fs::path derived = write(dir / "derived.yaml", "base: base.yaml\nname: d\n");
+    write_text(dir / "base.yaml", kPendulum + "notes: &n [a, *n]\n");
+    const fs::path derived = write_text(dir / "derived.yaml", "base: base.yaml\nname: d\n");
     const std::string msg = file_error(derived);
     EXPECT_CONTAINS(msg, (dir / "base.yaml").string() + ":6");
     EXPECT_CONTAINS(msg, "contains it");
     expect_refused_by_cli(derived, "contains it", dir / "base.yaml");
     // an alias bomb in the base: the base file is named too
-    write(dir / "bomb.yaml", alias_bomb());
-    const std::string bomb = file_error(write(dir / "uses-bomb.yaml", "base: bomb.yaml\n"));
+    write_text(dir / "bomb.yaml", alias_bomb());
+    const std::string bomb = file_error(write_text(dir / "uses-bomb.yaml", "base: bomb.yaml\n"));
     EXPECT_CONTAINS(bomb, (dir / "bomb.yaml").string() + ":");
     EXPECT_CONTAINS(bomb, "aliases are expanded");
 }
@@ -159,7 +155,7 @@ TEST(SceneBounds, DevZeroIsNotAScene) {
     EXPECT_CONTAINS(msg, "/dev/zero");
     EXPECT_CONTAINS(msg, "character device");
     expect_refused_by_cli("/dev/zero", "character device");
-    const fs::path derived = write(scratch("base-zero") / "derived.yaml", "name: d\nbase: /dev/zero\n");
+    const fs::path derived = write_text(scratch("base-zero") / "derived.yaml", "name: d\nbase: /dev/zero\n");
     const std::string base = file_error(derived);
     EXPECT_CONTAINS(base, derived.string() + ":2");
     EXPECT_CONTAINS(base, "'/dev/zero'");
@@ -174,7 +170,7 @@ TEST(SceneBounds, FifoIsRefusedWithoutWaitingForAWriter) {
     EXPECT_CONTAINS(msg, fifo.string());
     EXPECT_CONTAINS(msg, "FIFO");
     expect_refused_by_cli(fifo, "FIFO");
-    const std::string base = file_error(write(dir / "derived.yaml", "base: scene.yaml\n"));
+    const std::string base = file_error(write_text(dir / "derived.yaml", "base: scene.yaml\n"));
     EXPECT_CONTAINS(base, (dir / "derived.yaml").string() + ":1");
     EXPECT_CONTAINS(base, fifo.string());
     EXPECT_CONTAINS(base, "FIFO");
@@ -187,7 +183,7 @@ TEST(SceneBounds, DirectoryIsNotAScene) {
     EXPECT_CONTAINS(msg, (dir / "scene.yaml").string());
     EXPECT_CONTAINS(msg, "a directory");
     expect_refused_by_cli(dir / "scene.yaml", "a directory");
-    const std::string base = file_error(write(dir / "derived.yaml", "base: scene.yaml\n"));
+    const std::string base = file_error(write_text(dir / "derived.yaml", "base: scene.yaml\n"));
     EXPECT_CONTAINS(base, (dir / "derived.yaml").string() + ":1");
     EXPECT_CONTAINS(base, "a directory");
 }
@@ -198,19 +194,19 @@ TEST(SceneBounds, OversizedFileIsRefusedBeforeParsing) {
     std::string text = kPendulum + "# ";
     text += std::string(SceneLimits::max_file_bytes + 1 - text.size() - 1, 'x') + "\n";
     ASSERT_EQ(text.size(), SceneLimits::max_file_bytes + 1);
-    const fs::path big = write(dir / "big.yaml", text);
+    const fs::path big = write_text(dir / "big.yaml", text);
     const std::string msg = file_error(big);
     EXPECT_CONTAINS(msg, big.string());
     EXPECT_CONTAINS(msg, "16.0 MiB");
     expect_refused_by_cli(big, "at most 16.0 MiB");
-    const std::string base = file_error(write(dir / "derived.yaml", "base: big.yaml\n"));
+    const std::string base = file_error(write_text(dir / "derived.yaml", "base: big.yaml\n"));
     EXPECT_CONTAINS(base, (dir / "derived.yaml").string() + ":1");
     EXPECT_CONTAINS(base, "at most 16.0 MiB");
     EXPECT_CONTAINS(text_error(text), "at most 16.0 MiB");
     // exactly at the limit the file is read (and loads: the padding is a comment)
     text.erase(text.size() - 2, 1);
     ASSERT_EQ(text.size(), SceneLimits::max_file_bytes);
-    EXPECT_EQ(mbd::load_scene(write(dir / "limit.yaml", text), mbd::test::shared_registry()).body_count(), 1);
+    EXPECT_EQ(mbd::load_scene(write_text(dir / "limit.yaml", text), mbd::test::shared_registry()).body_count(), 1);
 }
 
 TEST(SceneBounds, MissingFileIsNamed) {

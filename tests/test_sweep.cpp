@@ -30,6 +30,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using mbd::test::write_text;
 using mbd::test::g17;
 using mbd::test::run_command;
 using mbd::test::run_mbd;
@@ -55,11 +56,6 @@ std::string pendulum_study(long cases, double t_end = 1.0) {
       << "metrics:\n  - final: bob.x\n  - final: bob.y\n  - min: bob.y\n  - max: pivot.fy\n"
       << "series: [t, bob.x, pivot.fy]\n";
     return s.str();
-}
-
-fs::path write(const fs::path& path, const std::string& text) {
-    std::ofstream(path) << text;
-    return path;
 }
 
 // A CSV with text cells (the sweep table has status, failure and message columns).
@@ -119,7 +115,7 @@ std::map<long, mbd::SweepRow> stored_rows(const fs::path&, const fs::path& outpu
 
 TEST(SweepDesign, LatinHypercubeHasOnePointPerStratumAndIsReproducible) {
     const fs::path dir = scratch("design");
-    const fs::path study_file = write(dir / "lhs.yaml", pendulum_study(50));
+    const fs::path study_file = write_text(dir / "lhs.yaml", pendulum_study(50));
     const mbd::Study study = mbd::read_study(study_file, mbd::test::shared_registry());
     const auto cases = mbd::design_cases(study);
     ASSERT_EQ(cases.size(), 50u);
@@ -139,7 +135,7 @@ TEST(SweepDesign, LatinHypercubeHasOnePointPerStratumAndIsReproducible) {
 
 TEST(SweepDesign, GridVariesTheLastParameterFastestAndMonteCarloNormalHasItsMoments) {
     const fs::path dir = scratch("design-grid");
-    const fs::path grid = write(dir / "grid.yaml",
+    const fs::path grid = write_text(dir / "grid.yaml",
                                 "scene: " + pendulum_scene() +
                                     "\nanalysis: {type: simulate, t_end: 0.1}\nparameters:\n"
                                     "  - {path: bodies.bob.mass, values: [1, 2]}\n"
@@ -149,7 +145,7 @@ TEST(SweepDesign, GridVariesTheLastParameterFastestAndMonteCarloNormalHasItsMome
     const std::vector<std::vector<double>> expected{{1, -10}, {1, -9.5}, {1, -9}, {2, -10}, {2, -9.5}, {2, -9}};
     EXPECT_EQ(mbd::design_cases(g), expected);
 
-    const fs::path mc = write(dir / "mc.yaml", "scene: " + pendulum_scene() +
+    const fs::path mc = write_text(dir / "mc.yaml", "scene: " + pendulum_scene() +
                                                    "\nanalysis: {type: simulate, t_end: 0.1}\nparameters:\n"
                                                    "  - {path: bodies.bob.mass, distribution: normal, mean: 2, sd: 0.1}\n"
                                                    "design: {type: monte_carlo, cases: 20000, seed: 3}\n"
@@ -169,7 +165,7 @@ TEST(SweepDesign, GridVariesTheLastParameterFastestAndMonteCarloNormalHasItsMome
 // moments within 4 standard errors, the triangular ones inside their bounds.
 TEST(SweepDesign, LognormalAndTriangularDrawsHaveTheirMoments) {
     const fs::path dir = scratch("design-distributions");
-    const fs::path file = write(dir / "mc.yaml",
+    const fs::path file = write_text(dir / "mc.yaml",
                                 "scene: " + pendulum_scene() +
                                     "\nanalysis: {type: simulate, t_end: 0.1}\nparameters:\n"
                                     "  - {path: bodies.bob.mass, distribution: lognormal, mu: 0.5, sigma: 0.2}\n"
@@ -204,7 +200,7 @@ TEST(SweepDesign, LognormalAndTriangularDrawsHaveTheirMoments) {
 // is the `mbd simulate` of its own scene (the values written into the file) to 1e-12.
 TEST(SweepCli, PendulumLhsSerialThreadsAndMpiAgreeWithSingleSimulations) {
     const fs::path dir = scratch("lhs");
-    const fs::path study = write(dir / "study.yaml", pendulum_study(200));
+    const fs::path study = write_text(dir / "study.yaml", pendulum_study(200));
     const std::string base = "sweep " + study.string() + " -q -o ";
     auto r = run_mbd(base + (dir / "serial.h5").string() + " --csv " + (dir / "serial.csv").string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -228,7 +224,7 @@ TEST(SweepCli, PendulumLhsSerialThreadsAndMpiAgreeWithSingleSimulations) {
     for (size_t k = 0; k < serial.rows.size(); ++k) {
         const auto& row = serial.rows[k];
         const double L = std::stod(row[1]), m = std::stod(row[2]);
-        const fs::path scene = write(dir / "case.yaml", "dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
+        const fs::path scene = write_text(dir / "case.yaml", "dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
                                                         "  - {name: bob, mass: " + g17(m) +
                                                             ", inertia: 1.0e-6, position: [" + g17(L) +
                                                             ", 0.0], angle: 0.0}\njoints:\n  - {name: pivot, type: "
@@ -309,7 +305,7 @@ pid_t rank_process(pid_t root, int rank) {
 long cases_lasting(double seconds, double t_end, long fewest, long most) {
     auto timed = [t_end](long n) {
         const fs::path dir = scratch("pace-" + std::to_string(n));
-        const fs::path study = write(dir / "study.yaml", pendulum_study(n, t_end));
+        const fs::path study = write_text(dir / "study.yaml", pendulum_study(n, t_end));
         const auto start = std::chrono::steady_clock::now();
         EXPECT_EQ(run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string()).exit_code, 0);
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -329,7 +325,7 @@ long cases_lasting(double seconds, double t_end, long fewest, long most) {
 void kill_and_resume(const std::string& name, int rank) {
     const fs::path dir = scratch(name);
     const long cases = cases_lasting(6.0, 8.0, 90, 6000);
-    const fs::path study = write(dir / "study.yaml", pendulum_study(cases, 8.0));
+    const fs::path study = write_text(dir / "study.yaml", pendulum_study(cases, 8.0));
     const fs::path output = dir / "killed.h5";
     const std::string sweep = " sweep " + study.string() + " -q --flush-seconds 0.02 -o " + output.string();
     const std::string tag = "MBD_SWEEP_TEST=" + std::to_string(getpid());
@@ -380,7 +376,7 @@ TEST(SweepResume, MpiMasterKilledHalfwayThenResumedRunsEveryCaseOnce) { kill_and
 // every row equals the uninterrupted run's.
 TEST(SweepResume, SerialResumeFillsEveryGapOnce) {
     const fs::path dir = scratch("gaps");
-    const fs::path study_file = write(dir / "study.yaml", pendulum_study(12));
+    const fs::path study_file = write_text(dir / "study.yaml", pendulum_study(12));
     const fs::path fresh = dir / "fresh.h5", output = dir / "gaps.h5";
     ASSERT_EQ(run_mbd("sweep " + study_file.string() + " -q -o " + fresh.string()).exit_code, 0);
     const auto expected = stored_rows(study_file, fresh);
@@ -421,8 +417,8 @@ TEST(SweepResume, SerialResumeFillsEveryGapOnce) {
 
 TEST(SweepResume, RefusesToOverwriteUnfinishedResultsWithoutResume) {
     const fs::path dir = scratch("refuse-partial");
-    const fs::path study = write(dir / "study.yaml", pendulum_study(4));
-    write(dir / "r.h5.partial", "x");
+    const fs::path study = write_text(dir / "study.yaml", pendulum_study(4));
+    write_text(dir / "r.h5.partial", "x");
     const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
@@ -456,8 +452,8 @@ TEST(SweepCli, SliderCrankStaticsOverTheCrankTorqueFollowTheClosedForm) {
           << "forces:\n"
           << "  - {name: motor, type: point_torque, body: crank, torque: 1}\n"
           << "  - {name: pull, type: point_force, body: slider, force: [" << F << ", 0]}\n";
-    write(dir / "slider-crank.yaml", scene.str());
-    const fs::path study = write(dir / "study.yaml",
+    write_text(dir / "slider-crank.yaml", scene.str());
+    const fs::path study = write_text(dir / "study.yaml",
                                  "scene: slider-crank.yaml\nanalysis: {type: statics, tolerance: 1.0e-12}\n"
                                  "parameters:\n  - {path: forces.motor.torque, range: [0.2, 3.0], count: 8}\n"
                                  "design: {type: grid}\nmetrics:\n  - final: crank.angle\n  - final: O.coordinate\n");
@@ -479,14 +475,14 @@ TEST(SweepCli, SliderCrankStaticsOverTheCrankTorqueFollowTheClosedForm) {
 // inertia about the centre kept at 1/12): tau = (I + m l^2) theta'' + m g l cos(theta), l = 0.5.
 TEST(SweepCli, InverseSweepOverTheRodMassFollowsTheClosedForm) {
     const fs::path dir = scratch("inverse");
-    write(dir / "arm.yaml", "dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
+    write_text(dir / "arm.yaml", "dimension: planar\ngravity: [0, -9.81]\nbodies:\n"
                             "  - {name: rod, mass: 1, inertia: 0.08333333333333333, "
                             "position: [0.46053049700144255, -0.19470917115432526], angle: -0.4}\n"
                             "joints:\n  - {name: pin, type: revolute, bodies: [ground, rod], point: [0, 0]}\n"
                             "drivers:\n  - {name: swing, joint: pin, motion: {type: harmonic, offset: -0.4, "
                             "amplitude: 0.3, frequency: 2}}\n"
                             "actuators:\n  - {name: motor, joint: pin}\n");
-    const fs::path study = write(dir / "study.yaml",
+    const fs::path study = write_text(dir / "study.yaml",
                                  "scene: arm.yaml\nanalysis: {type: inverse, t_end: 1, step: 0.01}\n"
                                  "parameters:\n  - {path: bodies.rod.mass, values: [0.5, 1, 2]}\n"
                                  "design: {type: grid}\nmetrics:\n  - final: motor\n  - max: motor\n  - min: motor\n");
@@ -512,7 +508,7 @@ TEST(SweepCli, InverseSweepOverTheRodMassFollowsTheClosedForm) {
 TEST(SweepCli, ATerminalShowsTheProgressBarWithTheTimeLeft) {
     const fs::path dir = scratch("progress");
     const long cases = cases_lasting(3.0, 20.0, 60, 6000);
-    const fs::path study = write(dir / "study.yaml", pendulum_study(cases, 20.0));
+    const fs::path study = write_text(dir / "study.yaml", pendulum_study(cases, 20.0));
     const fs::path log = dir / "terminal.txt";
     const auto r = run_command("script -qec 'env COLUMNS=100 " + std::string(MBD_EXECUTABLE) + " sweep " + study.string() + " -o " +
                                (dir / "r.h5").string() + "' " + log.string());
@@ -530,7 +526,7 @@ TEST(SweepCli, UnknownParameterPathNamesTheKeyAndNearMatches) {
     const fs::path dir = scratch("bad-path");
     std::string text = pendulum_study(4);
     text.replace(text.find("bodies.bob.mass"), 15, "bodies.bob.mas");
-    const fs::path study = write(dir / "study.yaml", text);
+    const fs::path study = write_text(dir / "study.yaml", text);
     const auto r = run_mbd("sweep " + study.string() + " -o " + (dir / "r.h5").string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find(study.string() + ":5"), std::string::npos) << r.err;  // the study file and line
@@ -543,7 +539,7 @@ TEST(SweepCli, UnknownMetricColumnIsRefusedWithNearMatches) {
     const fs::path dir = scratch("bad-metric");
     std::string text = pendulum_study(4);
     text.replace(text.find("max: pivot.fy"), 13, "max: pivot.fz");
-    const fs::path study = write(dir / "study.yaml", text);
+    const fs::path study = write_text(dir / "study.yaml", text);
     const auto r = run_mbd("sweep " + study.string() + " -o " + (dir / "r.h5").string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("no column 'pivot.fz'"), std::string::npos) << r.err;
@@ -552,7 +548,7 @@ TEST(SweepCli, UnknownMetricColumnIsRefusedWithNearMatches) {
 
 TEST(SweepCli, NegativeMassGivesFailedCasesWithTheMessage) {
     const fs::path dir = scratch("negative-mass");
-    const fs::path study = write(dir / "study.yaml", "scene: " + pendulum_scene() +
+    const fs::path study = write_text(dir / "study.yaml", "scene: " + pendulum_scene() +
                                                          "\nanalysis: {type: simulate, t_end: 0.2}\nparameters:\n"
                                                          "  - {path: bodies.bob.mass, values: [-1, 1, -2]}\n"
                                                          "design: {type: grid}\nmetrics: [{final: bob.y}]\n");
@@ -572,7 +568,7 @@ TEST(SweepCli, NegativeMassGivesFailedCasesWithTheMessage) {
 
 TEST(SweepCli, UnwritableOutputIsRefusedBeforeAnyCaseRuns) {
     const fs::path dir = scratch("unwritable");
-    const fs::path study = write(dir / "study.yaml", pendulum_study(4));
+    const fs::path study = write_text(dir / "study.yaml", pendulum_study(4));
     auto r = run_mbd("sweep " + study.string() + " -o " + (dir / "missing" / "r.h5").string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
@@ -593,7 +589,7 @@ namespace {
 // omega = sqrt(m g L / (J + m L^2)) (J = 1e-6 kg m^2 about the bob's centre).
 TEST(SweepCli, PendulumModesOverTheLengthFollowTheCompoundPendulumFrequency) {
     const fs::path dir = scratch("modes");
-    const fs::path study = write(dir / "study.yaml", "scene: " + pendulum_scene() +
+    const fs::path study = write_text(dir / "study.yaml", "scene: " + pendulum_scene() +
                                                          "\nanalysis: {type: modes}\nparameters:\n"
                                                          "  - {path: \"bodies.bob.position[0]\", values: [0.5, 1, 2]}\n"
                                                          "design: {type: grid}\n"

@@ -37,14 +37,10 @@ extern "C" const char* __asan_default_options() { return "quarantine_size_mb=1";
 namespace {
 
 namespace fs = std::filesystem;
+using mbd::test::write_text;
 using mbd::test::read_text;
 using mbd::test::run_mbd;
 using mbd::test::scratch;
-
-fs::path write(const fs::path& path, const std::string& text) {
-    std::ofstream(path) << text;
-    return path;
-}
 
 std::string pendulum_scene() { return mbd::test::scene_path("dynamics/pendulum-a01.yaml").string(); }
 
@@ -101,7 +97,7 @@ bool wait_until(Condition done, pid_t child) {
 TEST(SweepOutputs, DeviceNamedAsOutputIsNeverReplaced) {
     const fs::path dir = scratch("device");
     const fs::path device = make_null_device(dir);
-    const fs::path study = write(dir / "study.yaml", pendulum_study(pendulum_scene(), 2));
+    const fs::path study = write_text(dir / "study.yaml", pendulum_study(pendulum_scene(), 2));
 
     // the HDF5 results are written beside the output and renamed: refused for a device
     auto r = run_mbd("sweep " + study.string() + " -q -o " + device.string());
@@ -131,8 +127,8 @@ TEST(SweepOutputs, DeviceNamedAsOutputIsNeverReplaced) {
 // leaves the first run's journal alone.
 TEST(SweepOutputs, SecondSweepOnTheSameOutputRefusesAtStart) {
     const fs::path dir = scratch("lock");
-    const fs::path first = write(dir / "first.yaml", pendulum_study(pendulum_scene(), 100000, 2.0));
-    const fs::path second = write(dir / "second.yaml", pendulum_study(pendulum_scene(), 3, 0.1));
+    const fs::path first = write_text(dir / "first.yaml", pendulum_study(pendulum_scene(), 100000, 2.0));
+    const fs::path second = write_text(dir / "second.yaml", pendulum_study(pendulum_scene(), 3, 0.1));
     const fs::path output = dir / "r.h5", lock = dir / "r.h5.lock";
     const pid_t running = spawn(std::string(MBD_EXECUTABLE) + " sweep " + first.string() + " -q -o " + output.string());
     ASSERT_GT(running, 0);
@@ -168,20 +164,20 @@ void start_journal(const fs::path& study_file, const fs::path& output) {
 
 TEST(SweepOutputs, ResumeRefusesWhenTheSceneOrItsBaseChanged) {
     const fs::path dir = scratch("resume-inputs");
-    write(dir / "base.yaml", read_text(pendulum_scene()));
-    const fs::path scene = write(dir / "scene.yaml", "base: base.yaml\nname: derived\n");
-    const fs::path study = write(dir / "study.yaml", pendulum_study(scene.string(), 4));
+    write_text(dir / "base.yaml", read_text(pendulum_scene()));
+    const fs::path scene = write_text(dir / "scene.yaml", "base: base.yaml\nname: derived\n");
+    const fs::path study = write_text(dir / "study.yaml", pendulum_study(scene.string(), 4));
     const fs::path output = dir / "r.h5";
     const std::string resume = "sweep " + study.string() + " -q --resume -o " + output.string();
 
     start_journal(study, output);
-    write(dir / "base.yaml", read_text(dir / "base.yaml") + "# g unchanged, text changed\n");
+    write_text(dir / "base.yaml", read_text(dir / "base.yaml") + "# g unchanged, text changed\n");
     auto r = run_mbd(resume);
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_NE(r.err.find("'" + (dir / "base.yaml").string() + "' has changed"), std::string::npos) << r.err;
 
     start_journal(study, output);  // the journal of the changed base: now the scene changes
-    write(scene, "base: base.yaml\nname: derived-again\n");
+    write_text(scene, "base: base.yaml\nname: derived-again\n");
     r = run_mbd(resume);
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_NE(r.err.find("'" + scene.string() + "' has changed"), std::string::npos) << r.err;
@@ -220,9 +216,9 @@ long sweep_peak_kb(const fs::path& study, const fs::path& output, bool interrupt
 // bad_alloc). What remains per case is two bits (done or not, in the results and the dispenser).
 TEST(SweepMemory, PlannedCasesTakeNoMemory) {
     const fs::path dir = scratch("memory-planned");
-    const long small = sweep_peak_kb(write(dir / "small.yaml", pendulum_study(pendulum_scene(), 100)), dir / "s.h5", false);
+    const long small = sweep_peak_kb(write_text(dir / "small.yaml", pendulum_study(pendulum_scene(), 100)), dir / "s.h5", false);
     for (const std::string design : {"monte_carlo", "latin_hypercube"}) {
-        const fs::path study = write(dir / (design + ".yaml"), pendulum_study(pendulum_scene(), 100000000, 0.1, design));
+        const fs::path study = write_text(dir / (design + ".yaml"), pendulum_study(pendulum_scene(), 100000000, 0.1, design));
         const long large = sweep_peak_kb(study, dir / (design + ".h5"), true);
         RecordProperty(design + "_peak_kb", static_cast<int>(large));
         RecordProperty("small_peak_kb", static_cast<int>(small));
@@ -247,7 +243,7 @@ void reset_peak() { std::ofstream("/proc/self/clear_refs") << "5"; }
 // the journal, the HDF5 file written from it and the CSV table read back from that. Returns
 // how much the peak memory grew (kB); checks that the file holds every case with its values.
 long streamed_growth_kb(const fs::path& dir, long n) {
-    const fs::path study_file = write(dir / "study.yaml", pendulum_study(pendulum_scene(), n));
+    const fs::path study_file = write_text(dir / "study.yaml", pendulum_study(pendulum_scene(), n));
     const mbd::Study study = mbd::read_study(study_file, mbd::test::shared_registry());
     const mbd::CaseDesign design(study);
     const fs::path output = dir / "r.h5";
@@ -322,7 +318,7 @@ TEST(SweepOutputs, AnalysisOptionsThatWouldFailEveryCaseAreRefusedFirst) {
     };
     for (const BadAnalysis& c : cases) {
         SCOPED_TRACE(c.analysis);
-        const fs::path study = write(dir / "study.yaml", "scene: " + pendulum_scene() + "\nanalysis: " + c.analysis +
+        const fs::path study = write_text(dir / "study.yaml", "scene: " + pendulum_scene() + "\nanalysis: " + c.analysis +
                                                              "\nparameters:\n  - {path: bodies.bob.mass, values: [1, 2]}\n"
                                                              "design: {type: grid}\nmetrics:\n  - final: t\n");
         const auto r = run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string());

@@ -25,6 +25,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using mbd::test::write_text;
 using mbd::Vec3;
 using mbd::test::Csv;
 using mbd::test::read_csv;
@@ -37,11 +38,6 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 std::string scene_file(const std::string& relative) { return quoted(mbd::test::scene_path(relative)); }
-
-void write(const fs::path& path, const std::string& text) {
-    std::ofstream out(path);
-    out << text;
-}
 
 // Signed volume enclosed by a closed triangle mesh (divergence theorem).
 double enclosed_volume(const mbd::viewer::TriangleMesh& m) {
@@ -160,13 +156,13 @@ TEST(MotionCsv, ParallelBlocksReadTheSameTableAndNameTheFirstFaultyLine) {
         std::snprintf(b, sizeof b, "%.3f,%.3f,%.3f\n", 0.1 * r, std::sin(0.1 * r), 1.0 + r);
         return std::string(b);
     };
-    auto write = [&](const std::string& name, const std::map<int, std::string>& replaced) {
+    auto write_csv = [&](const std::string& name, const std::map<int, std::string>& replaced) {
         std::string text = "t,b.x,b.y\n";
         for (int r = 0; r < rows; ++r) text += replaced.count(r) ? replaced.at(r) : row_text(r);
         std::ofstream(dir / name) << text;
         return dir / name;
     };
-    const fs::path good = write("good.csv", {});
+    const fs::path good = write_csv("good.csv", {});
     const auto serial = mbd::viewer::read_motion_csv(good, 1);
     ASSERT_EQ(serial.rows(), static_cast<size_t>(rows));
     EXPECT_DOUBLE_EQ(serial.at(17, 1), std::round(std::sin(1.7) * 1000) / 1000);
@@ -194,7 +190,7 @@ TEST(MotionCsv, ParallelBlocksReadTheSameTableAndNameTheFirstFaultyLine) {
         };
         for (const auto& [what, replaced] : faults) {
             if (what.rfind("two", 0) == 0 && r + 5 >= rows) continue;
-            const fs::path file = write("fault.csv", replaced);
+            const fs::path file = write_csv("fault.csv", replaced);
             const std::string expected = message(file, 1);
             EXPECT_NE(expected.find(file.string() + line + ":"), std::string::npos) << what << ": " << expected;
             for (unsigned threads : {2u, 3u, 7u}) EXPECT_EQ(message(file, threads), expected) << what << ", " << threads << " blocks";
@@ -436,7 +432,7 @@ TEST(BadInput, UnknownShapeAndMissingMeshNameFileLineAndKey) {
         {"{shape: sphere, radious: 0.1}", "unknown key 'radious' in a sphere visual; did you mean 'radius'?"},
     };
     for (const auto& c : cases) {
-        write(dir / "bad.yaml", with_visual(c.visual));
+        write_text(dir / "bad.yaml", with_visual(c.visual));
         for (const char* ext : {"glb", "html"}) {
             const Failure f = animate_fails(dir, quoted(dir / "bad.yaml"), csv, ext);
             EXPECT_EQ(f.exit_code, 2) << c.visual;
@@ -460,7 +456,7 @@ TEST(BadInput, CsvOfAnotherSceneNamesTheColumn) {
     std::string header, rest, line;
     std::getline(in, header);
     while (std::getline(in, line)) rest += line.substr(0, line.rfind(',')) + "\n";  // drop the last column
-    write(dir / "short.csv", header.substr(0, header.rfind(',')) + "\n" + rest);
+    write_text(dir / "short.csv", header.substr(0, header.rfind(',')) + "\n" + rest);
     f = animate_fails(dir, scene_file("four-bar.yaml"), dir / "short.csv", "glb");
     EXPECT_EQ(f.exit_code, 0) << "only a velocity column is missing: the poses are complete";
     // drop crank.angle (column 4) instead
@@ -476,7 +472,7 @@ TEST(BadInput, CsvOfAnotherSceneNamesTheColumn) {
         for (size_t k = 0; k < cells.size(); ++k) text += (k ? "," : "") + cells[k];
         text += row++ == 3 ? ",x\n" : "\n";  // file line 4 gets one value too many
     }
-    write(dir / "no-angle.csv", text);
+    write_text(dir / "no-angle.csv", text);
     fs::remove(dir / "out.glb");
     f = animate_fails(dir, scene_file("four-bar.yaml"), dir / "no-angle.csv", "glb");
     EXPECT_EQ(f.exit_code, 2);
@@ -491,7 +487,7 @@ TEST(BadInput, CsvOfAnotherSceneNamesTheColumn) {
     bad += line + "\n";
     std::getline(third, line);
     bad += line.substr(0, line.find(',') + 1) + "oops" + line.substr(line.find(',', line.find(',') + 1)) + "\n";
-    write(dir / "nan.csv", bad);
+    write_text(dir / "nan.csv", bad);
     f = animate_fails(dir, scene_file("four-bar.yaml"), dir / "nan.csv", "html");
     EXPECT_EQ(f.exit_code, 2);
     EXPECT_TRUE(contains(f.err, "nan.csv:3: column 2 'crank.x': 'oops' is not a finite number")) << f.err;
@@ -500,7 +496,7 @@ TEST(BadInput, CsvOfAnotherSceneNamesTheColumn) {
 
 TEST(BadInput, MissingPoseColumnIsNamed) {
     const fs::path dir = scratch("bad-columns");
-    write(dir / "r.csv", "t,crank.x,crank.y,coupler.x,coupler.y,coupler.angle,rocker.x,rocker.y,rocker.angle\n"
+    write_text(dir / "r.csv", "t,crank.x,crank.y,coupler.x,coupler.y,coupler.angle,rocker.x,rocker.y,rocker.angle\n"
                          "0,0,0.1,0.14,0.34,0.79,0.34,0.24,4.95\n");
     const Failure f = animate_fails(dir, scene_file("four-bar.yaml"), dir / "r.csv", "glb");
     EXPECT_EQ(f.exit_code, 2);

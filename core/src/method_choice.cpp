@@ -1,6 +1,7 @@
 // The automatic choice of formulation and integrator (method_choice.hpp).
 #include <mbd/method_choice.hpp>
 
+#include <mbd/contact_scales.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/text.hpp>
 #include <mbd/sdk/topology.hpp>
@@ -39,6 +40,16 @@ double fastest_damping_rate(const Model& model) {
     return rate;
 }
 
+ContactFrequency fastest_contact_frequency(const Model& model) {
+    ContactFrequency fastest;
+    for (const ContactScale& s : contact_scales(model))
+        if (s.frequency > fastest.frequency)
+            fastest = {s.frequency, "compliant contact '" + s.element + "' oscillating at sqrt(n k delta^(n-1) / m) = " +
+                                        format_number(s.frequency, 3) + " rad/s at its penetration (m = " +
+                                        format_number(s.mass, 3) + " kg)"};
+    return fastest;
+}
+
 MethodChoice automatic_method(const Model& model, double t_end) {
     MethodChoice choice;
     ModelSystem system(model);
@@ -56,8 +67,18 @@ MethodChoice automatic_method(const Model& model, double t_end) {
     }
     const double initial_rate = fastest_damping_rate(model);
     const StickingDamping sticking = sticking_damping_rate(model);
-    const bool from_sticking = sticking.rate > initial_rate;
-    const double rate = from_sticking ? sticking.rate : initial_rate;
+    const ContactFrequency contact = fastest_contact_frequency(model);
+    double rate = initial_rate;
+    std::string what = "fastest damping rate", source;
+    if (sticking.rate > rate) {
+        rate = sticking.rate;
+        source = " (" + sticking.note + ")";
+    }
+    if (contact.frequency > rate) {
+        rate = contact.frequency;
+        what = "fastest contact frequency";
+        source = " (" + contact.note + ")";
+    }
     const double scales = rate * t_end;
     const bool stiff = scales > kStiffDampedTimeScales;
     // stiff with loops: cvode's difference Jacobian costs a rhs per state and its
@@ -68,12 +89,11 @@ MethodChoice automatic_method(const Model& model, double t_end) {
         choice.formulation_reason = closure + ": the closure path of embedding (stiff: the fewest states for cvode)";
     }
     choice.integrator = stiff ? "cvode" : "dop853";
-    const std::string source = from_sticking ? " (" + sticking.note + ")" : std::string();
     choice.integrator_reason =
-        rate > 0.0 ? std::string(stiff ? "stiff" : "not stiff") + ": fastest damping rate " + format_number(rate, 3) +
+        rate > 0.0 ? std::string(stiff ? "stiff" : "not stiff") + ": " + what + " " + format_number(rate, 3) +
                          " 1/s" + source + " over " + format_time(t_end) + " s = " + format_number(scales, 3) +
                          " time scales (" + (stiff ? "above " : "at most ") + format_number(kStiffDampedTimeScales) + ")"
-                   : "not stiff: no damping";
+                   : "not stiff: no damping, no compliant contact";
     return choice;
 }
 

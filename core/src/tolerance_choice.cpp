@@ -1,11 +1,13 @@
 // The integration tolerance a scene needs (tolerance_choice.hpp).
 #include <mbd/tolerance_choice.hpp>
 
+#include <mbd/contact_scales.hpp>
 #include <mbd/integrator.hpp>
 #include <mbd/sdk/coulomb_law.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <algorithm>
+#include <functional>
 
 namespace mbd {
 
@@ -52,36 +54,65 @@ std::vector<VelocityScale> velocity_scales(const Model& model) {
     return scales;
 }
 
+namespace {
+
+// What one element's scale needs of the tolerance, for the choice and the warnings.
+struct ToleranceNeed {
+    std::string element;
+    double tolerance = 0.0;  // the largest that resolves the scale
+    std::string scale;       // "stiction velocity 1e-09", "a penetration of 7.3e-06 m at rest under ..."
+    std::string rule;        // why the tolerance follows from it
+    std::string error;       // the error a tolerance tol allows there, as a function of tol
+    std::function<double(double)> error_at;
+};
+
+std::vector<ToleranceNeed> tolerance_needs(const Model& model) {
+    std::vector<ToleranceNeed> needs;
+    for (const VelocityScale& s : velocity_scales(model))
+        needs.push_back({s.element, s.tolerance, "stiction velocity " + format_number(s.velocity),
+                         "velocity errors tol (1 + v_s) must stay below v_s / " + format_number(kVelocityResolution) +
+                             " for it to stick",
+                         "velocity errors up to tol (1 + v_s)", [v = s.velocity](double tol) { return tol * (1.0 + v); }});
+    for (const ContactScale& s : contact_scales(model))
+        needs.push_back({s.element, s.tolerance,
+                         "a penetration of " + format_number(s.penetration, 3) + " m " + s.penetration_source,
+                         "position errors tol (1 + L) must stay below the penetration / " +
+                             format_number(kPenetrationResolution) + " (L = " + format_number(s.extent, 3) +
+                             " m, its bodies' largest coordinate) for the contact force to be right",
+                         "position errors up to tol (1 + L)", [L = s.extent](double tol) { return tol * (1.0 + L); }});
+    return needs;
+}
+
+}  // namespace
+
 ToleranceChoice automatic_tolerance(const Model& model, double fallback) {
-    const std::vector<VelocityScale> scales = velocity_scales(model);
-    const auto finest = std::min_element(scales.begin(), scales.end(), [](const VelocityScale& a, const VelocityScale& b) {
+    const std::vector<ToleranceNeed> needs = tolerance_needs(model);
+    const auto finest = std::min_element(needs.begin(), needs.end(), [](const ToleranceNeed& a, const ToleranceNeed& b) {
         return a.tolerance < b.tolerance;
     });
-    if (finest == scales.end() || finest->tolerance >= fallback)
-        return {fallback, scales.empty() ? "the default: no element holds a scale it must resolve"
-                                         : "the default resolves every element's stiction velocity (tol (1 + v_s) <= "
-                                           "v_s / " + format_number(kVelocityResolution) + ")"};
+    if (finest == needs.end() || finest->tolerance >= fallback)
+        return {fallback, needs.empty() ? "the default: no element holds a scale it must resolve"
+                                        : "the default resolves every element's scale (stiction velocities: tol (1 + "
+                                          "v_s) <= v_s / " + format_number(kVelocityResolution) +
+                                          "; contact penetrations: tol (1 + L) <= delta / " +
+                                          format_number(kPenetrationResolution) + ")"};
     const double tolerance = std::max(finest->tolerance, kSmallestTolerance);
-    std::string reason = "force '" + finest->element + "' has stiction velocity " + format_number(finest->velocity) +
-                         ": velocity errors tol (1 + v_s) must stay below v_s / " + format_number(kVelocityResolution) +
-                         " for it to stick";
+    std::string reason = "force '" + finest->element + "' has " + finest->scale + ": " + finest->rule;
     if (tolerance > finest->tolerance)
         reason += "; it needs " + format_number(finest->tolerance, 3) + ", below the smallest tolerance " +
-                  format_number(kSmallestTolerance) + ": it cannot be resolved, give it a larger stiction_velocity";
+                  format_number(kSmallestTolerance) + ": it cannot be resolved, change the element's scale";
     return {tolerance, reason};
 }
 
 std::vector<std::string> tolerance_warnings(const Model& model, double tolerance) {
     std::vector<std::string> warnings;
-    for (const VelocityScale& s : velocity_scales(model)) {
-        if (tolerance <= kToleranceSlack * s.tolerance) continue;
-        warnings.push_back("force '" + s.element + "' has stiction velocity " + format_number(s.velocity) +
-                           ", which the tolerance " + format_number(tolerance) +
-                           " cannot resolve: velocity errors up to tol (1 + v_s) = " +
-                           format_number(tolerance * (1.0 + s.velocity), 3) + " hide whether it sticks; it needs a "
-                           "tolerance of at most " + format_number(s.tolerance, 3) + " (v_s / " +
-                           format_number(kVelocityResolution) + " / (1 + v_s)), or leave the tolerance to the "
-                           "automatic choice");
+    for (const ToleranceNeed& n : tolerance_needs(model)) {
+        if (tolerance <= kToleranceSlack * n.tolerance) continue;
+        warnings.push_back("force '" + n.element + "' has " + n.scale + ", which the tolerance " +
+                           format_number(tolerance) + " cannot resolve: " + n.error + " = " +
+                           format_number(n.error_at(tolerance), 3) + " hide it (" + n.rule +
+                           "); it needs a tolerance of at most " + format_number(n.tolerance, 3) +
+                           ", or leave the tolerance to the automatic choice");
     }
     return warnings;
 }

@@ -4,6 +4,9 @@
 // lines for springs and dampers, and a grid on the ground.
 #include <mbd/model.hpp>
 #include <mbd/visual.hpp>
+#include <mbd/visual_joint_markers.hpp>
+
+#include "visual_wheels.hpp"
 
 #include <mbd/sdk/rotation.hpp>
 
@@ -22,6 +25,9 @@ Vec3 body_color(int index) {
     return palette[index % 6];
 }
 const Vec3 kJointColor(0.22, 0.22, 0.25);
+// The thinnest derived link, as a fraction of the mechanism's extent (the diagonal of its box
+// at t = 0): at the default camera, which frames that box, about 4 pixels in a 750-pixel view.
+constexpr double kMinThicknessOfExtent = 0.005;
 
 // Rotation taking the z axis onto `direction` (unit).
 Mat3 z_onto(const Vec3& direction) {
@@ -83,31 +89,36 @@ bool inertia_box(const Body& body, VisualShape& box) {
     return true;
 }
 
-}  // namespace
+// The size of the mechanism as placed at t = 0: the diagonal of the box around every mass
+// centre and joint point (world).
+double initial_extent(const Model& model, const std::vector<std::vector<Vec3>>& points) {
+    Eigen::AlignedBox3d box;
+    for (size_t b = 0; b < model.bodies.size(); ++b) {
+        const Body& body = model.bodies[b];
+        const Mat3 A = model.dimension == Dimension::Planar
+                           ? (Mat3() << planar_rotation(body.angle), Vec2::Zero(), 0, 0, 1).finished()
+                           : rotation_from_euler_parameters(body.euler_parameters);
+        box.extend(body.position);
+        for (const Vec3& p : points[b]) box.extend(body.position + A * p);
+    }
+    return box.isEmpty() ? 0.0 : box.diagonal().norm();
+}
 
-VisualScene build_visual_scene(const Model& model) {
-    VisualScene scene;
-    const bool planar = model.dimension == Dimension::Planar;
-    const int nb = model.body_count();
-    scene.bodies.resize(nb);
-    if (model.gravity.norm() > 0)
-        scene.up = -model.gravity.normalized();
-    else
-        scene.up = planar ? Vec3::UnitY() : Vec3::UnitZ();
-
-    // joint points, in each body's frame
-    std::vector<std::vector<Vec3>> points(nb);
-    for (const auto& joint : model.joints)
-        for (size_t k = 0; k < joint.bodies.size() && k < joint.markers.size(); ++k)
-            if (joint.bodies[k] != kGround) add_unique(points[joint.bodies[k]], joint.markers[k].u_bar);
-
-    // typical link size: the median over bodies of the largest distance from the mass
-    // centre to an attachment point
+// Typical link size: the median over bodies of the largest distance between two of its
+// attachment points, or with one point twice its distance from the mass centre (a frame
+// carrying a rider far from its joints is as long as its joints are apart); with no joint
+// points, the largest inertia box (spatial).
+double typical_link_size(const Model& model, const std::vector<std::vector<Vec3>>& points) {
     std::vector<double> reach;
-    for (int b = 0; b < nb; ++b) {
+    for (const auto& pts : points) {
         double r = 0.0;
-        for (const Vec3& p : points[b]) r = std::max(r, p.norm());
-        if (r > 0) reach.push_back(2.0 * r);
+        for (const Vec3& p : pts) r = std::max(r, 2.0 * p.norm());
+        if (pts.size() >= 2) {
+            r = 0.0;
+            for (const Vec3& p : pts)
+                for (const Vec3& q : pts) r = std::max(r, (p - q).norm());
+        }
+        if (r > 0) reach.push_back(r);
     }
     double scale = 0.0;
     if (!reach.empty()) {
@@ -116,46 +127,66 @@ VisualScene build_visual_scene(const Model& model) {
     } else {
         for (const Body& b : model.bodies) {
             VisualShape box;
-            if (!planar && inertia_box(b, box)) scale = std::max(scale, box.size.maxCoeff());
+            if (model.dimension != Dimension::Planar && inertia_box(b, box)) scale = std::max(scale, box.size.maxCoeff());
         }
     }
-    if (!(scale > 0)) scale = 0.1;
-    scene.length_scale = scale;
-    const double link_radius = 0.04 * scale, centre_radius = 0.1 * scale;
+    return scale;
+}
 
-    for (int b = 0; b < nb; ++b) {
-        const Body& body = model.bodies[b];
-        if (!body.visuals.empty()) {
-            scene.bodies[b] = body.visuals;
-            continue;
-        }
-        auto& shapes = scene.bodies[b];
-        const Vec3 color = body_color(b);
-        const std::vector<Vec3>& pts = points[b];
-        shapes.push_back(sphere_at(Vec3::Zero(), centre_radius, color));
-        if (pts.size() == 2) {
-            shapes.push_back(cylinder_between(pts[0], pts[1], link_radius, color));
-        } else {
-            for (const Vec3& p : pts)
-                if (p.norm() > 1e-9) shapes.push_back(cylinder_between(p, Vec3::Zero(), link_radius, color));
-        }
-        VisualShape box;
-        if (!planar && pts.size() < 2 && inertia_box(body, box)) {
-            box.color = color;
-            shapes.push_back(box);
-        }
+// The look of a body without `visual:`: its mass-centre sphere, its links, and its wheels, its
+// rotor's disc or its inertia box.
+struct DerivedLook {
+    double link_radius, centre_radius;
+    Vec3 color;
+};
+
+void add_derived_shapes(const Body& body, const std::vector<Vec3>& pts, const std::vector<DerivedWheel>& wheels,
+                        bool planar, const DerivedLook& look, std::vector<VisualShape>& shapes) {
+    const Vec3& color = look.color;
+    double hub = look.centre_radius;  // inside a wheel's hub, not over its face
+    for (const DerivedWheel& w : wheels) hub = std::min(hub, 0.25 * w.radius);
+    shapes.push_back(sphere_at(Vec3::Zero(), hub, color));
+    if (pts.size() == 2) {
+        shapes.push_back(cylinder_between(pts[0], pts[1], look.link_radius, color));
+    } else {
+        for (const Vec3& p : pts)
+            if (p.norm() > 1e-9) shapes.push_back(cylinder_between(p, Vec3::Zero(), look.link_radius, color));
     }
+    VisualShape box;
+    DerivedWheel rotor;
+    if (!wheels.empty()) {  // a wheel: its contact radius, not its inertia's box
+        for (const DerivedWheel& w : wheels) add_marked_wheel(shapes, w, look.link_radius, color);
+    } else if (!planar && pts.size() < 2 && rotor_of_inertia(body, rotor)) {
+        add_marked_wheel(shapes, rotor, look.link_radius, color);
+    } else if (!planar && pts.size() < 2 && inertia_box(body, box)) {
+        box.color = color;
+        shapes.push_back(box);
+    }
+}
 
-    // joint axes on the ground when the joint holds a body to it (a fixed pivot), else on
-    // the joint's first body
-    for (const auto& joint : model.joints) {
+// A short cylinder along each joint axis (a sphere for a spherical joint): on the ground when
+// the joint holds a body to it (a fixed pivot or guide), else on the joint's first body; a
+// rolling contact's is the hub of its wheel, which rolls away from the point it touched at t = 0.
+void add_joint_markers(const Model& model, double scale, double link_radius, const std::vector<DerivedWheel>& wheels,
+                       VisualScene& scene, std::vector<JointMarkerShape>& markers) {
+    const bool planar = model.dimension == Dimension::Planar;
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+        const JointInstance& joint = model.joints[j];
         if (joint.bodies.empty() || joint.markers.size() != joint.bodies.size()) continue;
+        const bool rolling = is_rolling_contact(joint.type);
         size_t on = 0;
         for (size_t k = 0; k < joint.bodies.size(); ++k)
-            if (joint.bodies[k] == kGround) on = k;
+            if (joint.bodies[k] == kGround && !rolling) on = k;
+        if (joint.bodies[on] == kGround && rolling) on = joint.bodies.size() - 1;
         const Marker& m = joint.markers[on];
         VisualShape s;
-        if (joint.type == "spherical") {
+        const auto wheel = std::find_if(wheels.begin(), wheels.end(),
+                                        [&](const DerivedWheel& w) { return w.joint == static_cast<int>(j); });
+        if (wheel != wheels.end()) {
+            const double half = wheel_thickness(*wheel, link_radius);
+            s = cylinder_between(wheel->centre - half * wheel->axis, wheel->centre + half * wheel->axis,
+                                 0.12 * wheel->radius, kJointColor);
+        } else if (joint.type == "spherical") {
             s = sphere_at(m.u_bar, 0.09 * scale, kJointColor);
         } else {
             Vec3 axis = m.axis_z();
@@ -165,11 +196,61 @@ VisualScene build_visual_scene(const Model& model) {
             s = cylinder_between(m.u_bar - half * axis, m.u_bar + half * axis,
                                  (joint.type == "prismatic" ? 0.6 : 1.6) * link_radius, kJointColor);
         }
-        if (joint.bodies[on] == kGround)
-            scene.ground.push_back(s);
-        else
-            scene.bodies[joint.bodies[on]].push_back(s);
+        std::vector<VisualShape>& list = joint.bodies[on] == kGround ? scene.ground : scene.bodies[joint.bodies[on]];
+        markers.push_back({static_cast<int>(j), joint.bodies[on], list.size()});
+        list.push_back(s);
     }
+}
+
+}  // namespace
+
+VisualScene build_visual_scene(const Model& model) {
+    std::vector<JointMarkerShape> markers;
+    return build_visual_scene(model, markers);
+}
+
+VisualScene build_visual_scene(const Model& model, std::vector<JointMarkerShape>& markers) {
+    markers.clear();
+    VisualScene scene;
+    const bool planar = model.dimension == Dimension::Planar;
+    const int nb = model.body_count();
+    scene.bodies.resize(nb);
+    if (model.gravity.norm() > 0)
+        scene.up = -model.gravity.normalized();
+    else
+        scene.up = planar ? Vec3::UnitY() : Vec3::UnitZ();
+
+    // joint points, in each body's frame; not a rolling contact's, which is a point of the rim
+    // (or of the plane) that the wheel turns away from, not an attachment a link would join
+    std::vector<std::vector<Vec3>> points(nb);
+    for (const auto& joint : model.joints)
+        if (!is_rolling_contact(joint.type))
+            for (size_t k = 0; k < joint.bodies.size() && k < joint.markers.size(); ++k)
+            if (joint.bodies[k] != kGround) add_unique(points[joint.bodies[k]], joint.markers[k].u_bar);
+
+    double scale = typical_link_size(model, points);
+    const double mechanism_size = initial_extent(model, points);
+    if (!(scale > 0)) scale = 0.1;
+    scene.length_scale = scale;
+    // Links are at least a fraction of the whole mechanism thick: a chain of many short links
+    // is drawn at its overall size, where links of 4 % of their own length would be hairlines.
+    const double thickness = std::max(0.04 * scale, kMinThicknessOfExtent * mechanism_size);
+    const double link_radius = thickness, centre_radius = std::max(0.1 * scale, 1.5 * thickness);
+    const std::vector<DerivedWheel> rolling = rolling_contact_wheels(model);
+    std::vector<std::vector<DerivedWheel>> wheels(nb);
+    for (const DerivedWheel& w : rolling) wheels[w.body].push_back(w);
+
+    for (int b = 0; b < nb; ++b) {
+        const Body& body = model.bodies[b];
+        if (!body.visuals.empty()) {
+            scene.bodies[b] = body.visuals;
+            continue;
+        }
+        add_derived_shapes(body, points[b], wheels[b], planar, {link_radius, centre_radius, body_color(b)},
+                           scene.bodies[b]);
+    }
+
+    add_joint_markers(model, scale, link_radius, rolling, scene, markers);
 
     for (const auto& force : model.forces) {
         if (force.bodies.size() != 2 || force.markers.size() != 2 || !is_connector_force(force.type)) continue;

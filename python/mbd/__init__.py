@@ -7,18 +7,20 @@
 
 Scenes come from files (mbd.load) or dicts (mbd.Model.from_dict); studies change keys
 without reading files again (Model.with_params); every analysis of the ``mbd`` command
-(check, simulate, statics, inverse) is a method of Model and runs with the GIL released, so
-threads run models in parallel.
+(check, simulate, statics, inverse, modes, kinematics) is a method of Model and runs with the
+GIL released, so threads run models in parallel.
 """
 
 import collections
 import os
 
 from . import _mbd
-from .errors import (DynamicsError, Error, InputError, KinematicsError, OutputError, PlacedError,
-                     PluginError, SceneError, StaticsError)
+from .errors import (DynamicsError, Error, InputError, KinematicsError, LinearisationError, OutputError,
+                     PlacedError, PluginError, SceneError, StaticsError)
 from .model import Model, load
-from .results import CheckReport, InverseResult, RunStats, SimulationResult, StaticsResult, Table
+from .modes import Mode, ModesResult
+from .results import (CheckReport, InverseResult, KinematicsResult, RunStats, SimulationResult, StaticsResult,
+                      Table)
 
 __version__ = _mbd.version
 abi_version = _mbd.abi_version
@@ -59,6 +61,7 @@ def plugin_problems():
 
 
 __all__ = ["load", "Model", "plugins", "plugin_path", "default_plugin_path", "set_plugin_path", "plugin_problems",
-           "PluginType", "Table", "SimulationResult", "InverseResult", "StaticsResult", "CheckReport", "RunStats",
+           "PluginType", "Table", "SimulationResult", "KinematicsResult", "ModesResult", "Mode", "InverseResult",
+           "StaticsResult", "CheckReport", "RunStats",
            "Error", "InputError", "PlacedError", "SceneError", "PluginError", "OutputError", "KinematicsError",
-           "DynamicsError", "StaticsError"]
+           "LinearisationError", "DynamicsError", "StaticsError"]

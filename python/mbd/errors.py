@@ -58,6 +58,12 @@ def _named(kind, message):
     return names
 
 
+class LinearisationError(Error):
+    """The equations of motion cannot be linearised about the reference state (Model.modes):
+    the scene has no freedom (its drivers or joints fix every coordinate), or the reference is
+    not at rest or in steady motion; the message says which and what to do."""
+
+
 class DynamicsError(Error):
     """A run that cannot go on. ``time`` is when it stopped (None when the failure has no
     time); ``joints`` and ``drivers`` are the elements the message names (the constraint

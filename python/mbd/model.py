@@ -10,7 +10,8 @@ import numpy as np
 
 from . import _mbd
 from .errors import StaticsError
-from .results import CheckReport, InverseResult, SimulationResult, StaticsResult
+from .modes import ModesResult
+from .results import CheckReport, InverseResult, KinematicsResult, SimulationResult, StaticsResult
 
 
 _log = logging.getLogger("mbd")
@@ -124,7 +125,7 @@ class Model:
             linear_algebra, q0, v0))
         for message in raw["messages"]:
             _log.info("%s", message)
-        return SimulationResult(raw, self._inputs())
+        return SimulationResult(raw, self._inputs(), self._handle)
 
     def _arguments(self, t_end, formulation, integrator, tol, step, output_step, reactions, diagnostics,
                    stabilization, linear_algebra, q0, v0):
@@ -164,3 +165,28 @@ class Model:
         InverseResult; raises DynamicsError naming the time it fails."""
         raw = _mbd.inverse(self._handle, float(t_end), float(step), bool(reactions), solver)
         return InverseResult(raw, self.actuators, self._inputs())
+
+    def modes(self, *, about="statics", residual_tolerance=1e-8, solver="ipopt", statics_iterations=500):
+        """The modes, as ``mbd modes --json``: the equations of motion linearised in independent
+        coordinates about the static equilibrium (about="statics", found by the statics plugin
+        ``solver``) or the scene's initial state taken as a steady motion (about="initial");
+        eigenvalues, natural frequencies, damping ratios, mode shapes and the state-space A, B.
+        Returns a ModesResult with the command's numbers to the bit; raises StaticsError when
+        the statics does not converge, LinearisationError when the scene has no freedom to
+        linearise or the reference accelerates more than residual_tolerance, KinematicsError
+        when it cannot be assembled."""
+        converged, message, report = _mbd.modes(self._handle, str(about), float(residual_tolerance), str(solver),
+                                                int(statics_iterations))
+        if not converged:
+            raise StaticsError(f"no modes: the statics of {self.source} did not converge: {message}")
+        import json  # the report of `mbd modes --json`, parsed as any JSON reader would
+        return ModesResult(json.loads(report))
+
+    def kinematics(self, t_end, step, *, tolerance=1e-10, max_iterations=50, linear_algebra="auto"):
+        """Kinematically driven motion, as ``mbd kinematics --output``: every body's position
+        and velocity at t = 0, step, ..., t_end, each time assembled by Newton-Raphson to
+        max |C| <= tolerance. Returns a KinematicsResult (a table of the command's columns);
+        raises KinematicsError naming the time it fails."""
+        raw = _mbd.kinematics(self._handle, float(t_end), float(step), float(tolerance), int(max_iterations),
+                              str(linear_algebra))
+        return KinematicsResult(raw, self._inputs(), self._handle)

@@ -8,6 +8,7 @@ import os
 import numpy as np
 
 from . import _mbd
+from .viewer import ViewerPage
 
 
 def _read_only(array):
@@ -117,7 +118,7 @@ class RunStats:
     velocity_violation: float
 
 
-class SimulationResult(Table):
+class SimulationResult(ViewerPage, Table):
     """A forward-dynamics run: the columns of ``mbd simulate``'s CSV, and
 
     - ``t``: the output times;
@@ -128,12 +129,15 @@ class SimulationResult(Table):
       (spatial fx, fy, fz, tx, ty, tz), the reaction on each joint's second body at the joint
       point in world axes; ``reaction_joints`` names the joints;
     - ``energies`` (with diagnostics=True): rows x 2, kinetic and potential energy;
-    - ``stats``: a RunStats; ``messages``: the engine's messages during the run."""
+    - ``stats``: a RunStats; ``messages``: the engine's messages during the run.
+
+    In Jupyter the result shows as the viewer of ``mbd animate`` (``viewer_page()``)."""
 
     _reactions_how = "simulate(..., reactions=True)"
 
-    def __init__(self, raw, inputs):
+    def __init__(self, raw, inputs, model_handle=None):
         super().__init__(raw["columns"], raw["data"], inputs)
+        self._model_handle = model_handle
         self.q = _read_only(raw["q"])
         self.v = _read_only(raw["v"])
         self.stats = RunStats(**raw["stats"])
@@ -143,6 +147,15 @@ class SimulationResult(Table):
     def energies(self):
         return self._block([c for c in ("kinetic_energy", "potential_energy") if c in self],
                            "energies", "simulate(..., diagnostics=True)")
+
+
+class KinematicsResult(ViewerPage, Table):
+    """Kinematically driven motion: the columns of ``mbd kinematics --output`` (t, then
+    every body's position and velocity). In Jupyter it shows as the viewer of ``mbd animate``."""
+
+    def __init__(self, raw, inputs, model_handle):
+        super().__init__(raw["columns"], raw["data"], inputs)
+        self._model_handle = model_handle
 
 
 class InverseResult(Table):

@@ -72,5 +72,6 @@ void bind_errors(py::module_& m);
 void bind_plugins(py::module_& m);
 void bind_model(py::module_& m);
 void bind_runs(py::module_& m);
+void bind_analyses(py::module_& m);  // analyses.cpp: modes, kinematics, the viewer page
 
 }  // namespace mbd::python

@@ -52,4 +52,5 @@ PYBIND11_MODULE(_mbd, m) {
     mp::bind_plugins(m);
     mp::bind_model(m);
     mp::bind_runs(m);
+    mp::bind_analyses(m);
 }

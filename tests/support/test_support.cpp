@@ -33,6 +33,11 @@ std::string slurp(const std::filesystem::path& p) {
 }
 }  // namespace
 
+std::filesystem::path write_text(const std::filesystem::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+}
+
 std::string read_text(const std::filesystem::path& path) {
     EXPECT_TRUE(std::filesystem::is_regular_file(path)) << path;
     return slurp(path);

@@ -37,6 +37,8 @@ State random_consistent_state(System& system, std::mt19937& rng, double spread);
 
 // The whole text of a file.
 std::string read_text(const std::filesystem::path& path);
+// Writes `text` as the whole file (bytes as given); returns the path.
+std::filesystem::path write_text(const std::filesystem::path& path, const std::string& text);
 
 // A quiet adaptive run to t_end, sampled every output_step: no progress bar, no formulation
 // messages; the caller adds reactions, diagnostics or an output file.

@@ -3,6 +3,9 @@
 // the motion. window.mbdViewer is the page's API (used by viewer/test/).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { axisName, drawAxes, niceTicks, tickLabel } from './plot_axes.js';
+import { countBodyPixels } from './pixel_coverage.js';
+import { bodiesBox, chooseFraming, frameBox, meanPosition } from './framing.js';
 
 function decodeBase64(text) {
   const s = text.trim();
@@ -49,6 +52,7 @@ const geometries = scene.meshes.map((m) => {
   g.setAttribute('normal', new THREE.BufferAttribute(floats(m.normals), 3));
   g.setIndex(new THREE.BufferAttribute(uints(m.indices), 1));
   g.computeBoundingSphere();
+  g.computeBoundingBox();
   return g;
 });
 const materials = new Map();
@@ -64,26 +68,30 @@ const batches = new Map();
 function addInstance(meshIndex, color, name, body, local) {
   const key = `${meshIndex}|${color.join(',')}`;
   if (!batches.has(key)) batches.set(key, { meshIndex, color, items: [] });
-  batches.get(key).items.push({ name, body, local });
+  const items = batches.get(key).items;
+  items.push({ name, body, local });
+  return { key, index: items.length - 1 };  // where the shape is drawn (see slotMatrix)
 }
 const shapeMatrix = (s) => new THREE.Matrix4().compose(new THREE.Vector3(...s.position),
   new THREE.Quaternion(...s.rotation), new THREE.Vector3(...s.scale));
 
 const ground = new THREE.Group();
 world.add(ground);
-scene.ground.forEach((s) => addInstance(s.mesh, s.color, 'ground', -1, shapeMatrix(s)));
+const groundSlots = scene.ground.map((s) => addInstance(s.mesh, s.color, 'ground', -1, shapeMatrix(s)));
+let grid;
 {
   const g = scene.grid;
-  const grid = new THREE.GridHelper(g.size, g.divisions, 0x9098a8, 0xc8ccd4);
+  grid = new THREE.GridHelper(g.size, g.divisions, 0x9098a8, 0xc8ccd4);
   grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), new THREE.Vector3(...g.normal));
   grid.position.set(...g.centre);
   ground.add(grid);
 }
 // a body is an (empty) group whose matrixWorld is its pose; its shapes are instances
+const bodySlots = [];
 const bodies = scene.bodies.map((b, i) => {
   const group = new THREE.Group();
   group.name = b.name;
-  b.shapes.forEach((s) => addInstance(s.mesh, s.color, b.name, i, shapeMatrix(s)));
+  bodySlots.push(b.shapes.map((s) => addInstance(s.mesh, s.color, b.name, i, shapeMatrix(s))));
   world.add(group);
   return group;
 });
@@ -99,8 +107,11 @@ const instanced = [...batches.values()].map((batch) => {
   mesh.userData.names = batch.items.map((item) => item.name);
   world.add(mesh);
   pickable.push(mesh);
+  batch.mesh = mesh;
   return { mesh, items: batch.items };
 });
+// the matrix a shape is drawn with now (world)
+const slotMatrix = (slot, out) => { batches.get(slot.key).mesh.getMatrixAt(slot.index, out); return out; };
 const instanceMatrix = new THREE.Matrix4();
 function placeInstances() {
   instanced.forEach(({ mesh, items }) => {
@@ -156,29 +167,67 @@ function apply(t) {
     connectorPoses[i].compose(pa, q, scale.set(c.radius, c.radius, Math.max(length, 1e-9)));
   });
   placeInstances();
+  if (follow && lastMean) {  // the camera and its target move with the mechanism
+    const now = meanPosition(bodies, new THREE.Vector3());
+    camera.position.add(now.clone().sub(lastMean));
+    controls.target.add(now.clone().sub(lastMean));
+    controls.update();
+    lastMean.copy(now);
+  }
   slider.value = String(Math.round(((current - tStart) / Math.max(tEnd - tStart, 1e-300)) * 10000));
   timeLabel.textContent = `t = ${current.toFixed(3)} s`;
   drawPlot();
 }
 
-// ---- camera: the whole motion in view
-const extent = new THREE.Box3();
-for (let r = 0; r < nKeyframes; r += Math.max(1, Math.floor(nKeyframes / 400)))
-  scene.poseColumns.forEach((p) => extent.expandByPoint(new THREE.Vector3(value(r, p.x), value(r, p.y), p.z >= 0 ? value(r, p.z) : 0)));
-extent.expandByScalar(0.3 * scene.lengthScale);
-const centre = extent.getCenter(new THREE.Vector3());
-const radius = extent.getSize(new THREE.Vector3()).length() / 2;
+// ---- camera: the mechanism in view (framing.js), followed when it travels
+const massCentres = { box: new THREE.Box3(), startBox: new THREE.Box3() };
+const meanPath = new THREE.Box3();
+const meanStart = new THREE.Vector3(), meanEnd = new THREE.Vector3();
+{
+  const p = new THREE.Vector3(), mean = new THREE.Vector3();
+  const at = (r, c) => (c >= 0 ? value(r, c) : 0);
+  for (let r = 0; r < nKeyframes; r += Math.max(1, Math.floor(nKeyframes / 400))) {
+    mean.set(0, 0, 0);
+    scene.poseColumns.forEach((c) => {
+      p.set(at(r, c.x), at(r, c.y), at(r, c.z));
+      massCentres.box.expandByPoint(p);
+      if (r === 0) massCentres.startBox.expandByPoint(p);
+      mean.add(p);
+    });
+    meanPath.expandByPoint(mean.multiplyScalar(1 / Math.max(scene.poseColumns.length, 1)));
+    if (r === 0) meanStart.copy(mean);
+    meanEnd.copy(mean);
+  }
+}
 const viewDir = scene.dimension === 'planar'
   ? new THREE.Vector3(0, 0, 1)
   : (() => { const a = new THREE.Vector3(1, 0, 0); if (Math.abs(a.dot(up)) > 0.9) a.set(0, 1, 0);
       a.sub(up.clone().multiplyScalar(a.dot(up))).normalize(); const b = up.clone().cross(a);
       return a.multiplyScalar(1).add(b.multiplyScalar(-1.3)).add(up.clone().multiplyScalar(0.8)).normalize(); })();
-camera.position.copy(centre).add(viewDir.multiplyScalar(radius / Math.sin(THREE.MathUtils.degToRad(20)) * 1.05));
-camera.near = radius / 100; camera.far = radius * 100;
-sun.position.copy(camera.position).add(up.clone().multiplyScalar(radius * 2));
 const controls = new OrbitControls(camera, renderer.domElement);
-controls.target.copy(centre);
-controls.update();
+let follow = false, lastMean = null, framing = null;
+// called once the first frame is placed: the bodies' drawn box is known
+function frameMechanism() {
+  const start = bodiesBox(instanced, new THREE.Box3());
+  if (start.isEmpty()) start.copy(massCentres.startBox).expandByScalar(0.3 * scene.lengthScale);
+  if (start.isEmpty()) start.setFromCenterAndSize(new THREE.Vector3(), new THREE.Vector3().setScalar(scene.lengthScale));
+  framing = chooseFraming(start, massCentres, meanPath);
+  // a vehicle is seen from its side, a little ahead and above
+  const travel = meanEnd.clone().sub(meanStart);
+  travel.addScaledVector(up, -travel.dot(up));
+  if (framing.follow && scene.dimension !== 'planar' && travel.length() > 0) {
+    travel.normalize();
+    viewDir.copy(up.clone().cross(travel)).addScaledVector(travel, 0.35).addScaledVector(up, 0.45).normalize();
+  }
+  const radius = frameBox(camera, controls, framing.box, viewDir);
+  sun.position.copy(camera.position).add(up.clone().multiplyScalar(radius * 2));
+  setFollow(framing.follow);
+}
+function setFollow(on) {
+  follow = on;
+  followBox.checked = on;
+  lastMean = on ? meanPosition(bodies, new THREE.Vector3()) : null;
+}
 
 function resize() {
   const w = host.clientWidth, h = host.clientHeight;
@@ -193,6 +242,8 @@ const playButton = document.getElementById('play');
 const speedSelect = document.getElementById('speed');
 const slider = document.getElementById('slider');
 const timeLabel = document.getElementById('time');
+const followBox = document.getElementById('follow');
+followBox.addEventListener('change', () => setFollow(followBox.checked));
 let playing = false, speed = 1, last = null;
 function setPlaying(on) { playing = on; last = on ? performance.now() : null; playButton.textContent = on ? 'pause' : 'play'; }
 playButton.addEventListener('click', () => { if (!playing && current >= tEnd) apply(tStart); setPlaying(!playing); });
@@ -221,7 +272,8 @@ let plotColumn = Math.max(1, columnNames.indexOf(scene.plotColumn));
 columnSelect.value = String(plotColumn);
 columnSelect.addEventListener('change', () => { plotColumn = Number(columnSelect.value); plotCache = null; drawPlot(); });
 let plotCache = null;
-const margin = { left: 58, right: 8, top: 8, bottom: 18 };
+const margin = { left: 58, right: 8, top: 8, bottom: 30 };
+let plotLabels = [];
 // the plotted column's samples as (t, low, high): each keyframe of a pose column, or each
 // non-empty interval of an envelope at the interval's middle
 function forEachSample(column, visit) {
@@ -236,6 +288,12 @@ function plotData() {
   const dataMin = scene.columns[plotColumn].min, dataMax = scene.columns[plotColumn].max;
   let lo = dataMin, hi = dataMax;
   if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { lo -= 0.5; hi += 0.5; }
+  // the left margin holds the widest tick label and the rotated axis name
+  const y = niceTicks(lo, hi, 5), x = niceTicks(tStart, tEnd, 4);
+  const yTicks = y.ticks.map((v) => ({ value: v, text: tickLabel(v, y.step) }));
+  const xTicks = x.ticks.map((v) => ({ value: v, text: tickLabel(v, x.step) }));
+  ctx.font = '11px system-ui, sans-serif';
+  margin.left = Math.ceil(18 + Math.max(...yTicks.map((t) => ctx.measureText(t.text).width)) + 6);
   // at most two points (min and max) per pixel column
   const w = chart.width - margin.left - margin.right, h = chart.height - margin.top - margin.bottom;
   const xOf = (t) => margin.left + ((t - tStart) / Math.max(tEnd - tStart, 1e-300)) * w;
@@ -248,21 +306,16 @@ function plotData() {
     else { vmin = Math.min(vmin, a); vmax = Math.max(vmax, b); }
   });
   path.push([px, yOf(vmin)], [px, yOf(vmax)]);
-  plotCache = { lo, hi, dataMin, dataMax, path, xOf };
+  plotCache = { lo, hi, dataMin, dataMax, path, xOf, yOf, yTicks, xTicks };
   return plotCache;
 }
 let cursorX = 0;
 function drawPlot() {
-  const { lo, hi, path, xOf } = plotData();
+  const { path, xOf, yOf, yTicks, xTicks } = plotData();
   ctx.clearRect(0, 0, chart.width, chart.height);
   ctx.fillStyle = '#fff'; ctx.fillRect(0, 0, chart.width, chart.height);
-  ctx.strokeStyle = '#99a'; ctx.lineWidth = 1;
-  ctx.strokeRect(margin.left, margin.top, chart.width - margin.left - margin.right, chart.height - margin.top - margin.bottom);
-  ctx.fillStyle = '#334'; ctx.font = '11px system-ui, sans-serif';
-  ctx.textAlign = 'right'; ctx.fillText(hi.toPrecision(4), margin.left - 4, margin.top + 9);
-  ctx.fillText(lo.toPrecision(4), margin.left - 4, chart.height - margin.bottom);
-  ctx.textAlign = 'left'; ctx.fillText(`${tStart.toPrecision(3)} s`, margin.left, chart.height - 4);
-  ctx.textAlign = 'right'; ctx.fillText(`${tEnd.toPrecision(3)} s`, chart.width - margin.right, chart.height - 4);
+  plotLabels = drawAxes(ctx, { margin, width: chart.width, height: chart.height, xOf, yOf }, yTicks, xTicks,
+                        { x: axisName('t'), y: axisName(columnNames[plotColumn]) });
   ctx.strokeStyle = '#1f5fbf'; ctx.lineWidth = 1.5; ctx.beginPath();
   path.forEach(([x, y], i) => (i ? ctx.lineTo(x, y) : ctx.moveTo(x, y)));
   ctx.stroke();
@@ -294,6 +347,7 @@ document.getElementById('title').innerHTML = '';
 }
 resize();
 apply(tStart);
+frameMechanism();
 requestAnimationFrame(frame);
 
 // ---- the page API
@@ -321,6 +375,38 @@ window.mbdViewer = {
     return { projection: camera.projectionMatrix.toArray(), view: camera.matrixWorldInverse.toArray(),
              left: r.left, top: r.top, width: r.width, height: r.height };
   },
+  // pixels of the view each body covers now, by name (pixel_coverage.js); the plot panel hides what is under it
+  bodyCoverage() {
+    const panel = document.getElementById('plot').getBoundingClientRect();
+    const { counts, unknown } = countBodyPixels(renderer, world, camera, instanced, [grid], [panel], bodies.length);
+    return { pixels: Object.fromEntries(scene.bodies.map((b, i) => [b.name, counts[i]])), unknown };
+  },
+  // the scene's joints: their bodies (indices, -1 the ground) and points in each body's frame
+  joints: () => scene.joints.map((j) => ({ name: j.name, type: j.type, bodies: j.bodies, points: j.points })),
+  // where each joint's marker is drawn now: world position and CSS pixels
+  jointMarkers() {
+    const m = new THREE.Matrix4();
+    return scene.joints.filter((j) => j.marker).map((j) => {
+      const slot = j.marker.body >= 0 ? bodySlots[j.marker.body][j.marker.shape] : groundSlots[j.marker.shape];
+      v3.setFromMatrixPosition(slotMatrix(slot, m));
+      const world = v3.toArray();
+      v3.project(camera);
+      const r = renderer.domElement.getBoundingClientRect();
+      return { joint: j.name, drawnOn: j.marker.body, world, x: r.left + ((v3.x + 1) / 2) * r.width, y: r.top + ((1 - v3.y) / 2) * r.height };
+    });
+  },
+  following: () => follow,
+  setFollow(on) { setFollow(Boolean(on)); apply(current); renderer.render(world, camera); },
+  framing: () => ({ follow: framing.follow, size: framing.size, travel: framing.travel }),
+  // the shapes of a body as drawn now: mesh index, world matrix (column-major), geometry bounds
+  bodyShapes(name) {
+    const b = scene.bodies.findIndex((x) => x.name === name);
+    if (b < 0) return null;
+    const m = new THREE.Matrix4();
+    return bodySlots[b].map((slot, k) => ({ mesh: scene.bodies[b].shapes[k].mesh, scale: scene.bodies[b].shapes[k].scale,
+      matrix: slotMatrix(slot, m).toArray(), min: geometries[scene.bodies[b].shapes[k].mesh].boundingBox.min.toArray(),
+      max: geometries[scene.bodies[b].shapes[k].mesh].boundingBox.max.toArray() }));
+  },
   setPlotColumn(name) { const i = columnNames.indexOf(name); if (i < 1) return false; columnSelect.value = String(i); plotColumn = i; plotCache = null; drawPlot(); return true; },
-  plotInfo() { const { lo, hi, dataMin, dataMax, path } = plotData(); return { column: columnNames[plotColumn], min: dataMin, max: dataMax, axis: [lo, hi], points: path.length, cursorX, width: chart.width, height: chart.height, margin }; },
+  plotInfo() { const { lo, hi, dataMin, dataMax, path } = plotData(); return { column: columnNames[plotColumn], min: dataMin, max: dataMax, axis: [lo, hi], points: path.length, cursorX, width: chart.width, height: chart.height, margin: { ...margin }, labels: plotLabels, names: { x: axisName('t'), y: axisName(columnNames[plotColumn]) } }; },
 };

@@ -4,6 +4,7 @@
 #include <mbd/viewer/animation_export.hpp>
 #include <mbd/viewer/keyframes.hpp>
 #include <mbd/viewer/shape_mesh.hpp>
+#include <mbd/visual_joint_markers.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -119,6 +120,26 @@ std::string json_shapes(const std::vector<ShapeInstance>& shapes) {
     return out + "]";
 }
 
+// Each joint's points on its bodies (body frame) and the derived shape that marks it, if any
+// ("marker": {"body", "shape"}): the page's API reports where both are drawn.
+std::string json_joints(const Model& model, const std::vector<JointMarkerShape>& markers) {
+    std::string out = "[";
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+        const JointInstance& joint = model.joints[j];
+        out += std::string(j ? "," : "") + "{\"name\":" + json_string(joint.name) + ",\"type\":" +
+               json_string(joint.type) + ",\"bodies\":[";
+        for (size_t k = 0; k < joint.bodies.size(); ++k) out += (k ? "," : "") + std::to_string(joint.bodies[k]);
+        out += "],\"points\":[";
+        for (size_t k = 0; k < joint.markers.size(); ++k) out += (k ? "," : "") + json_vector(joint.markers[k].u_bar);
+        out += "]";
+        for (const JointMarkerShape& m : markers)
+            if (m.joint == static_cast<int>(j))
+                out += ",\"marker\":{\"body\":" + std::to_string(m.body) + ",\"shape\":" + std::to_string(m.shape) + "}";
+        out += "}";
+    }
+    return out + "]";
+}
+
 // How the page holds the motion (viewer/js/viewer.js reads the same layout), after the
 // keyframe times (float64):
 //  - a pose column (a body's x, y, z, angle or e0..e3) as float32 at the keyframes: the rows
@@ -208,7 +229,8 @@ void write_motion(const MotionTable& table, const PageMotion& motion, std::ostre
 
 void write_html(const Model& model, const MotionTable& table, const AnimationOptions& options, std::ostream& out) {
     const std::vector<PoseColumns> columns = match_pose_columns(model, table);
-    VisualScene scene = build_visual_scene(model);
+    std::vector<JointMarkerShape> markers;
+    VisualScene scene = build_visual_scene(model, markers);
     const Eigen::AlignedBox3d extent = motion_extent(model, table, columns);
     fit_ground_grid(model, scene, extent);
     const SceneMeshes meshes = scene_meshes(scene);
@@ -246,7 +268,7 @@ void write_html(const Model& model, const MotionTable& table, const AnimationOpt
              ",\"pointB\":" + json_vector(c.point_b) + ",\"radius\":" + json_number(c.radius) +
              ",\"color\":" + json_vector(c.color) + "}";
     }
-    j += "],\"poseColumns\":[";
+    j += "],\"joints\":" + json_joints(model, markers) + ",\"poseColumns\":[";
     for (size_t k = 0; k < columns.size(); ++k) {
         const PoseColumns& p = columns[k];
         j += std::string(k ? "," : "") + "{\"x\":" + std::to_string(p.x) + ",\"y\":" + std::to_string(p.y) +

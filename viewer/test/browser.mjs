@@ -4,54 +4,23 @@
 // play advances time; the plot panel draws the chosen column (its range equals the CSV
 // column's, its line is on the canvas, its cursor follows the time). Saves a screenshot.
 // Usage: node browser.mjs OUT_DIR SCREENSHOT_DIR   (OUT_DIR from make_outputs.sh)
-import { readFileSync, mkdirSync } from 'node:fs';
+import { mkdirSync } from 'node:fs';
 import { join, resolve } from 'node:path';
-import puppeteer from 'puppeteer-core';
+import { check, launch, openViewer, project, readCsv, tally } from './support.mjs';
 
 const [outDir, shotDir] = process.argv.slice(2).map((p) => resolve(p));
-const chromium = process.env.MBD_CHROMIUM || '/usr/bin/chromium';
 const cases = [
   { name: 'four-bar', body: 'coupler', column: 'coupler.omega', fraction: 0.63 },  // an envelope column
   { name: 'gyroscope', body: 'top', column: 'top.x', fraction: 0.41 },
   { name: 'statics', column: null, fraction: 0 },
 ];
 
-function readCsv(file) {
-  const lines = readFileSync(file, 'utf8').trim().split('\n');
-  const columns = lines[0].split(',');
-  return { columns, rows: lines.slice(1).map((l) => l.split(',').map(Number)) };
-}
-
-// world point -> CSS pixel through the camera's view and projection (column-major 4x4)
-function project(cam, p) {
-  const mul = (m, v) => [0, 1, 2, 3].map((r) => m[r] * v[0] + m[4 + r] * v[1] + m[8 + r] * v[2] + m[12 + r] * v[3]);
-  const c = mul(cam.projection, mul(cam.view, [p[0], p[1], p[2], 1]));
-  return { x: cam.left + ((c[0] / c[3] + 1) / 2) * cam.width, y: cam.top + ((1 - c[1] / c[3]) / 2) * cam.height };
-}
-
-let failures = 0, checks = 0;
-function check(ok, what) {
-  checks++;
-  if (!ok) failures++;
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
-}
-
-const browser = await puppeteer.launch({
-  executablePath: chromium,
-  headless: true,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--window-size=1280,800'],
-});
+const browser = await launch();
 try {
   mkdirSync(shotDir, { recursive: true });
   for (const c of cases) {
-    const page = await browser.newPage();
-    await page.setViewport({ width: 1280, height: 800 });
-    const errors = [];
-    page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-    page.on('pageerror', (e) => errors.push(String(e)));
     const started = Date.now();
-    await page.goto('file://' + join(outDir, `${c.name}.html`), { waitUntil: 'load' });
-    await page.waitForFunction(() => window.mbdViewer !== undefined, { timeout: 20000 });
+    const { page, errors } = await openViewer(browser, join(outDir, `${c.name}.html`));
     console.log(`${c.name}: viewer ready in ${Date.now() - started} ms`);
 
     const csvFile = c.name === 'statics' ? null : join(outDir, `${c.name}.csv`);
@@ -143,5 +112,5 @@ try {
 } finally {
   await browser.close();
 }
-console.log(`${checks - failures} passed, ${failures} failed`);
-process.exit(failures ? 1 : 0);
+console.log(`${tally.checks - tally.failures} passed, ${tally.failures} failed`);
+process.exit(tally.failures ? 1 : 0);

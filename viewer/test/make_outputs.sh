@@ -14,6 +14,8 @@ run four-bar scenes/four-bar.yaml 0.3 0.0001
 run gyroscope scenes/bench/gyroscope.yaml 1.0 0.01
 run chain-50 scenes/bench/chain-50.yaml 0.2 0.01
 run visual-shapes scenes/examples/visual-shapes.yaml 1.0 0.01
+# 15 m of riding at 5 m/s: a vehicle the camera follows
+run whipple-bicycle scenes/reference/whipple-bicycle.yaml 3.0 0.01
 "$mbd" statics "$src/scenes/statics/pendulum-torque.yaml" --animation "$out/statics.html" > /dev/null
 "$mbd" statics "$src/scenes/statics/pendulum-torque.yaml" --animation "$out/statics.glb" > /dev/null
 ls "$out"

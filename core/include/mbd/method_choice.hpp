@@ -9,7 +9,8 @@
 //                difference Jacobian costs one rhs per state and its LU grows with their cube, so
 //                the joint coordinates win (the flyball: 8 states against 52, 1.8 times cheaper
 //                at error 1e-6).
-//   integrator   cvode when the scene is stiff: the fastest damping rate of its force elements
+//   integrator   cvode when the scene is stiff: the fastest rate of its force elements (a compliant
+//                contact's frequency counts too: fastest_contact_frequency), the fastest damping rate of its force elements
 //                (the largest eigenvalue of M^-1 times the symmetric part of -dQ/dv, at the
 //                initial state, and for friction elements also where they stick: every velocity
 //                zero, a load from a joint's reaction at its static value; sticking_damping_rate)
@@ -52,6 +53,16 @@ struct StickingDamping {
     std::string note;  // "friction sticking (stiction velocity 1e-06), force 'dry' loaded by joint ..."
 };
 StickingDamping sticking_damping_rate(const Model& model);
+
+// The fastest oscillation of the scene's compliant contacts about the penetrations they hold
+// (contact_scales.hpp), rad/s (0: none): a resting contact is a stiff spring that an explicit
+// method must follow with steps below about 1 / frequency however still the contact rests,
+// while an implicit one steps over it once its ringing has decayed below the tolerance.
+struct ContactFrequency {
+    double frequency = 0.0;
+    std::string note;  // "compliant contact 'ball' oscillating at ... rad/s ..."
+};
+ContactFrequency fastest_contact_frequency(const Model& model);
 
 MethodChoice automatic_method(const Model& model, double t_end);
 

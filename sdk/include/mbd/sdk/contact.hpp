@@ -40,6 +40,7 @@ struct NormalLaw {
     double stiffness = 0.0;  // k, N / m^n
     double exponent = 1.5;   // n (1.5: Hertz, sphere on a plane or on a sphere)
     double damping = 0.0;    // c, N s / m^(n+1)
+    double impact_velocity = 0.0;  // the approach speed a restitution was fitted to (0: damping given)
 
     // F_n of the penetration delta and its rate, >= 0; zero (a constant: no Jacobian) while separated
     template <class S>
@@ -97,6 +98,7 @@ inline NormalLaw read_normal_law(const ForceSpec& spec) {
         if (model != "lankarani_nikravesh" && model != "hunt_crossley")
             fail(spec, "'restitution_model' must be 'lankarani_nikravesh' or 'hunt_crossley', got '" + model + "'",
                  &spec.params.at("restitution_model"));
+        law.impact_velocity = v;
         law.damping = damping_from_restitution(
             model == "hunt_crossley" ? RestitutionModel::HuntCrossley : RestitutionModel::LankaraniNikravesh,
             law.stiffness, e, v);
@@ -239,6 +241,9 @@ public:
         return gap_and_rate_of(force_support::spatial_states<double>(b));
     }
     double potential_energy(const BodyStates& b) const override { return normal_.energy(-gap_and_rate(b).gap); }
+    CompliantLaw compliant_law() const override {
+        return {normal_.stiffness, normal_.exponent, normal_.impact_velocity};
+    }
 
     // --- the event: the gap, so that no step straddles the onset of the contact force (its
     // kink at gap = 0); compliant, the state is not changed there, and a resting contact is

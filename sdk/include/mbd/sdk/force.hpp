@@ -43,6 +43,15 @@ struct EventImpact {
     bool holds_resting = false;
 };
 
+// The compliant normal law F_n = k delta^n (+ damping) an element holds between its two bodies
+// (mbd/sdk/contact.hpp), for the automatic choice (docs/user-guide.md "The automatic choice"): it
+// resolves the penetration the law holds and counts its frequency. stiffness 0: none.
+struct CompliantLaw {
+    double stiffness = 0.0;        // k, N/m^n
+    double exponent = 1.0;         // n
+    double impact_velocity = 0.0;  // the approach speed the damping was fitted to (0: not given)
+};
+
 struct ForceSpec {
     std::string name;
     std::string type;
@@ -88,6 +97,9 @@ public:
     // Dry friction: the diagnostics integrate -Q^T v of these elements as the energy friction
     // dissipated (docs/formulations.md "Diagnostics").
     virtual bool is_friction() const { return false; }
+    // A compliant contact between the element's two bodies (the first two of its bodies):
+    // its normal law; the default (stiffness 0) is none.
+    virtual CompliantLaw compliant_law() const { return {}; }
 
     // --- events (none by default)
     virtual int event_count() const { return 0; }
