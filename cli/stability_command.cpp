@@ -1,6 +1,6 @@
 // mbd stability [SCENE...] [--markdown docs/stability.md]: the stability matrix of the extreme
 // cases (issue 8). Runs every scene (default: scenes/extreme/*.yaml) with every formulation the
-// registry finds and the integrators dopri5, generalized_alpha and cvode, each run in a forked
+// registry finds and the integrators dopri5, dop853, generalized_alpha and cvode, each run in a forked
 // child with the case's wall-time budget, and writes the case x formulation x integrator matrix
 // (app/src/stability.cpp). Exit status 1 when a declared pair misses its declared outcome or a
 // child crashed.
@@ -61,7 +61,7 @@ void add_stability_command(CLI::App& app, Commands& commands) {
     sub->add_option("SCENE", args->scenes, "Scenes (default: every scenes/extreme/*.yaml under the current directory)");
     sub->add_option("--markdown", args->markdown, "Write the matrix as Markdown to this file (e.g. docs/stability.md)");
     sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable; default: all found)");
-    sub->add_option("--integrator", args->integrators, "Only these integrators (default: dopri5, generalized_alpha, cvode)");
+    sub->add_option("--integrator", args->integrators, "Only these integrators (default: dopri5, dop853, generalized_alpha, cvode)");
     sub->add_flag("--quick", args->quick, "Use each case's quick_t_end (shorter runs)");
     sub->add_flag("-q,--quiet", args->quiet, "No progress line (the running case and its simulated time)");
 

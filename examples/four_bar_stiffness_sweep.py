@@ -2,7 +2,7 @@
 """A stiffness sweep of the four-bar with a spring-damper (scenes/dynamics/four-bar-spring-damper.yaml):
 for each spring stiffness, the free damped motion of the crank and the stable static
 equilibrium nearest the scene's configuration, computed in parallel threads over changed
-models of one scene, and plotted. (The linkage has more than one stable equilibrium: with a
+models of one scene, and plotted. Every angle it prints or plots is in degrees in (-180, 180]. (The linkage has more than one stable equilibrium: with a
 stiff spring the nearest one is on another branch, and the motion, started at 5 rad/s, need
 not settle in the nearest one.)
 
@@ -30,6 +30,12 @@ def study(model, stiffness, t_end):
     return stiffness, motion, equilibrium
 
 
+def degrees_wrapped(angle):
+    """An angle [rad] as the one way this example reports angles: degrees in (-180, 180]."""
+    degrees = np.degrees(np.angle(np.exp(1j * np.asarray(angle, dtype=float))))
+    return np.where(degrees == -180.0, 180.0, degrees)
+
+
 def sweep(stiffnesses, t_end):
     model = mbd.load(SCENE)
     with concurrent.futures.ThreadPoolExecutor(os.cpu_count()) as pool:  # the engine runs without the GIL
@@ -44,14 +50,15 @@ def plot(results, output):
     figure, (motion_axes, equilibrium_axes) = plt.subplots(1, 2, figsize=(11, 4.2))
     colours = plt.cm.viridis(np.linspace(0, 1, len(results)))
     for (k, motion, _), colour in zip(results, colours):
-        motion_axes.plot(motion.t, np.degrees(motion["crank.angle"]), color=colour, label=f"k = {k:.0f} N/m")
-    motion_axes.set(xlabel="t [s]", ylabel="crank angle [deg]", title="Free motion from 90 deg at 5 rad/s")
+        motion_axes.plot(motion.t, degrees_wrapped(motion["crank.angle"]), ".", markersize=1, color=colour,
+                         label=f"k = {k:.0f} N/m")
+    motion_axes.set(xlabel="t [s]", ylabel="crank angle [deg], in (-180, 180]", title="Free motion from 90 deg at 5 rad/s")
     motion_axes.legend(fontsize=7)
     motion_axes.grid(True, alpha=0.3)
     k = [r[0] for r in results]
-    wrapped = [np.degrees(np.angle(np.exp(1j * r[2].bodies["crank"]["angle"]))) for r in results]
-    equilibrium_axes.semilogx(k, wrapped, "o-", label="stable equilibrium nearest the start (mbd statics)")
-    equilibrium_axes.set(xlabel="spring stiffness k [N/m]", ylabel="crank angle [deg]",
+    equilibrium = [degrees_wrapped(r[2].bodies["crank"]["angle"]) for r in results]
+    equilibrium_axes.semilogx(k, equilibrium, "o-", label="stable equilibrium nearest the start (mbd statics)")
+    equilibrium_axes.set(xlabel="spring stiffness k [N/m]", ylabel="crank angle [deg], in (-180, 180]",
                          title="Static equilibrium from the crank at 90 deg")
     equilibrium_axes.legend(fontsize=8)
     equilibrium_axes.grid(True, which="both", alpha=0.3)
@@ -69,8 +76,8 @@ def main(argv=None):
     results = sweep(np.geomspace(50.0, 5000.0, args.points), args.t_end)
     plot(results, args.output)
     for k, motion, equilibrium in results:
-        print(f"k = {k:8.1f} N/m: equilibrium crank angle {np.degrees(equilibrium.bodies['crank']['angle']):7.2f} deg "
-              f"({equilibrium.stability}), at t = {motion.t[-1]:g} s {np.degrees(motion['crank.angle'][-1]):7.2f} deg, "
+        print(f"k = {k:8.1f} N/m: equilibrium crank angle {degrees_wrapped(equilibrium.bodies['crank']['angle']):7.2f} deg "
+              f"({equilibrium.stability}), at t = {motion.t[-1]:g} s {degrees_wrapped(motion['crank.angle'][-1]):7.2f} deg, "
               f"{motion.stats.steps} steps")
     print(f"wrote {args.output}")
     return results

@@ -318,4 +318,29 @@ TEST(InverseCli, WritesEffortsCsvWithReactions) {
     EXPECT_NEAR(v[1], M2 + M3, 1e-8);
 }
 
+
+// The shipped example (scenes/examples/inverse-pendulum.yaml, the scene docs/user-guide.md and
+// docs/statics.md let a user try `mbd inverse` on): a uniform rod (m = 2 kg, l = 1 m) swung about
+// the downward vertical by phi(t) = A sin(w t) needs the pin torque of Euler's equation about the
+// pin, tau = (m l^2 / 3) phi'' + m g (l/2) sin(phi). A wrong sign of the gravity term, the
+// centroidal instead of the pin's inertia, or an effort of the wrong body would each miss by O(1).
+TEST(InverseExample, PendulumTorqueIsTheClosedForm) {
+    const auto folder = mbd::test::scratch("inverse_example");
+    const auto out = folder / "efforts.csv";
+    const auto scene_file = mbd::test::scene_path("examples/inverse-pendulum.yaml");
+    const auto r = mbd::test::run_mbd("inverse " + scene_file.string() + " --t-end 2 --step 0.02 --output " +
+                                      out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const mbd::test::Csv csv = mbd::test::read_csv(out);
+    const int motor = csv.column("motor");
+    ASSERT_GE(motor, 0);
+    ASSERT_EQ(csv.rows.size(), 101u);
+    const double m = 2.0, l = 1.0, g = 9.81, A = 0.6, w = 3.0;
+    for (const auto& row : csv.rows) {
+        const double t = row[0];
+        const double phi = A * std::sin(w * t), acceleration = -A * w * w * std::sin(w * t);
+        EXPECT_NEAR(row[motor], m * l * l / 3.0 * acceleration + m * g * l / 2.0 * std::sin(phi), 1e-9) << "t = " << t;
+    }
+}
+
 }  // namespace
