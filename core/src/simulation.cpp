@@ -258,15 +258,15 @@ Eigen::VectorXd consistent_start(ModelSystem& system, Formulation& formulation, 
 void check_simulation_method(const Model& model, Registry& registry, const SimulationSettings& settings) {
     SimulationSettings quiet = settings;  // a check says nothing of the tolerance it would choose
     quiet.messages = MessageLog::silent();
-    prepare_run(model, registry, quiet);
     refuse_scene_inputs(model);
+    prepare_run(model, registry, quiet);
 }
 
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
                           const SimulationCallback& callback) {
     SimulationResult result;
+    refuse_scene_inputs(model);  // before the automatic choices evaluate the forces
     PreparedRun run = prepare_run(model, registry, settings);  // before any work
-    refuse_scene_inputs(model);
     const std::string& name = run.formulation_name;
     FormulationOptions& options = run.options;
     std::shared_ptr<Formulation> formulation = run.formulation;

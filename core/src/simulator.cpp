@@ -62,12 +62,19 @@ private:
 
 struct Simulator::Impl {
     Impl(const Model& m, Registry& registry, const SimulationSettings& s)
-        : model(m), settings(s), run(prepare_run(m, registry, s)), inputs(m) {}
+        : model(m), settings(s), inputs(m), run(prepared(m, registry, s, inputs)) {}
+
+    // prepare_run with the inputs current: the automatic choices may evaluate the forces
+    static PreparedRun prepared(const Model& m, Registry& registry, const SimulationSettings& s,
+                                const InputTable& inputs) {
+        CurrentInputs current(inputs);
+        return prepare_run(m, registry, s);
+    }
 
     const Model& model;
     SimulationSettings settings;
-    PreparedRun run;
     InputTable inputs;
+    PreparedRun run;
     std::unique_ptr<ModelSystem> system;
     std::unique_ptr<ContactEvents> contact;
     std::vector<EventRecord> records;
@@ -77,6 +84,7 @@ struct Simulator::Impl {
     IntegratorStats stats;
     State state;            // at the last good step
     std::string failure;    // why the last step failed; empty: none
+    bool rhs_changed = false;  // an input or the user force changed since the last step
     size_t reported = 0;    // events told to event_callback
 
     void begin(State start);
@@ -128,6 +136,7 @@ void Simulator::Impl::begin(State start) {
     run.formulation->from_ode(t0, run.integrator->state(), state);
     state.t = t0;
     failure.clear();
+    rhs_changed = false;
 }
 
 void Simulator::Impl::after_step() {
@@ -147,6 +156,8 @@ void Simulator::Impl::stepping(Step&& step) {
                                          "); call reset() before stepping again");
     CurrentInputs current(inputs);
     try {
+        if (rhs_changed) run.integrator->rhs_changed();
+        rhs_changed = false;
         step();
     } catch (const std::exception& e) {
         failure = e.what();
@@ -157,6 +168,7 @@ void Simulator::Impl::stepping(Step&& step) {
 Simulator::Simulator(const Model& model, Registry& registry, const SimulationSettings& settings)
     : impl_(std::make_unique<Impl>(model, registry, settings)) {
     Impl& s = *impl_;
+    CurrentInputs current(s.inputs);
     require_positive_masses(model);
     s.system = std::make_unique<ModelSystem>(model);
     s.run.formulation->bind(*s.system, s.run.options);
@@ -254,12 +266,16 @@ const std::vector<std::string>& Simulator::input_names() const { return impl_->i
 void Simulator::set_input(const std::string& name, double value) {
     if (!std::isfinite(value))
         throw InputError("input '" + name + "'", "the value must be finite, got " + format_number(value, 9));
+    if (impl_->inputs.value(name) != value) impl_->rhs_changed = true;
     impl_->inputs.set(name, value);
 }
 
 double Simulator::input(const std::string& name) const { return impl_->inputs.value(name); }
 
-void Simulator::set_user_force(UserForce force) { impl_->user_force = std::move(force); }
+void Simulator::set_user_force(UserForce force) {
+    impl_->user_force = std::move(force);
+    impl_->rhs_changed = true;
+}
 void Simulator::on_event(EventCallback callback) { impl_->event_callback = std::move(callback); }
 const std::vector<EventRecord>& Simulator::events() const { return impl_->records; }
 const IntegratorStats& Simulator::stats() const { return impl_->stats; }

@@ -135,6 +135,9 @@ public:
     // The run's time and its state there (projected onto the constraints).
     virtual double time() const = 0;
     virtual const Eigen::VectorXd& state() const = 0;
+    // The right-hand side changed from time() on (an input set, a force changed): a step
+    // keeps its size but no derivative computed before (dopri5's and dop853's FSAL stage).
+    virtual void rhs_changed() {}
     // Whether the steps must stop on every output time (the fixed-step integrators, cvode);
     // otherwise outputs inside a step come from its continuous extension (dopri5, dop853).
     virtual bool stops_at_outputs() const { return true; }

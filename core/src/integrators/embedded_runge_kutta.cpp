@@ -108,6 +108,12 @@ void EmbeddedRungeKutta::begin(OdeProblem& problem, double t0, const Eigen::Vect
     attempts_ = 0;
 }
 
+void EmbeddedRungeKutta::rhs_changed() {
+    if (!problem_) return;
+    problem_->rhs(t_, y_, f0_);  // the FSAL stage of the old right-hand side no longer holds
+    ++stats_->rhs_evaluations;
+}
+
 bool EmbeddedRungeKutta::step(double t_stop, StepOutputs* outputs) {
     if (!problem_) throw InputError(name(), "step() before begin()");
     OdeProblem& problem = *problem_;
@@ -140,7 +146,7 @@ bool EmbeddedRungeKutta::step(double t_stop, StepOutputs* outputs) {
         double h_new = h / fac;
         facold_ = std::max(err, 1e-4);
         if (reject_) h_new = std::min(h_new, h);
-        if (last) h_new = std::max(h_new, std::min(h_wanted, h_new * facc1));
+        if (last) h_new = std::max(h_new, h_wanted);  // the controller's own proposal before the cut
         double t_step = t_new, h_step = h;  // the step taken: shortened to end on an event
         const bool at_event = events_.active() && events_.left_side(problem, t_new, y1_);
         if (at_event) {

@@ -41,6 +41,7 @@ public:
     void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
                IntegratorStats& stats) final;
     bool step(double t_stop, StepOutputs* outputs) final;
+    void rhs_changed() final;
     double time() const final { return t_; }
     const Eigen::VectorXd& state() const final { return y_; }
 
