@@ -130,6 +130,7 @@ void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
     data_.pose(state);
     for (size_t f = 0; f < m.forces.size(); ++f)
         scatter_vector(m, force_bodies_[f], element_force(static_cast<int>(f), state.t), Q);
+    if (extra_force_) extra_force_(state, Q);
     if (m.dimension == Dimension::Spatial) {
         // gyroscopic moment in body axes, -wbar x (Jbar wbar) (book Eq. 7.155, Q_v)
         for (int k = 0; k < m.body_count(); ++k) {

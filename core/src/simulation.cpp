@@ -15,6 +15,7 @@
 #include "energy_growth.hpp"
 #include "friction_dissipation.hpp"
 #include "lift_off.hpp"
+#include "run_setup.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -34,6 +35,22 @@ double max_abs(const Eigen::VectorXd& x) { return x.size() ? x.lpNorm<Eigen::Inf
 
 }  // namespace
 
+// Scenes may hold massless bodies (kinematics and statics need no masses), but forward
+// dynamics solves M vdot = ..., so a zero mass or principal moment is refused by name.
+void require_positive_masses(const Model& model) {
+    for (const Body& b : model.bodies) {
+        const bool planar = model.dimension == Dimension::Planar;
+        const double smallest = planar ? b.inertia(2, 2) : Eigen::SelfAdjointEigenSolver<Mat3>(b.inertia).eigenvalues()[0];
+        if (b.mass > 0.0 && smallest > 0.0) continue;
+        throw DynamicsError(0.0, "body '" + b.name + "' has " +
+                                     (b.mass > 0.0 ? std::string("a zero principal moment of inertia")
+                                                   : std::string("zero mass")) +
+                                     ": the mass matrix is singular, so its accelerations are undetermined; give it "
+                                     "a mass and inertia (a small value is enough for a link meant to be massless), "
+                                     "or use `mbd kinematics` / `mbd statics`, which need no masses");
+    }
+}
+
 std::vector<std::string> reaction_columns(const Model& model) {
     std::vector<std::string> columns;
     const bool planar = model.dimension == Dimension::Planar;
@@ -52,22 +69,6 @@ std::vector<std::string> diagnostic_columns() {
 }
 
 namespace {
-
-// Scenes may hold massless bodies (kinematics and statics need no masses), but forward
-// dynamics solves M vdot = ..., so a zero mass or principal moment is refused by name.
-void require_positive_masses(const Model& model) {
-    for (const Body& b : model.bodies) {
-        const bool planar = model.dimension == Dimension::Planar;
-        const double smallest = planar ? b.inertia(2, 2) : Eigen::SelfAdjointEigenSolver<Mat3>(b.inertia).eigenvalues()[0];
-        if (b.mass > 0.0 && smallest > 0.0) continue;
-        throw DynamicsError(0.0, "body '" + b.name + "' has " +
-                                     (b.mass > 0.0 ? std::string("a zero principal moment of inertia")
-                                                   : std::string("zero mass")) +
-                                     ": the mass matrix is singular, so its accelerations are undetermined; give it "
-                                     "a mass and inertia (a small value is enough for a link meant to be massless), "
-                                     "or use `mbd kinematics` / `mbd statics`, which need no masses");
-    }
-}
 
 // The run's formulation and integrator: the settings' (the command line's), else for the
 // formulation the scene's, else the automatic choice (method_choice.hpp), which the run's
@@ -206,8 +207,8 @@ OutputLayout output_layout(const Model& model, const System& system, const Formu
     return out;
 }
 
-// A scene with events (a stop's closing and opening) needs an integrator that locates them;
-// the start's sides of every event function are checked against the elements' states.
+}  // namespace
+
 void start_events(ContactEvents& events, const Integrator& integrator, const State& state) {
     if (events.count() == 0) return;
     if (!integrator.locates_events())
@@ -221,23 +222,9 @@ void start_events(ContactEvents& events, const Integrator& integrator, const Sta
     events.check_start(state, side);
 }
 
-}  // namespace
-
 long simulation_rows(const SimulationSettings& settings) {
     return static_cast<long>(output_times_after_start(settings).size()) + 1;
 }
-
-namespace {
-
-// The formulation and integrator of a run, made and checked against each other and the scene
-// before any work (the checks of check_simulation_method).
-struct PreparedRun {
-    std::string formulation_name;
-    FormulationOptions options;
-    std::shared_ptr<Formulation> formulation;
-    std::unique_ptr<Integrator> integrator;
-    IntegratorSettings integration;  // the tolerance chosen or given (run_integration)
-};
 
 PreparedRun prepare_run(const Model& model, Registry& registry, const SimulationSettings& settings) {
     PreparedRun run;
@@ -257,17 +244,28 @@ PreparedRun prepare_run(const Model& model, Registry& registry, const Simulation
     return run;
 }
 
-}  // namespace
+Eigen::VectorXd consistent_start(ModelSystem& system, Formulation& formulation, State& state, double t) {
+    state.t = t;
+    system.assemble(state, true);
+    system.consistent_velocities(state, true);
+    Eigen::VectorXd y;
+    formulation.to_ode(state, y);
+    if (!formulation.project(t, y))
+        throw DynamicsError(t, "the initial state could not be projected onto the constraints");
+    return y;
+}
 
 void check_simulation_method(const Model& model, Registry& registry, const SimulationSettings& settings) {
     SimulationSettings quiet = settings;  // a check says nothing of the tolerance it would choose
     quiet.messages = MessageLog::silent();
+    refuse_scene_inputs(model);
     prepare_run(model, registry, quiet);
 }
 
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
                           const SimulationCallback& callback) {
     SimulationResult result;
+    refuse_scene_inputs(model);  // before the automatic choices evaluate the forces
     PreparedRun run = prepare_run(model, registry, settings);  // before any work
     const std::string& name = run.formulation_name;
     FormulationOptions& options = run.options;
@@ -283,13 +281,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
     formulation->bind(system, options);
 
     State state = settings.initial_state ? *settings.initial_state : system.initial_state();
-    state.t = 0.0;
-    system.assemble(state, true);
-    system.consistent_velocities(state, true);
-    Eigen::VectorXd y;
-    formulation->to_ode(state, y);
-    if (!formulation->project(0.0, y))
-        throw DynamicsError(0.0, "the initial state could not be projected onto the constraints");
+    Eigen::VectorXd y = consistent_start(system, *formulation, state, 0.0);
 
     const std::vector<double> times = output_times_after_start(settings);
 

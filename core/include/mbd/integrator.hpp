@@ -96,6 +96,20 @@ private:
 // Called at every output time with y there; returning false stops the run.
 using OutputCallback = std::function<bool(double t, const Eigen::VectorXd& y)>;
 
+// The output times a step passes, for an integrator that reports them from the step's
+// continuous extension (Integrator::stops_at_outputs false): step() reports those from
+// `next` on that lie before the step's end, advancing `next`, before it accepts the step.
+struct StepOutputs {
+    const std::vector<double>& times;
+    size_t next;
+    const OutputCallback& output;
+    Eigen::VectorXd stopped;  // the state at the output whose callback returned false
+};
+
+// An integrator is resumable (docs/integrators.md "Stepping"): begin() starts a run at
+// (t0, y0), each step() takes one step and keeps everything the next needs (step size,
+// FSAL derivative, CVODE's history, the generalized-alpha accelerations), so a run cut
+// into any number of step() calls continues as one run. integrate() is built on them.
 class Integrator {
 public:
     virtual ~Integrator() = default;
@@ -106,10 +120,33 @@ public:
     virtual bool needs_index3() const { return false; }
     // Locates the problem's events (OdeProblem::event_count) and ends a step on each.
     virtual bool locates_events() const { return false; }
+
+    // Starts a run of `problem` from (t0, y0), discarding any earlier one; t_end is the time
+    // the run is expected to reach (it sets the largest step of dopri5, dop853 and cvode and
+    // the round-off scale of times, not a limit). The problem and the stats must outlive the run.
+    // Throws InputError for bad settings or a state of the wrong size.
+    virtual void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
+                       IntegratorStats& stats) = 0;
+    // One accepted step from time() toward t_stop, never past it (+infinity: no limit); it
+    // ends early on a located event, which the problem has handled on return. Output times
+    // the step passes go to `outputs` (if given); false when an output's callback stopped
+    // the run. Throws DynamicsError naming the time and the cause.
+    virtual bool step(double t_stop, StepOutputs* outputs = nullptr) = 0;
+    // The run's time and its state there (projected onto the constraints).
+    virtual double time() const = 0;
+    virtual const Eigen::VectorXd& state() const = 0;
+    // The right-hand side changed from time() on (an input set, a force changed): a step
+    // keeps its size but no derivative computed before (dopri5's and dop853's FSAL stage).
+    virtual void rhs_changed() {}
+    // Whether the steps must stop on every output time (the fixed-step integrators, cvode);
+    // otherwise outputs inside a step come from its continuous extension (dopri5, dop853).
+    virtual bool stops_at_outputs() const { return true; }
+
     // Advance y from t0 through every output time (increasing, the last is the
-    // end time). Throws DynamicsError naming the time and the cause.
-    virtual void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
-                           const OutputCallback& output, IntegratorStats& stats) = 0;
+    // end time): begin(), then step() until the last output. Throws DynamicsError naming
+    // the time and the cause.
+    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
+                   const OutputCallback& output, IntegratorStats& stats);
 };
 
 // Known names: euler, rk4, dopri5, dop853, generalized_alpha, cvode. Throws InputError listing them.

@@ -9,7 +9,9 @@
 #include <mbd/model.hpp>
 #include <mbd/sdk/system.hpp>
 
+#include <functional>
 #include <memory>
+#include <utility>
 
 namespace mbd {
 
@@ -48,6 +50,12 @@ public:
     double potential_energy(const State& state) override;
     bool conservative() const override;
 
+    // A force the program computes (Simulator::set_user_force): called by every
+    // generalized_forces after the elements, it adds its generalized forces to Q (size nv).
+    // force_jacobians leaves it out (its Jacobians are taken as zero). Empty: none.
+    using ExtraForce = std::function<void(const State& state, Eigen::VectorXd& Q)>;
+    void set_extra_force(ExtraForce force) { extra_force_ = std::move(force); }
+
     const std::vector<int>& reaction_loaded_forces() const override { return reaction_loaded_; }
     void set_reaction_loads(const Eigen::VectorXd& loads) override;
     const Eigen::VectorXd& reaction_loads() const override { return loads_; }
@@ -85,6 +93,7 @@ private:
     std::vector<int> load_slot_;        // per force: its index in loads_, -1 none
     Eigen::VectorXd loads_;             // their loads N (set_reaction_loads)
     std::vector<int> friction_;         // force indices of the dry-friction elements
+    ExtraForce extra_force_;
 };
 
 }  // namespace mbd

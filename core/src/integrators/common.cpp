@@ -40,17 +40,10 @@ void require_state_size(const std::string& integrator, const OdeProblem& problem
                                          std::to_string(problem.size()));
 }
 
-size_t open_adaptive_run(const std::string& integrator, const IntegratorSettings& settings, const OdeProblem& problem,
-                         double t0, const Eigen::VectorXd& y, const std::vector<double>& output_times,
-                         const OutputCallback& output) {
-    check_output_times(integrator, t0, output_times);
+void require_adaptive_start(const std::string& integrator, const IntegratorSettings& settings,
+                            const OdeProblem& problem, const Eigen::VectorXd& y) {
     if (!(settings.tolerance > 0.0)) throw InputError(integrator, "needs a positive tolerance");
     require_state_size(integrator, problem, y);
-    if (output_times.empty()) return 0;
-    const double eps = time_epsilon(t0, output_times.back());
-    size_t next = 0;
-    if (!emit_outputs_up_to(t0 + eps, y, output_times, next, output)) return output_times.size();
-    return next;
 }
 
 bool emit_outputs_up_to(double limit, const Eigen::VectorXd& y, const std::vector<double>& output_times, size_t& next,
@@ -62,24 +55,62 @@ bool emit_outputs_up_to(double limit, const Eigen::VectorXd& y, const std::vecto
     return true;
 }
 
-void FixedStepIntegrator::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y,
-                                    const std::vector<double>& output_times, const OutputCallback& output,
-                                    IntegratorStats& stats) {
+void check_step_count(const std::string& integrator, const IntegratorSettings& settings, const IntegratorStats& stats,
+                      double t) {
+    if (stats.steps >= settings.max_steps)
+        throw DynamicsError(t, integrator + ": the maximum number of steps (" + std::to_string(settings.max_steps) +
+                                   ") was reached at t = " + format_time(t));
+}
+
+void FixedStepIntegrator::begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double /*t_end*/,
+                                IntegratorStats& stats) {
     prepare(problem.size());
     require_fixed_step(name(), settings_);
-    check_output_times(name(), t0, output_times);
-    require_state_size(name(), problem, y);
-    BlowUpGuard guard;
-    guard.reset(y);
-    march_fixed_steps(
-        name(), settings_, t0, output_times, stats,
-        [&](double t, double t_next) {
-            step(problem, t, t_next - t, y, stats);
-            ++stats.steps;
-            guard.check(t_next, y);
-            project_or_throw(problem, t_next, y);
-        },
-        [&](double, double t_out) { return !output || output(t_out, y); });
+    require_state_size(name(), problem, y0);
+    problem_ = &problem;
+    stats_ = &stats;
+    t_ = t0;
+    y_ = y0;
+    grid_.start(t0);
+    guard_.reset(y0);
+}
+
+bool FixedStepIntegrator::step(double t_stop, StepOutputs* /*outputs: the steps end on each*/) {
+    if (!problem_) throw InputError(name(), "step() before begin()");
+    const double t_next = grid_.next(t_, t_stop, settings_.step);
+    check_step_count(name(), settings_, *stats_, t_);
+    step(*problem_, t_, t_next - t_, y_, *stats_);
+    ++stats_->steps;
+    grid_.taken();
+    guard_.check(t_next, y_);
+    project_or_throw(*problem_, t_next, y_);
+    t_ = t_next;
+    stop_if_interrupted(t_);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
+    return true;
 }
 
 }  // namespace mbd::integrators
+
+namespace mbd {
+
+void Integrator::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
+                           const OutputCallback& output, IntegratorStats& stats) {
+    integrators::check_output_times(name(), t0, output_times);
+    if (output_times.empty()) return;
+    const double t_end = output_times.back();
+    begin(problem, t0, y, t_end, stats);
+    const double eps = integrators::time_epsilon(t0, t_end);
+    StepOutputs outputs{output_times, 0, output, {}};
+    for (;;) {
+        if (!integrators::emit_outputs_up_to(time() + eps, state(), output_times, outputs.next, output)) break;
+        if (outputs.next == output_times.size()) break;
+        const double t_stop = stops_at_outputs() ? output_times[outputs.next] : t_end;
+        if (!step(t_stop, &outputs)) {
+            y = outputs.stopped;
+            return;
+        }
+    }
+    y = state();
+}
+
+}  // namespace mbd

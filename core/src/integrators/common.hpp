@@ -32,13 +32,10 @@ void check_output_times(const std::string& integrator, double t0, const std::vec
 void require_fixed_step(const std::string& integrator, const IntegratorSettings& settings);
 void require_state_size(const std::string& integrator, const OdeProblem& problem, const Eigen::VectorXd& y);
 
-// The opening of an adaptive run (dopri5, dop853, cvode): checks the output times, the
-// tolerance and the state size, then reports the outputs at the start time. Returns
-// the index of the first output time still to integrate to; output_times.size() when
-// nothing is left (no output times, all at t0, or the callback stopped the run).
-size_t open_adaptive_run(const std::string& integrator, const IntegratorSettings& settings, const OdeProblem& problem,
-                         double t0, const Eigen::VectorXd& y, const std::vector<double>& output_times,
-                         const OutputCallback& output);
+// The checks at the start of an adaptive run (dopri5, dop853, cvode): the tolerance and
+// the state size; each throws InputError naming the integrator.
+void require_adaptive_start(const std::string& integrator, const IntegratorSettings& settings,
+                            const OdeProblem& problem, const Eigen::VectorXd& y);
 
 // Reports y at the output times from `next` on that are <= limit, advancing `next`;
 // false when the callback stopped the run.
@@ -65,39 +62,40 @@ private:
 // Project a state; throw DynamicsError if the formulation reports failure.
 void project_or_throw(OdeProblem& problem, double t, Eigen::VectorXd& y);
 
-// The time grid of the fixed-step integrators (euler, rk4, generalized_alpha): steps
-// of settings.step from t0 through every output time, the last step before each
-// output shortened to end exactly on it (a remainder shorter than 1e-6 h is merged
-// into the previous step). `advance(t, t_next)` takes one step and counts it in
-// stats.steps; `emit(t, t_out)` reports the output at t_out and returns false to stop.
-template <class AdvanceFn, class EmitFn>
-void march_fixed_steps(const std::string& integrator, const IntegratorSettings& settings, double t0,
-                       const std::vector<double>& output_times, const IntegratorStats& stats, AdvanceFn&& advance,
-                       EmitFn&& emit) {
-    const double h = settings.step;
-    double t = t0;
-    const double eps = output_times.empty() ? 0.0 : time_epsilon(t0, output_times.back());
-    for (double t_out : output_times) {
-        const double span = t_out - t;
-        if (span > eps) {
-            long n = static_cast<long>(std::ceil(span / h - 1e-6));
-            if (n < 1) n = 1;
-            const double t_start = t;
-            for (long k = 1; k <= n; ++k) {
-                const double t_next = (k == n) ? t_out : t_start + static_cast<double>(k) * h;
-                if (stats.steps >= settings.max_steps)
-                    throw DynamicsError(t, integrator + ": the maximum number of steps (" +
-                                               std::to_string(settings.max_steps) + ") was reached at t = " +
-                                               format_time(t));
-                advance(t, t_next);
-                t = t_next;
-                stop_if_interrupted(t);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
-            }
-        }
-        t = std::max(t, t_out);
-        if (!emit(t, t_out)) return;
+// The time grid of the fixed-step integrators (euler, rk4, generalized_alpha): steps of h
+// from the time a stretch toward a stop time starts, t_k = start + k h, the last step before
+// the stop shortened to end exactly on it (a remainder shorter than 1e-6 h is merged into
+// the previous step). A new stop time starts a new stretch; an infinite one has no end.
+class FixedStepGrid {
+public:
+    void start(double t0) {
+        start_ = t0;
+        stop_ = std::nan("");
+        taken_ = 0;
     }
-}
+    // The end of the next step from t toward t_stop (> t).
+    double next(double t, double t_stop, double h) {
+        if (!(t_stop == stop_)) {
+            start_ = t;
+            stop_ = t_stop;
+            taken_ = 0;
+        }
+        if (std::isinf(t_stop)) return start_ + static_cast<double>(taken_ + 1) * h;
+        long n = static_cast<long>(std::ceil((t_stop - start_) / h - 1e-6));
+        if (n < 1) n = 1;
+        return taken_ + 1 >= n ? t_stop : start_ + static_cast<double>(taken_ + 1) * h;
+    }
+    // The step to next() was taken.
+    void taken() { ++taken_; }
+
+private:
+    double start_ = 0.0, stop_ = 0.0;
+    long taken_ = 0;
+};
+
+// Stops a fixed-step run that has taken settings.max_steps steps.
+void check_step_count(const std::string& integrator, const IntegratorSettings& settings, const IntegratorStats& stats,
+                      double t);
 
 // An adaptive integrator (dopri5, dop853, cvode): it chooses its own steps for
 // settings.tolerance; its run opens with open_adaptive_run.
@@ -111,14 +109,17 @@ protected:
 };
 
 // An explicit one-step method with a fixed step (euler, rk4): the run checks its
-// inputs, then steps of settings.step through the output times, guarding against
-// blow-up and projecting after each step. A method supplies only its step.
+// inputs, then steps of settings.step on the FixedStepGrid, guarding against blow-up and
+// projecting after each step. A method supplies only its step.
 class FixedStepIntegrator : public Integrator {
 public:
     explicit FixedStepIntegrator(const IntegratorSettings& settings) : settings_(settings) {}
     bool adaptive() const final { return false; }
-    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
-                   const OutputCallback& output, IntegratorStats& stats) final;
+    void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
+               IntegratorStats& stats) final;
+    bool step(double t_stop, StepOutputs* outputs) final;
+    double time() const final { return t_; }
+    const Eigen::VectorXd& state() const final { return y_; }
 
 protected:
     // Sizes the work vectors for n unknowns (before the run: none are allocated during it).
@@ -128,6 +129,12 @@ protected:
 
 private:
     IntegratorSettings settings_;
+    OdeProblem* problem_ = nullptr;
+    IntegratorStats* stats_ = nullptr;
+    double t_ = 0.0;
+    Eigen::VectorXd y_;
+    FixedStepGrid grid_;
+    BlowUpGuard guard_;
 };
 
 }  // namespace mbd::integrators

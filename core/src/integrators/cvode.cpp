@@ -131,7 +131,8 @@ struct Sundials {
 // describes another state, so CVODE restarts from the current (t, y) with
 // CVodeReInit (history discarded, order 1). Steps are taken one at a time
 // (CV_ONE_STEP) to check this after every step, and each output time is a stop
-// time, so no output is interpolated across a restart.
+// time, so no output is interpolated across a restart. Between steps the run keeps
+// CVODE's history: a run cut into many step() calls is one CVODE run.
 class CvodeRun {
 public:
     CvodeRun(OdeProblem& problem, const IntegratorSettings& settings, IntegratorStats& stats, double t0)
@@ -141,12 +142,10 @@ public:
     void create(const Eigen::VectorXd& y, double t_end);
     // The time CVODE has reached.
     double time() const { return t_cur_; }
-    // Integrates from the current time to the output time t_out.
-    void advance_to(double t_out, double eps, Eigen::VectorXd& yout);
-    // The state at the current output time t_out (a step end, already on the manifold; for a
-    // problem that can redefine its state, projected again: a chance to re-select).
-    void output_state(double t_out, Eigen::VectorXd& yout);
-    // Adds CVODE's counters to the run's statistics.
+    // One step (CV_ONE_STEP) toward the stop time t_stop, which it does not pass: the state
+    // reached in yout (at t_stop exactly when it got there, within eps).
+    void step(double t_stop, double eps, Eigen::VectorXd& yout);
+    // Adds CVODE's counters since the last call (or restart) to the run's statistics.
     void collect();
 
 private:
@@ -160,6 +159,9 @@ private:
     // At a root CVODE returned at t (the state there in yout): the problem acts on the
     // events that crossed, and the run restarts at t.
     void handle_events(double t, Eigen::VectorXd& yout);
+    // The state at the stop time t_stop (a step end, already on the manifold; for a problem
+    // that can redefine its state, projected again: a chance to re-select).
+    void output_state(double t_stop, Eigen::VectorXd& yout);
 
     OdeProblem& problem_;
     const IntegratorSettings& settings_;
@@ -168,6 +170,9 @@ private:
     Callback cb_;
     Sundials s_;
     long steps_before_ = 0;  // CVodeReInit zeroes CVODE's counters: the steps of earlier segments
+    // CVODE's counters already added to the statistics since the last restart
+    long collected_[7] = {0, 0, 0, 0, 0, 0, 0};
+    double stop_time_ = HUGE_VAL;  // the stop time CVODE was given last
     double t_cur_;
     bool on_manifold_ = true;  // state() is a projected step end or a restart's state, not a root's interpolant
     std::vector<int> side_, crossed_, roots_;  // each event's side (+1 open, -1 closed); CVodeGetRootInfo
@@ -249,19 +254,24 @@ void CvodeRun::handle_events(double t, Eigen::VectorXd& yout) {
 }
 
 void CvodeRun::collect() {
-    long nst = 0, netf = 0, nfe = 0, nfeLS = 0, nje = 0, nni = 0, ncfn = 0;
-    CVodeGetNumSteps(s_.cvode, &nst);
-    CVodeGetNumErrTestFails(s_.cvode, &netf);
-    CVodeGetNumNonlinSolvConvFails(s_.cvode, &ncfn);
-    CVodeGetNumRhsEvals(s_.cvode, &nfe);
-    CVodeGetNumLinRhsEvals(s_.cvode, &nfeLS);
-    CVodeGetNumJacEvals(s_.cvode, &nje);
-    CVodeGetNumNonlinSolvIters(s_.cvode, &nni);
-    stats_.steps += nst;
-    stats_.rejected_steps += netf + ncfn;
-    stats_.rhs_evaluations += nfe + nfeLS;
-    stats_.jacobian_evaluations += nje;
-    stats_.newton_iterations += nni;
+    long now[7] = {0, 0, 0, 0, 0, 0, 0};  // nst netf ncfn nfe nfeLS nje nni
+    CVodeGetNumSteps(s_.cvode, &now[0]);
+    CVodeGetNumErrTestFails(s_.cvode, &now[1]);
+    CVodeGetNumNonlinSolvConvFails(s_.cvode, &now[2]);
+    CVodeGetNumRhsEvals(s_.cvode, &now[3]);
+    CVodeGetNumLinRhsEvals(s_.cvode, &now[4]);
+    CVodeGetNumJacEvals(s_.cvode, &now[5]);
+    CVodeGetNumNonlinSolvIters(s_.cvode, &now[6]);
+    long d[7];
+    for (int k = 0; k < 7; ++k) {
+        d[k] = now[k] - collected_[k];
+        collected_[k] = now[k];
+    }
+    stats_.steps += d[0];
+    stats_.rejected_steps += d[1] + d[2];
+    stats_.rhs_evaluations += d[3] + d[4];
+    stats_.jacobian_evaluations += d[5];
+    stats_.newton_iterations += d[6];
 }
 
 void CvodeRun::restart(double t, const Eigen::VectorXd& y) {
@@ -269,10 +279,12 @@ void CvodeRun::restart(double t, const Eigen::VectorXd& y) {
     CVodeGetNumSteps(s_.cvode, &nst);
     steps_before_ += nst;
     collect();
+    for (long& c : collected_) c = 0;  // CVodeReInit zeroes CVODE's counters
     state() = y;
     on_manifold_ = true;
     check(CVodeReInit(s_.cvode, t, s_.y), "CVodeReInit");
     t_cur_ = t;
+    stop_time_ = HUGE_VAL;  // set again before the next step
 }
 
 void CvodeRun::fail(int flag, double t_reached) {
@@ -286,38 +298,41 @@ void CvodeRun::fail(int flag, double t_reached) {
                                     hint + (cb_.message.empty() ? "" : ": " + cb_.message));
 }
 
-void CvodeRun::advance_to(double t_out, double eps, Eigen::VectorXd& yout) {
-    check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
-    for (;;) {
-        long taken = 0;
-        CVodeGetNumSteps(s_.cvode, &taken);
-        if (steps_before_ + taken >= settings_.max_steps) fail(CV_TOO_MUCH_WORK, t_cur_);
-        double t_reached = t_cur_;
-        const int flag = CVode(s_.cvode, t_out, s_.y, &t_reached, CV_ONE_STEP);
-        if (flag < 0) fail(flag, t_reached);
-        t_cur_ = t_reached;
-        on_manifold_ = flag != CV_ROOT_RETURN;
-        const bool at_output = flag == CV_TSTOP_RETURN || t_reached >= t_out - eps;
-        if (flag == CV_ROOT_RETURN) {
-            // the state at a root is interpolated, not projected
-            yout = state();
-            project_or_throw(problem_, t_reached, yout);
-            problem_.state_redefined();  // the restart at the event covers a re-selection
-            handle_events(t_reached, yout);
-            if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
-        } else if (problem_.may_redefine_state()) {
-            // the accepted step: the formulation may re-select its coordinates here
-            yout = state();
-            project_or_throw(problem_, t_reached, yout);
-            if (problem_.state_redefined()) {
-                restart(t_reached, yout);
-                if (!at_output) check(CVodeSetStopTime(s_.cvode, t_out), "CVodeSetStopTime");
-            }
-        }
-        if (at_output) break;
+void CvodeRun::step(double t_stop, double eps, Eigen::VectorXd& yout) {
+    if (t_stop != stop_time_) {
+        check(CVodeSetStopTime(s_.cvode, t_stop), "CVodeSetStopTime");
+        stop_time_ = t_stop;
+    }
+    long taken = 0;
+    CVodeGetNumSteps(s_.cvode, &taken);
+    if (steps_before_ + taken >= settings_.max_steps) fail(CV_TOO_MUCH_WORK, t_cur_);
+    double t_reached = t_cur_;
+    const int flag = CVode(s_.cvode, t_stop, s_.y, &t_reached, CV_ONE_STEP);
+    if (flag < 0) fail(flag, t_reached);
+    t_cur_ = t_reached;
+    on_manifold_ = flag != CV_ROOT_RETURN;
+    const bool at_stop = flag == CV_TSTOP_RETURN || t_reached >= t_stop - eps;
+    // CVODE forgets a stop time it reached; a restart (CVodeReInit) keeps it
+    if (flag == CV_TSTOP_RETURN) stop_time_ = HUGE_VAL;
+    yout = state();
+    if (flag == CV_ROOT_RETURN) {
+        // the state at a root is interpolated, not projected
+        project_or_throw(problem_, t_reached, yout);
+        problem_.state_redefined();  // the restart at the event covers a re-selection
+        handle_events(t_reached, yout);
+    } else if (problem_.may_redefine_state()) {
+        // the accepted step: the formulation may re-select its coordinates here
+        project_or_throw(problem_, t_reached, yout);
+        if (problem_.state_redefined()) restart(t_reached, yout);
+    }
+    if (at_stop) {
+        t_cur_ = t_stop;
+        output_state(t_stop, yout);
+        if (stop_time_ == t_stop) stop_time_ = HUGE_VAL;
+    } else {
         stop_if_interrupted(t_reached);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
     }
-    t_cur_ = t_out;
+    collect();
 }
 
 void CvodeRun::output_state(double t_out, Eigen::VectorXd& yout) {
@@ -333,30 +348,34 @@ public:
     std::string name() const override { return "cvode"; }
     bool locates_events() const override { return true; }
 
-    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
-                   const OutputCallback& output, IntegratorStats& stats) override {
-        size_t next = open_adaptive_run(name(), settings_, problem, t0, y, output_times, output);
-        if (next == output_times.size()) return;
-        if (problem.size() == 0) {  // every motion prescribed (a fully driven tree): nothing to integrate
-            emit_outputs_up_to(output_times.back(), y, output_times, next, output);
-            return;
-        }
-        const double t_end = output_times.back();
-        const double eps = time_epsilon(t0, t_end);
-        CvodeRun run(problem, settings_, stats, t0);
-        run.create(y, t_end);
-        Eigen::VectorXd yout(problem.size());
-        while (next < output_times.size()) {
-            const double t_out = output_times[next];
-            if (t_out > run.time() + eps) run.advance_to(t_out, eps, yout);
-            run.output_state(t_out, yout);
-            ++next;
-            const bool go_on = !output || output(t_out, yout);
-            y = yout;
-            if (!go_on) break;
-        }
-        run.collect();
+    void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
+               IntegratorStats& stats) override {
+        require_adaptive_start(name(), settings_, problem, y0);
+        run_.reset();
+        t_ = t0;
+        y_ = y0;
+        eps_ = time_epsilon(t0, t_end);
+        if (problem.size() == 0) return;  // every motion prescribed (a fully driven tree): nothing to integrate
+        run_ = std::make_unique<CvodeRun>(problem, settings_, stats, t0);
+        run_->create(y0, std::max(t_end, t0 + eps_));
     }
+    bool step(double t_stop, StepOutputs* /*outputs: the steps end on each*/) override {
+        if (!run_) {
+            if (y_.size() != 0) throw InputError(name(), "step() before begin()");
+            t_ = t_stop;  // nothing to integrate
+            return true;
+        }
+        run_->step(t_stop, eps_, y_);
+        t_ = run_->time();
+        return true;
+    }
+    double time() const override { return t_; }
+    const Eigen::VectorXd& state() const override { return y_; }
+
+private:
+    std::unique_ptr<CvodeRun> run_;
+    double t_ = 0.0, eps_ = 0.0;
+    Eigen::VectorXd y_;
 };
 
 }  // namespace

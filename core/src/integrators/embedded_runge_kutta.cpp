@@ -50,117 +50,125 @@ void EmbeddedRungeKutta::check_progress(double t, double h, double span, long at
                                    "; the problem may be stiff (try --integrator cvode or generalized_alpha)");
 }
 
-bool EmbeddedRungeKutta::emit_inside_step(OdeProblem& problem, double t, double h, double t_new, double eps,
-                                          const std::vector<double>& output_times, size_t& next,
-                                          const OutputCallback& output, Eigen::VectorXd& y, IntegratorStats& stats) {
+bool EmbeddedRungeKutta::emit_inside_step(double h, double t_new, StepOutputs& outputs) {
     bool have_dense = false;
-    while (next < output_times.size() && output_times[next] < t_new - eps) {
+    const std::vector<double>& times = outputs.times;
+    while (outputs.next < times.size() && times[outputs.next] < t_new - eps_) {
         if (!have_dense) {
-            dense_coefficients(problem, t, h, y, stats);
+            dense_coefficients(*problem_, t_, h, y_, *stats_);
             have_dense = true;
         }
-        dense_at((output_times[next] - t) / h, yout_);
-        project_or_throw(problem, output_times[next], yout_);
-        if (output && !output(output_times[next], yout_)) {
-            y = yout_;
+        dense_at((times[outputs.next] - t_) / h, yout_);
+        project_or_throw(*problem_, times[outputs.next], yout_);
+        if (outputs.output && !outputs.output(times[outputs.next], yout_)) {
+            outputs.stopped = yout_;
             return false;
         }
-        ++next;
+        ++outputs.next;
     }
     return true;
 }
 
-void EmbeddedRungeKutta::accept(OdeProblem& problem, double t_new, Eigen::VectorXd& y, const BlowUpGuard& guard,
-                                IntegratorStats& stats) {
-    y.swap(y1_);
+void EmbeddedRungeKutta::accept(double t_new) {
+    y_.swap(y1_);
     f0_.swap(f1_);  // FSAL
-    guard.check(t_new, y);
-    unprojected_ = y;
-    project_or_throw(problem, t_new, y);
+    guard_.check(t_new, y_);
+    unprojected_ = y_;
+    project_or_throw(*problem_, t_new, y_);
     stop_if_interrupted(t_new);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
     // a re-selection (Formulation::state_redefined) always restarts it too
-    const bool redefined = problem.state_redefined();
-    if (redefined || y != unprojected_) {
-        problem.rhs(t_new, y, f0_);  // restart the FSAL derivative at the projected state
-        ++stats.rhs_evaluations;
+    const bool redefined = problem_->state_redefined();
+    if (redefined || y_ != unprojected_) {
+        problem_->rhs(t_new, y_, f0_);  // restart the FSAL derivative at the projected state
+        ++stats_->rhs_evaluations;
     }
 }
 
-void EmbeddedRungeKutta::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y,
-                                   const std::vector<double>& output_times, const OutputCallback& output,
-                                   IntegratorStats& stats) {
-    size_t next = open_adaptive_run(name(), settings_, problem, t0, y, output_times, output);
-    if (next == output_times.size()) return;
-    for (Eigen::VectorXd* v : {&f0_, &f1_, &y1_, &unprojected_, &yout_}) v->resize(problem.size());
-    prepare(problem.size());
-
-    const double t_end = output_times.back();
-    const double eps = time_epsilon(t0, t_end);
-    const double span = t_end - t0;
+void EmbeddedRungeKutta::begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
+                               IntegratorStats& stats) {
+    require_adaptive_start(name(), settings_, problem, y0);
     if (!(settings_.max_step >= 0.0) || !std::isfinite(settings_.max_step))
         throw InputError(name(), "needs a non-negative max_step (0: no limit), got " + format_time(settings_.max_step));
-    const double hmax = settings_.max_step > 0.0 ? std::min(settings_.max_step, std::max(span, eps)) : std::max(span, eps);
-    BlowUpGuard guard;
-    guard.reset(y);
-
-    double t = t0;
-    events_.start(problem, t0, y);
-    problem.rhs(t, y, f0_);
+    problem_ = &problem;
+    stats_ = &stats;
+    for (Eigen::VectorXd* v : {&f0_, &f1_, &y1_, &unprojected_, &yout_}) v->resize(problem.size());
+    prepare(problem.size());
+    eps_ = time_epsilon(t0, t_end);
+    span_ = t_end - t0;
+    hmax_ = settings_.max_step > 0.0 ? std::min(settings_.max_step, std::max(span_, eps_)) : std::max(span_, eps_);
+    y_ = y0;
+    guard_.reset(y_);
+    t_ = t0;
+    events_.start(problem, t0, y_);
+    problem.rhs(t_, y_, f0_);
     ++stats.rhs_evaluations;
-    double h = settings_.step > 0.0 ? std::min(settings_.step, hmax) : initial_step(problem, t, y, hmax, stats);
+    h_ = settings_.step > 0.0 ? std::min(settings_.step, hmax_) : initial_step(problem, t_, y_, hmax_, stats);
+    facold_ = 1e-4;
+    reject_ = false;
+    attempts_ = 0;
+}
 
+void EmbeddedRungeKutta::rhs_changed() {
+    if (!problem_) return;
+    problem_->rhs(t_, y_, f0_);  // the FSAL stage of the old right-hand side no longer holds
+    ++stats_->rhs_evaluations;
+}
+
+bool EmbeddedRungeKutta::step(double t_stop, StepOutputs* outputs) {
+    if (!problem_) throw InputError(name(), "step() before begin()");
+    OdeProblem& problem = *problem_;
     const double safe = control_.safety, beta = control_.beta, expo1 = control_.alpha;
     const double facc1 = 1.0 / control_.min_ratio, facc2 = 1.0 / control_.max_ratio;
-    double facold = 1e-4;
-    bool reject = false;
-    long attempts = 0;
-
-    while (next < output_times.size()) {
-        check_progress(t, h, span, ++attempts);
-        // do not step past the end time
+    double h = h_;
+    for (;;) {
+        check_progress(t_, h, span_, ++attempts_);
+        // do not step past the stop time; a step cut short there leaves the next one its size
         bool last = false;
-        if (t + h >= t_end - eps) {
-            h = t_end - t;
+        const double h_wanted = h;
+        if (t_ + h >= t_stop - eps_) {
+            h = t_stop - t_;
             last = true;
         }
-        const double t_new = last ? t_end : t + h;
-        double err = attempt(problem, t, h, t_new, y, stats);
+        const double t_new = last ? t_stop : t_ + h;
+        double err = attempt(problem, t_, h, t_new, y_, *stats_);
         if (!std::isfinite(err)) err = 1e10;
         const double fac11 = std::pow(std::max(err, 1e-300), expo1);
         if (err > 1.0) {
-            ++stats.rejected_steps;
+            ++stats_->rejected_steps;
             h = h / std::min(facc1, fac11 / safe);
-            reject = true;
+            h_ = h;
+            reject_ = true;
             continue;
         }
-        end_derivative(problem, t_new, stats);
-        double fac = fac11 / std::pow(facold, beta);
+        end_derivative(problem, t_new, *stats_);
+        double fac = fac11 / std::pow(facold_, beta);
         fac = std::max(facc2, std::min(facc1, fac / safe));
         double h_new = h / fac;
-        facold = std::max(err, 1e-4);
-        if (reject) h_new = std::min(h_new, h);
+        facold_ = std::max(err, 1e-4);
+        if (reject_) h_new = std::min(h_new, h);
+        if (last) h_new = std::max(h_new, h_wanted);  // the controller's own proposal before the cut
         double t_step = t_new, h_step = h;  // the step taken: shortened to end on an event
         const bool at_event = events_.active() && events_.left_side(problem, t_new, y1_);
         if (at_event) {
-            dense_coefficients(problem, t, h, y, stats);
+            dense_coefficients(problem, t_, h, y_, *stats_);
             const double theta =
-                events_.locate(problem, t, h, [&](double th, Eigen::VectorXd& out) { dense_at(th, out); });
+                events_.locate(problem, t_, h, [&](double th, Eigen::VectorXd& out) { dense_at(th, out); });
             h_step = theta * h;
-            t_step = t + h_step;
-            attempt(problem, t, h_step, t_step, y, stats);  // shorter than the accepted step: within tolerance
-            end_derivative(problem, t_step, stats);
+            t_step = t_ + h_step;
+            attempt(problem, t_, h_step, t_step, y_, *stats_);  // shorter than the accepted step: within tolerance
+            end_derivative(problem, t_step, *stats_);
         }
-        ++stats.steps;
-        if (!emit_inside_step(problem, t, h_step, t_step, eps, output_times, next, output, y, stats)) return;
-        accept(problem, t_step, y, guard, stats);
-        t = t_step;
-        if (at_event && events_.handle(problem, t, y, stats)) {
-            problem.rhs(t, y, f0_);  // the impact changed y: restart the FSAL derivative there
-            ++stats.rhs_evaluations;
+        ++stats_->steps;
+        reject_ = false;
+        h_ = std::min(h_new, hmax_);
+        if (outputs && !emit_inside_step(h_step, t_step, *outputs)) return false;
+        accept(t_step);
+        t_ = t_step;
+        if (at_event && events_.handle(problem, t_, y_, *stats_)) {
+            problem.rhs(t_, y_, f0_);  // the impact changed y: restart the FSAL derivative there
+            ++stats_->rhs_evaluations;
         }
-        if (!emit_outputs_up_to(t + eps, y, output_times, next, output)) return;
-        reject = false;
-        h = std::min(h_new, hmax);
+        return true;
     }
 }
 

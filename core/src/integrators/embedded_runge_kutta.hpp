@@ -37,8 +37,13 @@ public:
         : AdaptiveIntegrator(settings), name_(std::move(name)), control_(control) {}
     std::string name() const final { return name_; }
     bool locates_events() const final { return true; }
-    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
-                   const OutputCallback& output, IntegratorStats& stats) final;
+    bool stops_at_outputs() const final { return false; }
+    void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
+               IntegratorStats& stats) final;
+    bool step(double t_stop, StepOutputs* outputs) final;
+    void rhs_changed() final;
+    double time() const final { return t_; }
+    const Eigen::VectorXd& state() const final { return y_; }
 
 protected:
     // Sizes the pair's own work vectors for n unknowns (none are allocated during the run).
@@ -71,15 +76,21 @@ private:
     void check_progress(double t, double h, double span, long attempts) const;
     // Output at the output times inside (t, t_new) from the continuous extension of
     // the accepted step; false when the callback stopped the run (y is then that output).
-    bool emit_inside_step(OdeProblem& problem, double t, double h, double t_new, double eps,
-                          const std::vector<double>& output_times, size_t& next, const OutputCallback& output,
-                          Eigen::VectorXd& y, IntegratorStats& stats);
-    // Takes the accepted step: y <- y1_, FSAL, blow-up guard, projection.
-    void accept(OdeProblem& problem, double t_new, Eigen::VectorXd& y, const BlowUpGuard& guard,
-                IntegratorStats& stats);
+    bool emit_inside_step(double h, double t_new, StepOutputs& outputs);
+    // Takes the accepted step: y_ <- y1_, FSAL, blow-up guard, projection.
+    void accept(double t_new);
 
     std::string name_;
     StepControl control_;
+    // the run between step() calls: the problem, the time and state, the next step's size and
+    // the controller's memory (Hairer's facold, a rejection just before)
+    OdeProblem* problem_ = nullptr;
+    IntegratorStats* stats_ = nullptr;
+    double t_ = 0.0, h_ = 0.0, hmax_ = 0.0, eps_ = 0.0, span_ = 0.0, facold_ = 1e-4;
+    bool reject_ = false;
+    long attempts_ = 0;
+    Eigen::VectorXd y_;
+    BlowUpGuard guard_;
     Eigen::VectorXd unprojected_, yout_;
     EventLocator events_;
 };

@@ -67,8 +67,11 @@ public:
     bool adaptive() const override { return false; }
     bool needs_index3() const override { return true; }
 
-    void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
-                   const OutputCallback& output, IntegratorStats& stats) override;
+    void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
+               IntegratorStats& stats) override;
+    bool step(double t_stop, StepOutputs* outputs) override;
+    double time() const override { return t_; }
+    const Eigen::VectorXd& state() const override { return y_; }
 
 private:
     // Takes the system, sizes the work vectors, and sets the regularisation and the
@@ -97,6 +100,11 @@ private:
     [[noreturn]] void newton_failure(double t, const std::string& cause);
 
     IntegratorSettings settings_;
+    OdeProblem* problem_ = nullptr;
+    IntegratorStats* stats_ = nullptr;
+    double t_ = 0.0;
+    Eigen::VectorXd y_;  // the state at t_ as the problem's y
+    FixedStepGrid grid_;
     System* system_ = nullptr;
     const Eigen::SparseMatrix<double>* mass_ = nullptr;
     int nv_ = 0, nc_ = 0;
@@ -368,38 +376,42 @@ bool GeneralizedAlpha::newton(double t, double h, IntegratorStats& stats, bool k
     newton_failure(t_next, std::to_string(kMaxNewton) + " iterations");
 }
 
-void GeneralizedAlpha::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y,
-                                 const std::vector<double>& output_times, const OutputCallback& output,
-                                 IntegratorStats& stats) {
+void GeneralizedAlpha::begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double /*t_end*/,
+                             IntegratorStats& stats) {
     System* system = problem.index3_system();
     if (!system)
         throw InputError(name(), "generalized_alpha needs a formulation that supports index-3 (augmented)");
     require_fixed_step(name(), settings_);
-    check_output_times(name(), t0, output_times);
     prepare(*system);
-    problem.state_from_y(t0, y, state_);
+    problem_ = &problem;
+    stats_ = &stats;
+    problem.state_from_y(t0, y0, state_);
     state_.t = t0;
     q_n_ = state_.q;
     v_n_ = state_.v;
-
-    if (output_times.empty()) return;
+    t_ = t0;
+    y_ = y0;
+    grid_.start(t0);
     initial_accelerations(t0, stats);
     a_n_ = vdot_n_;
     x_ = vdot_n_;
     lambda_ = lambda_n_;
-    march_fixed_steps(
-        name(), settings_, t0, output_times, stats,
-        [&](double t, double t_next) {
-            step(t, t_next - t, stats);
-            ++stats.steps;
-        },
-        [&](double t, double t_out) {
-            state_.t = t;
-            state_.q = q_n_;
-            state_.v = v_n_;
-            problem.y_from_state(state_, y);
-            return !output || output(t_out, y);
-        });
+}
+
+bool GeneralizedAlpha::step(double t_stop, StepOutputs* /*outputs: the steps end on each*/) {
+    if (!problem_) throw InputError(name(), "step() before begin()");
+    const double t_next = grid_.next(t_, t_stop, settings_.step);
+    check_step_count(name(), settings_, *stats_, t_);
+    step(t_, t_next - t_, *stats_);
+    ++stats_->steps;
+    grid_.taken();
+    t_ = t_next;
+    stop_if_interrupted(t_);  // a step boundary: SIGINT/SIGTERM/SIGHUP stop here
+    state_.t = t_;
+    state_.q = q_n_;
+    state_.v = v_n_;
+    problem_->y_from_state(state_, y_);
+    return true;
 }
 
 }  // namespace

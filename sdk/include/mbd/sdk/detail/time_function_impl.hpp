@@ -13,6 +13,11 @@
 //   spline      table: [[t0, f0], [t1, f1], ...] (t strictly increasing, at least 2 points)
 //               natural cubic spline (f'' = 0 at both ends); outside the table it continues
 //               linearly with the end slope (f'' = 0), so f, f' and f'' are continuous everywhere
+//   steps       table: [[t0, f0], [t1, f1], ...] (t strictly increasing, at least 1 point):
+//               piecewise constant, f = f_k on [t_k, t_{k+1}), f0 before t0 (a zero-order
+//               hold, as recorded inputs are replayed); f' = f'' = 0
+//   input       name: the value of the input NAME that the program stepping the simulation
+//               sets (current_input_values, time_function.hpp), held: f' = f'' = 0
 // A bare number is a constant. Unknown keys are errors (with a "did you mean" hint).
 #pragma once
 
@@ -38,7 +43,7 @@ inline std::string tf_join(const std::vector<std::string>& words) {
 
 inline const std::vector<std::string>& tf_known_types() {
     static const std::vector<std::string> types = {"constant", "linear",     "polynomial",
-                                                   "harmonic", "smooth_step", "spline"};
+                                                   "harmonic", "smooth_step", "spline", "steps", "input"};
     return types;
 }
 
@@ -150,6 +155,37 @@ private:
     double t0_, t1_, f0_, f1_;
 };
 
+// Piecewise constant: f_k on [t_k, t_{k+1}).
+class TfSteps final : public TimeFunction {
+public:
+    TfSteps(std::vector<double> t, std::vector<double> f) : t_(std::move(t)), f_(std::move(f)) {}
+    TimeValue evaluate(double t) const override {
+        const size_t after = static_cast<size_t>(std::upper_bound(t_.begin(), t_.end(), t) - t_.begin());
+        return {f_[after == 0 ? 0 : after - 1], 0.0, 0.0};
+    }
+
+private:
+    std::vector<double> t_, f_;
+};
+
+// A value the program sets (current_input_values), held between its changes.
+class TfInput final : public TimeFunction {
+public:
+    TfInput(std::string name, std::string what) : name_(std::move(name)), what_(std::move(what)) {}
+    TimeValue evaluate(double /*t*/) const override {
+        const InputValues* table = current_input_values();
+        if (!table)
+            throw InputError(what_, "the input '" + name_ +
+                                        "' has a value only while a Simulator steps the scene (set_input, "
+                                        "docs/embedding.md); a whole run (simulate) has no inputs: give it a "
+                                        "time function instead");
+        return {table->value(name_), 0.0, 0.0};
+    }
+
+private:
+    std::string name_, what_;
+};
+
 // Natural cubic spline in second-derivative (moment) form.
 class TfSpline final : public TimeFunction {
 public:
@@ -235,8 +271,14 @@ inline std::shared_ptr<const TimeFunction> make_time_function(const Param& node,
     const std::string type = type_it->second.text;
     const TfReader in(node, what, type);
 
+    if (type == "input") {
+        in.check_keys({"name"});
+        auto it = node.fields.find("name");
+        if (it == node.fields.end() || !it->second.is_scalar() || it->second.text.empty())
+            in.fail("needs a 'name' (the name the program sets it by: set_input(name, value))");
+        return std::make_shared<TfInput>(it->second.text, what);
+    }
     if (type == "constant") {
-        in.check_keys({"value"});
         return std::make_shared<TfConstant>(in.number("value"));
     }
     if (type == "linear") {
@@ -264,12 +306,14 @@ inline std::shared_ptr<const TimeFunction> make_time_function(const Param& node,
                     "): the step runs from t0 to t1");
         return std::make_shared<TfSmoothStep>(t0, t1, in.number("from", 0.0), in.number("to"));
     }
-    if (type == "spline") {
+    if (type == "spline" || type == "steps") {
         in.check_keys({"table"});
         const Param& table = in.list("table");
-        if (table.items.size() < 2)
-            in.fail(table, "'table' needs at least 2 points [[t0, f0], [t1, f1], ...], got " +
-                               std::to_string(table.items.size()));
+        const size_t fewest = type == "spline" ? 2 : 1;
+        if (table.items.size() < fewest)
+            in.fail(table, "'table' needs at least " + std::to_string(fewest) +
+                               (fewest == 1 ? " point [[t0, f0], ...]" : " points [[t0, f0], [t1, f1], ...]") +
+                               ", got " + std::to_string(table.items.size()));
         std::vector<double> ts, fs;
         for (size_t k = 0; k < table.items.size(); ++k) {
             const Param& row = table.items[k];
@@ -282,6 +326,7 @@ inline std::shared_ptr<const TimeFunction> make_time_function(const Param& node,
             ts.push_back(t);
             fs.push_back(f);
         }
+        if (type == "steps") return std::make_shared<TfSteps>(std::move(ts), std::move(fs));
         return std::make_shared<TfSpline>(std::move(ts), std::move(fs));
     }
     throw InputError(type_it->second.location().empty() ? node.location() : type_it->second.location(),

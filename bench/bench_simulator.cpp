@@ -1,0 +1,73 @@
+// The stepping Simulator (docs/embedding.md) against a whole run, and the cost of a user
+// force callback (issue 38; docs/benchmarks.md, "Stepping"). On one scene (default the
+// 5-link chain) and one integrator, the median CPU time of:
+//   whole   one advance_to(t_end)
+//   pieces  advance_to in `pieces` calls to t_end
+//   force   one advance_to(t_end) with a user force that returns zeros (the callback's cost)
+// and their ratios; the callback's overhead per call is (force - whole) / right-hand sides.
+//   bench_simulator [scene=scenes/bench/chain-5.yaml] [integrator=dopri5] [t_end=2] [pieces=1000]
+#include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
+#include <mbd/simulator.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Run {
+    double seconds = 0.0;
+    long steps = 0, rhs = 0;
+};
+
+Run timed(const mbd::Model& model, mbd::Registry& registry, const mbd::SimulationSettings& settings, int pieces,
+          bool user_force) {
+    mbd::Simulator sim(model, registry, settings);
+    if (user_force) {
+        const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.nv());
+        sim.set_user_force([&zero](const mbd::State&) { return zero; });
+    }
+    const auto start = std::chrono::steady_clock::now();
+    for (int k = 1; k <= pieces; ++k) sim.advance_to(k == pieces ? settings.t_end : settings.t_end * k / pieces);
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+    return {elapsed.count(), sim.stats().steps, sim.stats().rhs_evaluations};
+}
+
+Run median(const mbd::Model& model, mbd::Registry& registry, const mbd::SimulationSettings& settings, int pieces,
+           bool user_force) {
+    std::vector<Run> runs;
+    for (int r = 0; r < 7; ++r) runs.push_back(timed(model, registry, settings, pieces, user_force));
+    std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.seconds < b.seconds; });
+    return runs[runs.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string path = argc > 1 ? argv[1] : "scenes/bench/chain-5.yaml";
+    mbd::SimulationSettings settings;
+    settings.integrator = argc > 2 ? argv[2] : "dopri5";
+    settings.t_end = argc > 3 ? std::atof(argv[3]) : 2.0;
+    const int pieces = argc > 4 ? std::atoi(argv[4]) : 1000;
+    if (settings.integrator == "rk4" || settings.integrator == "euler" || settings.integrator == "generalized_alpha")
+        settings.integration.step = 1e-3;
+    settings.messages = mbd::MessageLog::silent();
+    mbd::Registry registry;
+    const mbd::Model model = mbd::load_scene(path, registry);
+    const Run whole = median(model, registry, settings, 1, false);
+    const Run cut = median(model, registry, settings, pieces, false);
+    const Run force = median(model, registry, settings, 1, true);
+    std::printf("scene %s, %s, t_end %g\n", path.c_str(), settings.integrator.c_str(), settings.t_end);
+    std::printf("whole run        %9.3f ms  %6ld steps %7ld rhs\n", 1e3 * whole.seconds, whole.steps, whole.rhs);
+    std::printf("%4d advance_to  %9.3f ms  %6ld steps %7ld rhs  ratio %.3f\n", pieces, 1e3 * cut.seconds, cut.steps,
+                cut.rhs, cut.seconds / whole.seconds);
+    std::printf("user force       %9.3f ms  %6ld steps %7ld rhs  ratio %.3f  overhead %.3f us per call, %.3f us per step\n",
+                1e3 * force.seconds, force.steps, force.rhs, force.seconds / whole.seconds,
+                1e6 * (force.seconds - whole.seconds) / static_cast<double>(force.rhs),
+                1e6 * (force.seconds - whole.seconds) / static_cast<double>(force.steps));
+    return 0;
+}
