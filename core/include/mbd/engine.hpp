@@ -18,6 +18,7 @@
 #include <mbd/registry.hpp>          // Registry: the plugin path
 #include <mbd/scene.hpp>             // load_scene, load_scene_text
 #include <mbd/simulation.hpp>        // simulate
+#include <mbd/simulator.hpp>         // Simulator: step, advance_to, inputs, a user force
 #include <mbd/statics_analysis.hpp>  // run_statics, run_inverse
 
 namespace mbd {
