@@ -82,16 +82,9 @@ void Loader::add_collision_contact() {
     node.fields["shapes"] = std::move(shapes);
     node.fields["joined"] = std::move(joined);
 
-    ForceSpec spec;
-    spec.name = force.name;
-    spec.type = force.type;
-    spec.dimension = model_.dimension;
-    for (int b : force.bodies) spec.bodies.push_back(body_info(b));
-    spec.markers = force.markers;
-    spec.gravity = model_.gravity;
     const std::string what = "the collision shapes";
     Params params(what, &node);
-    spec.params = params;
+    const ForceSpec spec = force_spec(force, params);
     force.force = create_checked(params, node, what, "force", force.type,
                                  [&] { return registry_.create_force(spec, force.where); });
     if (!force.force) throw InputError(force.where, "the collision_contact plugin created no force");

@@ -132,14 +132,7 @@ void Loader::load_force(const Param& node, int index) {
         for (size_t k = 0; k < force.bodies.size(); ++k) force.markers.emplace_back();
     }
 
-    ForceSpec spec;
-    spec.name = force.name;
-    spec.type = force.type;
-    spec.dimension = model_.dimension;
-    for (int b : force.bodies) spec.bodies.push_back(body_info(b));
-    spec.markers = force.markers;
-    spec.gravity = model_.gravity;
-    spec.params = params;
+    const ForceSpec spec = force_spec(force, params);
 
     const std::string at = key_where(node, "type");
     force.force = create_checked(params, node, what, "force", force.type, [&] { return registry_.create_force(spec, at); });

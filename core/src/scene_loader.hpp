@@ -208,6 +208,20 @@ private:
         p.fail(what + ": undefined body " + quote(p.text) + "; defined bodies are " + join_quoted(body_names()));
     }
 
+    // What a force plugin is made from: the element's name, type, bodies, markers, the scene's
+    // gravity and the element's keys.
+    ForceSpec force_spec(const ForceInstance& force, const Params& params) const {
+        ForceSpec spec;
+        spec.name = force.name;
+        spec.type = force.type;
+        spec.dimension = model_.dimension;
+        for (int b : force.bodies) spec.bodies.push_back(body_info(b));
+        spec.markers = force.markers;
+        spec.gravity = model_.gravity;
+        spec.params = params;
+        return spec;
+    }
+
     BodyInfo body_info(int index) const {
         BodyInfo info;
         if (index == kGround) {

@@ -3,6 +3,7 @@
 
 #include <mbd/contact_scales.hpp>
 #include <mbd/integrator.hpp>
+#include <mbd/scene_document.hpp>
 #include <mbd/sdk/coulomb_law.hpp>
 #include <mbd/sdk/text.hpp>
 
@@ -12,19 +13,6 @@
 namespace mbd {
 
 namespace {
-
-// The scene node of force element `name` (null: none, e.g. the core's gravity element).
-const Param* force_node(const Model& model, const std::string& name) {
-    if (!model.document || !model.document->is_map()) return nullptr;
-    const auto forces = model.document->fields.find("forces");
-    if (forces == model.document->fields.end() || !forces->second.is_list()) return nullptr;
-    for (const Param& item : forces->second.items) {
-        if (!item.is_map()) continue;
-        const auto key = item.fields.find("name");
-        if (key != item.fields.end() && key->second.is_scalar() && key->second.text == name) return &item;
-    }
-    return nullptr;
-}
 
 // The number under `key` of `node`, or `fallback` when it has none (the plugin has already
 // refused a value that is not a number, so this one reads).
@@ -45,7 +33,7 @@ double tolerance_resolving(double velocity) { return velocity / (kVelocityResolu
 std::vector<VelocityScale> velocity_scales(const Model& model) {
     std::vector<VelocityScale> scales;
     for (const ForceInstance& f : model.forces) {
-        const Param* node = force_node(model, f.name);
+        const Param* node = scene_element_node(model, "forces", f.name);
         const bool friction = (f.force && f.force->is_friction()) || number_or(node, "static_friction", 0.0) > 0.0;
         if (!friction) continue;
         const double velocity = number_or(node, "stiction_velocity", friction::CoulombLaw{}.stiction_velocity);

@@ -2,6 +2,7 @@
 // (core/src/visual_wheels.hpp).
 #include "visual_wheels.hpp"
 
+#include <mbd/scene_document.hpp>
 #include <mbd/sdk/rotation.hpp>
 
 #include <Eigen/Eigenvalues>
@@ -10,19 +11,6 @@
 
 namespace mbd {
 namespace {
-
-// The scene's map of the joint named `name` (the merged document), or null.
-const Param* joint_node(const Model& model, const std::string& name) {
-    if (!model.document || !model.document->is_map()) return nullptr;
-    const auto joints = model.document->fields.find("joints");
-    if (joints == model.document->fields.end() || !joints->second.is_list()) return nullptr;
-    for (const Param& item : joints->second.items) {
-        if (!item.is_map()) continue;
-        const auto n = item.fields.find("name");
-        if (n != item.fields.end() && n->second.is_scalar() && n->second.text == name) return &item;
-    }
-    return nullptr;
-}
 
 // A positive number under `key` of `node`, else 0 (the joint itself has checked its keys).
 double positive_field(const Param* node, const std::string& key) {
@@ -60,7 +48,7 @@ std::vector<DerivedWheel> rolling_contact_wheels(const Model& model) {
         if (!is_rolling_contact(joint.type) || joint.bodies.size() != 2 || joint.markers.size() != 2) continue;
         const int body = joint.bodies[1];
         if (body == kGround) continue;
-        const Param* node = joint_node(model, joint.name);
+        const Param* node = scene_element_node(model, "joints", joint.name);
         DerivedWheel w;
         w.joint = static_cast<int>(j);
         w.body = body;
