@@ -93,7 +93,8 @@ TEST(ContactScales, CollisionShapesGiveEachBodyItsStiffestLaw) {
                                                   "bodies:\n" + bodies);
         const std::vector<mbd::ContactScale> scales = mbd::contact_scales(model);
         ASSERT_EQ(scales.size(), 2u);
-        for (const auto& [m, extent] : {std::pair{2.0, 0.3}, std::pair{0.5, 1.0}}) {
+        for (const auto& body : {std::pair{2.0, 0.3}, std::pair{0.5, 1.0}}) {
+            const double m = body.first, extent = body.second;
             const auto s = std::find_if(scales.begin(), scales.end(), [&](const auto& x) { return x.mass == m; });
             ASSERT_NE(s, scales.end()) << m;
             const double delta = std::pow(m * g / 1e8, 1.0 / n);

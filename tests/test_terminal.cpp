@@ -225,13 +225,26 @@ double lasting_bench(const fs::path& dir) {
     return t_end_lasting(3.0, 5.0, [&dir](double t_end) { return bench_command(dir, bench_scene(dir, t_end), true); });
 }
 
+// Runs command(t_end) on a terminal of `columns`, t_end as timed by t_end_lasting: a run that
+// draws fewer than three bars (timed while the machine was busier than during the run) is run
+// again three times longer, up to three times; t_end is then the returned run's.
+TerminalRun run_lasting(const std::function<std::string(double)>& command, double& t_end, int columns) {
+    TerminalRun run = run_on_terminal(command(t_end), columns);
+    for (int longer = 0; longer < 3 && run.exit_code == 0 && replay(run.raw).bars.size() < 3; ++longer) {
+        t_end *= 3.0;
+        run = run_on_terminal(command(t_end), columns);
+    }
+    return run;
+}
+
 // mbd bench on an 80-column terminal: the notes of the missing peers go above the bar (the
 // bar is drawn again below each), no line is wider than the terminal, and the summary counts
 // the three skipped peer runs and says why.
 TEST(Terminal, BenchPrintsItsNotesAboveTheBarWithinTheWidth) {
     const fs::path dir = scratch("terminal-bench");
-    const fs::path scene = bench_scene(dir, lasting_bench(dir));
-    const TerminalRun run = run_on_terminal(bench_command(dir, scene), 80);
+    double t_end = lasting_bench(dir);
+    const TerminalRun run =
+        run_lasting([&](double t) { return bench_command(dir, bench_scene(dir, t)); }, t_end, 80);
     ASSERT_EQ(run.exit_code, 0) << run.raw;
     const Replay r = replay(run.raw);
     expect_clean_terminal(r, 80, "bench");
@@ -266,8 +279,8 @@ TEST(Terminal, SweepBarStaysWithinTheWidthAndIsClearedAtTheEnd) {
         fs::remove(dir / "r.h5");
         return mbd_command("sweep '" + study.string() + "' -o '" + (dir / "r.h5").string() + "'");
     };
-    const std::string command = sweep(t_end_lasting(3.0, 1.0, [&](double t_end) { return sweep(t_end) + " -q"; }));
-    const TerminalRun run = run_on_terminal(command, 80);
+    double t_end = t_end_lasting(3.0, 1.0, [&](double t) { return sweep(t) + " -q"; });
+    const TerminalRun run = run_lasting(sweep, t_end, 80);
     ASSERT_EQ(run.exit_code, 0) << run.raw;
     const Replay r = replay(run.raw);
     expect_clean_terminal(r, 80, "sweep");
@@ -277,8 +290,9 @@ TEST(Terminal, SweepBarStaysWithinTheWidthAndIsClearedAtTheEnd) {
 // On a terminal whose size is unknown (0 columns), $COLUMNS sets the width.
 TEST(Terminal, ColumnsSetsTheWidthWhenTheTerminalDoesNotSay) {
     const fs::path dir = scratch("terminal-columns");
-    const fs::path scene = bench_scene(dir, lasting_bench(dir));
-    const TerminalRun run = run_on_terminal("COLUMNS=50 " + bench_command(dir, scene), 0);
+    double t_end = lasting_bench(dir);
+    const TerminalRun run =
+        run_lasting([&](double t) { return "COLUMNS=50 " + bench_command(dir, bench_scene(dir, t)); }, t_end, 0);
     ASSERT_EQ(run.exit_code, 0) << run.raw;
     const Replay r = replay(run.raw);
     ASSERT_FALSE(r.bars.empty());
@@ -293,11 +307,15 @@ TEST(Terminal, StabilityShowsTheRunningCaseAndItsTime) {
     const std::string original = read_text(mbd::test::scene_path("extreme/pendulum-a01-2000s.yaml"));
     const fs::path scene = dir / "pendulum-a01-2000s.yaml";  // the matrix names a case by its file
     auto stability = [&](double t_end) {
-        std::ofstream(scene) << mbd::test::replaced(original, "t_end: 2000.0", "t_end: " + mbd::test::g17(t_end));
+        // the terminal is tested, not the accuracy: a run made longer to last keeps its "pass"
+        // (the bob's position error stays below 10 m, the wall time below 600 s)
+        std::string text = mbd::test::replaced(original, "t_end: 2000.0", "t_end: " + mbd::test::g17(t_end));
+        text = mbd::test::replaced(mbd::test::replaced(text, "bound: 1.0e-3", "bound: 10"), "budget: 40", "budget: 600");
+        std::ofstream(scene) << text;
         return mbd_command("stability '" + scene.string() + "' --formulation augmented --integrator dopri5");
     };
-    const double t_end = t_end_lasting(3.0, 100.0, stability);
-    const TerminalRun run = run_on_terminal(stability(t_end), 120);
+    double t_end = t_end_lasting(3.0, 100.0, stability);
+    const TerminalRun run = run_lasting(stability, t_end, 120);
     ASSERT_EQ(run.exit_code, 0) << run.raw;
     const Replay r = replay(run.raw);
     expect_clean_terminal(r, 120, "stability");
