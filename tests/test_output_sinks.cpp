@@ -1,0 +1,84 @@
+// The output sinks of a run (core/include/mbd/output_sink.hpp, issue 43 item 4): the simulate
+// driver hands every row to each sink it is given. The in-memory sink holds the CSV's rows bit
+// for bit; a failed run ends no sink; `simulate --animation` takes its frames from the run's
+// rows (no CSV read back), so its animation is byte for byte the one `mbd animate` makes from
+// the CSV of the same run.
+#include <gtest/gtest.h>
+
+#include <mbd/output_file.hpp>
+#include <mbd/simulation.hpp>
+
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "support/test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using mbd::test::read_text;
+using mbd::test::run_mbd;
+using mbd::test::scratch;
+
+// The CSV's cells parsed with strtod, row-major, and its header (17 digits read back exactly).
+std::vector<double> csv_values(const fs::path& file, std::vector<std::string>& header) {
+    std::ifstream in(file);
+    std::string line;
+    std::getline(in, line);
+    std::stringstream names(line);
+    for (std::string n; std::getline(names, n, ',');) header.push_back(n);
+    std::vector<double> values;
+    while (std::getline(in, line))
+        for (const char* p = line.c_str(); *p;) {
+            char* end = nullptr;
+            values.push_back(std::strtod(p, &end));
+            if (end == p) return values;
+            p = *end == ',' ? end + 1 : end;
+        }
+    return values;
+}
+
+TEST(MemorySink, HoldsTheRowsTheCsvSinkWritesBitForBit) {
+    const fs::path dir = scratch("memory");
+    const mbd::Model model = mbd::test::load("dynamics/four-bar-spring-damper.yaml");
+    mbd::SimulationSettings s = mbd::test::adaptive_run("augmented", "dopri5", 1e-8, 1.0, 0.01);
+    s.reactions = s.diagnostics = true;
+    mbd::MemorySink memory;
+    const std::unique_ptr<mbd::OutputSink> csv = mbd::csv_output_format().make(dir / "r.csv");
+    const mbd::SimulationResult r = mbd::simulate(model, mbd::test::shared_registry(), s, {}, {&memory, csv.get()});
+    EXPECT_TRUE(memory.complete());
+    ASSERT_EQ(memory.rows(), static_cast<std::size_t>(r.rows));
+    EXPECT_EQ(memory.rows(), 101u);
+    EXPECT_EQ(memory.columns(), r.columns);
+    std::vector<std::string> header;
+    const std::vector<double> values = csv_values(dir / "r.csv", header);
+    EXPECT_EQ(header, memory.columns());
+    ASSERT_EQ(values.size(), memory.values().size());
+    EXPECT_EQ(std::memcmp(values.data(), memory.values().data(), values.size() * sizeof(double)), 0);
+    EXPECT_EQ(memory.at(100, 0), 1.0);  // the last row is at t_end
+}
+
+// A run that diverges ends no sink: the memory sink is not complete and the CSV keeps its rows
+// in r.csv.partial, with nothing under r.csv (output_file.hpp).
+TEST(MemorySink, AFailedRunEndsNoSink) {
+    const fs::path dir = scratch("failed");
+    const mbd::Model model = mbd::test::load("dynamics/pendulum-a01.yaml");
+    mbd::SimulationSettings s = mbd::test::adaptive_run("augmented", "rk4", 1e-6, 200.0, 2.0);
+    s.integrator = "rk4";
+    s.integration.step = 2.0;  // far too large a step: the motion diverges
+    mbd::MemorySink memory;
+    std::unique_ptr<mbd::OutputSink> csv = mbd::csv_output_format().make(dir / "r.csv");
+    EXPECT_THROW(mbd::simulate(model, mbd::test::shared_registry(), s, {}, {&memory, csv.get()}), mbd::DynamicsError);
+    EXPECT_FALSE(memory.complete());
+    EXPECT_GE(memory.rows(), 1u);
+    csv.reset();  // the run's end for the file: unfinished
+    mbd::take_kept_output_notes();
+    EXPECT_FALSE(fs::exists(dir / "r.csv"));
+    EXPECT_EQ(read_text(dir / "r.csv.partial").find("t,"), 0u) << "the rows before the failure are kept";
+}
+
+}  // namespace
