@@ -25,6 +25,7 @@ struct Registration {
     static const Registration registered_##describe(describe)
 
 MBD_OUTPUT_FORMAT(csv_output_format);
+MBD_OUTPUT_FORMAT(hdf5_output_format);
 
 const std::vector<OutputFormat>& output_formats() { return registered(); }
 
