@@ -81,4 +81,26 @@ TEST(MemorySink, AFailedRunEndsNoSink) {
     EXPECT_EQ(read_text(dir / "r.csv.partial").find("t,"), 0u) << "the rows before the failure are kept";
 }
 
+// `simulate -o run.h5 --animation`: no CSV is written, so the frames can only come from the
+// run's rows; the .glb and the .html are byte for byte what `mbd animate` makes from the CSV of
+// the same run (17 digits: the CSV's values are the rows' values exactly).
+TEST(AnimationSink, TheAnimationIsTheOneMadeFromTheCsvOfTheSameRun) {
+    const fs::path dir = scratch("animation");
+    const std::string scene = mbd::test::scene_path("bench/chain-5.yaml").string();
+    const std::string run = "simulate " + scene + " --t-end 0.5 --output-step 0.01 -q ";
+    for (const std::string format : {"glb", "html"}) {
+        SCOPED_TRACE(format);
+        const auto sink = run_mbd(run + "-o " + (dir / "r.h5").string() + " --animation " + (dir / ("sink." + format)).string());
+        ASSERT_EQ(sink.exit_code, 0) << sink.err;
+        ASSERT_EQ(run_mbd(run + "-o " + (dir / "r.csv").string()).exit_code, 0);
+        const auto animate = run_mbd("animate " + scene + " " + (dir / "r.csv").string() + " -o " +
+                                     (dir / ("csv." + format)).string());
+        ASSERT_EQ(animate.exit_code, 0) << animate.err;
+        const std::string a = read_text(dir / ("sink." + format)), b = read_text(dir / ("csv." + format));
+        EXPECT_GT(a.size(), 1000u);
+        EXPECT_TRUE(a == b) << "sizes " << a.size() << " and " << b.size();
+        fs::remove(dir / "r.csv");
+    }
+}
+
 }  // namespace
