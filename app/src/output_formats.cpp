@@ -31,9 +31,17 @@ const std::vector<OutputFormat>& output_formats() { return registered(); }
 
 const OutputFormat& output_format(const std::filesystem::path& path, const std::string& option) {
     const std::string extension = path.extension().string();
+    // a device or FIFO (/dev/stdout, a pipe) named without a format's extension takes the text,
+    // written in place (output_file.hpp)
+    std::error_code ec;
+    const std::filesystem::file_status status = std::filesystem::status(path, ec);
+    const bool stream = !ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) &&
+                        !std::filesystem::is_directory(status);
     std::string known;
-    for (const OutputFormat& format : output_formats()) {
+    for (const OutputFormat& format : output_formats())
         if (format.extension == extension) return format;
+    for (const OutputFormat& format : output_formats()) {
+        if (stream && format.extension == ".csv") return format;
         known += (known.empty() ? "" : ", ") + format.extension + " (" + format.description + ")";
     }
     const std::string given = extension.empty() ? "it has none" : "'" + extension + "' is none of them";
