@@ -6,6 +6,10 @@
 
 #include <hdf5.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -163,6 +167,35 @@ TEST(Hdf5Output, ReactionsAndDiagnosticsOverManyBandsAreTheCsvs) {
     EXPECT_EQ(a.values.size(), 20001u * a.columns.size());
     EXPECT_NE(std::find(a.columns.begin(), a.columns.end(), "kinetic_energy"), a.columns.end());
     expect_bit_equal(a, b);
+}
+
+// The peak resident memory (kB) of `mbd ARGUMENTS`, from wait4's ru_maxrss of the child.
+long mbd_peak_kb(const std::string& arguments) {
+    const std::string command = "exec " + std::string(MBD_EXECUTABLE) + " " + arguments + " > /dev/null";
+    const pid_t child = fork();
+    if (child == 0) {
+        execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+        _exit(127);
+    }
+    int status = 0;
+    rusage usage{};
+    EXPECT_EQ(wait4(child, &status, 0, &usage), child);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << arguments;
+    return usage.ru_maxrss;
+}
+
+// Rows stream to the file in bands: 400,001 rows of 13 values (42 MB of doubles) take no more
+// memory than 4,001 rows.
+TEST(Hdf5Output, MemoryDoesNotGrowWithTheRows) {
+    const fs::path dir = scratch("memory");
+    const std::string run = "simulate " + mbd::test::scene_path("dynamics/pendulum-a01.yaml").string() +
+                            " --output-step 1e-5 -q --output " + (dir / "x.h5").string();
+    const long short_run = mbd_peak_kb(run + " --t-end 0.04");
+    const long long_run = mbd_peak_kb(run + " --t-end 4");
+    RecordProperty("peak_kb_4001_rows", static_cast<int>(short_run));
+    RecordProperty("peak_kb_400001_rows", static_cast<int>(long_run));
+    std::printf("peak memory: %ld kB for 4,001 rows, %ld kB for 400,001 rows\n", short_run, long_run);
+    EXPECT_LT(long_run - short_run, 16 * 1024) << "the rows (42 MB) were held in memory";
 }
 
 TEST(Hdf5Output, AnUnknownExtensionIsRefusedNamingTheKnownOnes) {
