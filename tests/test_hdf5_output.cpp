@@ -1,6 +1,6 @@
 // `mbd simulate --output run.h5` (issue 41, item 3; docs/user-guide.md "Result files"): the
 // HDF5 sink writes the CSV's rows value for value in a third of its size or less. The HDF5
-// file is read here with the HDF5 C API directly and the CSV with strtod, each independently
+// file is read here with the HDF5 C API directly and the CSV with std::stod, each independently
 // of the writers, and every value of one is compared bit for bit with the other's.
 #include <gtest/gtest.h>
 
@@ -11,7 +11,6 @@
 #include <unistd.h>
 
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -49,23 +48,11 @@ struct Table {
     std::vector<double> values;  // row-major
 };
 
-// The CSV as written: header names, and each cell parsed by strtod (17 digits read back exactly).
+// The CSV through the tests' reader (std::stod: 17 digits read back exactly), row-major.
 Table read_csv_exactly(const fs::path& file) {
-    Table t;
-    std::ifstream in(file);
-    std::string line;
-    std::getline(in, line);
-    std::stringstream header(line);
-    for (std::string name; std::getline(header, name, ',');) t.columns.push_back(name);
-    while (std::getline(in, line)) {
-        const char* p = line.c_str();
-        for (std::size_t k = 0; k < t.columns.size(); ++k) {
-            char* end = nullptr;
-            t.values.push_back(std::strtod(p, &end));
-            EXPECT_NE(end, p) << "a cell that is no number: " << file;
-            p = *end == ',' ? end + 1 : end;
-        }
-    }
+    const mbd::test::Csv csv = mbd::test::read_csv(file);
+    Table t{csv.header, {}};
+    for (const auto& row : csv.rows) t.values.insert(t.values.end(), row.begin(), row.end());
     return t;
 }
 

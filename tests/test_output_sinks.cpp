@@ -8,7 +8,6 @@
 #include <mbd/output_file.hpp>
 #include <mbd/simulation.hpp>
 
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -24,21 +23,12 @@ using mbd::test::read_text;
 using mbd::test::run_mbd;
 using mbd::test::scratch;
 
-// The CSV's cells parsed with strtod, row-major, and its header (17 digits read back exactly).
+// The CSV's cells through the tests' reader (std::stod: 17 digits read back exactly), row-major.
 std::vector<double> csv_values(const fs::path& file, std::vector<std::string>& header) {
-    std::ifstream in(file);
-    std::string line;
-    std::getline(in, line);
-    std::stringstream names(line);
-    for (std::string n; std::getline(names, n, ',');) header.push_back(n);
+    const mbd::test::Csv csv = mbd::test::read_csv(file);
+    header = csv.header;
     std::vector<double> values;
-    while (std::getline(in, line))
-        for (const char* p = line.c_str(); *p;) {
-            char* end = nullptr;
-            values.push_back(std::strtod(p, &end));
-            if (end == p) return values;
-            p = *end == ',' ? end + 1 : end;
-        }
+    for (const auto& row : csv.rows) values.insert(values.end(), row.begin(), row.end());
     return values;
 }
 
