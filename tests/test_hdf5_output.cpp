@@ -4,6 +4,10 @@
 // of the writers, and every value of one is compared bit for bit with the other's.
 #include <gtest/gtest.h>
 
+#include <csignal>
+#include <chrono>
+#include <thread>
+
 #include <hdf5.h>
 
 #include <sys/resource.h>
@@ -156,14 +160,20 @@ TEST(Hdf5Output, ReactionsAndDiagnosticsOverManyBandsAreTheCsvs) {
     expect_bit_equal(a, b);
 }
 
-// The peak resident memory (kB) of `mbd ARGUMENTS`, from wait4's ru_maxrss of the child.
-long mbd_peak_kb(const std::string& arguments) {
-    const std::string command = "exec " + std::string(MBD_EXECUTABLE) + " " + arguments + " > /dev/null";
+// `mbd ARGUMENTS` started in a child process (its output to /dev/null).
+pid_t start_mbd(const std::string& arguments) {
+    const std::string command = "exec " + std::string(MBD_EXECUTABLE) + " " + arguments + " > /dev/null 2>&1";
     const pid_t child = fork();
     if (child == 0) {
         execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
         _exit(127);
     }
+    return child;
+}
+
+// The peak resident memory (kB) of `mbd ARGUMENTS`, from wait4's ru_maxrss of the child.
+long mbd_peak_kb(const std::string& arguments) {
+    const pid_t child = start_mbd(arguments);
     int status = 0;
     rusage usage{};
     EXPECT_EQ(wait4(child, &status, 0, &usage), child);
@@ -183,6 +193,29 @@ TEST(Hdf5Output, MemoryDoesNotGrowWithTheRows) {
     RecordProperty("peak_kb_400001_rows", static_cast<int>(long_run));
     std::printf("peak memory: %ld kB for 4,001 rows, %ld kB for 400,001 rows\n", short_run, long_run);
     EXPECT_LT(long_run - short_run, 16 * 1024) << "the rows (42 MB) were held in memory";
+}
+
+// While a run writes x.h5 it holds x.h5.lock: a second run on it is refused at its start; the
+// first, stopped by SIGINT, leaves no file under either name (and no lock).
+TEST(Hdf5Output, ASecondRunIsRefusedAndAStoppedRunLeavesNoFile) {
+    const fs::path dir = scratch("lock");
+    const std::string run = "simulate " + mbd::test::scene_path("dynamics/pendulum-a01.yaml").string() +
+                            " --t-end 400 --output-step 1e-4 -q --output " + (dir / "x.h5").string();
+    const pid_t first = start_mbd(run);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!fs::exists(dir / "x.h5.partial") && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    EXPECT_TRUE(fs::exists(dir / "x.h5.partial")) << "the first run did not start writing";
+    const auto second = run_mbd(run);
+    EXPECT_EQ(second.exit_code, 2) << second.err;
+    EXPECT_NE(second.err.find("is being written by another run"), std::string::npos) << second.err;
+    kill(first, SIGINT);
+    int status = 0;
+    EXPECT_EQ(waitpid(first, &status, 0), first);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 130) << "status " << status;
+    EXPECT_FALSE(fs::exists(dir / "x.h5"));
+    EXPECT_FALSE(fs::exists(dir / "x.h5.partial"));
+    EXPECT_FALSE(fs::exists(dir / "x.h5.lock"));
 }
 
 TEST(Hdf5Output, AnUnknownExtensionIsRefusedNamingTheKnownOnes) {
