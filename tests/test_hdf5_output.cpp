@@ -143,6 +143,7 @@ TEST(Hdf5Output, Chain2000IsAThirdOfTheCsvAndHoldsTheSameNumbersBitForBit) {
     ASSERT_EQ(a.columns.size(), 1u + 2000u * 6u);
     EXPECT_EQ(a.values.size(), 101u * a.columns.size());
     expect_bit_equal(a, b);
+    fs::remove_all(dir);  // 34 MB of results
 }
 
 // Reactions and diagnostics too, a run of several bands of rows (the band's last rows and a
