@@ -1,11 +1,14 @@
 // mbd simulate SCENE --t-end T --output out.csv: forward dynamics (book Secs. 6.6-6.12)
 // with a formulation plugin (default: the scene's, else augmented) and an integrator
-// (euler, rk4, dopri5, dop853, generalized_alpha, cvode), written in the CSV contract of mbd/csv.hpp,
-// optionally with joint reactions and energy / constraint diagnostics.
+// (euler, rk4, dopri5, dop853, generalized_alpha, cvode), written through the output sinks
+// (mbd/output_sink.hpp): the --output file in the format of its extension (CSV, HDF5;
+// mbd/app/output_formats.hpp), the --animation from the same rows; optionally with joint
+// reactions and energy / constraint diagnostics.
 #include "commands.hpp"
 #include "options.hpp"
 
 #include <mbd/app/json_output.hpp>
+#include <mbd/app/output_formats.hpp>
 #include <mbd/integrator.hpp>
 #include <mbd/linear_algebra.hpp>
 #include <mbd/interrupt.hpp>
@@ -15,7 +18,7 @@
 #include <mbd/scene.hpp>
 #include <mbd/sdk/text.hpp>
 #include <mbd/simulation.hpp>
-#include <mbd/viewer/animation_export.hpp>
+#include <mbd/viewer/animation_sink.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -50,7 +53,9 @@ struct SimulateArguments {
 // The options of `mbd simulate` after SCENE; returns --tol and --step (their counts tell whether they were given).
 std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, SimulateArguments& a) {
     sub->add_option("--t-end", a.t_end, "End time [s]")->required()->check(positive_number());
-    sub->add_option("-o,--output", a.output, "CSV file: t, positions, velocities (+ reactions, diagnostics)")
+    sub->add_option("-o,--output", a.output,
+                    "Result file: t, positions, velocities (+ reactions, diagnostics); its format from the "
+                    "extension: .csv (text) or .h5 (HDF5; see docs/user-guide.md)")
         ->required();
     sub->add_option("--formulation", a.formulation,
                     "Formulation plugin (default: the scene's 'formulation', else the automatic choice: embedding "
@@ -68,7 +73,7 @@ std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, Simula
     tol->excludes(step);
     step->excludes(tol);
     sub->add_option("--output-step", a.output_step,
-                    "Time between CSV rows [s] (default: the fixed step, else t_end / 1000; at most 1e7 rows)")
+                    "Time between output rows [s] (default: the fixed step, else t_end / 1000; at most 1e7 rows)")
         ->check(positive_number());
     sub->add_flag("--reactions", a.reactions,
                   "Add the reaction on every joint's second body at the joint point, world axes: JOINT.fx JOINT.fy "
@@ -99,7 +104,6 @@ SimulationSettings simulation_settings(const SimulateArguments& a) {
     settings.integration.step = a.step;
     settings.t_end = a.t_end;
     settings.output_step = a.output_step;
-    settings.output = a.output;
     settings.reactions = a.reactions;
     settings.diagnostics = a.diagnostics;
     if (a.stabilization == "projection") settings.stabilization = Stabilization::Projection;
@@ -133,8 +137,7 @@ SimulationCallback collect_positions(const Model& model, std::vector<Eigen::Vect
 ErrorEstimate estimate_error(const Model& model, Registry& registry, const SimulationSettings& settings,
                              const SimulationResult& r, const std::vector<Eigen::VectorXd>& positions) {
     ErrorEstimate out;
-    SimulationSettings tight = settings;
-    tight.output.clear();
+    SimulationSettings tight = settings;  // no sink: only the positions are kept
     tight.progress = false;
     tight.messages = MessageLog::silent();
     tight.reactions = tight.diagnostics = false;
@@ -236,18 +239,20 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         Registry registry;
         const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
+        const std::unique_ptr<OutputSink> output = make_output_sink(args->output, "--output");
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the run at a step boundary
         check_animation_output(args->animation, args->scene, model);
+        OutputSinks sinks{output.get()};
+        std::unique_ptr<OutputSink> animation;  // from the rows of this run: the viewer shows exactly the result
+        if (!args->animation.empty()) sinks.push_back((animation = viewer::make_animation_sink(model, args->animation)).get());
 
         const SimulationSettings settings = simulation_settings(*args);
         std::vector<Eigen::VectorXd> positions;
         SimulationCallback callback;
         if (args->error_estimate) callback = collect_positions(model, positions);
-        const SimulationResult r = simulate(model, registry, settings, callback);
+        const SimulationResult r = simulate(model, registry, settings, callback, sinks);
         ErrorEstimate estimate;
         if (args->error_estimate) estimate = estimate_error(model, registry, settings, r, positions);
-        if (!args->animation.empty())  // from the CSV just written: the viewer shows exactly the result
-            viewer::export_animation(model, viewer::read_motion_csv(args->output), args->animation);
         print_simulate_summary(*args, r, args->error_estimate ? &estimate : nullptr, positions.size());
         return 0;
     };

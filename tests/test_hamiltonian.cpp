@@ -74,8 +74,8 @@ DiagnosedRun diagnosed_run(const mbd::Model& model, const std::string& name, dou
     const fs::path dir = scratch(name);
     mbd::SimulationSettings s = mbd::test::adaptive_run("hamiltonian", "dopri5", tolerance, t_end, output_step);
     s.diagnostics = true;
-    s.output = (dir / "h.csv").string();
-    DiagnosedRun run{mbd::simulate(model, shared_registry(), s), {}};
+    const std::unique_ptr<mbd::OutputSink> csv = mbd::csv_output_format().make(dir / "h.csv");
+    DiagnosedRun run{mbd::simulate(model, shared_registry(), s, {}, {csv.get()}), {}};
     run.csv = read_csv(dir / "h.csv");
     return run;
 }

@@ -2,6 +2,7 @@
 #include <mbd/simulation.hpp>
 
 #include <mbd/csv.hpp>
+#include <mbd/output_sink.hpp>
 #include <mbd/formulation_setup.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/method_choice.hpp>
@@ -262,111 +263,140 @@ void check_simulation_method(const Model& model, Registry& registry, const Simul
     prepare_run(model, registry, quiet);
 }
 
+namespace {
+
+// Each output sample of a run: its row built from the state (motion, reactions, diagnostics,
+// H, the dissipated energy), the run's watches checked (lift-off, energy growth), the row
+// refused when not finite, then handed to every sink and to the callback.
+class RowEmitter {
+public:
+    RowEmitter(const Model& model, ModelSystem& system, Formulation& formulation, const Integrator& integrator,
+               const SimulationSettings& settings, const OutputLayout& layout, const OutputSinks& sinks,
+               const SimulationCallback& callback, SimulationResult& result)
+        : model_(model), system_(system), formulation_(formulation), settings_(settings), layout_(layout),
+          sinks_(sinks), callback_(callback), result_(result), progress_(settings.progress),
+          end_text_(" / " + format_time(settings.t_end) + " s"), lift_off_(system),
+          energy_(model.drivers.empty() && system.conservative()),  // a conservative scene: no energy may enter
+          energy_advice_(integrator.adaptive() ? "use a tighter tolerance (--tol)"
+                                               : "use a smaller step (--step), or an adaptive integrator "
+                                                 "(--integrator dopri5, dop853 or cvode)"),
+          motion_size_(formulation.ode_size()) {}
+
+    bool operator()(double t, const Eigen::VectorXd& y_run) {
+        motion_y_ = y_run.head(motion_size_);
+        formulation_.from_ode(t, motion_y_, sample_.state);
+        if (!sample_.state.q.allFinite() || !sample_.state.v.allFinite())
+            throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+        row_ = motion_values(model_, sample_.state);
+        append_constraints_and_reactions(t);
+        append_energies(t, y_run);
+        for (size_t k = 0; k < row_.size(); ++k)
+            if (!std::isfinite(row_[k]))
+                throw DynamicsError(t, "non-finite value in output column '" + layout_.columns[k] +
+                                           "': the motion diverged (try a smaller tolerance or step)");
+        for (OutputSink* sink : sinks_) sink->row(row_);
+        sample_.row = &row_;
+        ++result_.rows;
+        result_.final_state = sample_.state;
+        if (progress_.due()) progress_.update(t / settings_.t_end, "t = " + format_time(t) + end_text_);  // text only when shown
+        stop_if_interrupted(t);  // the row is complete: a stop signal ends the run here
+        return callback_ ? callback_(sample_) : true;
+    }
+
+    void finish() { progress_.finish(); }
+
+private:
+    void append_constraints_and_reactions(double t) {
+        system_.constraints_with_velocity_rows(sample_.state, cv_, true);  // their C is 0
+        result_.final_position_violation = max_abs(cv_.C);
+        Eigen::VectorXd velocity_residual = cv_.C_t;
+        if (cv_.J.rows() > 0) velocity_residual += cv_.J * sample_.state.v;
+        result_.final_velocity_violation = max_abs(velocity_residual);
+        sample_.lambda = nullptr;
+        if (settings_.reactions || lift_off_.active()) formulation_.multipliers(sample_.state, lambda_);
+        if (settings_.reactions) {
+            sample_.lambda = &lambda_;
+            append_reactions(system_, sample_.state, lambda_, row_);
+        }
+        if (lift_off_.active()) lift_off_.check(t, lambda_, settings_.messages, result_.lift_offs);
+    }
+
+    void append_energies(double t, const Eigen::VectorXd& y_run) {
+        const bool watch_energy = energy_.active(), energies = settings_.diagnostics || watch_energy;
+        const double kinetic = energies ? system_.kinetic_energy(sample_.state) : 0.0;
+        const double potential = energies ? system_.potential_energy(sample_.state) : 0.0;
+        if (watch_energy) energy_.check(t, kinetic, potential, max_abs(cv_.C_t) != 0.0, energy_advice_);
+        if (settings_.diagnostics)
+            row_.insert(row_.end(), {kinetic, potential, result_.final_position_violation,
+                                     result_.final_velocity_violation});
+        if (layout_.write_H) row_.push_back(formulation_.hamiltonian(t, motion_y_));
+        if (layout_.integrate_dissipation) row_.push_back(y_run[motion_size_]);
+    }
+
+    const Model& model_;
+    ModelSystem& system_;
+    Formulation& formulation_;
+    const SimulationSettings& settings_;
+    const OutputLayout& layout_;
+    const OutputSinks& sinks_;
+    const SimulationCallback& callback_;
+    SimulationResult& result_;
+    ProgressBar progress_;
+    const std::string end_text_;
+    LiftOffWatch lift_off_;  // contact rows that can only push (a cam follower)
+    EnergyGrowthWatch energy_;
+    const std::string energy_advice_;
+    const int motion_size_;
+    Eigen::VectorXd motion_y_, lambda_;
+    ConstraintValues cv_;
+    SimulationSample sample_;
+    std::vector<double> row_;
+};
+
+}  // namespace
+
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
-                          const SimulationCallback& callback) {
+                          const SimulationCallback& callback, const OutputSinks& sinks) {
     SimulationResult result;
     refuse_scene_inputs(model);  // before the automatic choices evaluate the forces
     PreparedRun run = prepare_run(model, registry, settings);  // before any work
-    const std::string& name = run.formulation_name;
-    FormulationOptions& options = run.options;
-    std::shared_ptr<Formulation> formulation = run.formulation;
-    std::unique_ptr<Integrator> integrator = std::move(run.integrator);
-    result.formulation = name;
-    result.integrator = integrator->name();
-    result.tolerance = integrator->adaptive() ? run.integration.tolerance : 0.0;
+    Formulation& formulation = *run.formulation;
+    const Integrator& integrator = *run.integrator;
+    result.formulation = run.formulation_name;
+    result.integrator = integrator.name();
+    result.tolerance = integrator.adaptive() ? run.integration.tolerance : 0.0;
 
     // --- bind and assemble a consistent initial state
     require_positive_masses(model);
     ModelSystem system(model);
-    formulation->bind(system, options);
-
+    formulation.bind(system, run.options);
     State state = settings.initial_state ? *settings.initial_state : system.initial_state();
-    Eigen::VectorXd y = consistent_start(system, *formulation, state, 0.0);
+    Eigen::VectorXd y = consistent_start(system, formulation, state, 0.0);
 
-    const std::vector<double> times = output_times_after_start(settings);
-
-    // --- CSV
-    const OutputLayout layout = output_layout(model, system, *formulation, *integrator, settings);
-    const std::vector<std::string>& columns = layout.columns;
-    const bool write_H = layout.write_H, integrate_dissipation = layout.integrate_dissipation;
-    const int motion_size = formulation->ode_size();
-    Eigen::VectorXd motion_y;
-    result.columns = columns;
-    std::unique_ptr<CsvWriter> writer;
-    if (!settings.output.empty()) writer = std::make_unique<CsvWriter>(settings.output, columns);
-
-    ConstraintValues cv;
-    Eigen::VectorXd lambda;
-    SimulationSample sample;
-    ProgressBar progress(settings.progress);
-    const std::string end_text = " / " + format_time(settings.t_end) + " s";
-    // a conservative scene: no energy may enter (energy_growth.hpp)
-    LiftOffWatch lift_off(system);  // contact rows that can only push (a cam follower)
-    EnergyGrowthWatch energy(model.drivers.empty() && system.conservative());
-    const std::string energy_advice =
-        integrator->adaptive() ? "use a tighter tolerance (--tol)"
-                               : "use a smaller step (--step), or an adaptive integrator (--integrator dopri5, dop853 or cvode)";
-
-    auto emit = [&](double t, const Eigen::VectorXd& y_run) -> bool {
-        motion_y = y_run.head(motion_size);
-        const Eigen::VectorXd& yt = motion_y;
-        formulation->from_ode(t, yt, sample.state);
-        if (!sample.state.q.allFinite() || !sample.state.v.allFinite())
-            throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
-        std::vector<double> row = motion_values(model, sample.state);
-        system.constraints_with_velocity_rows(sample.state, cv, true);  // their C is 0
-        result.final_position_violation = max_abs(cv.C);
-        Eigen::VectorXd velocity_residual = cv.C_t;
-        if (cv.J.rows() > 0) velocity_residual += cv.J * sample.state.v;
-        result.final_velocity_violation = max_abs(velocity_residual);
-        sample.lambda = nullptr;
-        if (settings.reactions || lift_off.active()) formulation->multipliers(sample.state, lambda);
-        if (settings.reactions) {
-            sample.lambda = &lambda;
-            append_reactions(system, sample.state, lambda, row);
-        }
-        if (lift_off.active()) lift_off.check(t, lambda, settings.messages, result.lift_offs);
-        const bool watch_energy = energy.active();
-        const double kinetic = settings.diagnostics || watch_energy ? system.kinetic_energy(sample.state) : 0.0;
-        const double potential = settings.diagnostics || watch_energy ? system.potential_energy(sample.state) : 0.0;
-        if (watch_energy) energy.check(t, kinetic, potential, max_abs(cv.C_t) != 0.0, energy_advice);
-        if (settings.diagnostics) {
-            row.push_back(kinetic);
-            row.push_back(potential);
-            row.push_back(result.final_position_violation);
-            row.push_back(result.final_velocity_violation);
-        }
-        if (write_H) row.push_back(formulation->hamiltonian(t, yt));
-        if (integrate_dissipation) row.push_back(y_run[motion_size]);
-        for (size_t k = 0; k < row.size(); ++k)
-            if (!std::isfinite(row[k]))
-                throw DynamicsError(t, "non-finite value in output column '" + columns[k] +
-                                           "': the motion diverged (try a smaller tolerance or step)");
-        if (writer) writer->row(row);
-        sample.row = &row;
-        ++result.rows;
-        result.final_state = sample.state;
-        if (progress.due()) progress.update(t / settings.t_end, "t = " + format_time(t) + end_text);  // text only when shown
-        stop_if_interrupted(t);  // the row is complete: a stop signal ends the run here
-        return callback ? callback(sample) : true;
-    };
+    // --- the rows' columns, to every sink before the first row
+    const OutputLayout layout = output_layout(model, system, formulation, integrator, settings);
+    result.columns = layout.columns;
+    for (OutputSink* sink : sinks) sink->begin(layout.columns);
+    RowEmitter emit(model, system, formulation, integrator, settings, layout, sinks, callback, result);
 
     ContactEvents events(system);
-    ContactProblem problem(*formulation, system, events, result.events);
-    start_events(events, *integrator, state);
-    FrictionDissipationProblem dissipation(problem, *formulation, system);
-    OdeProblem& ode = integrate_dissipation ? static_cast<OdeProblem&>(dissipation) : problem;
-    if (integrate_dissipation) {
+    ContactProblem problem(formulation, system, events, result.events);
+    start_events(events, integrator, state);
+    FrictionDissipationProblem dissipation(problem, formulation, system);
+    OdeProblem& ode = layout.integrate_dissipation ? static_cast<OdeProblem&>(dissipation) : problem;
+    if (layout.integrate_dissipation) {
+        const int motion_size = formulation.ode_size();
         y.conservativeResize(motion_size + 1);
         y[motion_size] = 0.0;  // E_f(0)
     }
     const std::clock_t cpu_start = std::clock();
-    // A failure or a stop leaves the writer unclosed: its complete rows stay in
-    // OUTPUT.partial and the note saying so is kept for the command's message.
-    if (emit(0.0, y)) integrator->integrate(ode, 0.0, y, times, emit, result.stats);
+    // A failure or a stop ends no sink: a file keeps its complete rows in OUTPUT.partial
+    // and the note saying so is kept for the command's message.
+    const auto step = [&emit](double t, const Eigen::VectorXd& y_run) { return emit(t, y_run); };
+    if (emit(0.0, y)) run.integrator->integrate(ode, 0.0, y, output_times_after_start(settings), step, result.stats);
     result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
-    progress.finish();
-    if (writer) writer->close();
+    emit.finish();
+    for (OutputSink* sink : sinks) sink->end();
     return result;
 }
 

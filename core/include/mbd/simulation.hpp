@@ -1,11 +1,11 @@
 // Forward dynamics (book Sec. 1.7 and Secs. 6.6-6.12): the driver shared by every
 // formulation. It creates the formulation through the registry, binds it to a
 // ModelSystem, assembles a consistent initial state, integrates the formulation's
-// ODE with one of the integrators of integrator.hpp, and streams the samples
-// (optionally to CSV in the contract of csv.hpp and output_file.hpp, with joint
-// reactions and energy / constraint diagnostics). A conservative scene whose total
-// energy grows far beyond the scale of its motion is stopped as unstable
-// (energy_growth.hpp); a stop signal ends the run at a step boundary (interrupt.hpp).
+// ODE with one of the integrators of integrator.hpp, and hands each output row (motion,
+// optionally joint reactions and energy / constraint diagnostics) to the sinks it is
+// given (output_sink.hpp: CSV, HDF5, the animation, memory); it knows no format. A
+// conservative scene whose total energy grows far beyond the scale of its motion is
+// stopped as unstable (energy_growth.hpp); a stop signal ends the run at a step boundary (interrupt.hpp).
 // Force elements with events (stops) need an integrator that locates them (dopri5,
 // dop853, cvode); contact_events.hpp applies their impacts.
 #pragma once
@@ -13,6 +13,7 @@
 #include <mbd/contact_events.hpp>
 #include <mbd/integrator.hpp>
 #include <mbd/model.hpp>
+#include <mbd/output_sink.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/sdk/formulation.hpp>
 
@@ -35,7 +36,6 @@ struct SimulationSettings {
     bool automatic_tolerance = false;
     double t_end = 1.0;
     double output_step = 0.0;         // 0: the fixed step if one is given, else t_end / 1000
-    std::string output;               // CSV path; empty: no file
     bool reactions = false;           // add JOINT.fx JOINT.fy JOINT.tz (planar) / 6 columns (spatial)
     bool diagnostics = false;         // add energies and constraint violations
     // Overrides of the scene's formulation keys (empty: keep the scene's or the default).
@@ -52,7 +52,7 @@ struct SimulationSettings {
 struct SimulationSample {
     State state;
     const Eigen::VectorXd* lambda = nullptr;   // multipliers when reactions were asked for, else null
-    const std::vector<double>* row = nullptr;  // the output row, in SimulationResult::columns (as the CSV has it)
+    const std::vector<double>* row = nullptr;  // the output row, in SimulationResult::columns (as the sinks get it)
 };
 
 // A contact force that passed through zero (Joint::compression_sign): where the bodies would separate.
@@ -97,12 +97,13 @@ void check_simulation_method(const Model& model, Registry& registry, const Simul
 // Returns false to stop the run early.
 using SimulationCallback = std::function<bool(const SimulationSample& sample)>;
 
-// Run forward dynamics. Throws InputError (unknown formulation or integrator,
-// bad formulation keys, an unusable output file), KinematicsError (the initial
-// state cannot be assembled), DynamicsError (the run failed at some time) or
-// Interrupted (a stop signal); after a failure or a stop, the CSV rows written so
-// far stay in OUTPUT.partial (output_file.hpp) and the final name is not written.
+// Run forward dynamics, each output row to every sink (begin() after the run's checks, end()
+// once it is complete) and then to the callback. Throws InputError (unknown formulation or
+// integrator, bad formulation keys, an unusable output file), KinematicsError (the initial
+// state cannot be assembled), DynamicsError (the run failed at some time) or Interrupted (a
+// stop signal); after a failure or a stop no sink is ended (a file sink keeps its complete
+// rows in OUTPUT.partial, output_file.hpp, and the final name is not written).
 SimulationResult simulate(const Model& model, Registry& registry, const SimulationSettings& settings,
-                          const SimulationCallback& callback = {});
+                          const SimulationCallback& callback = {}, const OutputSinks& sinks = {});
 
 }  // namespace mbd
