@@ -7,6 +7,7 @@
 #include "xml_text.hpp"
 
 #include <mbd/sdk/params.hpp>  // InputError
+#include <mbd/sdk/text.hpp>
 
 #include <cmath>
 
@@ -121,7 +122,7 @@ private:
         if (moving_)
             left_out_.push_back({"initial velocities in URDF", {tree_.name}, "URDF holds no initial state; the MJCF export keeps it"});
         if ((tree_.gravity - Vec3(0, 0, -9.81)).norm() > 1e-12)
-            left_out_.push_back({"gravity in URDF", {xml::xyz(tree_.gravity)}, "URDF has no gravity; its tools assume 9.81 m/s^2 down -z"});
+            left_out_.push_back({"gravity in URDF", {"[" + format_number(tree_.gravity.x()) + ", " + format_number(tree_.gravity.y()) + ", " + format_number(tree_.gravity.z()) + "]"}, "URDF has no gravity; its tools assume 9.81 m/s^2 down -z"});
     }
 
     const ExportTree& tree_;
