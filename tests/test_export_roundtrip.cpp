@@ -71,9 +71,9 @@ const RoundTrip kBallAndFree[] = {
     {"extreme/spin-1000.yaml", 1e-5},
 };
 
-// The largest difference over the samples between MuJoCo's body frames and mbd's: the origin
-// (mbd's mass centre, which is the exported frame's origin) and the angle of the rotation
-// between the two frames' axes.
+// The largest difference over the samples between MuJoCo's bodies and mbd's: the mass centre
+// (MuJoCo's xipos) and the angle of the rotation between the two bodies' axes (MuJoCo's xmat:
+// the exported body axes, in MJCF and in URDF).
 double frame_difference(const Model& model, const mjModel* m, const std::vector<Eigen::VectorXd>& q,
                         const std::vector<std::vector<double>>& xpos, const std::vector<std::vector<double>>& xmat) {
     double worst = 0.0;
@@ -109,7 +109,7 @@ MujocoFrames mujoco_frames(mjModel* m, double h) {
     MujocoFrames out;
     const std::vector<double> qvel(m->key_qvel, m->key_qvel + (m->nkey > 0 ? m->nv : 0));
     mujoco_samples(m, qvel, h, 1.0, 0.01, [&](const mjData* d) {
-        out.xpos.emplace_back(d->xpos, d->xpos + 3 * m->nbody);
+        out.xpos.emplace_back(d->xipos, d->xipos + 3 * m->nbody);  // the mass centre: a URDF link's origin is its joint
         out.xmat.emplace_back(d->xmat, d->xmat + 9 * m->nbody);
     });
     return out;
@@ -203,6 +203,29 @@ void expect_round_trips(const RoundTrip* begin, const RoundTrip* end, const std:
         EXPECT_LT(difference, 1e-6);
         std::printf("%-52s h %.1e: MuJoCo 2h vs h %.2e, mbd vs MuJoCo %.2e (%.1f s)\n", c->scene, c->h, own, difference,
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+    }
+}
+
+// URDF read by another reader than mbd's: MuJoCo's URDF compiler runs the exported spatial trees
+// (at rest at the start, gravity 9.81 down -z: all URDF holds) as mbd runs the scenes.
+// (spatial-fixed is not among them: MuJoCo's URDF compiler fuses a link welded by a fixed joint
+// into its parent, `fusestatic`, so there is no body of the welded block's name to compare.)
+TEST(ExportRoundTrip, UrdfOfSpatialTreesRunsInMuJoCoAsInMbd) {
+    const fs::path dir = scratch("export_round_trip_urdf");
+    for (const char* relative : {"examples/spatial-revolute.yaml", "examples/spatial-prismatic.yaml"}) {
+        SCOPED_TRACE(relative);
+        const Model model = load(relative);
+        import::ExportTree tree = import::build_export_tree(model);
+        const std::string text = import::urdf_text(tree, tree.left_out);
+        EXPECT_EQ(import::unmapped_summary(tree.left_out), "");
+        MjModelPtr m = compile(write_text(dir / (model.name + ".urdf"), text));
+        ASSERT_TRUE(m);
+        const MujocoFrames coarse = mujoco_frames(m.get(), 1e-4), fine = mujoco_frames(m.get(), 5e-5);
+        const double own = std::max(max_difference(coarse.xpos, fine.xpos), max_difference(coarse.xmat, fine.xmat));
+        EXPECT_LT(own, 3e-7);
+        const double difference = frame_difference(model, m.get(), mbd_run(model, 1.0, 0.01), fine.xpos, fine.xmat);
+        EXPECT_LT(difference, 1e-6);
+        std::printf("%-52s URDF: MuJoCo 2h vs h %.2e, mbd vs MuJoCo %.2e\n", relative, own, difference);
     }
 }
 
