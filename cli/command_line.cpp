@@ -19,6 +19,7 @@ void add_commands(CLI::App& app, Commands& commands) {
     add_modes_command(app, commands);
     add_sweep_command(app, commands);
     add_import_command(app, commands);
+    add_export_command(app, commands);
 }
 
 }  // namespace mbd::cli

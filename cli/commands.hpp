@@ -22,6 +22,6 @@ void add_commands(CLI::App& app, Commands& commands);
 using AddCommand = void(CLI::App& app, Commands& commands);
 AddCommand add_plugins_command, add_check_command, add_kinematics_command, add_statics_command,
     add_inverse_command, add_simulate_command, add_plugin_check_command, add_bench_command,
-    add_stability_command, add_animate_command, add_modes_command, add_sweep_command, add_import_command;
+    add_stability_command, add_animate_command, add_modes_command, add_sweep_command, add_import_command, add_export_command;
 
 }  // namespace mbd::cli

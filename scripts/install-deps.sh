@@ -20,6 +20,7 @@ packages=(
   libhdf5-dev libopenmpi-dev openmpi-bin  # mbd sweep: its HDF5 results file and its MPI ranks (issue 18)
   libmujoco-samples liburdfdom-dev libconsole-bridge-dev libtinyxml-dev  # model import (import/, docs/import.md; MJCF through libmujoco-dev)
   libsdformat-dev  # SDF import (import/src/sdf_reader.cpp, docs/import.md)
+  libdart-dev libdart-utils-urdf-dev  # DART, which runs the same URDF robots (tests/test_dart_agreement.cpp, docs/import.md)
   libfcl-dev  # collision detection of the `collision:` shapes (plugins/forces/collision_contact)
 )
 # node and npm (the viewer's three.js bundle and its tests): Debian's unless a node is there

@@ -1,0 +1,35 @@
+// An ExportTree (export_tree.hpp) as the text of a model file: MJCF (mjcf_writer.cpp) for
+// MuJoCo and URDF (urdf_writer.cpp) for ROS tools, written through TinyXML (the XML library the
+// URDF reader already uses), every number with 17 significant digits so that the model is
+// reproduced exactly (docs/import.md, "Export").
+#pragma once
+
+#include <mbd/import/export_tree.hpp>
+
+#include <string>
+#include <vector>
+
+namespace mbd::import {
+
+// MJCF: nested bodies (frame at the mass centre, full inertia), hinge / slide / ball / free
+// joints with the hinges' spring-dampers, gravity, and the start's velocities as the keyframe
+// "start" (MuJoCo's qvel; qpos is the reference configuration).
+std::string mjcf_text(const ExportTree& tree);
+
+// URDF: links with their inertials, continuous / prismatic / fixed / floating / planar joints,
+// rooted at a link "world". Appends to `left_out` what URDF cannot hold (gravity other than
+// 9.81 down, spring-dampers, initial velocities); throws InputError naming the joints for a ball
+// joint (URDF has none: export MJCF).
+std::string urdf_text(const ExportTree& tree, std::vector<Unmapped>& left_out);
+
+}  // namespace mbd::import
+
+namespace mbd::import {
+
+// The written text read back by the format's own parser before it is saved: MuJoCo's compiler
+// (from memory) for MJCF, urdfdom for URDF. Throws InputError naming `output` with the parser's
+// message when it refuses the text (a model MuJoCo cannot hold, e.g. a mass below its minimum).
+void check_written_mjcf(const std::string& text, const std::string& output);
+void check_written_urdf(const std::string& text, const std::string& output);
+
+}  // namespace mbd::import
