@@ -253,6 +253,66 @@ TEST(AncfCable, DerivativesAgreeWithFiniteDifferences) {
                 1e-8 * (1 + std::abs(Q.dot(v))));
 }
 
+// ---------------------------------------------------------------- joints on material frames
+// A joint plugin evaluated, unchanged, on a material frame of the cable and mapped to the cable's
+// coordinates by the chain rule (sdk body.hpp map_frame_rows): along a motion q(t) = q0 + v t +
+// vdot t^2 / 2, its residual's rates are J v (C_t = 0) and J vdot - gamma (book Eq. 3.124).
+struct FrameJointRows {
+    Eigen::VectorXd C, gamma;
+    Eigen::MatrixXd J;
+};
+FrameJointRows joint_on_frame(const Joint& joint, const FlexibleBody& body, double x, const Eigen::VectorXd& q,
+                              const Eigen::VectorXd& v) {
+    MaterialFrame frame;
+    body.frame(q, v, &x, frame);
+    PlanarBody ground;
+    ground.ground = true;
+    BodyStates states;
+    states.planar_bodies = {&ground, &frame.planar};
+    ConstraintEval eval;
+    eval.resize(joint.rows(), 6);
+    joint.evaluate(states, eval);
+    FrameJointRows rows{eval.C, eval.gamma, Eigen::MatrixXd(joint.rows(), body.coordinates())};
+    map_frame_rows(eval.J.rightCols(3), frame, rows.J, rows.gamma);
+    return rows;
+}
+
+TEST(AncfCable, JointsOnMaterialFramesKeepTheirMeaningByTheChainRule) {
+    auto c = make_cable({1.0, 3});
+    const FlexibleBody& body = *c->body;
+    const int n = body.coordinates();
+    std::mt19937 rng(17);
+    std::normal_distribution<double> gauss;
+    Eigen::VectorXd q0 = body.initial_coordinates(), v(n), a(n);
+    for (int k = 0; k < n; ++k) q0[k] += 0.05 * gauss(rng), v[k] = gauss(rng), a[k] = gauss(rng);
+    for (const char* type : {"revolute", "fixed"}) {
+        for (double x : {0.0, 0.37}) {  // at node 0 (a pin, a clamp) and inside the first element
+            BodyInfo ground_info, frame_info;
+            ground_info.name = "ground", ground_info.ground = true;
+            frame_info.name = "beam";
+            MaterialFrame initial;
+            body.frame(body.initial_coordinates(), Eigen::VectorXd::Zero(n), &x, initial);
+            frame_info.position << initial.planar.R, 0.0;
+            frame_info.angle = initial.planar.theta;
+            Marker on_ground, on_frame;
+            on_frame.u_bar = Vec3(0.1, 0.05, 0);  // a joint point offset from the frame's origin
+            on_ground.u_bar = frame_info.position + Vec3(0.1, 0.05, 0);
+            JointSpec spec{"pin", type, Dimension::Planar, {ground_info, frame_info}, {on_ground, on_frame}, Params()};
+            auto joint = test::shared_registry().create_joint(spec, "test");
+            const double h = 1e-5;
+            auto at = [&](double t) { return Eigen::VectorXd(q0 + v * t + 0.5 * a * t * t); };
+            auto vel = [&](double t) { return Eigen::VectorXd(v + a * t); };
+            const FrameJointRows now = joint_on_frame(*joint, body, x, q0, v);
+            const FrameJointRows ahead = joint_on_frame(*joint, body, x, at(h), vel(h));
+            const FrameJointRows behind = joint_on_frame(*joint, body, x, at(-h), vel(-h));
+            const Eigen::VectorXd Cdot = (ahead.C - behind.C) / (2 * h);
+            const Eigen::VectorXd Cddot = (ahead.C - 2 * now.C + behind.C) / (h * h);
+            EXPECT_LT((Cdot - now.J * v).norm(), 1e-7 * (1 + Cdot.norm())) << type << " at x = " << x;
+            EXPECT_LT((Cddot - (now.J * a - now.gamma)).norm(), 1e-4 * (1 + Cddot.norm())) << type << " at x = " << x;
+        }
+    }
+}
+
 // ---------------------------------------------------------------- flexible pendulum
 // Pinned at node 0 (its position held), released horizontal under gravity: M vdot = Q_e + Q_g.
 class PinnedCable : public OdeProblem {

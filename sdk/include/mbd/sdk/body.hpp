@@ -98,6 +98,15 @@ public:
     virtual std::vector<double> node_parameters(int /*node*/) const { return {}; }
 };
 
+// The chain rule of the top of this file for one body's block of an element's rows: the block J_f
+// (rows x 3 planar, rows x 6 spatial) of rows evaluated on the material frame becomes J = J_f G
+// (rows x n) over the body's own velocities, and gamma loses J_f a.
+inline void map_frame_rows(const Eigen::Ref<const Eigen::MatrixXd>& J_frame, const MaterialFrame& frame,
+                           Eigen::Ref<Eigen::MatrixXd> J_body, Eigen::Ref<Eigen::VectorXd> gamma) {
+    J_body.noalias() = J_frame * frame.jacobian;
+    gamma.noalias() -= J_frame * frame.bias;
+}
+
 using BodyFactory = std::unique_ptr<FlexibleBody>(const BodySpec&);
 
 }  // namespace mbd
