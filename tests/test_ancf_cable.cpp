@@ -167,6 +167,36 @@ TEST(AncfCable, SmallTipLoadGivesLinearBeamTheory) {
     EXPECT_NEAR(-tip.y(), P / 3.0, 1e-6 * P / 3.0);  // P L^3 / (3 EI)
 }
 
+TEST(AncfCable, RigidMotionsStoreNoEnergyAndCarryTheWholeMass) {
+    CableKeys keys{2.0, 3};
+    keys.density = 7.0;  // rho A L = 14
+    auto c = make_cable(keys);
+    const FlexibleBody& body = *c->body;
+    const int n = body.coordinates();
+    // rotate the straight configuration by 0.7 rad about the origin and move it by (0.3, -1.2)
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(0.7).toRotationMatrix();
+    Eigen::VectorXd q = body.initial_coordinates(), Q(n);
+    for (int k = 0; k < n; k += 4) {
+        q.segment<2>(k) = R * q.segment<2>(k) + Eigen::Vector2d(0.3, -1.2);
+        q.segment<2>(k + 2) = R * q.segment<2>(k + 2);
+    }
+    EXPECT_NEAR(body.strain_energy(q), 0.0, 1e-12);
+    body.elastic_forces(q, Q);
+    EXPECT_LT(Q.norm(), 1e-9);
+    // a unit translation along x (ones on the nodes' x, zero slopes) has kinetic energy m / 2
+    Eigen::MatrixXd M;
+    body.mass_matrix(q, M);
+    Eigen::VectorXd ux = Eigen::VectorXd::Zero(n);
+    for (int k = 0; k < n; k += 4) ux[k] = 1.0;
+    EXPECT_NEAR(ux.dot(M * ux), 14.0, 1e-12);
+    // gravity on it: the weight m g, along g
+    body.gravity_forces(q, Vec3(0, -9.81, 0), Q);
+    Eigen::VectorXd uy = Eigen::VectorXd::Zero(n);
+    for (int k = 1; k < n; k += 4) uy[k] = 1.0;
+    EXPECT_NEAR(Q.dot(uy), -14.0 * 9.81, 1e-10);
+    EXPECT_NEAR(Q.dot(ux), 0.0, 1e-12);
+}
+
 // The tip of a cantilever's elastica under a dead tip load P (alpha^2 = P L^2 / EI) by elliptic
 // integrals: with k^2 = P / EI, p^2 = (1 + sin phi0) / 2 (phi0 the tip's slope angle) and
 // sin phi1 = 1 / (p sqrt 2): k L = K(p) - F(phi1, p), x_tip = 2 p cos(phi1) / k,
