@@ -167,6 +167,20 @@ TEST(AncfCable, SmallTipLoadGivesLinearBeamTheory) {
     EXPECT_NEAR(-tip.y(), P / 3.0, 1e-6 * P / 3.0);  // P L^3 / (3 EI)
 }
 
+TEST(AncfCable, SmallTipLoadGivesTheLinearTipSlope) {
+    auto c = make_cable({1.0, 2});
+    const FlexibleBody& body = *c->body;
+    const int n = body.coordinates();
+    const double P = 1e-4;
+    Eigen::VectorXd F = Eigen::VectorXd::Zero(n);
+    F[n - 3] = -P;
+    const Eigen::VectorXd q = equilibrium(body, Reduced(n, 4), F, 1);
+    const double L = 1.0;
+    MaterialFrame tip;
+    body.frame(q, Eigen::VectorXd::Zero(n), &L, tip);
+    EXPECT_NEAR(-tip.planar.theta, P / 2.0, 1e-6 * P / 2.0);  // P L^2 / (2 EI)
+}
+
 TEST(AncfCable, RigidMotionsStoreNoEnergyAndCarryTheWholeMass) {
     CableKeys keys{2.0, 3};
     keys.density = 7.0;  // rho A L = 14
@@ -444,6 +458,11 @@ TEST(AncfCable, BadInputIsRefusedNamingTheBody) {
     k.elements = 0;
     EXPECT_NE(refusal(k).find("needs two nodes"), std::string::npos) << refusal(k);
     EXPECT_NE(refusal(k).find("beam.yaml:3"), std::string::npos) << refusal(k);
+    // a material point beyond the end of the beam
+    auto c = make_cable({1.0, 2});
+    const double inside = 1.0, beyond = 1.001;
+    EXPECT_NO_THROW(c->body->check_material_point(&inside));
+    EXPECT_THROW(c->body->check_material_point(&beyond), InputError);
 }
 
 }  // namespace

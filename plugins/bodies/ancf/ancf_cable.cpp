@@ -5,6 +5,7 @@
 #include "ancf_cable_element.hpp"
 
 #include <mbd/sdk/body.hpp>
+#include <mbd/sdk/text.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -107,8 +108,8 @@ public:
     void check_material_point(const double* xi) const override {
         const double slack = 1e-12 * length_;
         if (!(xi[0] >= -slack && xi[0] <= length_ + slack))
-            throw InputError("", "the point at arc length " + std::to_string(xi[0]) + " lies outside the beam [0, " +
-                                     std::to_string(length_) + "]");
+            throw InputError("", "the point at arc length " + format_number(xi[0]) + " lies outside the beam [0, " +
+                                     format_number(length_) + "]");
     }
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {
         const Located at = locate(xi[0]);
