@@ -1,4 +1,5 @@
 #include <mbd/registry.hpp>
+#include <mbd/sdk/body.hpp>
 #include <mbd/sdk/suggest.hpp>
 
 #include <boost/dll/library_info.hpp>
@@ -196,6 +197,10 @@ std::shared_ptr<Product> Registry::create(const std::string& kind, const Spec& s
 
 std::shared_ptr<const Joint> Registry::create_joint(const JointSpec& spec, const std::string& where) {
     return create<Joint>("joint", spec, where);
+}
+
+std::shared_ptr<const FlexibleBody> Registry::create_body(const BodySpec& spec, const std::string& where) {
+    return create<FlexibleBody>("body", spec, where);
 }
 
 std::shared_ptr<const Force> Registry::create_force(const ForceSpec& spec, const std::string& where) {

@@ -18,6 +18,9 @@
 
 namespace mbd {
 
+struct BodySpec;      // sdk/body.hpp
+class FlexibleBody;
+
 // A plugin that cannot serve a request: an unknown type, one built for another ABI, a
 // library that does not load, a factory that fails or returns nothing. Bad input like any
 // InputError (`mbd` exits with status 2); Python raises it as mbd.PluginError.
@@ -65,6 +68,8 @@ public:
     // Statics and inverse-dynamics solvers (stateful): a new instance per call.
     std::shared_ptr<StaticsSolver> create_statics(const StaticsSpec& spec, const std::string& where);
     std::shared_ptr<InverseSolver> create_inverse(const InverseSpec& spec, const std::string& where);
+    // Flexible bodies (sdk/body.hpp), kind "body".
+    std::shared_ptr<const FlexibleBody> create_body(const BodySpec& spec, const std::string& where);
 
     // Libraries opened so far (absolute paths), in the order they were opened.
     std::vector<std::string> loaded_libraries() const;

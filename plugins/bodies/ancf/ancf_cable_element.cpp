@@ -1,0 +1,147 @@
+#include "ancf_cable_element.hpp"
+
+#include <cmath>
+
+namespace mbd::ancf {
+
+namespace {
+
+// 5-point Gauss-Legendre on [0, 1]: exact to degree 9, so the mass (degree 6), gravity and the
+// axial energy (eps^2: degree 8) are integrated exactly; the curvature term is rational.
+constexpr int kGaussPoints = 5;
+// nodes +-0.9061798459386640, +-0.5384693101056831, 0 and weights on [-1, 1], mapped to [0, 1]
+constexpr double kGaussXi[kGaussPoints] = {0.5 * (1 - 0.9061798459386640), 0.5 * (1 - 0.5384693101056831), 0.5,
+                                           0.5 * (1 + 0.5384693101056831), 0.5 * (1 + 0.9061798459386640)};
+constexpr double kGaussW[kGaussPoints] = {0.5 * 0.2369268850561891, 0.5 * 0.4786286704993665,
+                                          0.5 * 0.5688888888888889, 0.5 * 0.4786286704993665,
+                                          0.5 * 0.2369268850561891};
+
+// Gauss-Legendre rules of 1 to 5 points on [0, 1], for the axial term (ancf_cable_element.hpp)
+struct Rule {
+    int n;
+    double xi[5], w[5];
+};
+Rule gauss_rule(int n) {
+    static const double a3 = std::sqrt(0.6), a2 = 1.0 / std::sqrt(3.0);
+    static const double a4[2] = {0.3399810435848563, 0.8611363115940526}, w4[2] = {0.6521451548625461,
+                                                                                  0.3478548451374538};
+    switch (n) {
+        case 1: return {1, {0.5}, {1.0}};
+        case 2: return {2, {0.5 * (1 - a2), 0.5 * (1 + a2)}, {0.5, 0.5}};
+        case 3: return {3, {0.5 * (1 - a3), 0.5, 0.5 * (1 + a3)}, {5.0 / 18, 8.0 / 18, 5.0 / 18}};
+        case 4:
+            return {4,
+                    {0.5 * (1 - a4[1]), 0.5 * (1 - a4[0]), 0.5 * (1 + a4[0]), 0.5 * (1 + a4[1])},
+                    {0.5 * w4[1], 0.5 * w4[0], 0.5 * w4[0], 0.5 * w4[1]}};
+        default: {
+            Rule r{kGaussPoints, {}, {}};
+            for (int k = 0; k < kGaussPoints; ++k) r.xi[k] = kGaussXi[k], r.w[k] = kGaussW[k];
+            return r;
+        }
+    }
+}
+
+// sum_k c[k] e_k: a 2-vector combination of the element's nodal 2-vectors
+Eigen::Vector2d combine(const Eigen::Vector4d& c, const Vec8& e) {
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 4; ++k) r += c[k] * e.segment<2>(2 * k);
+    return r;
+}
+
+// d/de of a^T X where a = sum_k c[k] e_k and X a fixed 2-vector: blocks c[k] X.
+Vec8 spread(const Eigen::Vector4d& c, const Eigen::Vector2d& X) {
+    Vec8 out;
+    for (int k = 0; k < 4; ++k) out.segment<2>(2 * k) = c[k] * X;
+    return out;
+}
+
+// Blocks c1[k] c2[m] B for a fixed 2x2 matrix B (Hessians of bilinear forms in e).
+Mat8 spread2(const Eigen::Vector4d& c1, const Eigen::Vector4d& c2, const Eigen::Matrix2d& B) {
+    Mat8 out;
+    for (int k = 0; k < 4; ++k)
+        for (int m = 0; m < 4; ++m) out.block<2, 2>(2 * k, 2 * m) = c1[k] * c2[m] * B;
+    return out;
+}
+
+}  // namespace
+
+Shape shape(double xi, double l) {
+    const double x2 = xi * xi, x3 = x2 * xi;
+    Shape f;
+    f.s << 1 - 3 * x2 + 2 * x3, l * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, l * (x3 - x2);
+    f.ds << (-6 * xi + 6 * x2) / l, 1 - 4 * xi + 3 * x2, (6 * xi - 6 * x2) / l, 3 * x2 - 2 * xi;
+    f.dds << (-6 + 12 * xi) / (l * l), (-4 + 6 * xi) / l, (6 - 12 * xi) / (l * l), (6 * xi - 2) / l;
+    return f;
+}
+
+Mat8 element_mass(const Section& section, double l) {
+    Mat8 M = Mat8::Zero();
+    for (int g = 0; g < kGaussPoints; ++g) {
+        const Shape f = shape(kGaussXi[g], l);
+        M += (kGaussW[g] * l * section.rhoA) * spread2(f.s, f.s, Eigen::Matrix2d::Identity());
+    }
+    return M;
+}
+
+Vec8 element_gravity(const Section& section, double l, const Eigen::Vector2d& g) {
+    Vec8 Q = Vec8::Zero();
+    for (int p = 0; p < kGaussPoints; ++p) Q += (kGaussW[p] * l * section.rhoA) * spread(shape(kGaussXi[p], l).s, g);
+    return Q;
+}
+
+namespace {
+
+// P with a^T P b = a x b (the planar cross product)
+Eigen::Matrix2d cross_matrix() {
+    Eigen::Matrix2d P;
+    P << 0, 1, -1, 0;
+    return P;
+}
+
+// EA eps^2 / 2 at one point, eps = (r'.r' - 1) / 2, with its gradient and Hessian added (weight w)
+double add_axial(const Shape& f, double EA, double w, const Vec8& e, Vec8* gradient, Mat8* hessian) {
+    const Eigen::Vector2d a = combine(f.ds, e);  // r'
+    const double eps = 0.5 * (a.dot(a) - 1.0);
+    const Vec8 d_eps = spread(f.ds, a);
+    if (gradient) *gradient += (w * EA * eps) * d_eps;
+    if (hessian)
+        *hessian += (w * EA) * (d_eps * d_eps.transpose() + eps * spread2(f.ds, f.ds, Eigen::Matrix2d::Identity()));
+    return w * 0.5 * EA * eps * eps;
+}
+
+// EI kappa^2 / 2 at one point, kappa^2 = c^2 / g^3 with c = r' x r'', g = r'.r'
+double add_bending(const Shape& f, double EI, double w, const Vec8& e, Vec8* gradient, Mat8* hessian) {
+    const Eigen::Matrix2d P = cross_matrix();
+    const Eigen::Vector2d a = combine(f.ds, e), b = combine(f.dds, e);  // r', r''
+    const double g = a.dot(a), c = a.dot(P * b), g3 = g * g * g;
+    if (gradient || hessian) {
+        const Vec8 dg = spread(f.ds, 2.0 * a);
+        const Vec8 dc = spread(f.ds, P * b) + spread(f.dds, P.transpose() * a);
+        const double U_g = -1.5 * EI * c * c / (g3 * g), U_c = EI * c / g3;  // partials of the density
+        if (gradient) *gradient += w * (U_g * dg + U_c * dc);
+        if (hessian) {
+            const double U_gg = 6.0 * EI * c * c / (g3 * g * g), U_gc = -3.0 * EI * c / (g3 * g), U_cc = EI / g3;
+            const Mat8 ddg = spread2(f.ds, f.ds, 2.0 * Eigen::Matrix2d::Identity());
+            const Mat8 ddc = spread2(f.ds, f.dds, P) + spread2(f.dds, f.ds, P.transpose());
+            *hessian += w * (U_gg * dg * dg.transpose() + U_gc * (dg * dc.transpose() + dc * dg.transpose()) +
+                             U_cc * dc * dc.transpose() + U_g * ddg + U_c * ddc);
+        }
+    }
+    return w * 0.5 * EI * c * c / g3;
+}
+
+}  // namespace
+
+double element_strain_energy(const Section& section, double l, const Vec8& e, Vec8* gradient, Mat8* hessian) {
+    if (gradient) gradient->setZero();
+    if (hessian) hessian->setZero();
+    double U = 0.0;
+    const Rule axial = gauss_rule(section.axial_points);
+    for (int p = 0; p < axial.n; ++p)
+        U += add_axial(shape(axial.xi[p], l), section.EA, axial.w[p] * l, e, gradient, hessian);
+    for (int p = 0; p < kGaussPoints; ++p)
+        U += add_bending(shape(kGaussXi[p], l), section.EI, kGaussW[p] * l, e, gradient, hessian);
+    return U;
+}
+
+}  // namespace mbd::ancf
