@@ -11,6 +11,7 @@ std::unique_ptr<Integrator> make_dopri5(const IntegratorSettings&);
 std::unique_ptr<Integrator> make_dop853(const IntegratorSettings&);
 std::unique_ptr<Integrator> make_generalized_alpha(const IntegratorSettings&);
 std::unique_ptr<Integrator> make_cvode(const IntegratorSettings&);
+std::unique_ptr<Integrator> make_ssp_rk3(const IntegratorSettings&);
 
 const std::vector<IntegratorRow>& integrator_table() {
     using A = IntegratorDescription::Automatic;
@@ -18,6 +19,8 @@ const std::vector<IntegratorRow>& integrator_table() {
     static const std::vector<IntegratorRow> table = {
         {{"euler", 1, false, false, false, false, A::Never, "explicit Euler, fixed step (for checks)"}, &make_euler},
         {{"rk4", 4, false, false, false, false, A::Never, "classical Runge-Kutta, fixed step"}, &make_rk4},
+        {{"ssp_rk3", 3, false, false, false, false, A::Never, "Shu-Osher strong-stability-preserving RK3, fixed step"},
+         &make_ssp_rk3},
         {{"dopri5", 5, true, true, false, false, A::Never, "Dormand-Prince 5(4), adaptive, dense output"},
          &make_dopri5},
         {{"dop853", 8, true, true, false, false, A::NotStiff, "Dormand-Prince 8(5,3), adaptive, dense output"},
