@@ -21,6 +21,7 @@ packages=(
   libmujoco-samples liburdfdom-dev libconsole-bridge-dev libtinyxml-dev  # model import (import/, docs/import.md; MJCF through libmujoco-dev)
   libsdformat-dev  # SDF import (import/src/sdf_reader.cpp, docs/import.md)
   libfcl-dev  # collision detection of the `collision:` shapes (plugins/forces/collision_contact)
+  universal-ctags  # the size limits of the source (scripts/check-sizes.sh, tests/test_source_sizes.cpp)
 )
 # node and npm (the viewer's three.js bundle and its tests): Debian's unless a node is there
 command -v node > /dev/null || packages+=(nodejs)
