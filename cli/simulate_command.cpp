@@ -1,6 +1,6 @@
 // mbd simulate SCENE --t-end T --output out.csv: forward dynamics (book Secs. 6.6-6.12)
 // with a formulation plugin (default: the scene's, else augmented) and an integrator
-// (euler, rk4, dopri5, dop853, generalized_alpha, cvode), written through the output sinks
+// (integrator_descriptions(), mbd/integrator.hpp), written through the output sinks
 // (mbd/output_sink.hpp): the --output file in the format of its extension (CSV, HDF5;
 // mbd/app/output_formats.hpp), the --animation from the same rows; optionally with joint
 // reactions and energy / constraint diagnostics.
@@ -9,6 +9,7 @@
 
 #include <mbd/app/json_output.hpp>
 #include <mbd/app/output_formats.hpp>
+#include <mbd/formulation_setup.hpp>
 #include <mbd/integrator.hpp>
 #include <mbd/linear_algebra.hpp>
 #include <mbd/interrupt.hpp>
@@ -61,15 +62,20 @@ std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, Simula
                     "Formulation plugin (default: the scene's 'formulation', else the automatic choice: embedding "
                     "for a tree (drivers on its joints prescribe their motion), augmented for closed loops; see "
                     "docs/user-guide.md)");
+    const auto all = [](const IntegratorDescription&) { return true; };
+    const auto adaptive = [](const IntegratorDescription& d) { return d.adaptive; };
+    const auto fixed_step = [](const IntegratorDescription& d) { return !d.adaptive; };
     sub->add_option("--integrator", a.integrator,
-                    "Integrator: euler, rk4, dopri5, dop853, generalized_alpha, cvode (default: the automatic "
-                    "choice, dop853, or cvode for a stiff scene; see docs/user-guide.md)");
+                    "Integrator: " + integrator_list(all, ", ") + " (default: the automatic choice, " +
+                        automatic_integrator(false).name + ", or " + automatic_integrator(true).name +
+                        " for a stiff scene; see docs/user-guide.md)");
     CLI::Option* tol =
-        sub->add_option("--tol", a.tolerance, "Tolerance of an adaptive integrator, dopri5, dop853 or cvode (default: the automatic choice, 1e-6 "
-                        "or what the scene's stiction velocities need; see docs/user-guide.md)")
+        sub->add_option("--tol", a.tolerance, "Tolerance of an adaptive integrator, " + integrator_list(adaptive) +
+                        " (default: the automatic choice, 1e-6 or what the scene's stiction velocities need; see "
+                        "docs/user-guide.md)")
             ->check(number_between(kSmallestTolerance, 1.0, "below 1e-14 is beneath double-precision round-off"));
     CLI::Option* step =
-        sub->add_option("--step", a.step, "Fixed step of rk4, euler or generalized_alpha [s]")->check(positive_number());
+        sub->add_option("--step", a.step, "Fixed step of " + integrator_list(fixed_step) + " [s]")->check(positive_number());
     tol->excludes(step);
     step->excludes(tol);
     sub->add_option("--output-step", a.output_step,
@@ -81,7 +87,7 @@ std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, Simula
     sub->add_flag("--diagnostics", a.diagnostics,
                   "Add kinetic_energy potential_energy constraint_position_violation constraint_velocity_violation");
     sub->add_option("--stabilization", a.stabilization, "Constraint drift control (default: projection)")
-        ->check(CLI::IsMember({"projection", "baumgarte", "none"}));
+        ->check(CLI::IsMember(stabilization_names()));
     sub->add_option("--linear-algebra", a.algebra, "Linear algebra of the formulation: auto, dense or sparse")
         ->check(CLI::IsMember({"auto", "dense", "sparse"}));
     sub->add_flag("-q,--quiet", a.quiet,
@@ -106,9 +112,7 @@ SimulationSettings simulation_settings(const SimulateArguments& a) {
     settings.output_step = a.output_step;
     settings.reactions = a.reactions;
     settings.diagnostics = a.diagnostics;
-    if (a.stabilization == "projection") settings.stabilization = Stabilization::Projection;
-    if (a.stabilization == "baumgarte") settings.stabilization = Stabilization::Baumgarte;
-    if (a.stabilization == "none") settings.stabilization = Stabilization::None;
+    if (!a.stabilization.empty()) settings.stabilization = parse_stabilization(a.stabilization);
     if (!a.algebra.empty()) settings.algebra = parse_linear_algebra(a.algebra);
     settings.progress = !a.quiet;
     if (a.quiet) settings.messages = MessageLog::silent();
@@ -144,10 +148,10 @@ ErrorEstimate estimate_error(const Model& model, Registry& registry, const Simul
     if (!(tight.output_step > 0.0))
         tight.output_step = settings.integration.step > 0.0 ? settings.integration.step : settings.t_end / 1000.0;
     double factor = 1.0;
-    if (settings.integration.step > 0.0 &&
-        (r.integrator == "euler" || r.integrator == "rk4" || r.integrator == "generalized_alpha")) {
+    const IntegratorDescription& method = describe_integrator(r.integrator);
+    if (settings.integration.step > 0.0 && !method.adaptive) {
         tight.integration.step = 0.5 * settings.integration.step;
-        const double order = r.integrator == "euler" ? 1.0 : r.integrator == "rk4" ? 4.0 : 2.0;
+        const double order = method.order;  // Richardson: the error falls by 2^order with half the step
         factor = std::pow(2.0, order) / (std::pow(2.0, order) - 1.0);
         out.against = "step " + format_number(tight.integration.step);
     } else {

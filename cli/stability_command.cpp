@@ -1,6 +1,6 @@
 // mbd stability [SCENE...] [--markdown docs/stability.md]: the stability matrix of the extreme
 // cases (issue 8). Runs every scene (default: scenes/extreme/*.yaml) with every formulation the
-// registry finds and the integrators dopri5, dop853, generalized_alpha and cvode, each run in a forked
+// registry finds and the integrators of stability_integrators(), each run in a forked
 // child with the case's wall-time budget, and writes the case x formulation x integrator matrix
 // (app/src/stability.cpp). Exit status 1 when a declared pair misses its declared outcome or a
 // child crashed.
@@ -52,6 +52,14 @@ CellOutcome run_cell(const StabilityCase& c, const std::string& formulation, con
     if (!o.message.empty() && o.kind != "pass") console_line("    " + o.message.substr(0, 300), stdout);
     return o;
 }
+
+// "dopri5, dop853, ...": the integrators of the matrix (stability_integrators()).
+std::string default_integrators() {
+    std::string all;
+    for (const std::string& name : stability_integrators()) all += (all.empty() ? "" : ", ") + name;
+    return all;
+}
+
 }  // namespace
 
 void add_stability_command(CLI::App& app, Commands& commands) {
@@ -61,7 +69,7 @@ void add_stability_command(CLI::App& app, Commands& commands) {
     sub->add_option("SCENE", args->scenes, "Scenes (default: every scenes/extreme/*.yaml under the current directory)");
     sub->add_option("--markdown", args->markdown, "Write the matrix as Markdown to this file (e.g. docs/stability.md)");
     sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable; default: all found)");
-    sub->add_option("--integrator", args->integrators, "Only these integrators (default: dopri5, dop853, generalized_alpha, cvode)");
+    sub->add_option("--integrator", args->integrators, "Only these integrators (repeatable; default: " + default_integrators() + ")");
     sub->add_flag("--quick", args->quick, "Use each case's quick_t_end (shorter runs)");
     sub->add_flag("-q,--quiet", args->quiet, "No progress line (the running case and its simulated time)");
 

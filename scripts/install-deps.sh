@@ -22,6 +22,7 @@ packages=(
   libsdformat-dev  # SDF import (import/src/sdf_reader.cpp, docs/import.md)
   libdart-dev libdart-utils-urdf-dev  # DART, which runs the same URDF robots (tests/test_dart_agreement.cpp, docs/import.md)
   libfcl-dev  # collision detection of the `collision:` shapes (plugins/forces/collision_contact)
+  universal-ctags  # the size limits of the source (scripts/check-sizes.sh, tests/test_source_sizes.cpp)
 )
 # node and npm (the viewer's three.js bundle and its tests): Debian's unless a node is there
 command -v node > /dev/null || packages+=(nodejs)

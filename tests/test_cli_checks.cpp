@@ -87,7 +87,7 @@ TEST(CliNumbers, AnIntegratorOptionThatDoesNotApplyIsNamed) {
     // --step is the fixed step of rk4, euler and generalized_alpha, never dopri5's output step
     expect_refused(base + "--integrator dopri5 --step 0.01", {"--step", "dopri5", "--output-step"}, out);
     expect_refused(base + "--integrator cvode --step 0.01", {"--step", "cvode"}, out);
-    expect_refused(base + "--step 0.01", {"--step", "dopri5"}, out);  // dopri5 is the default
+    expect_refused(base + "--step 0.01", {"--step", "dop853"}, out);  // dop853 is the automatic choice (not stiff)
     expect_refused(base + "--integrator rk4 --tol 1e-8", {"--tol", "rk4", "--step"}, out);
     expect_refused(base + "--integrator generalized_alpha --tol 1e-8", {"--tol", "generalized_alpha"}, out);
     expect_refused(base + "--integrator rk4", {"--step", "rk4"}, out);

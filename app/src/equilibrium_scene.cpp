@@ -47,12 +47,8 @@ YAML::Node yaml_of(const Param& p) {
     return map;
 }
 
-}  // namespace
-
-std::string equilibrium_scene(const Model& model, const State& state) {
-    if (!model.document) throw std::logic_error("equilibrium_scene: the model holds no scene document");
-    YAML::Node root = yaml_of(*model.document);
-    YAML::Node bodies = root["bodies"];
+// Each body's position and orientation at the equilibrium, its initial velocities removed.
+void place_bodies(YAML::Node bodies, const Model& model, const State& state) {
     const bool planar = model.dimension == Dimension::Planar;
     for (std::size_t k = 0; k < bodies.size() && static_cast<int>(k) < model.body_count(); ++k) {
         YAML::Node b = bodies[k];
@@ -79,27 +75,18 @@ std::string equilibrium_scene(const Model& model, const State& state) {
         b.remove("velocity");
         b.remove("angular_velocity");
     }
-    // Joint (and world-frame force) points and axes describe the scene's initial
-    // configuration: move them with the bodies, from the markers of the first
-    // non-ground body, so that the markers stay where they are on the bodies.
-    auto pose = [&](int b, Mat3& A, Vec3& R) {
-        if (planar) {
-            R = Vec3(state.q[3 * b], state.q[3 * b + 1], 0.0);
-            A = Mat3::Identity();
-            A.topLeftCorner<2, 2>() = planar_rotation(state.q[3 * b + 2]);
-        } else {
-            R = state.q.segment<3>(7 * b);
-            A = rotation_from_euler_parameters(Vec4(state.q.segment<4>(7 * b + 3)).normalized());
-        }
-    };
-    auto list = [&](const Vec3& v) {
-        YAML::Node n;
-        for (int i = 0; i < (planar ? 2 : 3); ++i) n.push_back(v[i]);
-        n.SetStyle(YAML::EmitterStyle::Flow);
-        return n;
-    };
-    auto move_frame = [&](YAML::Node node, const std::vector<int>& element_bodies, const std::vector<Marker>& markers,
-                          bool always_point) {
+}
+
+// Joint (and world-frame force) points and axes describe the scene's initial
+// configuration: move them with the bodies, from the markers of the first
+// non-ground body, so that the markers stay where they are on the bodies.
+class FrameMover {
+public:
+    FrameMover(const Model& model, const State& state)
+        : state_(state), planar_(model.dimension == Dimension::Planar) {}
+
+    void move(YAML::Node node, const std::vector<int>& element_bodies, const std::vector<Marker>& markers,
+              bool always_point) const {
         for (size_t k = 0; k < element_bodies.size() && k < markers.size(); ++k) {
             const int b = element_bodies[k];
             if (b < 0) continue;
@@ -107,36 +94,70 @@ std::string equilibrium_scene(const Model& model, const State& state) {
             Vec3 R;
             pose(b, A, R);
             Vec3 u = markers[k].u_bar;
-            if (planar) u.z() = 0.0;
+            if (planar_) u.z() = 0.0;
             if (always_point || node["point"]) node["point"] = list(R + A * u);
-            const Mat3 W = planar ? Mat3(A * Eigen::AngleAxisd(markers[k].angle, Vec3::UnitZ()).toRotationMatrix())
-                                  : Mat3(A * markers[k].A_bar);
-            if (planar) {
-                if (node["axis"]) node["axis"] = list(W.col(0));
-            } else {
-                if (node["axis"]) node["axis"] = list(W.col(2));
-                if (node["x_axis"]) node["x_axis"] = list(W.col(0));
-                if (node["axes"]) {
-                    YAML::Node axes;
-                    axes.push_back(list(W.col(2)));
-                    axes.push_back(list(W.col(0)));
-                    axes.SetStyle(YAML::EmitterStyle::Flow);
-                    node["axes"] = axes;
-                }
-            }
+            const Mat3 W = planar_ ? Mat3(A * Eigen::AngleAxisd(markers[k].angle, Vec3::UnitZ()).toRotationMatrix())
+                                   : Mat3(A * markers[k].A_bar);
+            write_axes(node, W);
             return;
         }
-    };
+    }
+
+private:
+    void pose(int b, Mat3& A, Vec3& R) const {
+        if (planar_) {
+            R = Vec3(state_.q[3 * b], state_.q[3 * b + 1], 0.0);
+            A = Mat3::Identity();
+            A.topLeftCorner<2, 2>() = planar_rotation(state_.q[3 * b + 2]);
+        } else {
+            R = state_.q.segment<3>(7 * b);
+            A = rotation_from_euler_parameters(Vec4(state_.q.segment<4>(7 * b + 3)).normalized());
+        }
+    }
+    YAML::Node list(const Vec3& v) const {
+        YAML::Node n;
+        for (int i = 0; i < (planar_ ? 2 : 3); ++i) n.push_back(v[i]);
+        n.SetStyle(YAML::EmitterStyle::Flow);
+        return n;
+    }
+    // the axes the node has, from the marker's world axes W
+    void write_axes(YAML::Node node, const Mat3& W) const {
+        if (planar_) {
+            if (node["axis"]) node["axis"] = list(W.col(0));
+            return;
+        }
+        if (node["axis"]) node["axis"] = list(W.col(2));
+        if (node["x_axis"]) node["x_axis"] = list(W.col(0));
+        if (node["axes"]) {
+            YAML::Node axes;
+            axes.push_back(list(W.col(2)));
+            axes.push_back(list(W.col(0)));
+            axes.SetStyle(YAML::EmitterStyle::Flow);
+            node["axes"] = axes;
+        }
+    }
+
+    const State& state_;
+    bool planar_;
+};
+
+}  // namespace
+
+std::string equilibrium_scene(const Model& model, const State& state) {
+    if (!model.document) throw std::logic_error("equilibrium_scene: the model holds no scene document");
+    YAML::Node root = yaml_of(*model.document);
+    place_bodies(root["bodies"], model, state);
+    const FrameMover mover(model, state);
     if (YAML::Node joints = root["joints"])
         for (std::size_t k = 0; k < joints.size() && k < model.joints.size(); ++k)
-            move_frame(joints[k], model.joints[k].bodies, model.joints[k].markers, true);
+            mover.move(joints[k], model.joints[k].bodies, model.joints[k].markers, true);
     if (YAML::Node forces = root["forces"]) {
         const std::size_t offset = model.gravity.isZero(0.0) ? 0 : 1;  // the core's gravity element comes first
         for (std::size_t k = 0; k < forces.size() && k + offset < model.forces.size(); ++k) {
             YAML::Node f = forces[k];
             const ForceInstance& fi = model.forces[k + offset];
             if (fi.bodies.size() >= 2 && !f["points"] && (f["point"] || f["axis"]))
-                move_frame(f, fi.bodies, fi.markers, false);
+                mover.move(f, fi.bodies, fi.markers, false);
         }
     }
 

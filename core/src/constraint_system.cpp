@@ -143,6 +143,15 @@ bool has_pattern(const Eigen::SparseMatrix<double>& J, const Eigen::SparseMatrix
            std::equal(J.innerIndexPtr(), J.innerIndexPtr() + nnz, pattern.innerIndexPtr());
 }
 
+// A joint whose velocity-level rows are not finite at a finite state.
+[[noreturn]] void throw_velocity_rows_not_finite(const JointInstance& ji, const VelocityConstraintEval& e, double t) {
+    throw DynamicsError(t, "joint '" + ji.name + "' (type " + ji.type + (ji.where.empty() ? "" : ", " + ji.where) +
+                               ") gave a non-finite velocity-level value at t = " + format_time(t) + " (" +
+                               first_non_finite(*ji.joint, e) +
+                               ") although the body positions and velocities are finite: its equations are "
+                               "undefined in this configuration; check the joint's parameters, or its plugin");
+}
+
 }  // namespace
 
 void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues& out) const {
@@ -213,13 +222,7 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
             joint_[j]->evaluate_velocity(data.view, e);
             if (!(e.A.allFinite() && e.b.allFinite() && e.gamma.allFinite()) && state.q.allFinite() &&
                 state.v.allFinite())
-                throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type +
-                                                 (ji.where.empty() ? "" : ", " + ji.where) +
-                                                 ") gave a non-finite velocity-level value at t = " +
-                                                 format_time(state.t) + " (" + first_non_finite(*ji.joint, e) +
-                                                 ") although the body positions and velocities are finite: its "
-                                                 "equations are undefined in this configuration; check the joint's "
-                                                 "parameters, or its plugin");
+                throw_velocity_rows_not_finite(ji, e, state.t);
             // A v = b as a row without position residual: C = 0, J = A, C_t = -b (sdk system.hpp)
             const int r0 = velocity_offset_[j];
             out.C.segment(r0, e.b.size()).setZero();

@@ -415,107 +415,142 @@ DerivativeErrors check_joint_derivatives(const Model& model, const JointInstance
     return worst;
 }
 
-DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance& fi, std::mt19937& rng, int trials) {
-    DerivativeErrors worst;
-    const int nvb = velocities_per_body(model.dimension);
-    const int n = nvb * static_cast<int>(fi.bodies.size());
-    BodyPoses poses(model);
-    auto Q_at = [&](const State& s) {
+namespace {
+
+// One force element evaluated at states of the whole model (its bodies' poses from the state).
+struct ForceProbe {
+    ForceProbe(const Model& model, const ForceInstance& fi)
+        : model(model), fi(fi), nvb(velocities_per_body(model.dimension)),
+          n(nvb * static_cast<int>(fi.bodies.size())), events(fi.force->event_count()), poses(model) {}
+
+    Eigen::VectorXd Q(const State& s) {
         poses.update(s);
-        Eigen::VectorXd Q = Eigen::VectorXd::Zero(n);
-        fi.force->evaluate(poses.view(fi.bodies, s.t), Q);
-        return Q;
-    };
-    auto V_at = [&](const State& s) {
+        Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+        fi.force->evaluate(poses.view(fi.bodies, s.t), out);
+        return out;
+    }
+    double V(const State& s) {
         poses.update(s);
         return fi.force->potential_energy(poses.view(fi.bodies, s.t));
-    };
-    const int events = fi.force->event_count();
-    auto g_at = [&](const State& s) {
+    }
+    Eigen::VectorXd g(const State& s) {
         poses.update(s);
-        Eigen::VectorXd g = Eigen::VectorXd::Zero(events);
-        fi.force->event_values(poses.view(fi.bodies, s.t), g);
-        return g;
-    };
-    Eigen::MatrixXd G(events, n), G_fd(events, n);
-    for (int trial = 0; trial < trials; ++trial) {
-        const State s = random_check_state(model, rng);
-        const Eigen::VectorXd Q = Q_at(s);
+        Eigen::VectorXd out = Eigen::VectorXd::Zero(events);
+        fi.force->event_values(poses.view(fi.bodies, s.t), out);
+        return out;
+    }
+    // each event's gradient (Force::event_impact) as a row
+    Eigen::MatrixXd event_gradients(const State& s) {
+        Eigen::MatrixXd G(events, n);
         for (int e = 0; e < events; ++e) {
             Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
             poses.update(s);
             fi.force->event_impact(e, poses.view(fi.bodies, s.t), row);
             G.row(e) = row.transpose();
         }
-        G_fd.setZero();
-        worst.finite = worst.finite && Q.allFinite();
-        Eigen::MatrixXd Kq = Eigen::MatrixXd::Zero(n, n), Kv = Eigen::MatrixXd::Zero(n, n);
-        if (fi.force->has_jacobians()) {
-            poses.update(s);
-            fi.force->jacobians(poses.view(fi.bodies, s.t), Kq, Kv);
-            worst.finite = worst.finite && Kq.allFinite() && Kv.allFinite();
-        }
-        Eigen::MatrixXd Kq_fd = Eigen::MatrixXd::Zero(n, n), Kv_fd = Eigen::MatrixXd::Zero(n, n);
-        Eigen::VectorXd dV = Eigen::VectorXd::Zero(n);
+        return G;
+    }
+
+    const Model& model;
+    const ForceInstance& fi;
+    const int nvb, n, events;
+    BodyPoses poses;
+};
+
+// The central differences of Q in the positions and velocities, of V and of the event values
+// in the positions, column by column of the element's moving bodies.
+struct ForceDifferences {
+    Eigen::MatrixXd Kq, Kv, G;
+    Eigen::VectorXd dV;
+
+    ForceDifferences(ForceProbe& probe, const State& s) {
+        const int n = probe.n, nvb = probe.nvb;
+        Kq = Kv = Eigen::MatrixXd::Zero(n, n);
+        G = Eigen::MatrixXd::Zero(probe.events, n);
+        dV = Eigen::VectorXd::Zero(n);
         const double h = 1e-6;
-        for (size_t b = 0; b < fi.bodies.size(); ++b) {
-            if (fi.bodies[b] == kGround) continue;
+        for (size_t b = 0; b < probe.fi.bodies.size(); ++b) {
+            if (probe.fi.bodies[b] == kGround) continue;
             for (int c = 0; c < nvb; ++c) {
-                Eigen::VectorXd dv = Eigen::VectorXd::Zero(model.nv());
-                dv[model.v_offset(fi.bodies[b]) + c] = h;
+                Eigen::VectorXd dv = Eigen::VectorXd::Zero(probe.model.nv());
+                dv[probe.model.v_offset(probe.fi.bodies[b]) + c] = h;
                 State plus = s, minus = s;
-                advance_positions(model, plus.q, dv);
-                advance_positions(model, minus.q, -dv);
-                Kq_fd.col(nvb * b + c) = (Q_at(plus) - Q_at(minus)) / (2 * h);
-                dV[nvb * b + c] = (V_at(plus) - V_at(minus)) / (2 * h);
-                if (events) G_fd.col(nvb * b + c) = (g_at(plus) - g_at(minus)) / (2 * h);
+                advance_positions(probe.model, plus.q, dv);
+                advance_positions(probe.model, minus.q, -dv);
+                const int col = nvb * static_cast<int>(b) + c;
+                Kq.col(col) = (probe.Q(plus) - probe.Q(minus)) / (2 * h);
+                dV[col] = (probe.V(plus) - probe.V(minus)) / (2 * h);
+                if (probe.events) G.col(col) = (probe.g(plus) - probe.g(minus)) / (2 * h);
                 plus = s;
                 minus = s;
                 plus.v += dv;
                 minus.v -= dv;
-                Kv_fd.col(nvb * b + c) = (Q_at(plus) - Q_at(minus)) / (2 * h);
+                Kv.col(col) = (probe.Q(plus) - probe.Q(minus)) / (2 * h);
             }
         }
+    }
+};
+
+// Q(N) must be affine in the load N (Force::evaluate_at_load): the reaction-load solver takes
+// G = Q(1) - Q(0) as its direction (sdk reaction_loads.hpp), so a curved Q(N) would be solved
+// at a wrong load. Second differences at 0, N1, 2 N1.
+void check_load_affinity(ForceProbe& probe, const State& s, DerivativeErrors& worst) {
+    probe.poses.update(s);
+    const double N1 = 10.0;
+    Eigen::VectorXd at[3];
+    for (int k = 0; k < 3; ++k) {
+        at[k] = Eigen::VectorXd::Zero(probe.n);
+        probe.fi.force->evaluate_at_load(probe.poses.view(probe.fi.bodies, s.t), k * N1, at[k]);
+    }
+    worst.finite = worst.finite && at[0].allFinite() && at[1].allFinite() && at[2].allFinite();
+    worst.load_affinity =
+        std::max(worst.load_affinity, (at[2] - 2.0 * at[1] + at[0]).norm() / std::max(1.0, (at[1] - at[0]).norm()));
+}
+
+}  // namespace
+
+DerivativeErrors check_force_derivatives(const Model& model, const ForceInstance& fi, std::mt19937& rng, int trials) {
+    DerivativeErrors worst;
+    ForceProbe probe(model, fi);
+    const int n = probe.n, nvb = probe.nvb;
+    for (int trial = 0; trial < trials; ++trial) {
+        const State s = random_check_state(model, rng);
+        const Eigen::VectorXd Q = probe.Q(s);
+        Eigen::MatrixXd G = probe.event_gradients(s);
+        worst.finite = worst.finite && Q.allFinite();
+        Eigen::MatrixXd Kq = Eigen::MatrixXd::Zero(n, n), Kv = Eigen::MatrixXd::Zero(n, n);
+        if (fi.force->has_jacobians()) {
+            probe.poses.update(s);
+            fi.force->jacobians(probe.poses.view(fi.bodies, s.t), Kq, Kv);
+            worst.finite = worst.finite && Kq.allFinite() && Kv.allFinite();
+        }
+        ForceDifferences fd(probe, s);
         // compare only the moving bodies' rows and columns
         for (size_t b = 0; b < fi.bodies.size(); ++b)
             if (fi.bodies[b] == kGround) {
-                for (auto* m : {&Kq, &Kv, &Kq_fd, &Kv_fd}) {
+                for (auto* m : {&Kq, &Kv, &fd.Kq, &fd.Kv}) {
                     m->middleRows(nvb * b, nvb).setZero();
                     m->middleCols(nvb * b, nvb).setZero();
                 }
                 G.middleCols(nvb * b, nvb).setZero();
-                G_fd.middleCols(nvb * b, nvb).setZero();
+                fd.G.middleCols(nvb * b, nvb).setZero();
             }
         const double before = worst.worst();
         if (fi.force->has_jacobians()) {
-            worst.jacobian = std::max(worst.jacobian, (Kq - Kq_fd).norm() / std::max(1.0, Kq_fd.norm()));
-            worst.velocity_jacobian = std::max(worst.velocity_jacobian, (Kv - Kv_fd).norm() / std::max(1.0, Kv_fd.norm()));
+            worst.jacobian = std::max(worst.jacobian, (Kq - fd.Kq).norm() / std::max(1.0, fd.Kq.norm()));
+            worst.velocity_jacobian = std::max(worst.velocity_jacobian, (Kv - fd.Kv).norm() / std::max(1.0, fd.Kv.norm()));
         }
         if (fi.force->is_conservative()) {
             Eigen::VectorXd Qm = Q;
             for (size_t b = 0; b < fi.bodies.size(); ++b)
                 if (fi.bodies[b] == kGround) Qm.segment(nvb * b, nvb).setZero();
-            worst.potential = std::max(worst.potential, relative(Qm, -dV));
+            worst.potential = std::max(worst.potential, relative(Qm, -fd.dV));
         }
-        if (events) {
+        if (probe.events) {
             worst.finite = worst.finite && G.allFinite();
-            worst.event_gradient = std::max(worst.event_gradient, (G - G_fd).norm() / std::max(1.0, G_fd.norm()));
+            worst.event_gradient = std::max(worst.event_gradient, (G - fd.G).norm() / std::max(1.0, fd.G.norm()));
         }
-        if (fi.force->is_friction()) {
-            // Q(N) must be affine in the load N (Force::evaluate_at_load): the reaction-load
-            // solver takes G = Q(1) - Q(0) as its direction (sdk reaction_loads.hpp), so a
-            // curved Q(N) would be solved at a wrong load. Second differences at 0, N1, 2 N1.
-            poses.update(s);
-            const double N1 = 10.0;
-            Eigen::VectorXd at[3];
-            for (int k = 0; k < 3; ++k) {
-                at[k] = Eigen::VectorXd::Zero(n);
-                fi.force->evaluate_at_load(poses.view(fi.bodies, s.t), k * N1, at[k]);
-            }
-            worst.finite = worst.finite && at[0].allFinite() && at[1].allFinite() && at[2].allFinite();
-            worst.load_affinity = std::max(worst.load_affinity, (at[2] - 2.0 * at[1] + at[0]).norm() /
-                                                                    std::max(1.0, (at[1] - at[0]).norm()));
-        }
+        if (fi.force->is_friction()) check_load_affinity(probe, s, worst);
         if (worst.worst() > before) worst.worst_state = describe(model, s);
     }
     return worst;

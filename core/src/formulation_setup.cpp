@@ -1,11 +1,46 @@
 // Reading and checking a formulation's keys (formulation_setup.hpp).
 #include <mbd/formulation_setup.hpp>
 
+#include <mbd/integrator.hpp>
+#include <mbd/linear_algebra.hpp>
 #include <mbd/sdk/suggest.hpp>
 
 #include <vector>
 
 namespace mbd {
+
+namespace {
+
+struct NamedStabilization {
+    const char* name;
+    Stabilization value;
+};
+const NamedStabilization kStabilizations[] = {
+    {"projection", Stabilization::Projection},
+    {"baumgarte", Stabilization::Baumgarte},
+    {"none", Stabilization::None},
+};
+
+std::string stabilization_choices() {
+    const std::vector<std::string> names = stabilization_names();
+    std::string list;
+    for (size_t i = 0; i < names.size(); ++i) list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    return list;
+}
+
+}  // namespace
+
+std::vector<std::string> stabilization_names() {
+    std::vector<std::string> names;
+    for (const NamedStabilization& s : kStabilizations) names.emplace_back(s.name);
+    return names;
+}
+
+Stabilization parse_stabilization(const std::string& name) {
+    for (const NamedStabilization& s : kStabilizations)
+        if (name == s.name) return s.value;
+    throw InputError("", "'stabilization' must be " + stabilization_choices() + ", got '" + name + "'");
+}
 
 namespace {
 
@@ -17,17 +52,19 @@ struct SharedKey {
 };
 
 Stabilization stabilization_value(const Param& p) {
-    if (p.text == "projection") return Stabilization::Projection;
-    if (p.text == "baumgarte") return Stabilization::Baumgarte;
-    if (p.text == "none") return Stabilization::None;
-    p.fail("'stabilization' must be projection, baumgarte or none, got '" + p.text + "'");
+    try {
+        return parse_stabilization(p.text);
+    } catch (const InputError& e) {
+        p.fail(e.message());
+    }
 }
 
 LinearAlgebra algebra_value(const Param& p) {
-    if (p.text == "auto") return LinearAlgebra::Auto;
-    if (p.text == "dense") return LinearAlgebra::Dense;
-    if (p.text == "sparse") return LinearAlgebra::Sparse;
-    p.fail("'linear_algebra' must be auto, dense or sparse, got '" + p.text + "'");
+    try {
+        return parse_linear_algebra(p.text);
+    } catch (const InputError&) {
+        p.fail("'linear_algebra' must be auto, dense or sparse, got '" + p.text + "'");
+    }
 }
 
 bool boolean_value(const Param& p, const char* key) {
@@ -89,6 +126,11 @@ Param as_map(const Param& node) {
 // An element of the scene the chosen pair must handle: refused, naming `element`, when the
 // formulation does not (`formulation_remedy` says what to do) or the integrator solves the index-3
 // equations (`integrator_remedy`).
+// The integrators that work through the formulation (no index-3 form): "euler, rk4, ... or cvode".
+std::string through_formulation() {
+    return integrator_list([](const IntegratorDescription& d) { return !d.needs_index3; });
+}
+
 void require_handled(const std::string& where, const std::string& element, bool formulation_handles,
                      const std::string& name, const std::string& formulation_remedy, bool needs_index3,
                      const std::string& integrator, const std::string& integrator_remedy) {
@@ -157,8 +199,8 @@ void require_velocity_rows_handled(const Model& model, const Formulation& formul
                         "does not handle; use the augmented or the embedding formulation (--formulation augmented, "
                         "or `formulation: augmented` in the scene; docs/formulations.md)",
                         needs_index3, integrator,
-                        "does not handle (it solves the index-3 equations of the holonomic rows only); use dopri5, "
-                        "rk4 or cvode");
+                        "does not handle (it solves the index-3 equations of the holonomic rows only); use " +
+                            through_formulation());
         return;
     }
 }
@@ -173,8 +215,7 @@ void require_reaction_loads_handled(const Model& model, const Formulation& formu
                         "does not solve with its multipliers; use the augmented formulation (--formulation "
                         "augmented, or `formulation: augmented` in the scene; docs/formulations.md)",
                         needs_index3, integrator,
-                        "does not solve (it works on the index-3 equations directly); use dopri5, dop853, rk4 or "
-                        "cvode");
+                        "does not solve (it works on the index-3 equations directly); use " + through_formulation());
         return;
     }
 }

@@ -2,6 +2,7 @@
 #include <mbd/method_choice.hpp>
 
 #include <mbd/contact_scales.hpp>
+#include <mbd/integrator.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/text.hpp>
 #include <mbd/sdk/topology.hpp>
@@ -88,7 +89,7 @@ MethodChoice automatic_method(const Model& model, double t_end) {
         choice.formulation = "embedding";
         choice.formulation_reason = closure + ": the closure path of embedding (stiff: the fewest states for cvode)";
     }
-    choice.integrator = stiff ? "cvode" : "dop853";
+    choice.integrator = automatic_integrator(stiff).name;
     choice.integrator_reason =
         rate > 0.0 ? std::string(stiff ? "stiff" : "not stiff") + ": " + what + " " + format_number(rate, 3) +
                          " 1/s" + source + " over " + format_time(t_end) + " s = " + format_number(scales, 3) +

@@ -83,7 +83,7 @@ RunMethod run_method(const Model& model, const SimulationSettings& settings) {
     const MethodChoice automatic = automatic_method(model, settings.t_end);
     if (method.formulation.empty()) {
         // an integrator that needs the index-3 form (generalized_alpha) takes augmented, the one that has it
-        const bool index3 = !method.integrator.empty() && make_integrator(method.integrator, {})->needs_index3();
+        const bool index3 = !method.integrator.empty() && describe_integrator(method.integrator).needs_index3;
         method.formulation = index3 ? "augmented" : automatic.formulation;
         settings.messages("formulation " + method.formulation + " (automatic: " +
                           (index3 ? method.integrator + " needs its index-3 form" : automatic.formulation_reason) + ")");
@@ -128,7 +128,7 @@ void check_integration_settings(const SimulationSettings& settings) {
 // said with its reason as the automatic formulation and integrator are.
 IntegratorSettings run_integration(const Model& model, const SimulationSettings& settings, const std::string& integrator) {
     IntegratorSettings integration = settings.integration;
-    if (!make_integrator(integrator, {})->adaptive()) return integration;
+    if (!describe_integrator(integrator).adaptive) return integration;
     if (settings.automatic_tolerance) {
         const ToleranceChoice choice = automatic_tolerance(model, integration.tolerance);
         integration.tolerance = choice.tolerance;
@@ -214,8 +214,10 @@ void start_events(ContactEvents& events, const Integrator& integrator, const Sta
     if (events.count() == 0) return;
     if (!integrator.locates_events())
         throw InputError(integrator.name(), "this integrator does not locate events, and " + events.first_element() +
-                                                " has them (a stop's closing and opening): use --integrator "
-                                                "dopri5, dop853 or cvode");
+                                                " has them (a stop's closing and opening): use --integrator " +
+                                                integrator_list([](const IntegratorDescription& d) {
+                                                    return d.locates_events;
+                                                }));
     Eigen::VectorXd g;
     events.values(state, g);
     std::vector<int> side(g.size());

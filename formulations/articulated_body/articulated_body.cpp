@@ -7,33 +7,6 @@
 
 namespace mbd::articulated {
 
-namespace {
-
-Mat3 rot_z(double angle) {
-    Mat3 a = Mat3::Identity();
-    a.topLeftCorner<2, 2>() = planar_rotation(angle);
-    return a;
-}
-
-// angle of the rotation R about the unit axis a (R assumed to be such a rotation)
-double angle_about(const Vec3& a, const Mat3& R) {
-    const Vec3 e = any_perpendicular(a);
-    const Vec3 re = R * e;
-    return std::atan2(a.dot(e.cross(re)), e.dot(re));
-}
-
-// angle about the unit axis a that takes the direction x to the direction y (projected on the plane normal to a)
-double angle_taking(const Vec3& a, const Vec3& x, const Vec3& y) {
-    const Vec3 xp = x - a.dot(x) * a, yp = y - a.dot(y) * a;
-    return std::atan2(a.dot(xp.cross(yp)), xp.dot(yp));
-}
-
-bool rotational(RelativeMotion::Kind k) { return k == RelativeMotion::Kind::Revolute || k == RelativeMotion::Kind::Helical; }
-
-Vec4 conjugate(const Vec4& p) { return Vec4(p[0], -p[1], -p[2], -p[3]); }
-
-}  // namespace
-
 // Phi x, Phi^T f and P += Phi^T X Phi (X symmetric) with Phi = [[I, S], [0, E]], by 3x3 blocks
 Vec6 ArticulatedBody::phi_mul(const Body& c, const Vec6& x) {
     Vec6 out;
@@ -170,49 +143,8 @@ void ArticulatedBody::build(System& system, const Topology& topology) {
     nv_ = system.nv();
     edges_.clear();
     ns_ = nu_ = 0;
-    auto marker = [&](const Marker& m, Vec3& u, Mat3& A, double& angle) {
-        if (planar_) {
-            u = Vec3(m.u_bar.x(), m.u_bar.y(), 0.0);
-            A = rot_z(m.angle);
-            angle = m.angle;
-        } else {
-            u = m.u_bar;
-            A = m.A_bar;
-            angle = 0.0;
-        }
-    };
     for (int b : topology.order) {
-        Edge e;
-        e.body = b;
-        e.parent = topology.parent_body[b];
-        e.joint = topology.parent_joint[b];
-        e.s0 = ns_;
-        e.u0 = nu_;
-        if (e.joint < 0) {  // free root: its own coordinates and velocities
-            e.ns = planar_ ? 3 : 7;
-            e.nu = planar_ ? 3 : 6;
-        } else {
-            const JointInfo& info = system.joint(e.joint);
-            const bool forward = info.bodies[1] == b;
-            e.child_slot = forward ? 1 : 0;
-            e.parent_slot = forward ? 0 : 1;
-            marker(info.markers.at(e.parent_slot), e.u_p, e.A_p, e.angle_p);
-            marker(info.markers.at(e.child_slot), e.u_c, e.A_c, e.angle_c);
-            e.p_p = euler_parameters_from_rotation(e.A_p);
-            e.p_c = euler_parameters_from_rotation(e.A_c);
-            std::vector<RelativeMotion::Freedom> list = info.joint->relative_motion()->freedoms;
-            if (!forward) std::reverse(list.begin(), list.end());  // the inverse motion's freedoms
-            int s = ns_, u = nu_;
-            for (const RelativeMotion::Freedom& f : list) {
-                Freedom g{f.kind, f.axis.normalized(), f.kind == RelativeMotion::Kind::Helical ? f.pitch : 0.0, s, u};
-                const bool ball = f.kind == RelativeMotion::Kind::Ball;
-                s += ball ? 4 : 1;
-                u += ball ? 3 : 1;
-                e.freedoms.push_back(g);
-            }
-            e.ns = s - ns_;
-            e.nu = u - nu_;
-        }
+        Edge e = tree_edge(system, topology, b);
         ns_ += e.ns;
         nu_ += e.nu;
         edges_.push_back(std::move(e));
@@ -228,6 +160,63 @@ void ArticulatedBody::build(System& system, const Topology& topology) {
     dpool_.assign(d, 0.0);
     bodies_.assign(nb_, Body{});
     sign_.assign(nb_, 1.0);
+    read_inertias(system);
+    size_work_vectors();
+}
+
+namespace {
+
+// A marker's origin, axes and planar angle as 3-D quantities.
+void marker_frame(const Marker& m, bool planar, Vec3& u, Mat3& A, double& angle) {
+    if (planar) {
+        u = Vec3(m.u_bar.x(), m.u_bar.y(), 0.0);
+        A = rotation_z(m.angle);
+        angle = m.angle;
+    } else {
+        u = m.u_bar;
+        A = m.A_bar;
+        angle = 0.0;
+    }
+}
+
+}  // namespace
+
+ArticulatedBody::Edge ArticulatedBody::tree_edge(System& system, const Topology& topology, int b) const {
+    Edge e;
+    e.body = b;
+    e.parent = topology.parent_body[b];
+    e.joint = topology.parent_joint[b];
+    e.s0 = ns_;
+    e.u0 = nu_;
+    if (e.joint < 0) {  // free root: its own coordinates and velocities
+        e.ns = planar_ ? 3 : 7;
+        e.nu = planar_ ? 3 : 6;
+        return e;
+    }
+    const JointInfo& info = system.joint(e.joint);
+    const bool forward = info.bodies[1] == b;
+    e.child_slot = forward ? 1 : 0;
+    e.parent_slot = forward ? 0 : 1;
+    marker_frame(info.markers.at(e.parent_slot), planar_, e.u_p, e.A_p, e.angle_p);
+    marker_frame(info.markers.at(e.child_slot), planar_, e.u_c, e.A_c, e.angle_c);
+    e.p_p = euler_parameters_from_rotation(e.A_p);
+    e.p_c = euler_parameters_from_rotation(e.A_c);
+    std::vector<RelativeMotion::Freedom> list = info.joint->relative_motion()->freedoms;
+    if (!forward) std::reverse(list.begin(), list.end());  // the inverse motion's freedoms
+    int s = ns_, u = nu_;
+    for (const RelativeMotion::Freedom& f : list) {
+        Freedom g{f.kind, f.axis.normalized(), f.kind == RelativeMotion::Kind::Helical ? f.pitch : 0.0, s, u};
+        const bool ball = f.kind == RelativeMotion::Kind::Ball;
+        s += ball ? 4 : 1;
+        u += ball ? 3 : 1;
+        e.freedoms.push_back(g);
+    }
+    e.ns = s - ns_;
+    e.nu = u - nu_;
+    return e;
+}
+
+void ArticulatedBody::read_inertias(System& system) {
     // the constant per-body blocks of M (read from the sparse matrix: never densify it)
     mass_.assign(nb_, Mat6::Zero());
     std::vector<Mat6>& blocks = mass_;
@@ -246,6 +235,9 @@ void ArticulatedBody::build(System& system, const Topology& topology) {
             body.J = blocks[e.body].bottomRightCorner<3, 3>();
         }
     }
+}
+
+void ArticulatedBody::size_work_vectors() {
     state_.set_zero(nq_, nv_);
     Q_.setZero(nv_);
     udot_.setZero(nu_);
@@ -258,136 +250,6 @@ void ArticulatedBody::build(System& system, const Topology& topology) {
     y_of_s_.resize(ns_);
     for (int k = 0; k < ns_; ++k) free_s_[k] = y_of_s_[k] = k;
     for (int k = 0; k < nu_; ++k) free_u_[k] = k;
-}
-
-void ArticulatedBody::kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u) {
-    struct Column {
-        Vec3 g, o, t;  // H column: [g x (R_c - o) + t; A_c^T g]
-    };
-    Column cols[6];
-    for (const Edge& e : edges_) {
-        Body& c = bodies_[e.body];
-        if (e.joint < 0) {  // free root
-            c.S.setZero();
-            c.E.setZero();
-            c.a.setZero();
-            auto Hc = H(e);
-            Hc.setZero();
-            if (planar_) {
-                c.R = Vec3(s[e.s0], s[e.s0 + 1], 0.0);
-                c.theta = s[e.s0 + 2];
-                c.A = rot_z(c.theta);
-                c.v << u[e.u0], u[e.u0 + 1], 0, 0, 0, u[e.u0 + 2];
-                Hc(0, 0) = Hc(1, 1) = Hc(5, 2) = 1.0;
-            } else {
-                c.R = s.segment<3>(e.s0);
-                const Vec4 p = s.segment<4>(e.s0 + 3);
-                c.p = p / p.norm();
-                c.A = rotation_from_euler_parameters(c.p);
-                c.v = u.segment<6>(e.u0);
-                Hc.setIdentity();
-            }
-            c.w = c.A * c.v.tail<3>();
-            continue;
-        }
-        Vec3 Rp = Vec3::Zero(), Rpdot = Vec3::Zero(), wp = Vec3::Zero();
-        Mat3 Ap = Mat3::Identity();
-        Vec4 pf(1, 0, 0, 0);
-        double thp = 0.0;
-        if (e.parent >= 0) {
-            const Body& p = bodies_[e.parent];
-            Rp = p.R;
-            Ap = p.A;
-            pf = p.p;
-            thp = p.theta;
-            Rpdot = p.v.head<3>();
-            wp = p.w;
-        }
-        // the parent's joint frame; velocity-product terms with vdot_p = 0 (alpha_p = 0)
-        const Vec3 rho0 = Ap * e.u_p;
-        Vec3 o = Rp + rho0;
-        Mat3 Af = Ap * e.A_p;
-        if (!planar_) pf = quaternion_product(pf, e.p_p);
-        double theta = thp + e.angle_p;
-        Vec3 w = wp, alpha = Vec3::Zero();
-        Vec3 odot = Rpdot + wp.cross(rho0);
-        Vec3 oddot = wp.cross(wp.cross(rho0));
-        int ncol = 0;
-        for (const Freedom& f : e.freedoms) {
-            if (f.kind == RelativeMotion::Kind::Ball) {
-                const Vec4 p = s.segment<4>(f.s) / s.segment<4>(f.s).norm();
-                Af = Af * rotation_from_euler_parameters(p);
-                if (!planar_) pf = quaternion_product(pf, p);
-                const Vec3 ww = Af * u.segment<3>(f.u);
-                for (int m = 0; m < 3; ++m) cols[ncol++] = {Af.col(m), o, Vec3::Zero()};
-                alpha += w.cross(ww);
-                w += ww;
-                continue;
-            }
-            const double q = s[f.s], qd = u[f.u];
-            const Vec3 aw = Af * f.axis;
-            if (rotational(f.kind)) {
-                const Vec3 r = aw * (f.pitch * q);
-                const Vec3 lin = aw * f.pitch;
-                cols[ncol++] = {aw, o, lin};
-                oddot += alpha.cross(r) + w.cross(w.cross(r)) + 2.0 * w.cross(lin * qd);
-                odot += w.cross(r) + lin * qd;
-                o += r;
-                alpha += w.cross(aw * qd);
-                w += aw * qd;
-                Af = Af * Eigen::AngleAxisd(q, f.axis).toRotationMatrix();
-                if (planar_)
-                    theta += f.axis.z() > 0 ? q : -q;
-                else
-                    pf = quaternion_product(pf, euler_parameters_from_axis_angle(f.axis, q));
-            } else {  // prismatic
-                const Vec3 r = aw * q;
-                cols[ncol++] = {Vec3::Zero(), o, aw};
-                oddot += alpha.cross(r) + w.cross(w.cross(r)) + 2.0 * w.cross(aw * qd);
-                odot += w.cross(r) + aw * qd;
-                o += r;
-            }
-        }
-        // the child body from its joint frame
-        if (planar_) {
-            c.theta = theta - e.angle_c;
-            c.A = rot_z(c.theta);
-        } else {
-            c.A = Af * e.A_c.transpose();
-            c.p = quaternion_product(pf, conjugate(e.p_c));
-        }
-        const Vec3 rho = -(c.A * e.u_c);
-        c.R = o + rho;
-        c.w = w;
-        c.v.head<3>() = odot + w.cross(rho);
-        c.v.tail<3>() = c.A.transpose() * w;
-        c.a.head<3>() = oddot + alpha.cross(rho) + w.cross(w.cross(rho));
-        c.a.tail<3>() = c.A.transpose() * alpha;
-        auto Hc = H(e);
-        for (int k = 0; k < ncol; ++k) {
-            Hc.col(k).head<3>() = cols[k].g.cross(c.R - cols[k].o) + cols[k].t;
-            Hc.col(k).tail<3>() = c.A.transpose() * cols[k].g;
-        }
-        c.S = -skew(c.R - Rp) * Ap;
-        c.E = c.A.transpose() * Ap;
-    }
-}
-
-void ArticulatedBody::write_state(double t, State& state) {
-    state.t = t;
-    state.q.resize(nq_);
-    state.v.resize(nv_);
-    for (int b = 0; b < nb_; ++b) {
-        const Body& body = bodies_[b];
-        if (planar_) {
-            state.q.segment<3>(3 * b) << body.R.x(), body.R.y(), body.theta;
-            state.v.segment<3>(3 * b) << body.v[0], body.v[1], body.v[5];
-        } else {
-            state.q.segment<3>(7 * b) = body.R;
-            state.q.segment<4>(7 * b + 3) = sign_[b] * body.p;
-            state.v.segment<6>(6 * b) = body.v;
-        }
-    }
 }
 
 void ArticulatedBody::articulated(double t, const Eigen::VectorXd& Q, Eigen::VectorXd& udot) {
@@ -463,100 +325,6 @@ void ArticulatedBody::vdot_system(Eigen::VectorXd& vdot) {
 void ArticulatedBody::to_ode(const State& state, Eigen::VectorXd& y) {
     joint_coordinates(state);
     compress(y);
-}
-
-void ArticulatedBody::joint_coordinates(const State& state) {
-    Eigen::VectorXd& s = s_;
-    s.setZero(ns_);
-    // poses from the state
-    auto pose = [&](int b, Vec3& R, Mat3& A, double& theta) {
-        if (b < 0) {
-            R.setZero();
-            A.setIdentity();
-            theta = 0.0;
-        } else if (planar_) {
-            R = Vec3(state.q[3 * b], state.q[3 * b + 1], 0.0);
-            theta = state.q[3 * b + 2];
-            A = rot_z(theta);
-        } else {
-            R = state.q.segment<3>(7 * b);
-            const Vec4 p = state.q.segment<4>(7 * b + 3);
-            A = rotation_from_euler_parameters(p / p.norm());
-            theta = 0.0;
-        }
-    };
-    // joint coordinates: decompose each joint's relative pose into its freedoms
-    for (const Edge& e : edges_) {
-        Vec3 Rc, Rp;
-        Mat3 Ac, Ap;
-        double thc, thp;
-        pose(e.body, Rc, Ac, thc);
-        if (e.joint < 0) {
-            if (planar_)
-                s.segment<3>(e.s0) = state.q.segment<3>(3 * e.body);
-            else
-                s.segment<7>(e.s0) = state.q.segment<7>(7 * e.body);
-            continue;
-        }
-        pose(e.parent, Rp, Ap, thp);
-        const Mat3 F0 = Ap * e.A_p, Fn = Ac * e.A_c;
-        const Mat3 Rrel = F0.transpose() * Fn;
-        const Vec3 drel = F0.transpose() * (Rc + Ac * e.u_c - Rp - Ap * e.u_p);
-        std::vector<const Freedom*> rots;
-        for (const Freedom& f : e.freedoms)
-            if (f.kind != RelativeMotion::Kind::Prismatic) rots.push_back(&f);
-        if (rots.size() == 1 && rots[0]->kind == RelativeMotion::Kind::Ball) {
-            s.segment<4>(rots[0]->s) = euler_parameters_from_rotation(Rrel);
-        } else if (rots.size() == 1) {
-            if (planar_) {  // unwrapped: the difference of the frames' absolute angles
-                const double rel = (thc + e.angle_c) - (thp + e.angle_p);
-                s[rots[0]->s] = rots[0]->axis.z() > 0 ? rel : -rel;
-            } else {
-                s[rots[0]->s] = angle_about(rots[0]->axis, Rrel);
-            }
-        } else if (rots.size() == 2) {
-            const Vec3 &a1 = rots[0]->axis, &a2 = rots[1]->axis;
-            const double s1 = angle_taking(a1, a2, Rrel * a2);
-            s[rots[0]->s] = s1;
-            s[rots[1]->s] = angle_about(a2, Eigen::AngleAxisd(s1, a1).toRotationMatrix().transpose() * Rrel);
-        }
-        // translations: drel = sum_k R_{<k} t_k, linear in the prismatic coordinates
-        Mat3 Rk = Mat3::Identity();
-        Vec3 known = Vec3::Zero();
-        Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6> C(3, 0);
-        std::vector<int> prismatic;
-        for (const Freedom& f : e.freedoms) {
-            if (f.kind == RelativeMotion::Kind::Prismatic) {
-                C.conservativeResize(3, C.cols() + 1);
-                C.col(C.cols() - 1) = Rk * f.axis;
-                prismatic.push_back(f.s);
-            } else if (f.kind == RelativeMotion::Kind::Ball) {
-                const Vec4 p = s.segment<4>(f.s);
-                Rk = Rk * rotation_from_euler_parameters(p);
-            } else {
-                known += Rk * f.axis * (f.pitch * s[f.s]);
-                Rk = Rk * Eigen::AngleAxisd(s[f.s], f.axis).toRotationMatrix();
-            }
-        }
-        if (!prismatic.empty()) {
-            const Eigen::VectorXd x = (C.transpose() * C).ldlt().solve(C.transpose() * (drel - known));
-            for (size_t k = 0; k < prismatic.size(); ++k) s[prismatic[k]] = x[k];
-        }
-    }
-    // speeds: kinematics at s (u = 0) gives Phi and H; u = H^+ (v_c - Phi v_p) per edge
-    Eigen::VectorXd& u = u_;
-    u.setZero(nu_);
-    kinematics(s, u);
-    for (int b = 0; b < nb_ && !planar_; ++b)
-        sign_[b] = bodies_[b].p.dot(state.q.segment<4>(7 * b + 3)) < 0 ? -1.0 : 1.0;
-    for (const Edge& e : edges_) {
-        const Body& c = bodies_[e.body];
-        Vec6 rel = to6(state.v, e.body);
-        if (e.parent >= 0) rel -= phi_mul(c, to6(state.v, e.parent));
-        const auto Hc = H(e);
-        const MatXX6 HtH = Hc.transpose() * Hc;
-        u.segment(e.u0, e.nu) = HtH.ldlt().solve(Hc.transpose() * rel);
-    }
 }
 
 void ArticulatedBody::from_ode(double t, const Eigen::VectorXd& y, State& state) {

@@ -63,6 +63,13 @@ using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
 using MatXX6 = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using VecX6 = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
+// The rotation by `angle` about z (a planar angle as a 3 x 3 rotation).
+inline Mat3 rotation_z(double angle) {
+    Mat3 a = Mat3::Identity();
+    a.topLeftCorner<2, 2>() = planar_rotation(angle);
+    return a;
+}
+
 class ArticulatedBody : public Formulation {
 public:
     MBD_FORMULATION_CALLS;
@@ -116,8 +123,28 @@ protected:
         Vec6 f = Vec6::Zero();  // constraint force of its parent joint on it
     };
 
+    // a joint's frame as the forward kinematics walk from the parent's marker through the
+    // joint's freedoms (articulated_kinematics.cpp)
+    struct JointFrame {
+        Vec3 Rp = Vec3::Zero();  // the parent body's position and axes (ground: zero, identity)
+        Mat3 Ap = Mat3::Identity();
+        Vec3 o, odot, oddot;  // origin, its velocity, its velocity-product acceleration
+        Mat3 A;               // axes
+        Vec4 p;               // the axes' Euler parameters, composed along the chain (spatial)
+        double theta = 0.0;   // planar angle, accumulated
+        Vec3 w, alpha;        // angular velocity, its velocity-product acceleration
+    };
+    struct HColumn {
+        Vec3 g, o, t;  // H column: [g x (R_c - o) + t; A_c^T g]
+    };
+
     // the edges, pools and per-body inertias of the tree in `topology` (bind() after its check)
     void build(System& system, const Topology& topology);
+    // build()'s parts: the edge of body b (its joint's markers and freedoms), each body's
+    // mass and inertia, and the sized work vectors
+    Edge tree_edge(System& system, const Topology& topology, int b) const;
+    void read_inertias(System& system);
+    void size_work_vectors();
     // the drivers' joints as prescribed edges (after build; a driver's joint is a tree edge of one
     // freedom, topology.hpp) and y's layout without their coordinates and speeds
     void prescribe_driven_joints(System& system);
@@ -129,8 +156,20 @@ protected:
     void prescribe(double t, bool coordinates);
     // s_, u_ of a state (the joint coordinates and speeds of every edge); leaves bodies_ at (s_, 0)
     void joint_coordinates(const State& state);
-    // forward kinematics: s, u -> bodies_ (poses, velocities, Phi, H, a)
+    // forward kinematics: s, u -> bodies_ (poses, velocities, Phi, H, a), edge by edge: a free
+    // root from its own coordinates, a child through its parent's marker frame and its freedoms
     void kinematics(const Eigen::VectorXd& s, const Eigen::VectorXd& u);
+    void root_kinematics(const Edge& e, const Eigen::VectorXd& s, const Eigen::VectorXd& u);
+    JointFrame parent_marker_frame(const Edge& e) const;
+    int walk_freedoms(const Edge& e, const Eigen::VectorXd& s, const Eigen::VectorXd& u, JointFrame& frame,
+                      HColumn* cols) const;  // returns the number of H columns written
+    void place_child(const Edge& e, const JointFrame& frame, const HColumn* cols, int ncol);
+    // joint_coordinates()'s parts: a body's pose in a state (-1: ground), one edge's
+    // coordinates into s_, its prismatic ones, and the speeds u_ of every edge
+    void body_pose(const State& state, int b, Vec3& R, Mat3& A, double& theta) const;
+    void edge_coordinates(const State& state, const Edge& e);
+    void prismatic_coordinates(const Edge& e, const Vec3& drel);
+    void joint_speeds(const State& state);
     // bodies_ -> state (q, v)
     void write_state(double t, State& state);
     // articulated-body algorithm at bodies_ with Q (System layout): vdot, f, udot

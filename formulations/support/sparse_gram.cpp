@@ -11,6 +11,25 @@
 
 namespace mbd {
 
+namespace {
+
+// The upper pattern of W W^T: every pair of rows that share a column, and the diagonal.
+Eigen::SparseMatrix<double> upper_gram_pattern(const Eigen::SparseMatrix<double>& W) {
+    const int rows = static_cast<int>(W.rows());
+    std::vector<Eigen::Triplet<double>> s_entries;
+    for (int r = 0; r < rows; ++r) s_entries.emplace_back(r, r, 1.0);
+    for (int c = 0; c < W.outerSize(); ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator a(W, c); a; ++a)
+            for (Eigen::SparseMatrix<double>::InnerIterator b(W, c); b; ++b)
+                if (a.row() <= b.row()) s_entries.emplace_back(a.row(), b.row(), 1.0);
+    Eigen::SparseMatrix<double> S(rows, rows);
+    S.setFromTriplets(s_entries.begin(), s_entries.end());
+    S.makeCompressed();
+    return S;
+}
+
+}  // namespace
+
 void SparseGram::analyze(System& system) {
     const int bodies = system.body_count(), nvb = velocities_per_body(system.dimension());
     std::vector<std::vector<int>> rows_of_body(bodies);
@@ -131,16 +150,7 @@ void SparseGram::analyze(int rows, int cols, const std::vector<std::vector<int>>
     W_.setFromTriplets(w_entries.begin(), w_entries.end());
     W_.makeCompressed();
 
-    // S's upper pattern: every pair of rows that share a column, and the diagonal
-    std::vector<Eigen::Triplet<double>> s_entries;
-    for (int r = 0; r < rows; ++r) s_entries.emplace_back(r, r, 1.0);
-    for (int c = 0; c < cols; ++c)
-        for (Eigen::SparseMatrix<double>::InnerIterator a(W_, c); a; ++a)
-            for (Eigen::SparseMatrix<double>::InnerIterator b(W_, c); b; ++b)
-                if (a.row() <= b.row()) s_entries.emplace_back(a.row(), b.row(), 1.0);
-    Eigen::SparseMatrix<double> S(rows, rows);
-    S.setFromTriplets(s_entries.begin(), s_entries.end());
-    S.makeCompressed();
+    Eigen::SparseMatrix<double> S = upper_gram_pattern(W_);
     auto slot_of = [&](int i, int j) {  // S(i, j), i <= j, in S's value array
         const int* begin = S.innerIndexPtr() + S.outerIndexPtr()[j];
         const int* end = S.innerIndexPtr() + S.outerIndexPtr()[j + 1];

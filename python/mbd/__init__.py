@@ -35,6 +35,17 @@ def plugins():
     return [PluginType(**t) for t in _mbd.plugin_types()]
 
 
+Integrator = collections.namedtuple("Integrator", "name order adaptive locates_events needs_index3 stiff summary")
+Integrator.__doc__ = ("An integrator as the engine describes it: its order, whether it chooses its own steps (tol) "
+                      "or takes fixed ones (step), locates events, needs the index-3 form (the augmented "
+                      "formulation), is implicit (stiff problems).")
+
+
+def integrators():
+    """Every integrator Model.simulate accepts, as ``mbd simulate --help`` lists them."""
+    return [Integrator(**d) for d in _mbd.integrators()]
+
+
 def plugin_path():
     """The plugin folders searched, in order (earlier folders win)."""
     return _mbd.plugin_path()
@@ -60,7 +71,7 @@ def plugin_problems():
     return _mbd.plugin_problems()
 
 
-__all__ = ["load", "Model", "plugins", "plugin_path", "default_plugin_path", "set_plugin_path", "plugin_problems",
+__all__ = ["load", "Model", "plugins", "integrators", "Integrator", "plugin_path", "default_plugin_path", "set_plugin_path", "plugin_problems",
            "PluginType", "Table", "SimulationResult", "KinematicsResult", "ModesResult", "Mode", "InverseResult",
            "StaticsResult", "CheckReport", "RunStats",
            "Error", "InputError", "PlacedError", "SceneError", "PluginError", "OutputError", "KinematicsError",

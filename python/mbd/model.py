@@ -113,9 +113,11 @@ class Model:
         """Forward dynamics from the scene's initial state (or q0, v0, assembled and made
         consistent) to t_end, as ``mbd simulate``: the formulation (default: the scene's, else
         the automatic choice: embedding for a tree, augmented otherwise), the integrator
-        (default: the automatic choice, dop853, or cvode for a stiff scene; dopri5, dop853, cvode:
-        tol, default: the automatic choice, 1e-6 or tighter as the scene's stiction velocities
-        need, with a warning for a given tol too coarse for one; rk4, euler, generalized_alpha: step), rows every output_step (default: the step, else t_end / 1000).
+        (default: the automatic choice, dop853, or cvode for a stiff scene; mbd.integrators()
+        lists them all: an adaptive one takes tol, default: the automatic choice, 1e-6 or tighter
+        as the scene's stiction velocities need, with a warning for a given tol too coarse for
+        one; a fixed-step one takes step), rows every output_step (default: the step, else
+        t_end / 1000).
         Returns a SimulationResult; raises DynamicsError (time, joints) when the run fails.
         The engine's messages (what ``mbd simulate`` prints on stderr: the embedding path
         taken, redundant constraints left out, ...) go to the logger "mbd" at level INFO and

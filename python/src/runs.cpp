@@ -4,6 +4,7 @@
 
 #include <mbd/app/statics_json.hpp>
 #include <mbd/csv.hpp>
+#include <mbd/formulation_setup.hpp>
 #include <mbd/integrator.hpp>
 #include <mbd/linear_algebra.hpp>
 #include <mbd/output_file.hpp>
@@ -75,10 +76,8 @@ SimulationSettings settings_of(const SimulateArguments& a, const Model& model, s
     s.reactions = a.reactions;
     s.diagnostics = a.diagnostics;
     if (a.stabilization) {
-        require_one_of("stabilization", *a.stabilization, {"projection", "baumgarte", "none"});
-        s.stabilization = *a.stabilization == "projection" ? Stabilization::Projection
-                          : *a.stabilization == "baumgarte" ? Stabilization::Baumgarte
-                                                             : Stabilization::None;
+        require_one_of("stabilization", *a.stabilization, stabilization_names());
+        s.stabilization = parse_stabilization(*a.stabilization);
     }
     if (a.linear_algebra) {
         try {
@@ -264,6 +263,14 @@ void bind_runs(py::module_& m) {
         .def_readwrite("linear_algebra", &SimulateArguments::linear_algebra)
         .def_readwrite("q0", &SimulateArguments::q0)
         .def_readwrite("v0", &SimulateArguments::v0);
+    m.def("integrators", [] {
+        py::list rows;
+        for (const IntegratorDescription& d : integrator_descriptions())
+            rows.append(py::dict(py::arg("name") = d.name, py::arg("order") = d.order, py::arg("adaptive") = d.adaptive,
+                                 py::arg("locates_events") = d.locates_events, py::arg("needs_index3") = d.needs_index3,
+                                 py::arg("stiff") = d.stiff, py::arg("summary") = d.summary));
+        return rows;
+    }, "Every integrator as integrator.hpp's table describes it.");
     m.def("simulate", &simulate_model, py::arg("model"), py::arg("arguments"), py::arg("keep") = true);
     m.def("statics", &statics_model, py::arg("model"), py::arg("time"), py::arg("objective"), py::arg("hessian"),
           py::arg("tolerance"), py::arg("max_iterations"), py::arg("solver"), py::arg("verbose"));

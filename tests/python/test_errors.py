@@ -115,7 +115,7 @@ def test_a_massless_body_is_a_dynamics_error_at_t_zero():
 @pytest.mark.parametrize("keywords, where, text", [
     (dict(integrator="rk4"), "step", "give their size with step (e.g. step=1e-3)"),
     (dict(integrator="rk4", step=1e-3, tol=1e-6), "tol", "rk4 takes fixed steps: set them with step"),
-    (dict(step=1e-3), "step", "the automatic integrator (dopri5 or cvode) chooses its own steps: set its accuracy with tol"),
+    (dict(step=1e-3), "step", "the automatic integrator (dop853 or cvode) chooses its own steps: set its accuracy with tol"),
     (dict(integrator="dopri5", step=1e-3), "step", "dopri5 chooses its own steps: set its accuracy with tol"),
     (dict(tol=0.0), "tol", "expected a number from 1e-14 to 1"),
     (dict(integrator="rk5"), "integrator", "unknown integrator 'rk5'"),
@@ -129,6 +129,20 @@ def test_options_that_do_not_apply_are_refused_by_name(keywords, where, text):
         mbd.load(SLIDER_CRANK).simulate(0.1, **keywords)
     assert error.value.where == where and text in str(error.value)
     assert not isinstance(error.value, mbd.SceneError)
+
+
+def test_every_integrator_of_the_table_takes_the_option_its_description_says():
+    # mbd.integrators() reads the engine's table: a fixed-step one is refused without a step,
+    # an adaptive one with a step (the message lists the fixed-step ones from the same table)
+    described = mbd.integrators()
+    assert {"euler", "rk4", "dopri5", "dop853", "generalized_alpha", "cvode"} <= {d.name for d in described}
+    fixed = [d.name for d in described if not d.adaptive]
+    for d in described:
+        with pytest.raises(mbd.InputError) as error:
+            mbd.load(SLIDER_CRANK).simulate(0.1, integrator=d.name, **({} if not d.adaptive else dict(step=1e-3)))
+        assert error.value.where == "step", d.name
+        if d.adaptive:
+            assert all(name in str(error.value) for name in fixed), str(error.value)
 
 
 def test_an_unknown_formulation_is_a_plugin_error():

@@ -11,8 +11,15 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace mbd {
+
+// The constraint stabilizations by name, in the order they are listed to the user:
+// "projection", "baumgarte", "none". parse_stabilization throws InputError (no key: the
+// caller names its option) for another name, listing them.
+std::vector<std::string> stabilization_names();
+Stabilization parse_stabilization(const std::string& name);
 
 // The shared keys of a `formulation:` node (a name, or a map with `type`), each checked at
 // its file:line; absent keys keep their defaults. Throws InputError.

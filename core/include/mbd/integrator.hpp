@@ -106,6 +106,32 @@ struct StepOutputs {
     Eigen::VectorXd stopped;  // the state at the output whose callback returned false
 };
 
+// What an integrator is, described once (core/src/integrators/table.cpp) and read by the
+// command line's help and checks, Python, the messages and the automatic choice.
+struct IntegratorDescription {
+    enum class Automatic { Never, NotStiff, Stiff };  // when the automatic choice takes it
+    const char* name;
+    int order;            // order of accuracy; for a variable-order method its highest (cvode's BDF: 5)
+    bool adaptive;        // chooses its own steps for a tolerance; otherwise fixed steps of a given size
+    bool locates_events;  // locates the problem's events (OdeProblem::event_count) and ends a step on each
+    // Integrates the index-3 form (positions, velocities and multipliers together), which
+    // only formulations with supports_index3() have; checked before the formulation binds.
+    bool needs_index3;
+    bool stiff;           // implicit: its steps are not bounded by the problem's fastest damping
+    Automatic automatic;
+    const char* summary;  // one line for help and docs
+};
+
+// Every integrator, in the order they are listed to the user.
+const std::vector<IntegratorDescription>& integrator_descriptions();
+// The description of `name`; throws InputError listing the known names for an unknown one.
+const IntegratorDescription& describe_integrator(const std::string& name);
+// The names of the integrators that `which` selects, as a list for messages: "euler, rk4 or
+// generalized_alpha" (`last` joins the last two; ", " for a plain list).
+std::string integrator_list(bool (*which)(const IntegratorDescription&), const std::string& last = " or ");
+// The integrator the automatic choice takes for a stiff or a not stiff scene.
+const IntegratorDescription& automatic_integrator(bool stiff);
+
 // An integrator is resumable (docs/integrators.md "Stepping"): begin() starts a run at
 // (t0, y0), each step() takes one step and keeps everything the next needs (step size,
 // FSAL derivative, CVODE's history, the generalized-alpha accelerations), so a run cut
@@ -113,13 +139,12 @@ struct StepOutputs {
 class Integrator {
 public:
     virtual ~Integrator() = default;
-    virtual std::string name() const = 0;
-    virtual bool adaptive() const = 0;
-    // Integrates the index-3 form (positions, velocities and multipliers together), which
-    // only formulations with supports_index3() have; checked before the formulation binds.
-    virtual bool needs_index3() const { return false; }
-    // Locates the problem's events (OdeProblem::event_count) and ends a step on each.
-    virtual bool locates_events() const { return false; }
+    // Its row of integrator_descriptions(), set by make_integrator.
+    const IntegratorDescription& description() const { return *description_; }
+    std::string name() const { return description_->name; }
+    bool adaptive() const { return description_->adaptive; }
+    bool needs_index3() const { return description_->needs_index3; }
+    bool locates_events() const { return description_->locates_events; }
 
     // Starts a run of `problem` from (t0, y0), discarding any earlier one; t_end is the time
     // the run is expected to reach (it sets the largest step of dopri5, dop853 and cvode and
@@ -147,9 +172,13 @@ public:
     // the time and the cause.
     void integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, const std::vector<double>& output_times,
                    const OutputCallback& output, IntegratorStats& stats);
+
+private:
+    friend std::unique_ptr<Integrator> make_integrator(const std::string&, const IntegratorSettings&);
+    const IntegratorDescription* description_ = nullptr;
 };
 
-// Known names: euler, rk4, dopri5, dop853, generalized_alpha, cvode. Throws InputError listing them.
+// The integrator of that name (integrator_descriptions()). Throws InputError listing the known names.
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const IntegratorSettings& settings);
 std::vector<std::string> integrator_names();
 

@@ -1,4 +1,4 @@
-// Shared pieces of the integrators (core/src/integrators/): factories, output
+// Shared pieces of the integrators (core/src/integrators/): output
 // bookkeeping, and the checks every integrator applies to its state.
 #pragma once
 
@@ -17,13 +17,6 @@
 #include <vector>
 
 namespace mbd::integrators {
-
-std::unique_ptr<Integrator> make_euler(const IntegratorSettings& settings);
-std::unique_ptr<Integrator> make_rk4(const IntegratorSettings& settings);
-std::unique_ptr<Integrator> make_dopri5(const IntegratorSettings& settings);
-std::unique_ptr<Integrator> make_dop853(const IntegratorSettings& settings);
-std::unique_ptr<Integrator> make_generalized_alpha(const IntegratorSettings& settings);
-std::unique_ptr<Integrator> make_cvode(const IntegratorSettings& settings);
 
 // Output times must not decrease and must not lie before t0.
 void check_output_times(const std::string& integrator, double t0, const std::vector<double>& output_times);
@@ -102,7 +95,6 @@ void check_step_count(const std::string& integrator, const IntegratorSettings& s
 class AdaptiveIntegrator : public Integrator {
 public:
     explicit AdaptiveIntegrator(const IntegratorSettings& settings) : settings_(settings) {}
-    bool adaptive() const final { return true; }
 
 protected:
     IntegratorSettings settings_;
@@ -114,7 +106,6 @@ protected:
 class FixedStepIntegrator : public Integrator {
 public:
     explicit FixedStepIntegrator(const IntegratorSettings& settings) : settings_(settings) {}
-    bool adaptive() const final { return false; }
     void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
                IntegratorStats& stats) final;
     bool step(double t_stop, StepOutputs* outputs) final;

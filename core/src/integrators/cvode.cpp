@@ -345,8 +345,6 @@ void CvodeRun::output_state(double t_out, Eigen::VectorXd& yout) {
 class Cvode final : public AdaptiveIntegrator {
 public:
     using AdaptiveIntegrator::AdaptiveIntegrator;
-    std::string name() const override { return "cvode"; }
-    bool locates_events() const override { return true; }
 
     void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
                IntegratorStats& stats) override {

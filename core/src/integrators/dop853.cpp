@@ -20,7 +20,7 @@ constexpr StepControl kControl{1.0 / 8.0, 0.0, 0.9, 0.333, 6.0, 8};
 
 class Dop853 final : public EmbeddedRungeKutta {
 public:
-    explicit Dop853(const IntegratorSettings& settings) : EmbeddedRungeKutta(settings, "dop853", kControl) {}
+    explicit Dop853(const IntegratorSettings& settings) : EmbeddedRungeKutta(settings, kControl) {}
 
 private:
     void prepare(int n) override {

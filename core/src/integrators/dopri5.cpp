@@ -34,7 +34,7 @@ constexpr StepControl kControl{0.2 - 0.04 * 0.75, 0.04, 0.9, 0.2, 10.0, 5};
 
 class Dopri5 final : public EmbeddedRungeKutta {
 public:
-    explicit Dopri5(const IntegratorSettings& settings) : EmbeddedRungeKutta(settings, "dopri5", kControl) {}
+    explicit Dopri5(const IntegratorSettings& settings) : EmbeddedRungeKutta(settings, kControl) {}
 
 private:
     void prepare(int n) override {

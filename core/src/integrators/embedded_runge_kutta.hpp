@@ -31,12 +31,9 @@ struct StepControl {
 
 class EmbeddedRungeKutta : public AdaptiveIntegrator {
 public:
-    // name: the integrator's name (dopri5, dop853); control: the step-control defaults of
-    // Hairer's code of the same name.
-    EmbeddedRungeKutta(const IntegratorSettings& settings, std::string name, const StepControl& control)
-        : AdaptiveIntegrator(settings), name_(std::move(name)), control_(control) {}
-    std::string name() const final { return name_; }
-    bool locates_events() const final { return true; }
+    // control: the step-control defaults of Hairer's code of the same name (dopri5, dop853).
+    EmbeddedRungeKutta(const IntegratorSettings& settings, const StepControl& control)
+        : AdaptiveIntegrator(settings), control_(control) {}
     bool stops_at_outputs() const final { return false; }
     void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
                IntegratorStats& stats) final;
@@ -80,7 +77,6 @@ private:
     // Takes the accepted step: y_ <- y1_, FSAL, blow-up guard, projection.
     void accept(double t_new);
 
-    std::string name_;
     StepControl control_;
     // the run between step() calls: the problem, the time and state, the next step's size and
     // the controller's memory (Hairer's facold, a rejection just before)

@@ -8,7 +8,6 @@ namespace {
 class Euler final : public FixedStepIntegrator {
 public:
     using FixedStepIntegrator::FixedStepIntegrator;
-    std::string name() const override { return "euler"; }
 
 private:
     void prepare(int n) override { f_.resize(n); }

@@ -1,44 +1,67 @@
-// make_integrator / integrator_names: the integrators by name.
-#include "common.hpp"
+// make_integrator, the integrators' descriptions and the checks of their options, all read
+// from the table (table.cpp).
+#include "table.hpp"
 
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 namespace mbd {
 
-namespace {
-
-struct Entry {
-    const char* name;
-    std::unique_ptr<Integrator> (*make)(const IntegratorSettings&);
-};
-
-const Entry kIntegrators[] = {
-    {"euler", &integrators::make_euler},
-    {"rk4", &integrators::make_rk4},
-    {"dopri5", &integrators::make_dopri5},
-    {"dop853", &integrators::make_dop853},
-    {"generalized_alpha", &integrators::make_generalized_alpha},
-    {"cvode", &integrators::make_cvode},
-};
-
-}  // namespace
-
 std::vector<std::string> integrator_names() {
     std::vector<std::string> names;
-    for (const Entry& e : kIntegrators) names.emplace_back(e.name);
+    for (const integrators::IntegratorRow& row : integrators::integrator_table()) names.emplace_back(row.description.name);
     return names;
 }
 
+const std::vector<IntegratorDescription>& integrator_descriptions() {
+    static const std::vector<IntegratorDescription> descriptions = [] {
+        std::vector<IntegratorDescription> all;
+        for (const integrators::IntegratorRow& row : integrators::integrator_table()) all.push_back(row.description);
+        return all;
+    }();
+    return descriptions;
+}
+
+namespace {
+
+const integrators::IntegratorRow& row_of(const std::string& name) {
+    for (const integrators::IntegratorRow& row : integrators::integrator_table())
+        if (name == row.description.name) return row;
+    throw InputError("integrator", "unknown integrator '" + name + "' (known: " +
+                                       integrator_list([](const IntegratorDescription&) { return true; }, ", ") + ")");
+}
+
+}  // namespace
+
+const IntegratorDescription& describe_integrator(const std::string& name) { return row_of(name).description; }
+
+std::string integrator_list(bool (*which)(const IntegratorDescription&), const std::string& last) {
+    std::vector<std::string> names;
+    for (const IntegratorDescription& d : integrator_descriptions())
+        if (which(d)) names.emplace_back(d.name);
+    std::string list;
+    for (size_t i = 0; i < names.size(); ++i)
+        list += (i == 0 ? "" : i + 1 == names.size() ? last : ", ") + names[i];
+    return list;
+}
+
+const IntegratorDescription& automatic_integrator(bool stiff) {
+    const auto wanted = stiff ? IntegratorDescription::Automatic::Stiff : IntegratorDescription::Automatic::NotStiff;
+    for (const IntegratorDescription& d : integrator_descriptions())
+        if (d.automatic == wanted) return d;
+    throw std::logic_error("no integrator is the automatic choice for a scene that is " +
+                           std::string(stiff ? "stiff" : "not stiff"));
+}
+
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const IntegratorSettings& settings) {
-    for (const Entry& e : kIntegrators)
-        if (name == e.name) return e.make(settings);
-    std::string known;
-    for (const Entry& e : kIntegrators) known += std::string(known.empty() ? "" : ", ") + e.name;
-    throw InputError("integrator", "unknown integrator '" + name + "' (known: " + known + ")");
+    const integrators::IntegratorRow& row = row_of(name);
+    std::unique_ptr<Integrator> integrator = row.make(settings);
+    integrator->description_ = &row.description;
+    return integrator;
 }
 
 std::string command_line_spelling(const std::string& option, const std::string& value) {
@@ -49,23 +72,30 @@ void check_integrator_options(const std::string& integrator, bool tolerance_give
                               double step, double t_end, const OptionSpelling& spell) {
     // no integrator named: the automatic choice (method_choice.hpp), always an adaptive one
     const bool automatic = integrator.empty();
-    const std::string who = automatic ? "the automatic integrator (dopri5 or cvode)" : integrator;
-    const bool adaptive = automatic || make_integrator(integrator, IntegratorSettings{})->adaptive();
+    const auto is_adaptive = [](const IntegratorDescription& d) { return d.adaptive; };
+    const auto is_fixed_step = [](const IntegratorDescription& d) { return !d.adaptive; };
+    const auto is_automatic = [](const IntegratorDescription& d) {
+        return d.automatic != IntegratorDescription::Automatic::Never;
+    };
+    const std::string who = automatic ? "the automatic integrator (" + integrator_list(is_automatic) + ")" : integrator;
+    const bool adaptive = automatic || describe_integrator(integrator).adaptive;
     if (adaptive && step_given)
-        throw InputError(spell("step", ""), "applies to the fixed-step integrators (rk4, euler, generalized_alpha); " +
-                                                who + " chooses its own steps: set its accuracy with " +
+        throw InputError(spell("step", ""), "applies to the fixed-step integrators (" + integrator_list(is_fixed_step) +
+                                                "); " + who + " chooses its own steps: set its accuracy with " +
                                                 spell("tol", "") + " and the time between rows with " +
                                                 spell("output-step", "") +
                                                 (automatic ? ", or name a fixed-step one with " + spell("integrator", "rk4")
                                                            : std::string()));
     if (!adaptive && tolerance_given)
-        throw InputError(spell("tol", ""), "applies to the adaptive integrators (dopri5, dop853, cvode); " + integrator +
-                                               " takes fixed steps: set them with " + spell("step", ""));
+        throw InputError(spell("tol", ""), "applies to the adaptive integrators (" + integrator_list(is_adaptive) +
+                                               "); " + integrator + " takes fixed steps: set them with " +
+                                               spell("step", ""));
     if (!adaptive && !step_given)
         throw InputError(spell("step", ""), integrator + " takes fixed steps: give their size with " +
                                                 spell("step", "") + " (e.g. " + spell("step", "1e-3") +
                                                 "), or choose an adaptive integrator (" +
-                                                spell("integrator", "dopri5") + ", dop853 or cvode)");
+                                                spell("integrator", automatic_integrator(false).name) + "; adaptive: " +
+                                                integrator_list(is_adaptive) + ")");
     if (tolerance_given && !(tolerance >= kSmallestTolerance && tolerance <= 1.0))
         throw InputError(spell("tol", ""), "expected a number from 1e-14 to 1 (below 1e-14 is beneath "
                                            "double-precision round-off), got " + format_number(tolerance));

@@ -63,9 +63,6 @@ constexpr int kDenseLimit = 400;  // iteration matrices up to this size are fact
 class GeneralizedAlpha final : public Integrator {
 public:
     explicit GeneralizedAlpha(const IntegratorSettings& settings) : settings_(settings) {}
-    std::string name() const override { return "generalized_alpha"; }
-    bool adaptive() const override { return false; }
-    bool needs_index3() const override { return true; }
 
     void begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double t_end,
                IntegratorStats& stats) override;

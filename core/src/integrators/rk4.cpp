@@ -9,7 +9,6 @@ namespace {
 class Rk4 final : public FixedStepIntegrator {
 public:
     using FixedStepIntegrator::FixedStepIntegrator;
-    std::string name() const override { return "rk4"; }
 
 private:
     void prepare(int n) override {

@@ -78,7 +78,7 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
 // Does the outcome satisfy the declaration?
 bool outcome_matches(const Expectation& expect, const CellOutcome& outcome);
 
-// Integrators of the matrix: dopri5 (explicit), generalized_alpha (implicit, index 3), cvode.
+// Integrators of the matrix: every one of integrator_descriptions() but the first-order euler.
 std::vector<std::string> stability_integrators();
 
 struct StabilityCase {
