@@ -92,10 +92,7 @@ double frame_difference(const Model& model, const mjModel* m, const std::vector<
                 origin = Vec3(q[s][3 * b], q[s][3 * b + 1], 0.0);
                 axes = Eigen::AngleAxisd(q[s][3 * b + 2], Vec3::UnitZ()).toRotationMatrix();
             }
-            const Mat3 mj_axes = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&xmat[s][9 * mb]);
-            worst = std::max(worst, (origin - Vec3(&xpos[s][3 * mb])).cwiseAbs().maxCoeff());
-            const Vec4 e = euler_parameters_from_rotation(mj_axes.transpose() * axes);
-            worst = std::max(worst, 2.0 * std::asin(std::min(1.0, e.tail<3>().norm())));
+            worst = std::max(worst, mbd::test::frame_gap(origin, axes, xpos[s], xmat[s], mb));
         }
     }
     return worst;

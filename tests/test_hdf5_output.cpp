@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "support/child_process.hpp"
 #include "support/test_support.hpp"
 
 namespace {
@@ -162,24 +163,9 @@ TEST(Hdf5Output, ReactionsAndDiagnosticsOverManyBandsAreTheCsvs) {
 }
 
 // `mbd ARGUMENTS` started in a child process (its output to /dev/null).
-pid_t start_mbd(const std::string& arguments) {
-    const std::string command = "exec " + std::string(MBD_EXECUTABLE) + " " + arguments + " > /dev/null 2>&1";
-    const pid_t child = fork();
-    if (child == 0) {
-        execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-        _exit(127);
-    }
-    return child;
-}
-
-// The peak resident memory (kB) of `mbd ARGUMENTS`, from wait4's ru_maxrss of the child.
+// The peak resident memory (kB) of `mbd ARGUMENTS`, run to its end.
 long mbd_peak_kb(const std::string& arguments) {
-    const pid_t child = start_mbd(arguments);
-    int status = 0;
-    rusage usage{};
-    EXPECT_EQ(wait4(child, &status, 0, &usage), child);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << arguments;
-    return usage.ru_maxrss;
+    return mbd::test::wait_peak_kb(mbd::test::spawn_quiet(std::string(MBD_EXECUTABLE) + " " + arguments), 0, arguments);
 }
 
 // Rows stream to the file in bands: 400,001 rows of 13 values (42 MB of doubles) take no more
@@ -202,11 +188,9 @@ TEST(Hdf5Output, ASecondRunIsRefusedAndAStoppedRunLeavesNoFile) {
     const fs::path dir = scratch("lock");
     const std::string run = "simulate " + mbd::test::scene_path("dynamics/pendulum-a01.yaml").string() +
                             " --t-end 400 --output-step 1e-4 -q --output " + (dir / "x.h5").string();
-    const pid_t first = start_mbd(run);
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (!fs::exists(dir / "x.h5.partial") && std::chrono::steady_clock::now() < deadline)
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    EXPECT_TRUE(fs::exists(dir / "x.h5.partial")) << "the first run did not start writing";
+    const pid_t first = mbd::test::spawn_quiet(std::string(MBD_EXECUTABLE) + " " + run);
+    EXPECT_TRUE(mbd::test::wait_until([&] { return fs::exists(dir / "x.h5.partial"); }, first))
+        << "the first run did not start writing";
     const auto second = run_mbd(run);
     EXPECT_EQ(second.exit_code, 2) << second.err;
     EXPECT_NE(second.err.find("is being written by another run"), std::string::npos) << second.err;

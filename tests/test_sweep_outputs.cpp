@@ -27,6 +27,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "support/child_process.hpp"
 #include "support/test_support.hpp"
 
 // Under AddressSanitizer (the CI's second run) freed blocks wait in a quarantine of 256 MB by
@@ -41,6 +42,8 @@ using mbd::test::write_text;
 using mbd::test::read_text;
 using mbd::test::run_mbd;
 using mbd::test::scratch;
+using mbd::test::spawn_quiet;
+using mbd::test::wait_until;
 
 std::string pendulum_scene() { return mbd::test::scene_path("dynamics/pendulum-a01.yaml").string(); }
 
@@ -70,28 +73,6 @@ fs::path make_null_device(const fs::path& dir) {
 }
 
 // Starts `command` (a shell command line, exec'd so that the pid is the program's).
-pid_t spawn(const std::string& command) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-        execl("/bin/sh", "sh", "-c", ("exec " + command + " > /dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
-        _exit(127);
-    }
-    return pid;
-}
-
-// Waits for `done` up to a generous wall time (a loaded or sanitizer build); false if it never held.
-template <class Condition>
-bool wait_until(Condition done, pid_t child) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
-    while (std::chrono::steady_clock::now() < deadline) {
-        if (done()) return true;
-        int status = 0;
-        if (waitpid(child, &status, WNOHANG) == child) return false;  // it ended first
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
-}
-
 // ---- devices
 
 TEST(SweepOutputs, DeviceNamedAsOutputIsNeverReplaced) {
@@ -130,7 +111,7 @@ TEST(SweepOutputs, SecondSweepOnTheSameOutputRefusesAtStart) {
     const fs::path first = write_text(dir / "first.yaml", pendulum_study(pendulum_scene(), 100000, 2.0));
     const fs::path second = write_text(dir / "second.yaml", pendulum_study(pendulum_scene(), 3, 0.1));
     const fs::path output = dir / "r.h5", lock = dir / "r.h5.lock";
-    const pid_t running = spawn(std::string(MBD_EXECUTABLE) + " sweep " + first.string() + " -q -o " + output.string());
+    const pid_t running = spawn_quiet(std::string(MBD_EXECUTABLE) + " sweep " + first.string() + " -q -o " + output.string());
     ASSERT_GT(running, 0);
     ASSERT_TRUE(wait_until([&] { return fs::exists(lock) && !read_text(lock).empty(); }, running))
         << "the first sweep never took its lock";
@@ -196,7 +177,7 @@ TEST(SweepOutputs, ResumeRefusesWhenTheSceneOrItsBaseChanged) {
 // its journal holds a case when `interrupt`.
 long sweep_peak_kb(const fs::path& study, const fs::path& output, bool interrupt) {
     // the sanitizer's quarantine kept small in mbd too (see __asan_default_options above)
-    const pid_t child = spawn("env ASAN_OPTIONS=\"${ASAN_OPTIONS}:quarantine_size_mb=1\" " + std::string(MBD_EXECUTABLE) +
+    const pid_t child = spawn_quiet("env ASAN_OPTIONS=\"${ASAN_OPTIONS}:quarantine_size_mb=1\" " + std::string(MBD_EXECUTABLE) +
                               " sweep " + study.string() + " -q --flush-seconds 0.01 -o " + output.string());
     if (interrupt) {
         const fs::path journal = output.string() + ".partial";
@@ -204,11 +185,7 @@ long sweep_peak_kb(const fs::path& study, const fs::path& output, bool interrupt
             << "the sweep recorded no case";
         kill(child, SIGINT);
     }
-    int status = 0;
-    rusage usage{};
-    EXPECT_EQ(wait4(child, &status, 0, &usage), child);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == (interrupt ? 130 : 0)) << "status " << status;
-    return usage.ru_maxrss;
+    return mbd::test::wait_peak_kb(child, interrupt ? 130 : 0, study.string());
 }
 
 // A study of 1e8 planned cases (the most a study accepts) starts and runs in the memory of one

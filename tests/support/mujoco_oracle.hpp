@@ -80,6 +80,16 @@ inline std::vector<Eigen::VectorXd> mbd_run(const Model& model, double t_end, do
     return out;
 }
 
+// How far one body frame of mbd (origin, axes) lies from MuJoCo's body `mb` in one sample
+// (xpos, xmat rows): the largest coordinate difference of the origins, or the angle of the
+// rotation between the two axes, whichever is larger.
+inline double frame_gap(const Vec3& origin, const Mat3& axes, const std::vector<double>& xpos,
+                        const std::vector<double>& xmat, int mb) {
+    const Mat3 mj_axes = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&xmat[9 * mb]);
+    const Vec4 e = euler_parameters_from_rotation(mj_axes.transpose() * axes);
+    return std::max((origin - Vec3(&xpos[3 * mb])).cwiseAbs().maxCoeff(), 2.0 * std::asin(std::min(1.0, e.tail<3>().norm())));
+}
+
 // World frames of the bodies MuJoCo and the imported scene share by name (a merged or frame body
 // is not compared), every sample: the largest difference of a body frame's origin (MuJoCo's
 // xpos; mbd's mass centre plus the offset it had at t = 0, turned with the body) and of its
@@ -95,15 +105,11 @@ inline double body_frame_difference(const mjModel* m, const import::ImportedScen
         const int mb = mj_name2id(m, mjOBJ_BODY, body.name.c_str());
         if (mb < 0 || body.frame) continue;
         const int b = model.body_index(body.name);
-        auto mj_origin = [&](size_t s) { return Vec3(xpos[s][3 * mb], xpos[s][3 * mb + 1], xpos[s][3 * mb + 2]); };
-        auto mj_axes = [&](size_t s) { return Mat3(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&xmat[s][9 * mb])); };
         const Mat3 A0 = rotation_from_euler_parameters(q[0].segment<4>(7 * b + 3));
-        const Vec3 offset = A0.transpose() * (mj_origin(0) - q[0].segment<3>(7 * b));
+        const Vec3 offset = A0.transpose() * (Vec3(&xpos[0][3 * mb]) - q[0].segment<3>(7 * b));
         for (size_t s = 0; s < q.size() && s < xpos.size(); ++s) {
             const Mat3 A = rotation_from_euler_parameters(q[s].segment<4>(7 * b + 3).normalized());
-            worst = std::max(worst, (q[s].segment<3>(7 * b) + A * offset - mj_origin(s)).cwiseAbs().maxCoeff());
-            const Vec4 e = euler_parameters_from_rotation(mj_axes(s).transpose() * A);
-            worst = std::max(worst, 2.0 * std::asin(std::min(1.0, e.tail<3>().norm())));
+            worst = std::max(worst, frame_gap(q[s].segment<3>(7 * b) + A * offset, A, xpos[s], xmat[s], mb));
         }
         ++compared;
     }
