@@ -54,7 +54,9 @@ class Simulator:
         self._stepping(self._sim.step)
 
     def advance_to(self, t):
-        """Continue to time t (not before time): the integrator keeps its step size and history."""
+        """Continue to time t (not before time): the integrator keeps its step size and history;
+        dopri5 and dop853 read t from the continuous extension of the step that passes it when
+        nothing changed since the last call (docs/embedding.md)."""
         self._stepping(lambda: self._sim.advance_to(float(t)))
 
     def reset(self, q=None, v=None, *, t=None):
@@ -85,6 +87,17 @@ class Simulator:
         """reset() with one body's coordinates and velocities changed (then assembled and made
         consistent as reset() does)."""
         self._stepping(lambda: self._sim.set_body_state(str(body), _vector(q), _vector(v)))
+
+    def joint_state(self, joint):
+        """A joint's coordinate and rate (a joint with one: a revolute's angle, a prismatic's
+        displacement, as a driver of it prescribes)."""
+        return self._sim.joint_state(str(joint))
+
+    def set_joint_state(self, joint, coordinate, rate=0.0):
+        """Change the state as little as can be (the minimum-norm change of the positions, then
+        of the velocities) so that the joint has this coordinate and rate and every constraint
+        holds, then reset() from it. KinematicsError for a coordinate the mechanism cannot reach."""
+        self._stepping(lambda: self._sim.set_joint_state(str(joint), float(coordinate), float(rate)))
 
     # --- inputs
     input_names = property(lambda self: list(self._sim.input_names()),

@@ -68,6 +68,13 @@ public:
         stepping([&] { simulator_->set_body_state(body, q, v); });
     }
 
+    py::tuple joint_state(const std::string& joint) const {
+        return py::make_tuple(simulator_->joint_coordinate(joint), simulator_->joint_rate(joint));
+    }
+    void set_joint_state(const std::string& joint, double coordinate, double rate) {
+        stepping([&] { simulator_->set_joint_state(joint, coordinate, rate); });
+    }
+
     // --- inputs
     void set_input(const std::string& name, double value) { simulator_->set_input(name, value); }
     double input(const std::string& name) const { return simulator_->input(name); }
@@ -226,6 +233,8 @@ void bind_simulator(py::module_& m) {
         .def("v", [](py::object self) { return self.cast<PySimulator&>().v(self); })
         .def("body_state", &PySimulator::body_state, py::arg("body"))
         .def("set_body_state", &PySimulator::set_body_state, py::arg("body"), py::arg("q"), py::arg("v"))
+        .def("joint_state", &PySimulator::joint_state, py::arg("joint"))
+        .def("set_joint_state", &PySimulator::set_joint_state, py::arg("joint"), py::arg("coordinate"), py::arg("rate"))
         .def("set_input", &PySimulator::set_input, py::arg("name"), py::arg("value"))
         .def("input", &PySimulator::input, py::arg("name"))
         .def("input_names", &PySimulator::input_names)

@@ -192,3 +192,19 @@ def test_a_written_state_is_assembled():
     q[1] = 0.3  # off the rail
     sim.set_body_state("cart", q, v)
     assert sim.body_state("cart")[0][1] == pytest.approx(0.0, abs=1e-8)
+
+
+def test_a_joint_state_is_read_and_written_onto_the_constraints():
+    sim = mbd.Simulator(mbd.Model.from_dict(CART_POLE), integrator="dopri5", tol=1e-10)
+    sim.set_input("force", 2.0)
+    sim.advance_to(0.3)
+    x, xdot = sim.joint_state("rail")
+    assert x == pytest.approx(sim.q[0], abs=1e-12) and xdot == pytest.approx(sim.v[0], abs=1e-12)
+    pole = math.pi / 2 - 0.2  # the pin's angle is the pole's body angle less the cart's, which stays 0
+    sim.set_joint_state("pin", pole, 0.7)
+    angle, rate = sim.joint_state("pin")
+    assert angle == pytest.approx(pole, abs=1e-10) and rate == pytest.approx(0.7, abs=1e-10)
+    assert sim.q[5] == pytest.approx(pole, abs=1e-10)
+    assert sim.q[3] - sim.q[0] == pytest.approx(0.5 * math.cos(pole), abs=1e-10)
+    with pytest.raises(mbd.InputError, match="its joints are: rail, pin"):
+        sim.joint_state("pinn")
