@@ -94,6 +94,8 @@ struct Simulator::Impl {
     integrators::EmbeddedRungeKutta* dense = nullptr;
     bool lagging = false;
     Eigen::VectorXd y_reported;
+    std::vector<double> target = {0.0};  // advance_to's time, as the one output time of a step
+    const OutputCallback no_output;
     double expected_end = 0.0;  // the run's expected end (begin): interpolating steps end there, as simulate()'s do
 
     void begin(State start);
@@ -222,10 +224,9 @@ void Simulator::advance_to(double t) {
     const bool interpolating = s.dense && !s.rhs_changed;
     s.stepping([&] {
         Integrator& integrator = *s.run.integrator;
-        const std::vector<double> target{t};
-        const OutputCallback ignore;
+        s.target[0] = t;
         while (integrator.time() < t) {
-            StepOutputs outputs{target, 0, ignore, {}};  // computes the extension of the step that passes t
+            StepOutputs outputs{s.target, 0, s.no_output, {}};  // computes the extension of the step that passes t
             step_toward(integrator, *s.problem, interpolating ? std::max(t, s.expected_end) : t,
                         interpolating ? &outputs : nullptr);
             s.after_step();

@@ -60,9 +60,13 @@ bool EmbeddedRungeKutta::emit_inside_step(double h, double t_new, StepOutputs& o
             dense_from_ = t_;
             dense_h_ = h;
         }
+        if (!outputs.output) {  // only the extension wanted (interpolate): no output to make
+            ++outputs.next;
+            continue;
+        }
         dense_at((times[outputs.next] - t_) / h, yout_);
         project_or_throw(*problem_, times[outputs.next], yout_);
-        if (outputs.output && !outputs.output(times[outputs.next], yout_)) {
+        if (!outputs.output(times[outputs.next], yout_)) {
             outputs.stopped = yout_;
             return false;
         }
