@@ -103,3 +103,23 @@ def test_lqr_cart_pole_through_set_input_matches_the_closed_loop():
     oracle = oracle_angles(K, 500, compare)
     for k in sorted(compare):
         assert abs(angles[k] - oracle[k]) < 1e-6, f"t = {k * PERIOD}: {angles[k]} vs {oracle[k]}"
+
+
+def test_the_recorded_inputs_replayed_through_simulate_give_the_closed_loop():
+    """The forces set every 10 ms, replayed as a piecewise-constant time function through a whole
+    model.simulate: its steps end on the table's times (docs/integrators.md, "Breakpoints"), so
+    with rk4 it takes the stepped run's steps with its values, to 1e-10 rad at 0.5, 1, 2 and 5 s."""
+    K = lqr_gain()
+    sim = mbd.Simulator(cart_pole({"type": "input", "name": "force"}), integrator="rk4", step=1e-3, t_end=5.0)
+    forces, angles = [], {}
+    for k in range(500):
+        forces.append(-float(K @ cart_pole_state(sim.q, sim.v)))
+        sim.set_input("force", forces[-1])
+        sim.advance_to((k + 1) * PERIOD)
+        angles[k + 1] = cart_pole_state(sim.q, sim.v)[1]
+    table = [[k * PERIOD, f] for k, f in enumerate(forces)]
+    result = cart_pole({"type": "steps", "table": table}).simulate(5.0, integrator="rk4", step=1e-3, output_step=0.5)
+    for k in (50, 100, 200, 500):
+        row = int(round(k * PERIOD / 0.5))
+        replayed = cart_pole_state(result.q[row], result.v[row])[1]
+        assert abs(replayed - angles[k]) < 1e-10, f"t = {k * PERIOD}: {replayed} vs {angles[k]}"
