@@ -1,23 +1,34 @@
 // The stepping Simulator (docs/embedding.md) against a whole run, and the cost of a user
 // force callback (issue 38; docs/benchmarks.md, "Stepping"). On one scene (default the
 // 5-link chain) and one integrator, the median CPU time of:
+//   simulate  simulate(): the whole run as `mbd simulate` makes it, its rows at the default
+//             output step t_end / 1000 (computed, not written)
 //   whole   one advance_to(t_end)
 //   pieces  advance_to in `pieces` calls to t_end
 //   force   one advance_to(t_end) with a user force that returns zeros (the callback's cost)
-// and their ratios; the callback's overhead per call is (force - whole) / right-hand sides.
+// and their ratios; the callback's overhead per call is (force - whole) / right-hand sides, and
+// an advance_to call's (pieces - whole) / pieces. CPU time of the calling thread (the runs are
+// interleaved, round by round, so that a load on the machine falls on all three alike).
 //   bench_simulator [scene=scenes/bench/chain-5.yaml] [integrator=dopri5] [t_end=2] [pieces=1000]
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
+#include <mbd/simulation.hpp>
 #include <mbd/simulator.hpp>
 
 #include <algorithm>
-#include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
 namespace {
+
+double thread_seconds() {
+    timespec now{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+    return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
 
 struct Run {
     double seconds = 0.0;
@@ -31,16 +42,18 @@ Run timed(const mbd::Model& model, mbd::Registry& registry, const mbd::Simulatio
         const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.nv());
         sim.set_user_force([&zero](const mbd::State&) { return zero; });
     }
-    const auto start = std::chrono::steady_clock::now();
+    const double start = thread_seconds();
     for (int k = 1; k <= pieces; ++k) sim.advance_to(k == pieces ? settings.t_end : settings.t_end * k / pieces);
-    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
-    return {elapsed.count(), sim.stats().steps, sim.stats().rhs_evaluations};
+    return {thread_seconds() - start, sim.stats().steps, sim.stats().rhs_evaluations};
 }
 
-Run median(const mbd::Model& model, mbd::Registry& registry, const mbd::SimulationSettings& settings, int pieces,
-           bool user_force) {
-    std::vector<Run> runs;
-    for (int r = 0; r < 7; ++r) runs.push_back(timed(model, registry, settings, pieces, user_force));
+Run timed_simulate(const mbd::Model& model, mbd::Registry& registry, const mbd::SimulationSettings& settings) {
+    const double start = thread_seconds();
+    const mbd::SimulationResult result = mbd::simulate(model, registry, settings);
+    return {thread_seconds() - start, result.stats.steps, result.stats.rhs_evaluations};
+}
+
+Run median(std::vector<Run> runs) {
     std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.seconds < b.seconds; });
     return runs[runs.size() / 2];
 }
@@ -58,13 +71,22 @@ int main(int argc, char** argv) {
     settings.messages = mbd::MessageLog::silent();
     mbd::Registry registry;
     const mbd::Model model = mbd::load_scene(path, registry);
-    const Run whole = median(model, registry, settings, 1, false);
-    const Run cut = median(model, registry, settings, pieces, false);
-    const Run force = median(model, registry, settings, 1, true);
+    settings.progress = false;
+    std::vector<Run> simulates, wholes, cuts, forces;
+    for (int round = 0; round < 7; ++round) {
+        simulates.push_back(timed_simulate(model, registry, settings));
+        wholes.push_back(timed(model, registry, settings, 1, false));
+        cuts.push_back(timed(model, registry, settings, pieces, false));
+        forces.push_back(timed(model, registry, settings, 1, true));
+    }
+    const Run simulated = median(simulates), whole = median(wholes), cut = median(cuts), force = median(forces);
     std::printf("scene %s, %s, t_end %g\n", path.c_str(), settings.integrator.c_str(), settings.t_end);
+    std::printf("simulate()       %9.3f ms  %6ld steps %7ld rhs  (rows every t_end / 1000)\n", 1e3 * simulated.seconds,
+                simulated.steps, simulated.rhs);
     std::printf("whole run        %9.3f ms  %6ld steps %7ld rhs\n", 1e3 * whole.seconds, whole.steps, whole.rhs);
-    std::printf("%4d advance_to  %9.3f ms  %6ld steps %7ld rhs  ratio %.3f\n", pieces, 1e3 * cut.seconds, cut.steps,
-                cut.rhs, cut.seconds / whole.seconds);
+    std::printf("%4d advance_to  %9.3f ms  %6ld steps %7ld rhs  ratio %.3f (to simulate() %.3f)  overhead %.3f us per call\n",
+                pieces, 1e3 * cut.seconds, cut.steps, cut.rhs, cut.seconds / whole.seconds,
+                cut.seconds / simulated.seconds, 1e6 * (cut.seconds - whole.seconds) / pieces);
     std::printf("user force       %9.3f ms  %6ld steps %7ld rhs  ratio %.3f  overhead %.3f us per call, %.3f us per step\n",
                 1e3 * force.seconds, force.steps, force.rhs, force.seconds / whole.seconds,
                 1e6 * (force.seconds - whole.seconds) / static_cast<double>(force.rhs),

@@ -43,6 +43,8 @@ public:
     bool state_redefined() override { return motion_.state_redefined(); }
     bool may_redefine_state() const override { return motion_.may_redefine_state(); }
     int event_count() const override { return motion_.event_count(); }
+    double next_breakpoint(double t) const override { return motion_.next_breakpoint(t); }
+    void set_step_end(double t) override { motion_.set_step_end(t); }
     void event_values(double t, const Eigen::VectorXd& y, Eigen::VectorXd& g) override {
         head_ = y.head(n_);
         motion_.event_values(t, head_, g);

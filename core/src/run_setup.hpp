@@ -43,6 +43,11 @@ struct SceneInput {
     std::string where;  // file:line
 };
 std::vector<SceneInput> scene_inputs(const Model& model);
+// The breakpoints of the scene's piecewise-constant time functions ({type: steps, table:
+// [[t0, f0], ...]}: every t_k after the first), increasing, each once: the run's steps end on
+// them (step_toward, integrator.hpp). A table time the document does not hold as a number
+// (none today: tables are numbers) gives none.
+std::vector<double> scene_breakpoints(const Model& model);
 // A whole run (simulate) has no inputs: InputError at the first input of the scene.
 void refuse_scene_inputs(const Model& model);
 

@@ -383,6 +383,7 @@ SimulationResult simulate(const Model& model, Registry& registry, const Simulati
 
     ContactEvents events(system);
     ContactProblem problem(formulation, system, events, result.events);
+    problem.set_breakpoints(scene_breakpoints(model));  // steps end where a `steps` function jumps
     start_events(events, integrator, state);
     FrictionDissipationProblem dissipation(problem, formulation, system);
     OdeProblem& ode = layout.integrate_dissipation ? static_cast<OdeProblem&>(dissipation) : problem;

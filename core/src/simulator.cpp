@@ -4,6 +4,8 @@
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/text.hpp>
 
+#include "integrators/embedded_runge_kutta.hpp"
+#include "joint_state.hpp"
 #include "run_setup.hpp"
 
 #include <algorithm>
@@ -86,6 +88,15 @@ struct Simulator::Impl {
     std::string failure;    // why the last step failed; empty: none
     bool rhs_changed = false;  // an input or the user force changed since the last step
     size_t reported = 0;    // events told to event_callback
+    // An integrator with a continuous extension (dopri5, dop853) in a scene without events:
+    // advance_to reports times inside its steps from it instead of cutting a step there, and
+    // `state` may lag the integrator (lagging: state.t < its time, y_reported the y at state.t).
+    integrators::EmbeddedRungeKutta* dense = nullptr;
+    bool lagging = false;
+    Eigen::VectorXd y_reported;
+    std::vector<double> target = {0.0};  // advance_to's time, as the one output time of a step
+    const OutputCallback no_output;
+    double expected_end = 0.0;  // the run's expected end (begin): interpolating steps end there, as simulate()'s do
 
     void begin(State start);
     void after_step();
@@ -124,6 +135,7 @@ void Simulator::Impl::begin(State start) {
     Eigen::VectorXd y = consistent_start(*system, *run.formulation, start, t0);
     start_events(*contact, *run.integrator, start);
     const double t_end = t0 < settings.t_end ? settings.t_end : t0 + settings.t_end;
+    expected_end = t_end;
     records.clear();
     reported = 0;
     stats = IntegratorStats();
@@ -137,9 +149,11 @@ void Simulator::Impl::begin(State start) {
     state.t = t0;
     failure.clear();
     rhs_changed = false;
+    lagging = false;
 }
 
 void Simulator::Impl::after_step() {
+    lagging = false;
     const double t = run.integrator->time();
     run.formulation->from_ode(t, run.integrator->state(), state);
     state.t = t;
@@ -156,7 +170,12 @@ void Simulator::Impl::stepping(Step&& step) {
                                          "); call reset() before stepping again");
     CurrentInputs current(inputs);
     try {
-        if (rhs_changed) run.integrator->rhs_changed();
+        if (rhs_changed && lagging) {
+            dense->rewind(state.t, y_reported);  // the steps past state.t had the old right-hand side
+            lagging = false;
+        } else if (rhs_changed) {
+            run.integrator->rhs_changed();
+        }
         rhs_changed = false;
         step();
     } catch (const std::exception& e) {
@@ -175,6 +194,8 @@ Simulator::Simulator(const Model& model, Registry& registry, const SimulationSet
     s.system->set_extra_force([&s](const State& state, Eigen::VectorXd& Q) { s.add_user_force(state, Q); });
     s.contact = std::make_unique<ContactEvents>(*s.system);
     s.problem = std::make_unique<ContactProblem>(*s.run.formulation, *s.system, *s.contact, s.records);
+    s.problem->set_breakpoints(scene_breakpoints(model));
+    if (s.contact->count() == 0) s.dense = dynamic_cast<integrators::EmbeddedRungeKutta*>(s.run.integrator.get());
     reset();
 }
 
@@ -187,7 +208,7 @@ double Simulator::tolerance() const { return impl_->run.integrator->adaptive() ?
 
 void Simulator::step() {
     Impl& s = *impl_;
-    s.stepping([&] { s.run.integrator->step(HUGE_VAL); });
+    s.stepping([&] { step_toward(*s.run.integrator, *s.problem, HUGE_VAL); });
     s.after_step();
 }
 
@@ -197,11 +218,24 @@ void Simulator::advance_to(double t) {
         throw InputError("advance_to", "the time must be finite and not before the current time " +
                                            format_time(s.state.t) + " (got " + format_time(t) +
                                            "); to go back, reset() to a state");
+    // Right after a change of the right-hand side (an input set: a control loop) the steps end
+    // on t, where the next change will come; otherwise they go their own length and t is
+    // read from the continuous extension (docs/embedding.md, "advance_to").
+    const bool interpolating = s.dense && !s.rhs_changed;
     s.stepping([&] {
-        while (s.run.integrator->time() < t) {
-            s.run.integrator->step(t);
+        Integrator& integrator = *s.run.integrator;
+        s.target[0] = t;
+        while (integrator.time() < t) {
+            StepOutputs outputs{s.target, 0, s.no_output, {}};  // computes the extension of the step that passes t
+            step_toward(integrator, *s.problem, interpolating ? std::max(t, s.expected_end) : t,
+                        interpolating ? &outputs : nullptr);
             s.after_step();
         }
+        if (s.lagging && integrator.time() == t) s.after_step();  // caught up with the integrator
+        if (integrator.time() == t || !s.dense->interpolate(t, s.y_reported)) return;
+        s.run.formulation->from_ode(t, s.y_reported, s.state);
+        s.state.t = t;
+        s.lagging = true;
     });
 }
 
@@ -258,6 +292,22 @@ void Simulator::set_body_state(const std::string& body, const Eigen::VectorXd& q
     State next = impl_->state;
     next.q.segment(m.q_offset(index), nqb) = q;
     next.v.segment(m.v_offset(index), nvb) = v;
+    reset(next);
+}
+
+double Simulator::joint_coordinate(const std::string& joint) const {
+    return mbd::joint_coordinate(*impl_->system, impl_->state, joint).value;
+}
+
+double Simulator::joint_rate(const std::string& joint) const {
+    return mbd::joint_coordinate(*impl_->system, impl_->state, joint).rate;
+}
+
+void Simulator::set_joint_state(const std::string& joint, double coordinate, double rate) {
+    if (!std::isfinite(coordinate) || !std::isfinite(rate))
+        throw InputError("joint '" + joint + "'", "the coordinate and rate must be finite");
+    State next = impl_->state;
+    set_joint_coordinate(*impl_->system, next, joint, coordinate, rate);
     reset(next);
 }
 

@@ -8,7 +8,8 @@
 Scenes come from files (mbd.load) or dicts (mbd.Model.from_dict); studies change keys
 without reading files again (Model.with_params); every analysis of the ``mbd`` command
 (check, simulate, statics, inverse, modes, kinematics) is a method of Model and runs with the
-GIL released, so threads run models in parallel.
+GIL released, so threads run models in parallel. mbd.Simulator steps a model inside your
+own loop (inputs, a user force in Python, the state as numpy arrays).
 """
 
 import collections
@@ -21,6 +22,7 @@ from .model import Model, load
 from .modes import Mode, ModesResult
 from .results import (CheckReport, InverseResult, KinematicsResult, RunStats, SimulationResult, StaticsResult,
                       Table)
+from .simulator import Simulator
 
 __version__ = _mbd.version
 abi_version = _mbd.abi_version
@@ -71,7 +73,7 @@ def plugin_problems():
     return _mbd.plugin_problems()
 
 
-__all__ = ["load", "Model", "plugins", "integrators", "Integrator", "plugin_path", "default_plugin_path", "set_plugin_path", "plugin_problems",
+__all__ = ["load", "Model", "Simulator", "plugins", "integrators", "Integrator", "plugin_path", "default_plugin_path", "set_plugin_path", "plugin_problems",
            "PluginType", "Table", "SimulationResult", "KinematicsResult", "ModesResult", "Mode", "InverseResult",
            "StaticsResult", "CheckReport", "RunStats",
            "Error", "InputError", "PlacedError", "SceneError", "PluginError", "OutputError", "KinematicsError",

@@ -6,12 +6,14 @@
 
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
+#include <mbd/simulation.hpp>
 #include <mbd/sdk/params.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +53,20 @@ auto with_scene_errors(const ModelHandle& handle, bool reading_scene, Work&& wor
     }
 }
 
+// The keyword arguments of Model.simulate, as the engine's settings (the rules of
+// `mbd simulate`: check_integrator_options, output_intervals).
+struct SimulateArguments {
+    double t_end = 0.0;
+    std::string formulation, integrator;
+    std::optional<double> tol, step, output_step;
+    bool reactions = false, diagnostics = false;
+    std::optional<std::string> stabilization, linear_algebra;
+    std::optional<Eigen::VectorXd> q0, v0;
+};
+// The arguments as the engine's settings (runs.cpp); the run's messages go to `messages`,
+// which must outlive the settings.
+SimulationSettings settings_of(const SimulateArguments& arguments, const Model& model, std::vector<std::string>& messages);
+
 // A float64 numpy array of `rows` x `columns` that takes over `values` (no copy).
 py::array_t<double> matrix_array(std::vector<double>&& values, size_t rows, size_t columns);
 // A float64 numpy vector holding a copy of `values`.
@@ -72,6 +88,7 @@ void bind_errors(py::module_& m);
 void bind_plugins(py::module_& m);
 void bind_model(py::module_& m);
 void bind_runs(py::module_& m);
-void bind_analyses(py::module_& m);  // analyses.cpp: modes, kinematics, the viewer page
+void bind_analyses(py::module_& m);
+void bind_simulator(py::module_& m);  // simulator.cpp: mbd.Simulator's engine  // analyses.cpp: modes, kinematics, the viewer page
 
 }  // namespace mbd::python

@@ -53,4 +53,5 @@ PYBIND11_MODULE(_mbd, m) {
     mp::bind_model(m);
     mp::bind_runs(m);
     mp::bind_analyses(m);
+    mp::bind_simulator(m);
 }

@@ -49,16 +49,7 @@ void require_positive(const std::string& option, double value) {
         throw InputError(option, "expected a positive number, got " + format_number(value));
 }
 
-// The keyword arguments of Model.simulate, as the engine's settings (the rules of
-// `mbd simulate`: check_integrator_options, output_intervals).
-struct SimulateArguments {
-    double t_end = 0.0;
-    std::string formulation, integrator;
-    std::optional<double> tol, step, output_step;
-    bool reactions = false, diagnostics = false;
-    std::optional<std::string> stabilization, linear_algebra;
-    std::optional<Eigen::VectorXd> q0, v0;
-};
+}  // namespace
 
 SimulationSettings settings_of(const SimulateArguments& a, const Model& model, std::vector<std::string>& messages) {
     require_positive("t_end", a.t_end);
@@ -101,6 +92,8 @@ SimulationSettings settings_of(const SimulateArguments& a, const Model& model, s
     s.messages = MessageLog([&messages](const std::string& line) { messages.push_back(line); });
     return s;
 }
+
+namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <string>
@@ -73,24 +75,46 @@ public:
     }
     // "force 'stop' (lower)", for messages.
     virtual std::string describe_event(int event) const { return "event " + std::to_string(event); }
+
+    // --- breakpoints (docs/integrators.md "Breakpoints"): times where the right-hand side
+    // jumps (a piecewise-constant time function's steps). step_toward() ends a step on each,
+    // and while a step ends on one (set_step_end), the right-hand side at that time is the
+    // value from before the jump: the side of the step being integrated.
+    virtual double next_breakpoint(double /*t*/) const { return HUGE_VAL; }  // the first after t
+    virtual void set_step_end(double /*t*/) {}  // the breakpoint the current step ends on; NaN: none
 };
 
 // The OdeProblem of a formulation bound to a System.
+// Its breakpoints are those given to set_breakpoints (scene_breakpoints, run_setup.hpp): at
+// the end of a step that ends on one, the formulation's right-hand side is evaluated one
+// rounding unit before it, where every piecewise-constant function still has the step's value
+// and every smooth one differs by a rounding unit.
 class FormulationProblem : public OdeProblem {
 public:
     FormulationProblem(Formulation& formulation, System& system) : formulation_(formulation), system_(system) {}
     int size() const override { return formulation_.ode_size(); }
-    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override { formulation_.rhs(t, y, ydot); }
+    void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override {
+        formulation_.rhs(t == step_end_ ? std::nextafter(t, -HUGE_VAL) : t, y, ydot);
+    }
     bool project(double t, Eigen::VectorXd& y) override { return formulation_.project(t, y); }
     bool state_redefined() override { return formulation_.state_redefined(); }
     bool may_redefine_state() const override { return formulation_.may_redefine_state(); }
     System* index3_system() override { return formulation_.supports_index3() ? &system_ : nullptr; }
     void state_from_y(double t, const Eigen::VectorXd& y, State& state) override { formulation_.from_ode(t, y, state); }
     void y_from_state(const State& state, Eigen::VectorXd& y) override { formulation_.to_ode(state, y); }
+    // increasing times
+    void set_breakpoints(std::vector<double> times) { breakpoints_ = std::move(times); }
+    double next_breakpoint(double t) const override {
+        const auto after = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t);
+        return after == breakpoints_.end() ? HUGE_VAL : *after;
+    }
+    void set_step_end(double t) override { step_end_ = t; }
 
 private:
     Formulation& formulation_;
     System& system_;
+    std::vector<double> breakpoints_;
+    double step_end_ = std::nan("");
 };
 
 // Called at every output time with y there; returning false stops the run.
@@ -177,6 +201,11 @@ private:
     friend std::unique_ptr<Integrator> make_integrator(const std::string&, const IntegratorSettings&);
     const IntegratorDescription* description_ = nullptr;
 };
+
+// integrator.step(t_stop, outputs), ending the step on the problem's next breakpoint when it
+// comes first (the right-hand side evaluated from the step's side there); a step that ends on
+// one tells the integrator the right-hand side changed (rhs_changed) for the next.
+bool step_toward(Integrator& integrator, OdeProblem& problem, double t_stop, StepOutputs* outputs = nullptr);
 
 // The integrator of that name (integrator_descriptions()). Throws InputError listing the known names.
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const IntegratorSettings& settings);

@@ -72,6 +72,16 @@ public:
     Eigen::VectorXd body_coordinates(const std::string& body) const;
     Eigen::VectorXd body_velocities(const std::string& body) const;
     void set_body_state(const std::string& body, const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+    // One joint's coordinate and rate (a joint with one: revolute angle, prismatic
+    // displacement; the value a driver of it prescribes). set_joint_state changes the state as
+    // little as it can (least squares: the minimum-norm change of the positions, then of the
+    // velocities) so that the joint has this coordinate and rate and every constraint holds
+    // (drivers included: a driven joint keeps its driver's value), then reset()s from it.
+    // InputError for an unknown joint or one with no coordinate; KinematicsError for a value
+    // the mechanism cannot reach.
+    double joint_coordinate(const std::string& joint) const;
+    double joint_rate(const std::string& joint) const;
+    void set_joint_state(const std::string& joint, double coordinate, double rate);
 
     // --- inputs: the names the scene's {type: input} time functions use, and their values
     // (0 until set). set_input holds the value from now on (zero-order hold).

@@ -105,12 +105,29 @@ void Integrator::integrate(OdeProblem& problem, double t0, Eigen::VectorXd& y, c
         if (!integrators::emit_outputs_up_to(time() + eps, state(), output_times, outputs.next, output)) break;
         if (outputs.next == output_times.size()) break;
         const double t_stop = stops_at_outputs() ? output_times[outputs.next] : t_end;
-        if (!step(t_stop, &outputs)) {
+        if (!step_toward(*this, problem, t_stop, &outputs)) {
             y = outputs.stopped;
             return;
         }
     }
     y = state();
+}
+
+
+bool step_toward(Integrator& integrator, OdeProblem& problem, double t_stop, StepOutputs* outputs) {
+    const double breakpoint = problem.next_breakpoint(integrator.time());
+    if (!(breakpoint <= t_stop)) return integrator.step(t_stop, outputs);
+    problem.set_step_end(breakpoint);
+    bool going = true;
+    try {
+        going = integrator.step(breakpoint, outputs);
+    } catch (...) {
+        problem.set_step_end(std::nan(""));
+        throw;
+    }
+    problem.set_step_end(std::nan(""));
+    if (integrator.time() == breakpoint) integrator.rhs_changed();  // the next step starts on the jump's far side
+    return going;
 }
 
 }  // namespace mbd

@@ -57,10 +57,16 @@ bool EmbeddedRungeKutta::emit_inside_step(double h, double t_new, StepOutputs& o
         if (!have_dense) {
             dense_coefficients(*problem_, t_, h, y_, *stats_);
             have_dense = true;
+            dense_from_ = t_;
+            dense_h_ = h;
+        }
+        if (!outputs.output) {  // only the extension wanted (interpolate): no output to make
+            ++outputs.next;
+            continue;
         }
         dense_at((times[outputs.next] - t_) / h, yout_);
         project_or_throw(*problem_, times[outputs.next], yout_);
-        if (outputs.output && !outputs.output(times[outputs.next], yout_)) {
+        if (!outputs.output(times[outputs.next], yout_)) {
             outputs.stopped = yout_;
             return false;
         }
@@ -99,6 +105,7 @@ void EmbeddedRungeKutta::begin(OdeProblem& problem, double t0, const Eigen::Vect
     y_ = y0;
     guard_.reset(y_);
     t_ = t0;
+    dense_h_ = 0.0;
     events_.start(problem, t0, y_);
     problem.rhs(t_, y_, f0_);
     ++stats.rhs_evaluations;
@@ -114,9 +121,25 @@ void EmbeddedRungeKutta::rhs_changed() {
     ++stats_->rhs_evaluations;
 }
 
+bool EmbeddedRungeKutta::interpolate(double t, Eigen::VectorXd& y) {
+    if (!(dense_h_ > 0.0) || t < dense_from_ || t > dense_from_ + dense_h_) return false;
+    dense_at((t - dense_from_) / dense_h_, y);
+    project_or_throw(*problem_, t, y);
+    return true;
+}
+
+void EmbeddedRungeKutta::rewind(double t, const Eigen::VectorXd& y) {
+    t_ = t;
+    y_ = y;
+    dense_h_ = 0.0;
+    problem_->rhs(t_, y_, f0_);
+    ++stats_->rhs_evaluations;
+}
+
 bool EmbeddedRungeKutta::step(double t_stop, StepOutputs* outputs) {
     if (!problem_) throw InputError(name(), "step() before begin()");
     OdeProblem& problem = *problem_;
+    dense_h_ = 0.0;  // the stages are about to change
     const double safe = control_.safety, beta = control_.beta, expo1 = control_.alpha;
     const double facc1 = 1.0 / control_.min_ratio, facc2 = 1.0 / control_.max_ratio;
     double h = h_;

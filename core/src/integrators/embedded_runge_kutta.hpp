@@ -42,6 +42,15 @@ public:
     double time() const final { return t_; }
     const Eigen::VectorXd& state() const final { return y_; }
 
+    // For a caller that asks for times inside the steps (the Simulator's advance_to): the
+    // state at t from the continuous extension of the last accepted step, projected, when
+    // that step had it computed (an output time inside it, StepOutputs) and t lies in it;
+    // false otherwise.
+    bool interpolate(double t, Eigen::VectorXd& y);
+    // Continue from (t, y) instead, with the step size and controller as they are (the
+    // right-hand side changed at a time the run had stepped past): FSAL derivative at (t, y).
+    void rewind(double t, const Eigen::VectorXd& y);
+
 protected:
     // Sizes the pair's own work vectors for n unknowns (none are allocated during the run).
     virtual void prepare(int n) = 0;
@@ -89,6 +98,7 @@ private:
     BlowUpGuard guard_;
     Eigen::VectorXd unprojected_, yout_;
     EventLocator events_;
+    double dense_from_ = 0.0, dense_h_ = 0.0;  // the step whose continuous extension is at hand (0: none)
 };
 
 }  // namespace mbd::integrators
