@@ -221,6 +221,63 @@ TEST(CollisionContact, SphereRollsDownAnInclineAtFiveSeventhsOfGSinA) {
     (void)k;
 }
 
+// A solid cylinder lying on its side rolls down the incline: held along its length (one contact
+// at each end face's lowest rim point, each carrying half its weight), it accelerates at
+// g sin a / (1 + I / (m (r - depth)^2)) (the rigid limit (2/3) g sin a) without turning about the
+// normal or tipping, and its energy (kinetic, gravity's, the contacts' elastic) falls by no more
+// than the regularized friction can dissipate while sticking: slip below the stiction velocity
+// v_s under a friction force below mu_s N, so at most mu_s m g cos a v_s t.
+TEST(CollisionContact, CylinderRollingOnItsSideKeepsItsEnergyWithinTheFrictionsDissipation) {
+    const Incline incline{15.0 * M_PI / 180.0};
+    const double k = 1e8, n = 1.5, r = 0.1, m = 1.0, mu_s = 0.5, v_s = 1e-4, t_end = 0.6;
+    const double I_axis = 0.5 * m * r * r, I_across = m * (3 * r * r + 0.2 * 0.2) / 12.0;
+    const double depth = std::pow(m * kG * std::cos(incline.a) / (2 * k), 1.0 / n);
+    // the cylinder's axis (its shape's z) along the body's y: across the slope
+    const std::string scene = incline.ground("{static_friction: 1}") +
+                              "bodies:\n  - name: roller\n    mass: 1\n    inertia: [" + g17(I_across) + ", " +
+                              g17(I_axis) + ", " + g17(I_across) + "]\n    position: " + incline.at(r - depth) +
+                              "\n    orientation: " + incline.orientation() +
+                              "\n    collision:\n      - shape: cylinder\n        radius: 0.1\n        length: 0.2\n"
+                              "        orientation: {axis: [1, 0, 0], angle: 1.5707963267948966}\n"
+                              "        material: {stiffness: 1e8, restitution: 0.5, impact_velocity: 1, "
+                              "static_friction: 0.5, stiction_velocity: 1e-4}\n";
+    const mbd::Model model = mbd::test::scene(scene);
+    const mbd::ForceInstance& contact = element(model, "collision_contact");
+    auto energy = [&](const mbd::State& s) {
+        const Eigen::Vector3d w = s.v.segment<3>(3);
+        ElementStates states(model, contact, s);
+        return 0.5 * m * s.v.head<3>().squaredNorm() + 0.5 * w.dot(model.bodies[0].inertia * w) +
+               m * kG * s.q[2] + contact.force->potential_energy(states.view);
+    };
+    std::vector<mbd::State> states;
+    std::vector<double> E;
+    run(model, "dopri5", t_end, 1e-10, 0.2, [&](const mbd::State& s) {
+        states.push_back(s);
+        E.push_back(energy(s));
+    });
+    ASSERT_EQ(states.size(), 4u);
+    const double rolling_radius = r - depth;
+    const double compliant = kG * std::sin(incline.a) / (1.0 + I_axis / (m * rolling_radius * rolling_radius));
+    const double measured = (speed_along(states[3], incline.down()) - speed_along(states[1], incline.down())) / 0.4;
+    EXPECT_NEAR(measured, compliant, 1e-6 * compliant);
+    EXPECT_NEAR(measured, 2.0 / 3.0 * kG * std::sin(incline.a), 3.0 * depth / r * compliant);
+    // it rolls about its own axis only (no yaw, no tipping onto one end), slipping slower than the
+    // stiction velocity
+    const Eigen::Vector3d w = states[3].v.segment<3>(3);
+    const double slip = speed_along(states[3], incline.down()) - w.y() * rolling_radius;
+    EXPECT_LT(std::abs(slip), v_s);
+    EXPECT_LT(std::hypot(w.x(), w.z()), 1e-9);
+    const double bound = mu_s * m * kG * std::cos(incline.a) * v_s * t_end;
+    for (size_t k = 1; k < E.size(); ++k) {
+        EXPECT_LE(E[k], E[k - 1] + 1e-9) << "row " << k;
+        EXPECT_GE(E[k], E.front() - bound) << "row " << k;
+    }
+    RecordProperty("relative_error_compliant", g17(measured / compliant - 1));
+    RecordProperty("energy_lost", g17(E.front() - E.back()));
+    RecordProperty("friction_bound", g17(bound));
+    RecordProperty("slip", g17(slip));
+}
+
 // ------------------------------------------------------------------ a box at rest
 // Dropped slightly tilted, a 2 kg box settles level on its 4 corners at the penetration where
 // 4 k d^n = m g (each corner a quarter of the weight): one contact point (FCL's own box/plane

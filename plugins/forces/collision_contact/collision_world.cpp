@@ -45,6 +45,47 @@ fcl::Transform3d pose(const Vec3& R, const Mat3& A, const Shape& s) {
 
 int shape_of(const fcl::CollisionObjectd* o) { return static_cast<int>(reinterpret_cast<std::intptr_t>(o->getUserData())); }
 
+// The points of a solid shape that can be its lowest against a plane of normal n (world), in
+// world coordinates, with the radius to subtract from each point's height: a box's corners (FCL
+// 0.7, boxHalfspaceIntersect, gives only the deepest corner, which cannot hold a box face resting
+// on the plane); a capsule's two cap centres, each a sphere of its radius; a cylinder's lowest
+// rim point on each end face (FCL gives one point, which cannot hold a cylinder on its side).
+// A cylinder standing on an end face (its axis along n) is held at one rim point per face.
+struct LowPoint {
+    Vec3 point;
+    double radius;
+};
+
+void low_points(const Shape& s, const fcl::Transform3d& T, const Vec3& n, std::vector<LowPoint>& out) {
+    out.clear();
+    switch (s.kind) {
+        case ShapeKind::Box: {
+            const Vec3 half = 0.5 * s.size;
+            for (int corner = 0; corner < 8; ++corner)
+                out.push_back({T * Vec3((corner & 1 ? 1 : -1) * half.x(), (corner & 2 ? 1 : -1) * half.y(),
+                                        (corner & 4 ? 1 : -1) * half.z()),
+                               0.0});
+            return;
+        }
+        case ShapeKind::Capsule:
+            for (double end : {-0.5, 0.5}) out.push_back({T * Vec3(0, 0, end * s.length), s.radius});
+            return;
+        case ShapeKind::Cylinder: {
+            const Vec3 axis = T.linear().col(2);
+            Vec3 down = -(n - n.dot(axis) * axis);  // downhill across the end faces
+            if (down.norm() < 1e-12) down = T.linear().col(0);
+            const Vec3 rim = s.radius * down.normalized();
+            for (double end : {-0.5, 0.5}) out.push_back({T * Vec3(0, 0, end * s.length) + rim, 0.0});
+            return;
+        }
+        default: return;
+    }
+}
+
+bool has_low_points(ShapeKind kind) {
+    return kind == ShapeKind::Box || kind == ShapeKind::Capsule || kind == ShapeKind::Cylinder;
+}
+
 }  // namespace
 
 struct World::Detail {
@@ -59,28 +100,24 @@ struct World::Detail {
     std::vector<Contact> contacts;
 
     void narrow_phase(int i, int j);
-    void box_on_plane(int plane, int box);
+    void solid_on_plane(int plane, int solid);
+    std::vector<LowPoint> low;  // solid_on_plane's workspace
     static bool on_candidate(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* self) {
         static_cast<Detail*>(self)->narrow_phase(shape_of(a), shape_of(b));
         return false;  // go on: every candidate pair
     }
 };
 
-// A box against a plane: FCL (0.7, boxHalfspaceIntersect) gives only the deepest corner, which
-// cannot hold a box face resting on the plane; the contacts are every corner below the plane,
-// each at its depth (exact), acting at its foot on the plane.
-void World::Detail::box_on_plane(int plane, int box) {
+// A solid shape against a plane: a contact at each of its low points below the plane, at its
+// depth (exact), acting at its foot on the plane.
+void World::Detail::solid_on_plane(int plane, int solid) {
     const fcl::Transform3d& P = objects[plane]->getTransform();
-    const fcl::Transform3d& B = objects[box]->getTransform();
     const Vec3 n = P.linear().col(2);
-    const Vec3 half = 0.5 * (*shapes)[box].size;
-    for (int corner = 0; corner < 8; ++corner) {
-        const Vec3 local((corner & 1 ? 1 : -1) * half.x(), (corner & 2 ? 1 : -1) * half.y(),
-                         (corner & 4 ? 1 : -1) * half.z());
-        const Vec3 v = B * local;
-        const double height = n.dot(v - P.translation());
+    low_points((*shapes)[solid], objects[solid]->getTransform(), n, low);
+    for (const LowPoint& p : low) {
+        const double height = n.dot(p.point - P.translation()) - p.radius;
         if (height >= 0.0) continue;
-        contacts.push_back({plane, box, Vec3(v - height * n), n, -height});
+        contacts.push_back({plane, solid, Vec3(p.point - (height + p.radius) * n), n, -height});
     }
 }
 
@@ -88,8 +125,8 @@ void World::Detail::narrow_phase(int i, int j) {
     if (!filter.may_touch(i, j)) return;
     const Shape& a = (*shapes)[i];
     const Shape& b = (*shapes)[j];
-    if (a.kind == ShapeKind::Plane && b.kind == ShapeKind::Box) return box_on_plane(i, j);
-    if (b.kind == ShapeKind::Plane && a.kind == ShapeKind::Box) return box_on_plane(j, i);
+    if (a.kind == ShapeKind::Plane && has_low_points(b.kind)) return solid_on_plane(i, j);
+    if (b.kind == ShapeKind::Plane && has_low_points(a.kind)) return solid_on_plane(j, i);
     result.clear();
     fcl::collide(objects[i].get(), objects[j].get(), &solver, request, result);
     const int plane = a.kind == ShapeKind::Plane ? i : b.kind == ShapeKind::Plane ? j : -1;
