@@ -9,7 +9,8 @@
 //  - the same sphere on a plane computed by the sphere_plane element and by the collision
 //    contact agrees to 1e-10;
 //  - two free bodies colliding conserve linear and angular momentum;
-//  - the energy of a pile of spheres never increases;
+//  - the energy of a pile of 100 spheres never increases (every output row);
+//  - a cylinder rolling on its side keeps its energy within the friction law's dissipation;
 //  - bad input named by its body.
 #include "support/test_support.hpp"
 
@@ -403,19 +404,22 @@ TEST(CollisionContact, TwoFreeBodiesCollidingConserveLinearAndAngularMomentum) {
 // below 1 and friction: the energy (kinetic, gravity's and the contacts' elastic energy) never
 // rises from one output row to the next, beyond the integrator's tolerance.
 TEST(CollisionContact, EnergyNeverIncreasesInAPileOfSpheres) {
-    const int count = 20;
+    const int count = 100, side = 5;
+    // soft enough (2 mm of a 50 mm radius under a sphere's weight) for a short test: its cost is
+    // the steps at the contacts' onsets, where the force's second derivative is infinite
+    const double k = 1e4, tolerance = 1e-7, t_end = 0.3;
     std::ostringstream scene;
     scene << "dimension: spatial\ngravity: [0, 0, -9.81]\nground:\n  collision:\n"
              "    - {shape: plane, normal: [0, 0, 1], material: {static_friction: 0.3}}\nbodies:\n";
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> jitter(-0.02, 0.02);
     for (int b = 0; b < count; ++b) {
-        // a column of layers of 4, each sphere 0.12 m from its neighbours, jittered
-        const double x = 0.12 * (b % 2) + jitter(rng), y = 0.12 * ((b / 2) % 2) + jitter(rng);
-        const double z = 0.08 + 0.13 * (b / 4);
+        // 4 layers of side x side spheres, each 0.12 m from its neighbours (0.11 m between layers), jittered
+        const double x = 0.12 * (b % side) + jitter(rng), y = 0.12 * ((b / side) % side) + jitter(rng);
+        const double z = 0.08 + 0.11 * (b / (side * side));
         scene << "  - name: s" << b << "\n    mass: 0.1\n    inertia: [1e-4, 1e-4, 1e-4]\n    position: ["
               << g17(x) << ", " << g17(y) << ", " << g17(z) << "]\n"
-              << "    collision:\n      - {shape: sphere, radius: 0.05, material: {stiffness: 1e6, restitution: 0.5, "
+              << "    collision:\n      - {shape: sphere, radius: 0.05, material: {stiffness: " << g17(k) << ", restitution: 0.5, "
                  "impact_velocity: 1, static_friction: 0.3, kinetic_friction: 0.25, stiction_velocity: 1e-2}}\n";
     }
     const mbd::Model model = mbd::test::scene(scene.str());
@@ -431,11 +435,12 @@ TEST(CollisionContact, EnergyNeverIncreasesInAPileOfSpheres) {
         return E + contact.force->potential_energy(states.view);
     };
     std::vector<double> E;
-    run(model, "dopri5", 0.6, 1e-9, 0.005, [&](const mbd::State& s) { E.push_back(energy(s)); });
-    ASSERT_EQ(E.size(), 121u);
+    run(model, "dopri5", t_end, tolerance, 0.005, [&](const mbd::State& s) { E.push_back(energy(s)); });
+    ASSERT_EQ(E.size(), 61u);
     double rises = 0.0;
     for (size_t k = 1; k < E.size(); ++k) rises = std::max(rises, E[k] - E[k - 1]);
-    EXPECT_LE(rises, 1e-9 * E.front()) << "largest rise between rows";  // measured 9e-16 J of 9.7 J
+    // within a tenth of the integrator's relative tolerance (measured 6.1e-9 J of 24.1 J)
+    EXPECT_LE(rises, 0.1 * tolerance * E.front()) << "largest rise between rows";
     RecordProperty("largest_rise", g17(rises));
     RecordProperty("energy_start", g17(E.front()));
     RecordProperty("energy_end", g17(E.back()));
