@@ -12,6 +12,7 @@
 //  - the energy of a pile of 100 spheres never increases (every output row);
 //  - a cylinder rolling on its side keeps its energy within the friction law's dissipation;
 //  - bad input named by its body.
+#include "support/force_element_states.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/simulation.hpp>
@@ -32,6 +33,8 @@
 
 namespace {
 
+using mbd::test::element;
+using mbd::test::ElementStates;
 using mbd::test::g17;
 
 constexpr double kG = 9.81;
@@ -50,32 +53,6 @@ mbd::SimulationResult run(const mbd::Model& model, const std::string& integrator
         if (sample) sample(x.state);
         return true;
     });
-}
-
-// The spatial states of every body of a force element (ground first when it has shapes).
-struct ElementStates {
-    std::vector<mbd::SpatialBody> bodies;
-    mbd::BodyStates view;
-    ElementStates(const mbd::Model& model, const mbd::ForceInstance& f, const mbd::State& s) {
-        bodies.resize(f.bodies.size());
-        for (size_t k = 0; k < f.bodies.size(); ++k) {
-            const int b = f.bodies[k];
-            if (b < 0) {
-                bodies[k].ground = true;
-                continue;
-            }
-            bodies[k].set(s.q.segment<3>(7 * b), s.q.segment<4>(7 * b + 3), s.v.segment<3>(6 * b),
-                          s.v.segment<3>(6 * b + 3));
-        }
-        for (const auto& b : bodies) view.spatial_bodies.push_back(&b);
-        (void)model;
-    }
-};
-
-const mbd::ForceInstance& element(const mbd::Model& model, const std::string& type) {
-    for (const auto& f : model.forces)
-        if (f.type == type) return f;
-    throw std::runtime_error("no force of type " + type);
 }
 
 // ------------------------------------------------------------------ the restitution oracle
@@ -246,7 +223,7 @@ TEST(CollisionContact, CylinderRollingOnItsSideKeepsItsEnergyWithinTheFrictionsD
     const mbd::ForceInstance& contact = element(model, "collision_contact");
     auto energy = [&](const mbd::State& s) {
         const Eigen::Vector3d w = s.v.segment<3>(3);
-        ElementStates states(model, contact, s);
+        ElementStates states(contact, s);
         return 0.5 * m * s.v.head<3>().squaredNorm() + 0.5 * w.dot(model.bodies[0].inertia * w) +
                m * kG * s.q[2] + contact.force->potential_energy(states.view);
     };
@@ -302,7 +279,7 @@ TEST(CollisionContact, BoxAtRestOnAPlaneCarriesItsWeightEquallyOnItsFourCorners)
     const Eigen::Vector3d up = mbd::rotation_from_euler_parameters(s.q.segment<4>(3)).col(2);
     EXPECT_LT(std::hypot(up.x(), up.y()), 1e-8) << "the box is level: its corners carry equal loads";
     const mbd::ForceInstance& f = element(model, "collision_contact");
-    ElementStates states(model, f, s);
+    ElementStates states(f, s);
     Eigen::VectorXd Q = Eigen::VectorXd::Zero(12);
     f.force->evaluate(states.view, Q);
     EXPECT_NEAR(Q[6 + 2], m * kG, 1e-8 * m * kG);      // the box's contacts carry its weight
@@ -343,7 +320,7 @@ TEST(CollisionContact, SpherePlaneElementAndCollisionContactGiveTheSameForce) {
         s.q.head<3>() = (0.1 - 0.002 * (1 + u(rng))) * n + (lateral - lateral.dot(n) * n);
         s.q.segment<4>(3) = Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized();
         for (int k = 0; k < 6; ++k) s.v[k] = (trial % 3 == 0 ? 1e-3 : 1.0) * u(rng);  // stuck and sliding
-        ElementStates sa(by_element, a, s), sb(by_collision, b, s);
+        ElementStates sa(a, s), sb(b, s);
         Eigen::VectorXd Qa = Eigen::VectorXd::Zero(12), Qb = Eigen::VectorXd::Zero(12);
         a.force->evaluate(sa.view, Qa);
         b.force->evaluate(sb.view, Qb);
@@ -431,7 +408,7 @@ TEST(CollisionContact, EnergyNeverIncreasesInAPileOfSpheres) {
             E += 0.5 * 0.1 * s.v.segment<3>(6 * b).squaredNorm() + 0.5 * w.dot(model.bodies[b].inertia * w) +
                  0.1 * kG * s.q[7 * b + 2];
         }
-        ElementStates states(model, contact, s);
+        ElementStates states(contact, s);
         return E + contact.force->potential_energy(states.view);
     };
     std::vector<double> E;
@@ -461,7 +438,7 @@ TEST(CollisionContact, BadShapesAndMaterialsAreRefusedNamingTheBody) {
         {"impact_velocity: 2}", "impact_velocity: 2, static_friction: -0.1}", "'static_friction' must not be negative"},
         {"mass: 1", "mass: 0", "no mass"},
         {"shape: sphere\n        radius: 0.1", "shape: box\n        size: [0.1, 0, 0.1]", "'size' entries must be positive"},
-        {"shape: sphere", "shape: cone", "'shape' must be sphere, capsule, cylinder, box or plane"},
+        {"shape: sphere", "shape: cone", "'shape' must be sphere, capsule, cylinder, box, plane, convex_mesh or triangle_mesh"},
     };
     for (const Case& c : cases) {
         const std::string bad = mbd::test::replaced(good, c.from, c.to);
@@ -505,7 +482,7 @@ TEST(CollisionContact, YoungsModulusGivesHertzsForce) {
     const Eigen::Vector3d axis = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();
     s.q << 0.4, 0.1, R - delta, 1, 0, 0, 0, 0.4, 0.1, R - delta, 1, 0, 0, 0;
     s.q.segment<3>(7) += (2 * R - delta) * axis;  // b on a, overlapping by delta
-    ElementStates states(model, f, s);
+    ElementStates states(f, s);
     Eigen::VectorXd Q = Eigen::VectorXd::Zero(18);
     f.force->evaluate(states.view, Q);
     const double sphere_sphere = 4.0 / 3.0 * (E / (2 * (1 - nu * nu))) * std::sqrt(R / 2) * std::pow(delta, 1.5);
@@ -550,7 +527,7 @@ TEST(CollisionContact, JoinedBodiesAndExcludedGroupsDoNotTouch) {
         s.q.resize(14);
         s.v = Eigen::VectorXd::Zero(12);
         for (int b = 0; b < 2; ++b) s.q.segment<7>(7 * b) << model.bodies[b].position, 1, 0, 0, 0;
-        ElementStates states(model, f, s);
+        ElementStates states(f, s);
         Eigen::VectorXd Q = Eigen::VectorXd::Zero(18);
         f.force->evaluate(states.view, Q);
         return std::make_pair(Q[12], Q[14]);  // on b: x (from a), z (from the plane)
