@@ -5,7 +5,7 @@
 //    (below), not from the Lankarani-Nikravesh fit that sets the damping;
 //  - a box on an incline steeper than atan(mu) slides at g (sin a - mu cos a); on a shallower one
 //    it sticks; a sphere rolls down an incline at (5/7) g sin a;
-//  - a box resting on a plane carries its weight on its 4 corners, equally;
+//  - a box resting on a plane carries its weight on its 4 corners, equally; a capsule on both caps;
 //  - the same sphere on a plane computed by the sphere_plane element and by the collision
 //    contact agrees to 1e-10;
 //  - two free bodies colliding conserve linear and angular momentum;
@@ -288,6 +288,40 @@ TEST(CollisionContact, BoxAtRestOnAPlaneCarriesItsWeightEquallyOnItsFourCorners)
     RecordProperty("height_error", g17(s.q[2] - (0.5 * height - depth)));
     RecordProperty("weight_error", g17(Q[6 + 2] - m * kG));
     RecordProperty("moment", g17(Q.segment<3>(9).norm()));
+}
+
+// A capsule lying on a plane, off-centre in its body, at the depth where its two end caps
+// each carry half its weight, k d^n = m g / 2: its contacts carry exactly its weight at the
+// caps' feet (no moment about its mass centre from the symmetric pair), and tilted about its
+// axis' normal, the lower cap alone pushes, harder.
+TEST(CollisionContact, CapsuleLyingOnAPlaneRestsOnBothEndCaps) {
+    const double m = 2.0, k = 1e8, n = 1.5, r = 0.05, length = 0.4;
+    const mbd::Model model = mbd::test::scene(
+        "dimension: spatial\ngravity: [0, 0, -9.81]\nground:\n  collision:\n    - {shape: plane}\n"
+        "bodies:\n  - name: rod\n    mass: 2\n    inertia: [0.002, 0.03, 0.03]\n    collision:\n"
+        "      - {shape: capsule, radius: 0.05, length: 0.4, orientation: {axis: [0, 1, 0], angle: "
+        "1.5707963267948966}, material: {stiffness: 1e8, exponent: 1.5}}\n");
+    const mbd::ForceInstance& f = element(model, "collision_contact");
+    const double depth = std::pow(m * kG / (2 * k), 1.0 / n);
+    mbd::State s;
+    s.q.resize(7);
+    s.v = Eigen::VectorXd::Zero(6);
+    s.q << 0.3, -0.2, r - depth, 1, 0, 0, 0;
+    Eigen::VectorXd Q = Eigen::VectorXd::Zero(12);
+    ElementStates level(f, s);
+    f.force->evaluate(level.view, Q);
+    EXPECT_NEAR(Q[6 + 2], m * kG, 1e-12 * m * kG);
+    EXPECT_NEAR(Q.segment<2>(6).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(Q.segment<3>(9).norm(), 0.0, 1e-12 * m * kG * length);
+    // raise one end: the other cap, now 2 mm deeper at its centre's foot, pushes alone with k d^n
+    const double tilt = 0.01;  // rad about y: the cap at x = -L/2 goes down by L/2 sin(tilt)
+    const Eigen::Quaterniond e(Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitY()));
+    s.q.segment<4>(3) << e.w(), e.x(), e.y(), e.z();
+    Q.setZero();
+    ElementStates tilted(f, s);
+    f.force->evaluate(tilted.view, Q);
+    const double lower = r - depth - 0.5 * length * std::sin(tilt);  // the lower cap centre's height
+    EXPECT_NEAR(Q[6 + 2], k * std::pow(r - lower, n), 1e-12 * Q[6 + 2]);
 }
 
 // ------------------------------------------------------------------ against sphere_plane
