@@ -17,7 +17,9 @@ const std::map<std::string, ShapeKind>& kinds() {
                                                        {"capsule", ShapeKind::Capsule},
                                                        {"cylinder", ShapeKind::Cylinder},
                                                        {"box", ShapeKind::Box},
-                                                       {"plane", ShapeKind::Plane}};
+                                                       {"plane", ShapeKind::Plane},
+                                                       {"convex_mesh", ShapeKind::ConvexMesh},
+                                                       {"triangle_mesh", ShapeKind::TriangleMesh}};
     return k;
 }
 
@@ -29,6 +31,8 @@ std::vector<std::string> size_keys(ShapeKind kind) {
         case ShapeKind::Cylinder: return {"radius", "length", "position", "orientation"};
         case ShapeKind::Box: return {"size", "position", "orientation"};
         case ShapeKind::Plane: return {"normal", "point"};
+        case ShapeKind::ConvexMesh:
+        case ShapeKind::TriangleMesh: return {"file", "scale", "position", "orientation"};
     }
     return {};
 }
@@ -64,14 +68,32 @@ std::uint32_t group_bit(const Param& p, const std::string& owner) {
     return 1u << p.as_integer("group", 0, 31, owner);
 }
 
+constexpr const char* kKinds = "sphere, capsule, cylinder, box, plane, convex_mesh or triangle_mesh";
+
+// `file` and `scale` (a number or [sx, sy, sz], each > 0) of a mesh shape.
+std::shared_ptr<const Mesh> mesh_of(const Param& node, const Shape& s) {
+    const auto file = node.fields.find("file");
+    if (file == node.fields.end() || !file->second.is_scalar() || file->second.text.empty())
+        node.fail(s.label + ": missing key 'file' (an STL or OBJ file, relative to the scene file's folder)");
+    Vec3 scale = Vec3::Ones();
+    if (const auto sc = node.fields.find("scale"); sc != node.fields.end()) {
+        scale = sc->second.is_scalar() ? Vec3::Constant(sc->second.as_number("scale", s.label))
+                                       : vector3(sc->second, "scale", s.label);
+        if (!(scale.minCoeff() > 0.0)) sc->second.fail(s.label + ": 'scale' factors must be positive");
+    }
+    auto mesh = read_mesh(file->second, file->second.text, scale, s.label);
+    if (s.kind == ShapeKind::ConvexMesh) check_convex(*mesh, file->second, file->second.text, s.label);
+    return mesh;
+}
+
 Shape read_shape(const Param& node, const std::string& owner, bool ground) {
     if (!node.is_map()) node.fail(owner + " must be a map of keys (shape, radius or size, material, ...)");
     const auto type = node.fields.find("shape");
     if (type == node.fields.end())
-        node.fail(owner + ": missing key 'shape' (sphere, capsule, cylinder, box or plane)");
+        node.fail(owner + ": missing key 'shape' (" + kKinds + ")");
     const auto kind = kinds().find(type->second.text);
     if (!type->second.is_scalar() || kind == kinds().end())
-        type->second.fail(owner + ": 'shape' must be sphere, capsule, cylinder, box or plane, got '" +
+        type->second.fail(owner + ": 'shape' must be " + kKinds + ", got '" +
                           type->second.text + "'");
     Shape s;
     s.kind = kind->second;
@@ -119,6 +141,14 @@ Shape read_shape(const Param& node, const std::string& owner, bool ground) {
             if (node.fields.count("point")) s.position = vector3(node.fields.at("point"), "point", s.label);
             break;
         }
+        case ShapeKind::TriangleMesh:
+            if (!ground)
+                type->second.fail(s.label + ": a triangle_mesh is a ground shape (static, touched by the bodies' "
+                                            "other shapes); give it under 'ground: {collision: [...]}', or give a "
+                                            "body a convex_mesh");
+            s.mesh = mesh_of(node, s);
+            break;
+        case ShapeKind::ConvexMesh: s.mesh = mesh_of(node, s); break;
     }
     if (node.fields.count("position")) s.position = vector3(node.fields.at("position"), "position", s.label);
     if (node.fields.count("orientation")) s.rotation = orientation(node.fields.at("orientation"), s.label);

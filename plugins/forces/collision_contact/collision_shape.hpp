@@ -4,6 +4,7 @@
 #pragma once
 
 #include "collision_material.hpp"
+#include "collision_mesh.hpp"
 
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/rotation.hpp>
@@ -14,13 +15,14 @@
 
 namespace mbd::collision {
 
-enum class ShapeKind { Sphere, Capsule, Cylinder, Box, Plane };
+enum class ShapeKind { Sphere, Capsule, Cylinder, Box, Plane, ConvexMesh, TriangleMesh };
 
 struct Shape {
     ShapeKind kind = ShapeKind::Sphere;
     double radius = 0.0;                // sphere, capsule, cylinder
     double length = 0.0;                // capsule: between the cap centres; cylinder: end to end (along z)
     Vec3 size = Vec3::Zero();           // box: the edge lengths along x, y, z
+    std::shared_ptr<const Mesh> mesh;   // convex_mesh, triangle_mesh: in the shape's frame, scaled
     Vec3 position = Vec3::Zero();       // the shape's centre (plane: a point on it), body frame
     Mat3 rotation = Mat3::Identity();   // the shape's axes in the body frame (plane: z is the normal)
     int body = 0;                       // the body's position in the element's body list
@@ -32,7 +34,8 @@ struct Shape {
 };
 
 // The shapes of one body from its `collision:` list. `body` is the body's position in the
-// element; `ground` allows planes and rigid materials; `massless` refuses any shape.
+// element; `ground` allows planes, triangle meshes and rigid materials; `massless` refuses any
+// shape.
 std::vector<Shape> read_shapes(const Param& list, const std::string& body_name, int body, bool ground, bool massless);
 
 const char* kind_name(ShapeKind kind);

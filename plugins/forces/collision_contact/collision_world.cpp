@@ -2,7 +2,9 @@
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/convex.h>
 #include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/sphere.h>
@@ -25,6 +27,25 @@ bool PairFilter::may_touch(int i, int j) const {
 
 namespace {
 
+// FCL's convex polytope: its faces as [3, i, j, k, 3, ...]
+std::shared_ptr<fcl::CollisionGeometryd> convex_of(const Mesh& mesh) {
+    auto vertices = std::make_shared<std::vector<Vec3>>(mesh.vertices);
+    auto faces = std::make_shared<std::vector<int>>();
+    for (const auto& t : mesh.triangles) faces->insert(faces->end(), {3, t[0], t[1], t[2]});
+    return std::make_shared<fcl::Convexd>(vertices, static_cast<int>(mesh.triangles.size()), faces);
+}
+
+// A triangle soup in FCL's bounding-volume hierarchy (oriented and swept-sphere boxes)
+std::shared_ptr<fcl::CollisionGeometryd> triangles_of(const Mesh& mesh) {
+    auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+    std::vector<fcl::Triangle> triangles;
+    for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
+    model->beginModel(static_cast<int>(triangles.size()), static_cast<int>(mesh.vertices.size()));
+    model->addSubModel(mesh.vertices, triangles);
+    model->endModel();
+    return model;
+}
+
 std::shared_ptr<fcl::CollisionGeometryd> geometry_of(const Shape& s) {
     switch (s.kind) {
         case ShapeKind::Sphere: return std::make_shared<fcl::Sphered>(s.radius);
@@ -32,6 +53,8 @@ std::shared_ptr<fcl::CollisionGeometryd> geometry_of(const Shape& s) {
         case ShapeKind::Cylinder: return std::make_shared<fcl::Cylinderd>(s.radius, s.length);
         case ShapeKind::Box: return std::make_shared<fcl::Boxd>(s.size);
         case ShapeKind::Plane: return std::make_shared<fcl::Halfspaced>(Vec3::UnitZ(), 0.0);  // z <= 0 is solid
+        case ShapeKind::ConvexMesh: return convex_of(*s.mesh);
+        case ShapeKind::TriangleMesh: return triangles_of(*s.mesh);
     }
     return nullptr;
 }
@@ -44,6 +67,52 @@ fcl::Transform3d pose(const Vec3& R, const Mat3& A, const Shape& s) {
 }
 
 int shape_of(const fcl::CollisionObjectd* o) { return static_cast<int>(reinterpret_cast<std::intptr_t>(o->getUserData())); }
+
+// The points of a solid shape that can be its lowest against a plane of normal n (world), in
+// world coordinates, with the radius to subtract from each point's height: a box's corners (FCL
+// 0.7, boxHalfspaceIntersect, gives only the deepest corner, which cannot hold a box face resting
+// on the plane); a capsule's two cap centres, each a sphere of its radius; a cylinder's lowest
+// rim point on each end face (FCL gives one point, which cannot hold a cylinder on its side); a
+// convex mesh's vertices (as a box's corners).
+// A cylinder standing on an end face (its axis along n) is held at one rim point per face.
+struct LowPoint {
+    Vec3 point;
+    double radius;
+};
+
+void low_points(const Shape& s, const fcl::Transform3d& T, const Vec3& n, std::vector<LowPoint>& out) {
+    out.clear();
+    switch (s.kind) {
+        case ShapeKind::Box: {
+            const Vec3 half = 0.5 * s.size;
+            for (int corner = 0; corner < 8; ++corner)
+                out.push_back({T * Vec3((corner & 1 ? 1 : -1) * half.x(), (corner & 2 ? 1 : -1) * half.y(),
+                                        (corner & 4 ? 1 : -1) * half.z()),
+                               0.0});
+            return;
+        }
+        case ShapeKind::Capsule:
+            for (double end : {-0.5, 0.5}) out.push_back({T * Vec3(0, 0, end * s.length), s.radius});
+            return;
+        case ShapeKind::Cylinder: {
+            const Vec3 axis = T.linear().col(2);
+            Vec3 down = -(n - n.dot(axis) * axis);  // downhill across the end faces
+            if (down.norm() < 1e-12) down = T.linear().col(0);
+            const Vec3 rim = s.radius * down.normalized();
+            for (double end : {-0.5, 0.5}) out.push_back({T * Vec3(0, 0, end * s.length) + rim, 0.0});
+            return;
+        }
+        case ShapeKind::ConvexMesh:
+            for (const Vec3& v : s.mesh->vertices) out.push_back({T * v, 0.0});
+            return;
+        default: return;
+    }
+}
+
+bool has_low_points(ShapeKind kind) {
+    return kind == ShapeKind::Box || kind == ShapeKind::Capsule || kind == ShapeKind::Cylinder ||
+           kind == ShapeKind::ConvexMesh;
+}
 
 }  // namespace
 
@@ -59,28 +128,24 @@ struct World::Detail {
     std::vector<Contact> contacts;
 
     void narrow_phase(int i, int j);
-    void box_on_plane(int plane, int box);
+    void solid_on_plane(int plane, int solid);
+    std::vector<LowPoint> low;  // solid_on_plane's workspace
     static bool on_candidate(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* self) {
         static_cast<Detail*>(self)->narrow_phase(shape_of(a), shape_of(b));
         return false;  // go on: every candidate pair
     }
 };
 
-// A box against a plane: FCL (0.7, boxHalfspaceIntersect) gives only the deepest corner, which
-// cannot hold a box face resting on the plane; the contacts are every corner below the plane,
-// each at its depth (exact), acting at its foot on the plane.
-void World::Detail::box_on_plane(int plane, int box) {
+// A solid shape against a plane: a contact at each of its low points below the plane, at its
+// depth (exact), acting at its foot on the plane.
+void World::Detail::solid_on_plane(int plane, int solid) {
     const fcl::Transform3d& P = objects[plane]->getTransform();
-    const fcl::Transform3d& B = objects[box]->getTransform();
     const Vec3 n = P.linear().col(2);
-    const Vec3 half = 0.5 * (*shapes)[box].size;
-    for (int corner = 0; corner < 8; ++corner) {
-        const Vec3 local((corner & 1 ? 1 : -1) * half.x(), (corner & 2 ? 1 : -1) * half.y(),
-                         (corner & 4 ? 1 : -1) * half.z());
-        const Vec3 v = B * local;
-        const double height = n.dot(v - P.translation());
+    low_points((*shapes)[solid], objects[solid]->getTransform(), n, low);
+    for (const LowPoint& p : low) {
+        const double height = n.dot(p.point - P.translation()) - p.radius;
         if (height >= 0.0) continue;
-        contacts.push_back({plane, box, Vec3(v - height * n), n, -height});
+        contacts.push_back({plane, solid, Vec3(p.point - (height + p.radius) * n), n, -height});
     }
 }
 
@@ -88,25 +153,41 @@ void World::Detail::narrow_phase(int i, int j) {
     if (!filter.may_touch(i, j)) return;
     const Shape& a = (*shapes)[i];
     const Shape& b = (*shapes)[j];
-    if (a.kind == ShapeKind::Plane && b.kind == ShapeKind::Box) return box_on_plane(i, j);
-    if (b.kind == ShapeKind::Plane && a.kind == ShapeKind::Box) return box_on_plane(j, i);
+    if (a.kind == ShapeKind::Plane && has_low_points(b.kind)) return solid_on_plane(i, j);
+    if (b.kind == ShapeKind::Plane && has_low_points(a.kind)) return solid_on_plane(j, i);
     result.clear();
     fcl::collide(objects[i].get(), objects[j].get(), &solver, request, result);
     const int plane = a.kind == ShapeKind::Plane ? i : b.kind == ShapeKind::Plane ? j : -1;
+    // Against a triangle mesh FCL gives a contact per triangle the shape overlaps: a sphere on a
+    // flat mesh near an edge would be pushed by its triangle's face and again, tilted, by the
+    // neighbour's edge. The deepest contact alone is the face's (one point per pair).
+    const bool deepest_only = a.kind == ShapeKind::TriangleMesh || b.kind == ShapeKind::TriangleMesh;
+    const size_t first = contacts.size();
     for (size_t k = 0; k < result.numContacts(); ++k) {
         const fcl::Contactd& c = result.getContact(k);
+        // FCL 0.7's triangle contacts: sphere/triangle gives minus the depth, and the normal
+        // points from the mesh toward the shape whichever comes first; it is turned here to
+        // point from the mesh toward the shape's centre, then from shape i to shape j
+        const double depth = deepest_only ? std::abs(c.penetration_depth) : c.penetration_depth;
         // no force from a contact without a direction (EPA on a degenerate overlap can give a
         // zero or non-finite normal): a NaN would stop the run
-        if (!(c.penetration_depth > 0.0) || !std::isfinite(c.penetration_depth) || !c.normal.allFinite() ||
-            !(c.normal.norm() > 0.5))
-            continue;
-        Contact out{i, j, c.pos, c.normal.normalized(), c.penetration_depth};
+        if (!(depth > 0.0) || !std::isfinite(depth) || !c.normal.allFinite() || !(c.normal.norm() > 0.5)) continue;
+        Contact out{i, j, c.pos, c.normal.normalized(), depth};
+        if (deepest_only) {
+            const int shape = a.kind == ShapeKind::TriangleMesh ? j : i;
+            if (out.normal.dot(objects[shape]->getTranslation() - out.point) < 0.0) out.normal = -out.normal;
+            if (shape == i) out.normal = -out.normal;
+        }
         if (plane >= 0) {
             // against a plane the force acts on the plane (as the sphere_plane element's does):
             // FCL's point is the middle of the overlap
             const fcl::Transform3d& P = objects[plane]->getTransform();
             const Vec3 n = P.linear().col(2);
             out.point -= n * n.dot(out.point - P.translation());
+        }
+        if (deepest_only && contacts.size() > first) {
+            if (out.depth > contacts.back().depth) contacts.back() = out;
+            continue;
         }
         contacts.push_back(out);
     }
