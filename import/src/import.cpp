@@ -78,6 +78,7 @@ void apply_joint_positions(SourceTree& tree, const ImportOptions& options) {
                 throw InputError(joint.where, "joint '" + name + "': an initial position can be given to hinge, slide "
                                               "and screw joints only");
         }
+        joint.position += q;
         joint.spring_reference -= q;  // mbd's coordinates are zero at the scene's start
         joint.lower -= q;
         joint.upper -= q;

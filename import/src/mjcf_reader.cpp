@@ -3,6 +3,7 @@
 #include <mbd/import/mjcf_reader.hpp>
 
 #include <mbd/sdk/params.hpp>  // InputError
+#include <mbd/sdk/text.hpp>
 
 #include <mujoco/mujoco.h>
 
@@ -50,6 +51,26 @@ SourceJoint joint(const mjModel* m, const mjData* d, int j, const std::string& f
     return out;
 }
 
+// An equality `joint`: MuJoCo holds q1 - q1_0 = a0 + a1 (q2 - q2_0) + a2 (q2 - q2_0)^2 + ... (polycoef a0..a4,
+// q_0 = qpos0): the linear part is a coordinate_coupling; a curved one is refused, not approximated.
+SourceCoupling joint_coupling(const mjModel* m, int e, const std::string& name, const std::string& file) {
+    const mjtNum* poly = m->eq_data + mjNEQDATA * e;
+    SourceCoupling c;
+    c.name = name;
+    c.where = file;
+    c.what = "MJCF equality joint '" + name + "'";
+    c.follower = name_of(m, mjOBJ_JOINT, m->eq_obj1id[e], "joint");
+    c.leader = name_of(m, mjOBJ_JOINT, m->eq_obj2id[e], "joint");
+    c.offset = poly[0];
+    c.multiplier = poly[1];
+    if (poly[2] != 0.0 || poly[3] != 0.0 || poly[4] != 0.0)
+        throw InputError(file, c.what + ": its polycoef has non-zero terms of degree 2 to 4 (" + format_number(poly[2]) + " " +
+                                   format_number(poly[3]) + " " + format_number(poly[4]) +
+                                   "); mbd couples joints linearly only (coordinate_coupling): give polycoef \"" +
+                                   format_number(poly[0]) + " " + format_number(poly[1]) + " 0 0 0\" or remove the equality");
+    return c;
+}
+
 // MuJoCo's equality constraints that close loops: `connect` as a ball joint at its anchor, `weld`
 // as a fixed joint (in the relative pose at qpos0, which must be its relpose). Returns the names
 // of those not mapped (joint and tendon couplings, inactive ones).
@@ -58,6 +79,10 @@ std::vector<std::string> read_equalities(const mjModel* m, const mjData* d, Sour
     for (int e = 0; e < m->neq; ++e) {
         const std::string name = name_of(m, mjOBJ_EQUALITY, e, "equality");
         const int type = m->eq_type[e];
+        if (m->eq_active[e] && type == mjEQ_JOINT && m->eq_obj2id[e] >= 0) {
+            tree.couplings.push_back(joint_coupling(m, e, name, tree.file));
+            continue;
+        }
         if (!m->eq_active[e] || (type != mjEQ_CONNECT && type != mjEQ_WELD)) {
             left.push_back(name + (m->eq_active[e] ? "" : " (inactive)"));
             continue;
@@ -160,7 +185,7 @@ SourceTree read_mjcf_model(const mjModel* m, const std::string& file) {
     const std::vector<std::string> equalities = read_equalities(m, d, tree);
     if (!equalities.empty())
         tree.unmapped.push_back({"equality constraints", equalities,
-                                 "joint and tendon couplings are not imported yet; inactive ones are left out"});
+                                 "tendon couplings and a joint equality without joint2 are not imported yet; inactive ones are left out"});
     return tree;
 }
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <map>
 #include <set>
 
 namespace mbd::import {
@@ -153,6 +154,7 @@ public:
         }
         propagate_velocities(scene_, joint_source_, parent_joint_);
         for (const SourceLoop& loop : tree_.loops) add_loop(loop);
+        for (const SourceCoupling& coupling : tree_.couplings) add_coupling(coupling);
         if (!welded_to_world_.empty())
             scene_.notes.push_back("welded to the world, so part of the ground: " + joined(welded_to_world_));
         if (!outside_limits_.empty())
@@ -233,6 +235,44 @@ private:
         scene_.joints.push_back(j);
     }
 
+    // The scene joint of the source joint named `name` (InputError naming the coupling when the file has none
+    // or it has no single coordinate).
+    int coupled_joint(const SourceCoupling& c, const std::string& name, const char* role) const {
+        const auto it = joint_of_source_name_.find(name);
+        if (it == joint_of_source_name_.end())
+            throw InputError(c.where, c.what + ": its " + role + " joint '" + name + "' is not a joint of the " + tree_.format +
+                                          " file (check the joint name)");
+        const SourceJointKind kind = joint_source_[it->second]->kind;
+        if (kind != SourceJointKind::Hinge && kind != SourceJointKind::Slide && kind != SourceJointKind::Screw)
+            throw InputError(c.where, c.what + ": its " + role + " joint '" + name + "' is a " + joint_type(kind) +
+                                          " joint; only hinge, slide and screw joints have the one coordinate a coupling ties");
+        return it->second;
+    }
+
+    // q_follower = multiplier q_leader + offset as a coordinate_coupling joint; the start must satisfy it.
+    void add_coupling(const SourceCoupling& c) {
+        SceneCoupling out;
+        out.follower = coupled_joint(c, c.follower, "follower");
+        out.leader = coupled_joint(c, c.leader, "leader");
+        if (out.follower == out.leader)
+            throw InputError(c.where, c.what + ": it couples joint '" + c.follower + "' to itself");
+        out.follower_start = joint_source_[out.follower]->position;
+        out.leader_start = joint_source_[out.leader]->position;
+        const double wanted = c.multiplier * out.leader_start + c.offset;
+        if (std::abs(out.follower_start - wanted) > 1e-9 * (1.0 + std::abs(wanted)))
+            throw InputError(c.where, c.what + ": the start does not satisfy it: joint '" + c.follower + "' is at " +
+                                          format_number(out.follower_start) + ", the coupling wants " +
+                                          format_number(wanted) + " (give --position " + c.follower + "=" +
+                                          format_number(wanted, 17) + ")");
+        out.name = joint_names_.unique(c.name + "_coupling", "");
+        out.where = c.where;
+        out.comment = c.what + ": " + c.follower + " = " + format_number(c.multiplier) + " " + c.leader + " + " +
+                      format_number(c.offset);
+        out.multiplier = c.multiplier;
+        out.offset = c.offset;
+        scene_.couplings.push_back(out);
+    }
+
     // The limits of a hinge or slide as a joint_stop. The stop's angle is zero at the scene's
     // start like the source's coordinate; its travel is measured from the joint's point to the
     // child's mass centre, so the limits move by that distance at the start.
@@ -292,6 +332,7 @@ private:
         j.pitch = source.pitch;
         scene_.joints.push_back(j);
         joint_source_.push_back(&source);
+        if (!source.name.empty()) joint_of_source_name_.emplace(source.name, static_cast<int>(scene_.joints.size()) - 1);
         parent_joint_[child] = static_cast<int>(scene_.joints.size()) - 1;
         if (source.limited) add_stop(j, source);
         if (source.stiffness == 0.0 && source.damping == 0.0) return;
@@ -316,7 +357,8 @@ private:
     ImportedScene scene_;
     double frame_mass_ = 0.0;
     Names body_names_, joint_names_, force_names_;
-    std::vector<const SourceJoint*> joint_source_;  // per scene joint
+    std::vector<const SourceJoint*> joint_source_;  // per scene joint of the tree
+    std::map<std::string, int> joint_of_source_name_;  // scene joint of each named source joint
     std::vector<int> parent_joint_;                 // per scene body: the joint to its parent, -1 none
     std::vector<const SourceBody*> free_source_;    // per scene body: the source of a free body
     std::vector<std::string> welded_to_world_, slide_passive_, wide_limits_, outside_limits_;

@@ -1,6 +1,7 @@
 // ImportedScene -> YAML text (scene_writer.hpp).
 #include <mbd/import/scene_writer.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <sstream>
@@ -54,6 +55,25 @@ void write_bodies(std::ostringstream& out, const ImportedScene& scene) {
     }
 }
 
+// A coordinate_coupling over the bodies of its two joints (each once, in order).
+void write_coupling(std::ostringstream& out, const ImportedScene& scene, const SceneCoupling& c) {
+    const SceneJoint& f = scene.joints[c.follower];
+    const SceneJoint& l = scene.joints[c.leader];
+    std::vector<int> bodies;
+    for (int b : {f.parent, f.child, l.parent, l.child})
+        if (std::find(bodies.begin(), bodies.end(), b) == bodies.end()) bodies.push_back(b);
+    auto side = [&](const SceneJoint& j, double start) {
+        return "{bodies: [" + body_name(scene, j.parent) + ", " + body_name(scene, j.child) + "], point: " + vector(j.point) +
+               ", axis: " + vector(j.axis) + ", coordinate: " + (j.type == "prismatic" ? "travel" : "angle") +
+               ", start: " + number(start) + "}";
+    };
+    out << source(c.where, c.comment);
+    out << "  - {name: " << c.name << ", type: coordinate_coupling, bodies: [";
+    for (size_t k = 0; k < bodies.size(); ++k) out << (k ? ", " : "") << body_name(scene, bodies[k]);
+    out << "], multiplier: " << number(c.multiplier) << ", offset: " << number(c.offset) << ",\n     follower: "
+        << side(f, c.follower_start) << ",\n     leader: " << side(l, c.leader_start) << "}\n";
+}
+
 void write_joints(std::ostringstream& out, const ImportedScene& scene) {
     if (scene.joints.empty()) return;
     out << "joints:\n";
@@ -68,6 +88,7 @@ void write_joints(std::ostringstream& out, const ImportedScene& scene) {
         if (j.type == "screw") out << ", pitch: " << number(j.pitch);
         out << "}\n";
     }
+    for (const SceneCoupling& c : scene.couplings) write_coupling(out, scene, c);
 }
 
 void write_stops(std::ostringstream& out, const ImportedScene& scene) {

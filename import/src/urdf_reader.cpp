@@ -88,7 +88,6 @@ struct Walker {
     std::vector<std::string>& limited;
     std::vector<std::string>& friction;
     std::vector<std::string>& geometry;
-    std::vector<std::string>& mimic;
 
     void add(const urdf::Link& link, int parent, const Vec3& origin, const Mat3& rotation) {
         SourceBody body;
@@ -155,7 +154,9 @@ struct Walker {
                                   std::to_string(j.limits->upper) + ")");
             }
         }
-        if (j.mimic) mimic.push_back(j.name + " mimics " + j.mimic->joint_name);
+        if (j.mimic)  // urdfdom does not check that the mimicked joint exists; the scene builder does
+            tree.couplings.push_back({j.name, out.where, "URDF joint '" + j.name + "' <mimic>", j.name, j.mimic->joint_name,
+                                      j.mimic->multiplier, j.mimic->offset});
         return {out};
     }
 };
@@ -187,8 +188,8 @@ SourceTree read_urdf(const std::filesystem::path& path) {
     tree.file = file;
     tree.format = "URDF";
     tree.name = model->getName();
-    std::vector<std::string> limited, friction, geometry, mimic;
-    Walker walker{layout, tree, limited, friction, geometry, mimic};
+    std::vector<std::string> limited, friction, geometry;
+    Walker walker{layout, tree, limited, friction, geometry};
     walker.add(*model->getRoot(), -1, Vec3::Zero(), Mat3::Identity());
     auto add = [&](const std::string& kind, const std::vector<std::string>& names, const std::string& note) {
         if (!names.empty()) tree.unmapped.push_back({kind, names, note});
@@ -196,7 +197,6 @@ SourceTree read_urdf(const std::filesystem::path& path) {
     add("links' visual and collision geometry", geometry, "contacts and meshes are not imported");
     add("joint limits", limited, "an empty range is not imported as a stop");
     add("joint friction", friction, "");
-    add("mimic couplings", mimic, "no coupling constraint imported yet: the joints move independently");
     return tree;
 }
 

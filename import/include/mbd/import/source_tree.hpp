@@ -32,6 +32,9 @@ struct SourceJoint {
     // `stop_stiffness` N m/rad or N/m (SDF <limit><stiffness>; Gazebo's 1e8 for URDF)
     bool limited = false;
     double lower = 0.0, upper = 0.0, stop_stiffness = 1e8;
+    // hinge / slide / screw: the joint position at the scene's start, from the reference
+    // configuration (--position; MuJoCo's qpos - qpos0, URDF / SDF joint position)
+    double position = 0.0;
 };
 
 struct SourceBody {
@@ -56,6 +59,17 @@ struct SourceLoop {
     int body_a = -1, body_b = -1;  // indices in SourceTree::bodies, -1: the world
 };
 
+// A linear coupling of two one-coordinate joints (URDF <mimic>, MJCF <equality joint>):
+// q_follower = multiplier * q_leader + offset, q each joint's position from the reference
+// configuration (URDF: the joint position; MJCF: qpos - qpos0).
+struct SourceCoupling {
+    std::string name;   // the element: the mimic joint's or the equality's name
+    std::string where;
+    std::string what;   // "URDF mimic of joint 'j'", "MJCF equality joint 'e'"
+    std::string follower, leader;  // joint names as in the file
+    double multiplier = 1.0, offset = 0.0;
+};
+
 // What the file holds that the import does not map, by kind ("tendon", "sensor", ...), each
 // with the element's name (and where, when the parser gives it).
 struct Unmapped {
@@ -71,6 +85,7 @@ struct SourceTree {
     Vec3 gravity = Vec3(0, 0, -9.81);
     std::vector<SourceBody> bodies;     // parents before children
     std::vector<SourceLoop> loops;      // constraints beyond the tree
+    std::vector<SourceCoupling> couplings;
     std::vector<Unmapped> unmapped;
 };
 
