@@ -47,6 +47,7 @@ SourceJoint joint(const mjModel* m, const mjData* d, int j, const std::string& f
         out.stiffness = m->jnt_stiffness[j];
         out.spring_reference = m->qpos_spring[q] - m->qpos0[q];  // mbd's angle is zero at qpos0
         out.damping = m->dof_damping[m->jnt_dofadr[j]];
+        out.armature = m->dof_armature[m->jnt_dofadr[j]];
     }
     return out;
 }
@@ -142,12 +143,12 @@ void list_unmapped(const mjModel* m, SourceTree& tree) {
             has_damping |= m->dof_damping[k] != 0.0;
         }
         if (m->jnt_limited[j]) limited.push_back(name);
-        if (has_armature) armature.push_back(name);
+        if (has_armature && dofs > 1) armature.push_back(name);  // a hinge's or slide's is a rotor (scene_builder)
         if (has_friction) friction.push_back(name);
         if (dofs > 1 && (has_damping || m->jnt_stiffness[j] != 0.0)) ball_damping.push_back(name);
     }
     add("joint limits", limited, "no joint stops imported yet");
-    add("joint armatures", armature, "mbd has no rotor inertia in a joint yet; the armature is left out");
+    add("ball / free joint armatures", armature, "only a hinge's or slide's armature becomes a rotor; left out");
     add("joint friction losses", friction, "");
     add("ball / free joint springs and damping", ball_damping, "");
 }

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <deque>
 #include <map>
 #include <set>
 
@@ -235,6 +236,56 @@ private:
         scene_.joints.push_back(j);
     }
 
+    // MuJoCo's armature I_a of a hinge or slide (kinetic energy 1/2 I_a qdot^2, I_a on the joint's diagonal
+    // of the joint-space mass matrix) as a rotor: a disc of axial moment I_a pinned to the ground
+    // (so it has no other motion) whose angle is coupled one to one to the joint's coordinate (rad per
+    // rad, or rad per m). Its kinetic energy is then exactly 1/2 I_a qdot^2, and the coupling hands
+    // -I_a qddot to the joint's coordinate, as MuJoCo's mass matrix does, whatever the parent's motion.
+    void add_rotor(const SourceJoint& source, int joint) {
+        if (source.armature < 0.0 || !std::isfinite(source.armature))
+            throw InputError(source.where, tree_.format + " joint '" + source.name + "': armature " +
+                                               format_number(source.armature) + " is not an inertia (give a number >= 0)");
+        const SceneJoint j = scene_.joints[joint];  // a copy: scene_.joints grows below
+        SceneBody rotor;
+        rotor.name = body_names_.unique(j.name + "_rotor", "");
+        rotor.where = source.where;
+        rotor.comment = "rotor of the armature " + format_number(source.armature) + " of " + tree_.format + " joint '" +
+                        source.name + "', pinned to the ground, its angle coupled to the joint's coordinate";
+        rotor.mass = source.armature / 0.01;  // a disc of radius 0.14 m; pinned, so its mass does nothing
+        rotor.position = j.point;
+        rotor.rotation.col(2) = j.axis;
+        rotor.rotation.col(0) = any_perpendicular(j.axis);
+        rotor.rotation.col(1) = j.axis.cross(rotor.rotation.col(0));
+        rotor.inertia = Vec3(0.5, 0.5, 1.0).asDiagonal() * source.armature;
+        rotor.frame = true;  // not a body of the source
+        scene_.bodies.push_back(rotor);
+        parent_joint_.push_back(-1);
+        free_source_.push_back(nullptr);
+        const int b = static_cast<int>(scene_.bodies.size()) - 1;
+
+        SourceJoint& pin = rotor_sources_.emplace_back(source);  // its rate is the joint's
+        pin.kind = SourceJointKind::Hinge;
+        SceneJoint p = j;
+        p.name = joint_names_.unique(j.name + "_rotor_pin", "");
+        p.type = "revolute";
+        p.kind = SourceJointKind::Hinge;
+        p.parent = -1;
+        p.child = b;
+        p.comment = "pin of the rotor of " + tree_.format + " joint '" + source.name + "'";
+        scene_.joints.push_back(p);
+        joint_source_.push_back(&pin);
+        parent_joint_[b] = static_cast<int>(scene_.joints.size()) - 1;
+
+        SceneCoupling c;
+        c.name = joint_names_.unique(j.name + "_armature", "");
+        c.where = source.where;
+        c.comment = "armature of " + tree_.format + " joint '" + source.name + "': the rotor turns with its coordinate";
+        c.follower = parent_joint_[b];
+        c.leader = joint;
+        c.follower_start = c.leader_start = source.position;
+        scene_.couplings.push_back(c);
+    }
+
     // The scene joint of the source joint named `name` (InputError naming the coupling when the file has none
     // or it has no single coordinate).
     int coupled_joint(const SourceCoupling& c, const std::string& name, const char* role) const {
@@ -335,6 +386,7 @@ private:
         if (!source.name.empty()) joint_of_source_name_.emplace(source.name, static_cast<int>(scene_.joints.size()) - 1);
         parent_joint_[child] = static_cast<int>(scene_.joints.size()) - 1;
         if (source.limited) add_stop(j, source);
+        if (source.armature != 0.0) add_rotor(source, static_cast<int>(scene_.joints.size()) - 1);
         if (source.stiffness == 0.0 && source.damping == 0.0) return;
         if (source.kind != SourceJointKind::Hinge) {
             slide_passive_.push_back(j.name);
@@ -358,6 +410,7 @@ private:
     double frame_mass_ = 0.0;
     Names body_names_, joint_names_, force_names_;
     std::vector<const SourceJoint*> joint_source_;  // per scene joint of the tree
+    std::deque<SourceJoint> rotor_sources_;         // the pins of the armature rotors (stable addresses)
     std::map<std::string, int> joint_of_source_name_;  // scene joint of each named source joint
     std::vector<int> parent_joint_;                 // per scene body: the joint to its parent, -1 none
     std::vector<const SourceBody*> free_source_;    // per scene body: the source of a free body

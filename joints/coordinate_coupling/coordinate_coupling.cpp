@@ -42,14 +42,16 @@ struct Side {
 class CoordinateCoupling final : public mbd::Joint {
 public:
     CoordinateCoupling(Side follower, Side leader, double multiplier, double offset)
-        : f_(std::move(follower)), l_(std::move(leader)), m_(multiplier), offset_(offset) {}
+        : f_(std::move(follower)), l_(std::move(leader)), m_(multiplier), offset_(offset),
+          periodic_(f_.angle && l_.angle && std::abs(multiplier) == 1.0) {}
 
     int rows() const override { return 1; }
 
     void evaluate(const mbd::BodyStates& b, mbd::ConstraintEval& out) const override {
         out.J.setZero();
         const mbd::spatial::Scalar sf = f_.value(b), sl = l_.value(b);
-        out.C[0] = (sf.value + f_.start) - m_ * (sl.value + l_.start) - offset_;
+        const double C = (sf.value + f_.start) - m_ * (sl.value + l_.start) - offset_;
+        out.C[0] = periodic_ ? mbd::wrap_angle(C) : C;
         scatter(f_, sf.J, 1.0, out);
         scatter(l_, sl.J, -m_, out);
         out.C_t[0] = 0.0;
@@ -57,6 +59,10 @@ public:
     }
 
     std::string row_name(int) const override { return "coupling"; }
+
+    // Two angles coupled one to one (multiplier +-1): the row holds modulo a turn, so its residual is
+    // wrapped and the two sides may pass +-pi (each angle wraps there) without the row jumping.
+    double row_period(int) const override { return periodic_ ? 2.0 * M_PI : 0.0; }
 
 private:
     // the side's 12 columns [body i, body j] into the joint's 6 per body
@@ -67,6 +73,7 @@ private:
 
     Side f_, l_;
     double m_, offset_;
+    bool periodic_;
 };
 
 // The index in the joint's `bodies` of a side's body named `name`.

@@ -35,6 +35,9 @@ struct SourceJoint {
     // hinge / slide / screw: the joint position at the scene's start, from the reference
     // configuration (--position; MuJoCo's qpos - qpos0, URDF / SDF joint position)
     double position = 0.0;
+    // hinge / slide: MuJoCo's armature, an inertia (kg m^2, or kg) added to the joint's diagonal of
+    // the joint-space mass matrix (kinetic energy 1/2 armature qdot^2)
+    double armature = 0.0;
 };
 
 struct SourceBody {
