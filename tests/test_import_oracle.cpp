@@ -42,7 +42,7 @@ void conservative_tree(mjModel* m, bool keep_armature = false) {
         m->dof_damping[k] = m->dof_frictionloss[k] = 0.0;
         if (!keep_armature) m->dof_armature[k] = 0.0;
     }
-    for (int j = 0; j < m->njnt; ++j) m->jnt_stiffness[j] = 0.0;
+    for (int j = 0; j < m->njnt; ++j) m->jnt_stiffness[j] = 0.0, m->jnt_limited[j] = 0;  // no stops imported either
 }
 
 // The documented initial velocities: hinge number k (MuJoCo's joint order, from 0) turns at

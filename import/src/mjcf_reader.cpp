@@ -30,6 +30,10 @@ Mat3 mat(const mjtNum* v) {  // MuJoCo's 3x3 matrices are row-major
 
 Mat3 quat(const mjtNum* q) { return rotation_from_euler_parameters(Vec4(q[0], q[1], q[2], q[3]).normalized()); }
 
+// MuJoCo's limits are soft (solref/solimp: a spring-damper whose stiffness scales with the joint's
+// effective inertia); mbd's joint_stop is a stiff stop as for a hard URDF limit (docs/import.md).
+constexpr double kMjcfLimitStiffness = 1e8;
+
 SourceJoint joint(const mjModel* m, const mjData* d, int j, const std::string& file) {
     SourceJoint out;
     out.name = name_of(m, mjOBJ_JOINT, j, "joint");
@@ -48,6 +52,12 @@ SourceJoint joint(const mjModel* m, const mjData* d, int j, const std::string& f
         out.spring_reference = m->qpos_spring[q] - m->qpos0[q];  // mbd's angle is zero at qpos0
         out.damping = m->dof_damping[m->jnt_dofadr[j]];
         out.armature = m->dof_armature[m->jnt_dofadr[j]];
+        if (m->jnt_limited[j]) {  // range in qpos units; mbd's coordinate is zero at qpos0
+            out.limited = true;
+            out.lower = m->jnt_range[2 * j] - m->qpos0[q];
+            out.upper = m->jnt_range[2 * j + 1] - m->qpos0[q];
+            out.stop_stiffness = kMjcfLimitStiffness;
+        }
     }
     return out;
 }
@@ -142,12 +152,12 @@ void list_unmapped(const mjModel* m, SourceTree& tree) {
             has_friction |= m->dof_frictionloss[k] != 0.0;
             has_damping |= m->dof_damping[k] != 0.0;
         }
-        if (m->jnt_limited[j]) limited.push_back(name);
+        if (m->jnt_limited[j] && dofs > 1) limited.push_back(name);  // a hinge's or slide's is a joint_stop
         if (has_armature && dofs > 1) armature.push_back(name);  // a hinge's or slide's is a rotor (scene_builder)
         if (has_friction) friction.push_back(name);
         if (dofs > 1 && (has_damping || m->jnt_stiffness[j] != 0.0)) ball_damping.push_back(name);
     }
-    add("joint limits", limited, "no joint stops imported yet");
+    add("ball joint limits", limited, "a cone limit has no joint_stop");
     add("ball / free joint armatures", armature, "only a hinge's or slide's armature becomes a rotor; left out");
     add("joint friction losses", friction, "");
     add("ball / free joint springs and damping", ball_damping, "");
