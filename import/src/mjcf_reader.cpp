@@ -124,6 +124,33 @@ std::vector<std::string> read_equalities(const mjModel* m, const mjData* d, Sour
     return left;
 }
 
+// MuJoCo's keyframes as named initial states: key_qpos against qpos0, key_qvel as it is.
+void read_keyframes(const mjModel* m, SourceTree& tree) {
+    for (int k = 0; k < m->nkey; ++k) {
+        SourceKeyframe key;
+        key.name = name_of(m, mjOBJ_KEY, k, "key");
+        const mjtNum* qpos = m->key_qpos + k * m->nq;
+        const mjtNum* qvel = m->key_qvel + k * m->nv;
+        for (int j = 0; j < m->njnt; ++j) {
+            const std::string joint = name_of(m, mjOBJ_JOINT, j, "joint");
+            const int q = m->jnt_qposadr[j], v = m->jnt_dofadr[j], type = m->jnt_type[j];
+            const int nq = type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1, nv = type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1;
+            bool moved = false, moving = false;
+            for (int i = 0; i < nq; ++i) moved |= qpos[q + i] != m->qpos0[q + i];
+            for (int i = 0; i < nv; ++i) moving |= qvel[v + i] != 0.0;
+            if (moving) key.velocities[joint] = std::vector<double>(qvel + v, qvel + v + nv);
+            if (!moved) continue;
+            if (type == mjJNT_FREE)
+                key.free_poses[joint] = {vec(qpos + q), Vec4(qpos[q + 3], qpos[q + 4], qpos[q + 5], qpos[q + 6]).normalized()};
+            else if (type == mjJNT_BALL)
+                key.moved_balls.push_back(joint);
+            else
+                key.positions[joint] = qpos[q] - m->qpos0[q];
+        }
+        tree.keyframes.push_back(std::move(key));
+    }
+}
+
 // The named elements of one kind (count n, names of type `type`).
 std::vector<std::string> names(const mjModel* m, int type, int n, const char* kind) {
     std::vector<std::string> out;
@@ -140,7 +167,6 @@ void list_unmapped(const mjModel* m, SourceTree& tree) {
     add("tendons", names(m, mjOBJ_TENDON, m->ntendon, "tendon"), "");
     add("actuators", names(m, mjOBJ_ACTUATOR, m->nu, "actuator"), "");
     add("sensors", names(m, mjOBJ_SENSOR, m->nsensor, "sensor"), "");
-    add("keyframes", names(m, mjOBJ_KEY, m->nkey, "key"), "");
     std::vector<std::string> limited, armature, friction, ball_damping;
     for (int j = 0; j < m->njnt; ++j) {
         const std::string name = name_of(m, mjOBJ_JOINT, j, "joint");
@@ -193,6 +219,7 @@ SourceTree read_mjcf_model(const mjModel* m, const std::string& file) {
         tree.bodies.push_back(std::move(body));
     }
     list_unmapped(m, tree);
+    read_keyframes(m, tree);
     const std::vector<std::string> equalities = read_equalities(m, d, tree);
     if (!equalities.empty())
         tree.unmapped.push_back({"equality constraints", equalities,

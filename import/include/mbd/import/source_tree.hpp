@@ -7,7 +7,9 @@
 
 #include <mbd/sdk/rotation.hpp>
 
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mbd::import {
@@ -81,6 +83,17 @@ struct Unmapped {
     std::string note;  // why, or what mbd lacks
 };
 
+// A named initial state (MJCF <key>): joint positions from the reference configuration (hinge,
+// slide), joint velocities in MuJoCo's qvel convention (as --velocity), and the world poses of
+// free joints' bodies (frame origin, Euler parameters) that differ from qpos0.
+struct SourceKeyframe {
+    std::string name;
+    std::map<std::string, double> positions;
+    std::map<std::string, std::vector<double>> velocities;
+    std::map<std::string, std::pair<Vec3, Vec4>> free_poses;
+    std::vector<std::string> moved_balls;  // ball joints the keyframe turns (not supported)
+};
+
 struct SourceTree {
     std::string name;                   // the model's name
     std::string file;                   // the file it was read from
@@ -89,6 +102,7 @@ struct SourceTree {
     std::vector<SourceBody> bodies;     // parents before children
     std::vector<SourceLoop> loops;      // constraints beyond the tree
     std::vector<SourceCoupling> couplings;
+    std::vector<SourceKeyframe> keyframes;
     std::vector<Unmapped> unmapped;
 };
 
