@@ -49,6 +49,10 @@ struct Motion {
 };
 
 void move_body(SourceBody& body, const Motion& m, size_t first_joint) {
+    for (VisualShape& v : body.visuals) {
+        v.position = m.moved(v.position);
+        v.rotation = m.turn * v.rotation;
+    }
     body.origin = m.moved(body.origin);
     body.com = m.moved(body.com);
     body.rotation = m.turn * body.rotation;

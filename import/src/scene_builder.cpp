@@ -85,6 +85,7 @@ void merge(SceneBody& into, const SourceBody& part) {
     into.inertia = 0.5 * (into.inertia + into.inertia.transpose());
     into.mass = m;
     into.position = c;
+    into.visuals.insert(into.visuals.end(), part.visuals.begin(), part.visuals.end());
 }
 
 std::string joint_type(SourceJointKind kind) {
@@ -199,6 +200,7 @@ private:
             frame.mass = frame_mass_;
             frame.inertia = frame_mass_ * 0.01 * Mat3::Identity();
             frame.com = joint.point;
+            frame.visuals.clear();  // the body's shapes go on the body, not on its frames
             const std::string joint_name = joint.name.empty() ? "joint" + std::to_string(k + 1) : joint.name;
             const int b = add_body(frame, body_names_.unique(body.name + "_" + joint_name + "_frame", ""),
                                    "frame between the joints of " + what + ", moved by its joint '" + joint.name + "'");
@@ -363,6 +365,7 @@ private:
         b.inertia = source.inertia;
         b.position = source.com;
         b.rotation = source.rotation;
+        b.visuals = source.visuals;
         scene_.bodies.push_back(b);
         parent_joint_.push_back(-1);
         free_source_.push_back(nullptr);

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 namespace mbd::import {
 
 namespace {
@@ -39,6 +41,27 @@ std::string source(const std::string& where, const std::string& what) {
     return "  # " + (where.empty() ? std::string() : where + ": ") + what + "\n";
 }
 
+// A rotation as the scene's {axis, angle}.
+std::string rotation_text(const Mat3& r) {
+    const Eigen::AngleAxisd turn(r);
+    return "{axis: " + vector(turn.axis()) + ", angle: " + number(turn.angle()) + "}";
+}
+
+// The body's shapes (posed in world at t = 0) in its frame: origin the mass centre, body axes.
+void write_visuals(std::ostringstream& out, const SceneBody& b) {
+    if (b.visuals.empty()) return;
+    out << "    visual:\n";
+    for (const VisualShape& v : b.visuals) {
+        out << "      # " << v.where << "\n      - {shape: " << shape_kind_name(v.kind);
+        if (v.kind == ShapeKind::Box) out << ", size: " << vector(v.size);
+        if (v.kind != ShapeKind::Box && v.kind != ShapeKind::Mesh) out << ", radius: " << number(v.radius);
+        if (v.kind == ShapeKind::Cylinder || v.kind == ShapeKind::Capsule) out << ", length: " << number(v.length);
+        if (v.kind == ShapeKind::Mesh) out << ", file: \"" << v.mesh_file << "\", scale: " << vector(v.scale);
+        out << ", position: " << vector(b.rotation.transpose() * (v.position - b.position))
+            << ", rotation: " << rotation_text(b.rotation.transpose() * v.rotation) << ", color: " << vector(v.color) << "}\n";
+    }
+}
+
 void write_bodies(std::ostringstream& out, const ImportedScene& scene) {
     out << "bodies:\n";
     for (const SceneBody& b : scene.bodies) {
@@ -52,6 +75,7 @@ void write_bodies(std::ostringstream& out, const ImportedScene& scene) {
             << ", " << number(p[3]) << "]}\n";
         if (!b.velocity.isZero(0.0)) out << "    velocity: " << vector(b.velocity) << "\n";
         if (!b.angular_velocity.isZero(0.0)) out << "    angular_velocity: " << vector(b.angular_velocity) << "\n";
+        write_visuals(out, b);
     }
 }
 

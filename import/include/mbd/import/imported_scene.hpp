@@ -29,6 +29,7 @@ struct SceneBody {
     Vec3 velocity = Vec3::Zero();      // of the mass centre, world
     Vec3 angular_velocity = Vec3::Zero();  // world
     bool frame = false;                // an intermediate frame body (kFrameMassFraction)
+    std::vector<VisualShape> visuals;  // posed in world at t = 0 (source_tree.hpp)
 };
 
 struct SceneJoint {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <mbd/sdk/rotation.hpp>
+#include <mbd/visual.hpp>
 
 #include <map>
 #include <string>
@@ -53,6 +54,9 @@ struct SourceBody {
     Vec3 com = Vec3::Zero();            // mass centre, world
     // the joints between the parent and this body, parent side first; none: welded to the parent
     std::vector<SourceJoint> joints;
+    // what it looks like (URDF <visual>): shapes posed in WORLD at t = 0 (position, rotation),
+    // meshes by absolute path; the scene writer poses them in the scene body's frame
+    std::vector<VisualShape> visuals;
 };
 
 // A constraint that closes a loop of the tree (MJCF equality `connect` and `weld`, an SDF joint
