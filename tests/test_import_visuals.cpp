@@ -94,6 +94,37 @@ TEST(ImportVisuals, VisualsAndMissingMeshesLeaveTheDynamicsAlone) {
     EXPECT_NE(r.err.find("visual meshes not found (package://nowhere/meshes/arm.stl (link 'arm'))"), std::string::npos) << r.err;
 }
 
+// MJCF geoms (sizes are half sizes in MuJoCo): a box turned 90 degrees about its z, a capsule given
+// by fromto along the link, an ellipsoid (no mbd shape: not drawn), posed in the body frame.
+TEST(ImportVisuals, MjcfGeomsArePosedInTheBodyFrame) {
+    const fs::path file = write_file("drawn.xml", R"(<mujoco model="drawn">
+  <worldbody><geom name="floor" type="plane" size="1 1 0.1"/>
+    <body name="arm" pos="0 0 1">
+      <joint name="hinge" type="hinge" axis="1 0 0"/>
+      <inertial pos="0 0 -0.2" mass="1" diaginertia="0.01 0.01 0.002"/>
+      <geom name="plate" type="box" size="0.05 0.1 0.15" pos="0.1 0 0" euler="0 0 90" rgba="0.1 0.2 0.8 1"/>
+      <geom name="rod" type="capsule" fromto="0 0 0 0 0 -0.4" size="0.02"/>
+      <geom name="blob" type="ellipsoid" size="0.03 0.04 0.05" pos="0 0 -0.4"/>
+    </body>
+  </worldbody>
+</mujoco>
+)");
+    const import::ImportedScene scene = import::import_model(file);
+    const Model model = load_scene_text(import::scene_yaml(scene), "drawn.yaml", shared_registry());
+    const std::vector<VisualShape>& shapes = model.bodies.at(model.body_index("arm")).visuals;
+    ASSERT_EQ(shapes.size(), 2u);
+    EXPECT_EQ(shapes[0].kind, ShapeKind::Box);
+    EXPECT_LT((shapes[0].size - Vec3(0.1, 0.2, 0.3)).norm(), 1e-12);
+    EXPECT_LT((shapes[0].position - Vec3(0.1, 0, 0.2)).norm(), 1e-12);
+    EXPECT_LT((shapes[0].rotation - Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()).toRotationMatrix()).norm(), 1e-9);
+    EXPECT_LT((shapes[0].color - Vec3(0.1, 0.2, 0.8)).norm(), 1e-7);  // MuJoCo keeps colours as floats
+    EXPECT_EQ(shapes[1].kind, ShapeKind::Capsule);
+    EXPECT_LT(shapes[1].position.norm(), 1e-12);  // the rod's centre is the mass centre
+    EXPECT_NEAR(shapes[1].length, 0.4, 1e-12);
+    EXPECT_NEAR(shapes[1].radius, 0.02, 1e-15);
+    EXPECT_NEAR(std::abs(shapes[1].rotation.col(2).z()), 1.0, 1e-12);  // along the link
+}
+
 // ../shared/models: the UR5 URDF's meshes are missing on purpose: each is named, the import goes
 // on (its dynamics agree with MuJoCo: ImportOracle.Ur5UrdfAgreesWithMuJoCo). The menagerie's MJCF
 // panda is refused by MuJoCo's own compiler, which must open every mesh (it computes inertias and

@@ -124,6 +124,24 @@ std::vector<std::string> read_equalities(const mjModel* m, const mjData* d, Sour
     return left;
 }
 
+// A geom as a shape of its body, posed in world at qpos0 (MuJoCo's geom_xpos, geom_xmat). MuJoCo keeps
+// no mesh file names in the compiled model, and an ellipsoid has no mbd shape: those are not drawn.
+bool geom_shape(const mjModel* m, const mjData* d, int g, VisualShape& shape) {
+    const mjtNum* size = m->geom_size + 3 * g;
+    switch (m->geom_type[g]) {
+        case mjGEOM_SPHERE: shape.kind = ShapeKind::Sphere; shape.radius = size[0]; break;
+        case mjGEOM_CAPSULE: shape.kind = ShapeKind::Capsule; shape.radius = size[0]; shape.length = 2 * size[1]; break;
+        case mjGEOM_CYLINDER: shape.kind = ShapeKind::Cylinder; shape.radius = size[0]; shape.length = 2 * size[1]; break;
+        case mjGEOM_BOX: shape.kind = ShapeKind::Box; shape.size = 2 * vec(size); break;
+        default: return false;
+    }
+    shape.position = vec(d->geom_xpos + 3 * g);
+    shape.rotation = mat(d->geom_xmat + 9 * g);
+    const float* rgba = m->geom_rgba + 4 * g;
+    shape.color = Vec3(rgba[0], rgba[1], rgba[2]);
+    return true;
+}
+
 // MuJoCo's keyframes as named initial states: key_qpos against qpos0, key_qvel as it is.
 void read_keyframes(const mjModel* m, SourceTree& tree) {
     for (int k = 0; k < m->nkey; ++k) {
@@ -162,7 +180,7 @@ void list_unmapped(const mjModel* m, SourceTree& tree) {
     auto add = [&](const std::string& kind, std::vector<std::string> list, const std::string& note) {
         if (!list.empty()) tree.unmapped.push_back({kind, std::move(list), note});
     };
-    add("geoms", names(m, mjOBJ_GEOM, m->ngeom, "geom"), "contact and visual geometry (contacts are not imported)");
+    add("geoms", names(m, mjOBJ_GEOM, m->ngeom, "geom"), "contacts are not imported; spheres, capsules, cylinders and boxes are drawn, meshes and the rest not");
     add("sites", names(m, mjOBJ_SITE, m->nsite, "site"), "");
     add("tendons", names(m, mjOBJ_TENDON, m->ntendon, "tendon"), "");
     add("actuators", names(m, mjOBJ_ACTUATOR, m->nu, "actuator"), "");
@@ -217,6 +235,11 @@ SourceTree read_mjcf_model(const mjModel* m, const std::string& file) {
         for (int j = m->body_jntadr[b]; j < m->body_jntadr[b] + m->body_jntnum[b]; ++j)
             body.joints.push_back(joint(m, d, j, file));
         tree.bodies.push_back(std::move(body));
+    }
+    for (int g = 0; g < m->ngeom; ++g) {  // the world's geoms (a floor) belong to no body
+        VisualShape shape;
+        shape.where = file + ": geom '" + name_of(m, mjOBJ_GEOM, g, "geom") + "'";
+        if (m->geom_bodyid[g] > 0 && geom_shape(m, d, g, shape)) tree.bodies[m->geom_bodyid[g] - 1].visuals.push_back(shape);
     }
     list_unmapped(m, tree);
     read_keyframes(m, tree);
