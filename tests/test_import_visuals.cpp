@@ -125,6 +125,32 @@ TEST(ImportVisuals, MjcfGeomsArePosedInTheBodyFrame) {
     EXPECT_NEAR(std::abs(shapes[1].rotation.col(2).z()), 1.0, 1e-12);  // along the link
 }
 
+// SDF <visual>: a box posed relative to its link (libsdformat resolves the pose), a missing mesh named.
+TEST(ImportVisuals, SdfVisualsArePosedInTheBodyFrame) {
+    const fs::path file = write_file("drawn.sdf", R"(<?xml version="1.0"?>
+<sdf version="1.9"><model name="drawn">
+  <link name="arm"><pose>0 0 1 0 0 0</pose>
+    <inertial><pose>0 0 -0.2 0 0 0</pose><mass>1</mass>
+      <inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.002</izz><ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial>
+    <visual name="plate"><pose>0.1 0 0 0 0 1.5707963267948966</pose><geometry><box><size>0.1 0.2 0.3</size></box></geometry>
+      <material><diffuse>0.1 0.2 0.8 1</diffuse></material></visual>
+    <visual name="shell"><geometry><mesh><uri>model://nowhere/arm.dae</uri></mesh></geometry></visual>
+  </link>
+  <joint name="hinge" type="revolute"><parent>world</parent><child>arm</child><axis><xyz>1 0 0</xyz></axis></joint>
+</model></sdf>
+)");
+    const import::ImportedScene scene = import::import_model(file);
+    const std::string missing = import::unmapped_summary(scene.unmapped);
+    EXPECT_NE(missing.find("1 visual meshes not found (model://nowhere/arm.dae (link 'arm'))"), std::string::npos) << missing;
+    const Model model = load_scene_text(import::scene_yaml(scene), "drawn.yaml", shared_registry());
+    const std::vector<VisualShape>& shapes = model.bodies.at(model.body_index("arm")).visuals;
+    ASSERT_EQ(shapes.size(), 1u);
+    EXPECT_EQ(shapes[0].kind, ShapeKind::Box);
+    EXPECT_LT((shapes[0].position - Vec3(0.1, 0, 0.2)).norm(), 1e-12);
+    EXPECT_LT((shapes[0].rotation - Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()).toRotationMatrix()).norm(), 1e-12);
+    EXPECT_LT((shapes[0].color - Vec3(0.1, 0.2, 0.8)).norm(), 1e-7);
+}
+
 // ../shared/models: the UR5 URDF's meshes are missing on purpose: each is named, the import goes
 // on (its dynamics agree with MuJoCo: ImportOracle.Ur5UrdfAgreesWithMuJoCo). The menagerie's MJCF
 // panda is refused by MuJoCo's own compiler, which must open every mesh (it computes inertias and

@@ -1,14 +1,14 @@
 // URDF -> SourceTree (urdf_reader.hpp; docs/import.md, "URDF").
 #include <mbd/import/urdf_reader.hpp>
 
+#include <mbd/import/mesh_file.hpp>
+
 #include <mbd/sdk/params.hpp>  // InputError
 
 #include <console_bridge/console.h>
 #include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
-#include <cctype>
-#include <filesystem>
 #include <map>
 #include <set>
 #include <string>
@@ -162,24 +162,10 @@ struct Walker {
     }
 
     bool mesh_path(const std::string& filename, std::string& path, const std::string& link) {
-        std::string name = filename;
-        for (const char* scheme : {"package://", "file://"})
-            if (name.rfind(scheme, 0) == 0) name = name.substr(std::string(scheme).size());
-        std::filesystem::path file(name);
-        if (file.is_relative()) file = std::filesystem::absolute(std::filesystem::path(tree.file).parent_path() / file);
-        std::error_code error;
-        if (!std::filesystem::is_regular_file(file, error)) {
-            missing_meshes.push_back(filename + " (link '" + link + "')");
-            return false;
-        }
-        std::string ext = file.extension().string();
-        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        if (ext != ".stl" && ext != ".obj") {
-            undrawable_meshes.push_back(filename + " (link '" + link + "')");
-            return false;
-        }
-        path = file.lexically_normal().string();
-        return true;
+        const MeshLookup found = find_mesh(filename, tree.file, path);
+        if (found == MeshLookup::Missing) missing_meshes.push_back(filename + " (link '" + link + "')");
+        if (found == MeshLookup::Undrawable) undrawable_meshes.push_back(filename + " (link '" + link + "')");
+        return found == MeshLookup::Found;
     }
 
     static urdf::LinkSharedPtr find_child(const urdf::Link& link, const std::string& name) {
