@@ -24,6 +24,7 @@ struct ImportArguments {
     bool strict = false;
     std::vector<std::string> velocities;  // NAME=V[,V...]
     std::vector<std::string> positions;   // NAME=V
+    std::string keyframe;                 // an MJCF <key> by name
 };
 
 // "NAME=V[,V...]" given to `option` -> (NAME, the numbers)
@@ -48,6 +49,7 @@ std::pair<std::string, std::vector<double>> joint_values(const std::string& opti
 // --velocity NAME=V[,V...] -> options.joint_velocities, --position NAME=V -> options.joint_positions
 import::ImportOptions import_options(const ImportArguments& a) {
     import::ImportOptions options;
+    options.keyframe = a.keyframe;
     for (const std::string& given : a.velocities) {
         auto [name, values] = joint_values("--velocity", given);
         options.joint_velocities[name] = values;
@@ -77,6 +79,9 @@ void add_import_command(CLI::App& app, Commands& commands) {
                     "Initial velocity of a joint, JOINT=VALUE[,VALUE...] in MuJoCo's qvel convention (hinge, slide: "
                     "1 number; ball: 3, body axes; free: 6, origin velocity in world axes then angular velocity in "
                     "body axes); repeatable");
+    sub->add_option("--keyframe", args->keyframe,
+                    "Start from the MJCF keyframe (<key name=...>) of this name: its qpos and qvel; --position and "
+                    "--velocity given beside it take precedence");
     commands[sub] = [args = args] {
         check_output_path(args->output, {args->scene}, "--output");
         const import::ImportedScene scene = import::import_model(args->scene, import_options(*args));

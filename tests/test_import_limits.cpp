@@ -58,6 +58,25 @@ TEST(ImportLimits, UrdfPrismaticLimitStopsAFallingBlock) {
     }
 }
 
+// MJCF: the same block on a slide with range="-0.2 0.5". MuJoCo's limit is soft (solref 0.02 s:
+// the block would sink into it by about m g timeconst^2 / m = g (0.02 s)^2 ~ 4 mm at rest); mbd's
+// stop is the stiff one of a URDF limit (1e8), so the block is held within 2 m g / k of it.
+TEST(ImportLimits, MjcfSlideRangeStopsAFallingBlock) {
+    const fs::path mjcf = write_file("slider.xml", R"(<mujoco model="slider">
+  <option gravity="0 0 -9.81"/>
+  <worldbody><body name="block" pos="0 0 1">
+    <joint name="rail" type="slide" axis="0 0 1" limited="true" range="-0.2 0.5"/>
+    <inertial pos="0 0 -0.1" mass="2" diaginertia="0.01 0.01 0.01"/></body></worldbody>
+</mujoco>
+)");
+    const double g = 9.81, deflection = kMass * g / 1e8;
+    const std::vector<double> s = travel(mjcf, g, 0.5, 0.01);
+    for (size_t i = 21; i < s.size(); ++i) {
+        EXPECT_LE(s[i], kLower + 1e-9) << i;
+        EXPECT_GE(s[i], kLower - 2 * deflection - 1e-9) << i;
+    }
+}
+
 TEST(ImportLimits, SdfLimitStiffnessHoldsTheBlock) {
     const fs::path sdf = write_file("slider.sdf", R"(<?xml version="1.0"?>
 <sdf version="1.9"><model name="slider">

@@ -218,9 +218,12 @@ TEST(ImportLoops, UnmappedCouplingIsListedAndAWrongRelposeRefused) {
                                "<body name='b' pos='1 0 0'><joint name='jb' type='hinge' axis='0 1 0'/>"
                                "<inertial mass='1' pos='0.1 0 0' diaginertia='0.01 0.01 0.01'/></body></worldbody>";
     const fs::path coupled = write_file("coupled.xml", "<mujoco>" + bodies +
-                                        "<equality><joint name='gear' joint1='ja' joint2='jb' polycoef='0 2 0 0 0'/></equality></mujoco>");
+                                        "<equality><joint name='gear' joint1='ja' joint2='jb' polycoef='0 2 0 0 0'/>"
+                                        "<joint name='hold' joint1='jb'/></equality></mujoco>");
+    // a joint coupling is imported (tests/test_import_couplings.cpp); a joint held alone (no joint2) is listed
     const ImportedScene scene = import::import_model(coupled);
-    EXPECT_NE(import::unmapped_summary(scene.unmapped).find("1 equality constraints (gear)"), std::string::npos)
+    EXPECT_EQ(scene.couplings.size(), 1u);
+    EXPECT_NE(import::unmapped_summary(scene.unmapped).find("1 equality constraints (hold)"), std::string::npos)
         << import::unmapped_summary(scene.unmapped);
     const fs::path wrong = write_file("wrong.xml", "<mujoco>" + bodies +
                                       "<equality><weld name='glue' body1='a' body2='b' relpose='0 0 0 1 0 0 0'/></equality></mujoco>");

@@ -33,13 +33,16 @@ using import::ImportedScene;
 const fs::path kHumanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml";  // Debian libmujoco-samples
 
 // The comparison's settings on both sides: RK4, no contact, limit, equality, actuation,
-// friction loss or passive force; zero damping, stiffness and armature.
-void conservative_tree(mjModel* m) {
+// friction loss or passive force; zero damping, stiffness and (unless kept) armature.
+void conservative_tree(mjModel* m, bool keep_armature = false) {
     m->opt.integrator = mjINT_RK4;
     m->opt.disableflags |= mjDSBL_CONTACT | mjDSBL_LIMIT | mjDSBL_EQUALITY | mjDSBL_ACTUATION |
                            mjDSBL_FRICTIONLOSS | mjDSBL_PASSIVE;
-    for (int k = 0; k < m->nv; ++k) m->dof_armature[k] = m->dof_damping[k] = m->dof_frictionloss[k] = 0.0;
-    for (int j = 0; j < m->njnt; ++j) m->jnt_stiffness[j] = 0.0;
+    for (int k = 0; k < m->nv; ++k) {
+        m->dof_damping[k] = m->dof_frictionloss[k] = 0.0;
+        if (!keep_armature) m->dof_armature[k] = 0.0;
+    }
+    for (int j = 0; j < m->njnt; ++j) m->jnt_stiffness[j] = 0.0, m->jnt_limited[j] = 0;  // no stops imported either
 }
 
 // The documented initial velocities: hinge number k (MuJoCo's joint order, from 0) turns at
@@ -76,6 +79,7 @@ double trajectory_difference(const mjModel* m, const ImportedScene& scene, const
     int compared = 0;
     for (const import::SceneJoint& joint : scene.joints) {
         const int j = mj_name2id(m, mjOBJ_JOINT, joint.name.c_str());
+        if (j < 0 && joint.name.size() > 10 && joint.name.substr(joint.name.size() - 10) == "_rotor_pin") continue;  // armature
         EXPECT_GE(j, 0) << joint.name;
         if (j < 0) continue;
         EXPECT_EQ(m->jnt_type[j], mjJNT_HINGE);
@@ -150,6 +154,36 @@ TEST(ImportOracle, HumanoidAgreesWithMuJoCo) {
     std::printf("humanoid: MuJoCo RK4 h = 2e-5 against 1e-5: %.3g; mbd against MuJoCo: %.3g\n", a.mujoco_self, a.mbd);
     EXPECT_LT(a.mujoco_self / 3, 1e-9);
     EXPECT_LT(a.mbd, 1e-6);
+}
+
+// The same humanoid with its armature kept (0.01 kg m^2 on every hinge, the file's default class;
+// MuJoCo adds it to the joint's diagonal of the joint-space mass matrix): each hinge gets a rotor
+// pinned to the ground and coupled one to one to its angle (scene_builder.cpp add_rotor). Every
+// hinge's parent moves (the root is free), so the rotor must add 1/2 I_a qdot^2 and nothing else.
+// Without the rotors the armature changes the motion by far more than 1e-6 (printed).
+TEST(ImportOracle, HumanoidWithArmatureAgreesWithMuJoCo) {
+    MjModelPtr m = compile(kHumanoid);
+    ASSERT_TRUE(m);
+    conservative_tree(m.get(), /*keep_armature=*/true);
+    ASSERT_EQ(m->dof_armature[6], 0.01);
+    const auto [qvel, options] = initial_velocities(m.get());
+    import::SourceTree tree = import::read_mjcf_model(m.get(), kHumanoid.string());
+    import::apply_joint_velocities(tree, options);
+    const ImportedScene scene = import::build_scene(tree);
+    EXPECT_EQ(scene.couplings.size(), 21u);
+    EXPECT_EQ(scene.joints.size(), 42u);  // 21 hinges and the 21 rotors' pins
+    const Agreement a = agreement(m.get(), scene, qvel, 2e-5);
+    for (import::SourceBody& body : tree.bodies)
+        for (import::SourceJoint& joint : body.joints) joint.armature = 0.0;
+    const ImportedScene no_rotors = import::build_scene(tree);
+    const Model without = load_scene_text(import::scene_yaml(no_rotors), "no-rotors.yaml", shared_registry());
+    const double effect = trajectory_difference(m.get(), no_rotors, without, mbd_run(without, 1.0, 0.01),
+                                                mujoco_run(m.get(), qvel, 5e-4, 1.0, 0.01));  // coarse: the effect is large
+    std::printf("humanoid with armature: MuJoCo RK4 h = 2e-5 against 1e-5: %.3g; mbd against MuJoCo: %.3g; "
+                "without the rotors: %.3g\n", a.mujoco_self, a.mbd, effect);
+    EXPECT_LT(a.mujoco_self / 3, 1e-9);
+    EXPECT_LT(a.mbd, 1e-6);
+    EXPECT_GT(effect, 1e-3);
 }
 
 // A URDF arm from ../shared/models: mbd reads the file with urdfdom, MuJoCo with its own URDF

@@ -385,8 +385,8 @@ void Loader::load_joint(const Param& node, int index) {
     joint.type = type.text;
 
     const Param& bodies = require(node, "bodies", what, "[body_a, body_b], names of bodies or 'ground'");
-    if (!bodies.is_list() || bodies.items.size() < 2 || bodies.items.size() > 3)
-        bodies.fail(what + ": 'bodies' must list two body names [a, b] (a third for a carrier), got " +
+    if (!bodies.is_list() || bodies.items.size() < 2 || bodies.items.size() > 4)
+        bodies.fail(what + ": 'bodies' must list two body names [a, b] (a third for a carrier; up to four for a coordinate_coupling), got " +
                     (bodies.is_list() ? std::to_string(bodies.items.size()) + " items" : std::string("no list")));
     for (const auto& item : bodies.items) joint.bodies.push_back(body_index(item, what));
     for (size_t a = 0; a < joint.bodies.size(); ++a)

@@ -49,6 +49,10 @@ struct Motion {
 };
 
 void move_body(SourceBody& body, const Motion& m, size_t first_joint) {
+    for (VisualShape& v : body.visuals) {
+        v.position = m.moved(v.position);
+        v.rotation = m.turn * v.rotation;
+    }
     body.origin = m.moved(body.origin);
     body.com = m.moved(body.com);
     body.rotation = m.turn * body.rotation;
@@ -58,6 +62,55 @@ void move_body(SourceBody& body, const Motion& m, size_t first_joint) {
         j.axis = m.turn * j.axis;
         j.axis2 = m.turn * j.axis2;
     }
+}
+
+// Moves body `index` (its joints from `first_joint` on) and all its descendants by `m`, and the loops
+// that lie in that subtree; a loop with one end inside is an InputError naming `what`.
+void move_subtree(SourceTree& tree, int index, const Motion& m, size_t first_joint, const std::string& where,
+                  const std::string& what) {
+    std::vector<bool> moved(tree.bodies.size(), false);  // the subtree (parents come first)
+    moved[index] = true;
+    move_body(tree.bodies[index], m, first_joint);
+    for (size_t b = index + 1; b < tree.bodies.size(); ++b) {
+        const int parent = tree.bodies[b].parent;
+        if (parent < 0 || !moved[parent]) continue;
+        moved[b] = true;
+        move_body(tree.bodies[b], m, 0);
+    }
+    for (SourceLoop& loop : tree.loops) {  // a loop moves with the subtree only if it lies in it
+        const bool a = loop.body_a >= 0 && moved[loop.body_a], b = loop.body_b >= 0 && moved[loop.body_b];
+        if (a != b)
+            throw InputError(where, what + " lies in the closed loop of '" + loop.joint.name +
+                                        "': its position cannot be set alone (the loop would open)");
+        if (a) loop.joint.point = m.moved(loop.joint.point);
+    }
+}
+
+// A keyframe's start: its free bodies placed, its joint positions and velocities put into `options`
+// where the options do not give them.
+void apply_keyframe(SourceTree& tree, ImportOptions& options) {
+    if (options.keyframe.empty()) return;
+    const SourceKeyframe* key = nullptr;
+    std::string names;
+    for (const SourceKeyframe& k : tree.keyframes) {
+        if (k.name == options.keyframe) key = &k;
+        names += (names.empty() ? "" : ", ") + k.name;
+    }
+    if (!key)
+        throw InputError(tree.file, "--keyframe " + options.keyframe + ": the " + tree.format + " file has no keyframe of that name (" +
+                                        (names.empty() ? std::string("it has none; only MJCF <key> elements are keyframes")
+                                                       : "it has: " + names) + ")");
+    if (!key->moved_balls.empty())
+        throw InputError(tree.file, "keyframe '" + key->name + "' turns ball joint '" + key->moved_balls.front() +
+                                        "' from qpos0; a ball joint's initial position cannot be set yet");
+    for (const auto& [name, pose] : key->free_poses) {
+        auto [owner, k] = find_joint(tree, name, "pose (keyframe)");
+        const Mat3 turn = rotation_from_euler_parameters(pose.second) * owner->rotation.transpose();
+        move_subtree(tree, static_cast<int>(owner - tree.bodies.data()), Motion{owner->origin, pose.first - owner->origin, turn}, 0,
+                     owner->joints[k].where, "free joint '" + name + "'");
+    }
+    for (const auto& [name, q] : key->positions) options.joint_positions.emplace(name, q);
+    for (const auto& [name, v] : key->velocities) options.joint_velocities.emplace(name, v);
 }
 
 }  // namespace
@@ -78,26 +131,11 @@ void apply_joint_positions(SourceTree& tree, const ImportOptions& options) {
                 throw InputError(joint.where, "joint '" + name + "': an initial position can be given to hinge, slide "
                                               "and screw joints only");
         }
+        joint.position += q;
         joint.spring_reference -= q;  // mbd's coordinates are zero at the scene's start
         joint.lower -= q;
         joint.upper -= q;
-        const int index = static_cast<int>(owner - tree.bodies.data());
-        std::vector<bool> moved(tree.bodies.size(), false);  // the owner's subtree (parents come first)
-        moved[index] = true;
-        move_body(*owner, m, k + 1);
-        for (size_t b = index + 1; b < tree.bodies.size(); ++b) {
-            const int parent = tree.bodies[b].parent;
-            if (parent < 0 || !moved[parent]) continue;
-            moved[b] = true;
-            move_body(tree.bodies[b], m, 0);
-        }
-        for (SourceLoop& loop : tree.loops) {  // a loop moves with the subtree only if it lies in it
-            const bool a = loop.body_a >= 0 && moved[loop.body_a], b = loop.body_b >= 0 && moved[loop.body_b];
-            if (a != b)
-                throw InputError(joint.where, "joint '" + name + "' lies in the closed loop of '" + loop.joint.name +
-                                              "': its position cannot be set alone (the loop would open)");
-            if (a) loop.joint.point = m.moved(loop.joint.point);
-        }
+        move_subtree(tree, static_cast<int>(owner - tree.bodies.data()), m, k + 1, joint.where, "joint '" + name + "'");
     }
 }
 
@@ -135,8 +173,10 @@ SourceTree read_model_file(const std::filesystem::path& file) {
                                     "an mbd scene, which needs no import");
 }
 
-ImportedScene import_model(const std::filesystem::path& file, const ImportOptions& options) {
+ImportedScene import_model(const std::filesystem::path& file, const ImportOptions& given) {
     SourceTree tree = read_model_file(file);
+    ImportOptions options = given;
+    apply_keyframe(tree, options);
     apply_joint_positions(tree, options);
     apply_joint_velocities(tree, options);
     return build_scene(tree);

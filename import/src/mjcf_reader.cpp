@@ -3,6 +3,7 @@
 #include <mbd/import/mjcf_reader.hpp>
 
 #include <mbd/sdk/params.hpp>  // InputError
+#include <mbd/sdk/text.hpp>
 
 #include <mujoco/mujoco.h>
 
@@ -29,6 +30,10 @@ Mat3 mat(const mjtNum* v) {  // MuJoCo's 3x3 matrices are row-major
 
 Mat3 quat(const mjtNum* q) { return rotation_from_euler_parameters(Vec4(q[0], q[1], q[2], q[3]).normalized()); }
 
+// MuJoCo's limits are soft (solref/solimp: a spring-damper whose stiffness scales with the joint's
+// effective inertia); mbd's joint_stop is a stiff stop as for a hard URDF limit (docs/import.md).
+constexpr double kMjcfLimitStiffness = 1e8;
+
 SourceJoint joint(const mjModel* m, const mjData* d, int j, const std::string& file) {
     SourceJoint out;
     out.name = name_of(m, mjOBJ_JOINT, j, "joint");
@@ -46,8 +51,35 @@ SourceJoint joint(const mjModel* m, const mjData* d, int j, const std::string& f
         out.stiffness = m->jnt_stiffness[j];
         out.spring_reference = m->qpos_spring[q] - m->qpos0[q];  // mbd's angle is zero at qpos0
         out.damping = m->dof_damping[m->jnt_dofadr[j]];
+        out.armature = m->dof_armature[m->jnt_dofadr[j]];
+        if (m->jnt_limited[j]) {  // range in qpos units; mbd's coordinate is zero at qpos0
+            out.limited = true;
+            out.lower = m->jnt_range[2 * j] - m->qpos0[q];
+            out.upper = m->jnt_range[2 * j + 1] - m->qpos0[q];
+            out.stop_stiffness = kMjcfLimitStiffness;
+        }
     }
     return out;
+}
+
+// An equality `joint`: MuJoCo holds q1 - q1_0 = a0 + a1 (q2 - q2_0) + a2 (q2 - q2_0)^2 + ... (polycoef a0..a4,
+// q_0 = qpos0): the linear part is a coordinate_coupling; a curved one is refused, not approximated.
+SourceCoupling joint_coupling(const mjModel* m, int e, const std::string& name, const std::string& file) {
+    const mjtNum* poly = m->eq_data + mjNEQDATA * e;
+    SourceCoupling c;
+    c.name = name;
+    c.where = file;
+    c.what = "MJCF equality joint '" + name + "'";
+    c.follower = name_of(m, mjOBJ_JOINT, m->eq_obj1id[e], "joint");
+    c.leader = name_of(m, mjOBJ_JOINT, m->eq_obj2id[e], "joint");
+    c.offset = poly[0];
+    c.multiplier = poly[1];
+    if (poly[2] != 0.0 || poly[3] != 0.0 || poly[4] != 0.0)
+        throw InputError(file, c.what + ": its polycoef has non-zero terms of degree 2 to 4 (" + format_number(poly[2]) + " " +
+                                   format_number(poly[3]) + " " + format_number(poly[4]) +
+                                   "); mbd couples joints linearly only (coordinate_coupling): give polycoef \"" +
+                                   format_number(poly[0]) + " " + format_number(poly[1]) + " 0 0 0\" or remove the equality");
+    return c;
 }
 
 // MuJoCo's equality constraints that close loops: `connect` as a ball joint at its anchor, `weld`
@@ -58,6 +90,10 @@ std::vector<std::string> read_equalities(const mjModel* m, const mjData* d, Sour
     for (int e = 0; e < m->neq; ++e) {
         const std::string name = name_of(m, mjOBJ_EQUALITY, e, "equality");
         const int type = m->eq_type[e];
+        if (m->eq_active[e] && type == mjEQ_JOINT && m->eq_obj2id[e] >= 0) {
+            tree.couplings.push_back(joint_coupling(m, e, name, tree.file));
+            continue;
+        }
         if (!m->eq_active[e] || (type != mjEQ_CONNECT && type != mjEQ_WELD)) {
             left.push_back(name + (m->eq_active[e] ? "" : " (inactive)"));
             continue;
@@ -88,6 +124,51 @@ std::vector<std::string> read_equalities(const mjModel* m, const mjData* d, Sour
     return left;
 }
 
+// A geom as a shape of its body, posed in world at qpos0 (MuJoCo's geom_xpos, geom_xmat). MuJoCo keeps
+// no mesh file names in the compiled model, and an ellipsoid has no mbd shape: those are not drawn.
+bool geom_shape(const mjModel* m, const mjData* d, int g, VisualShape& shape) {
+    const mjtNum* size = m->geom_size + 3 * g;
+    switch (m->geom_type[g]) {
+        case mjGEOM_SPHERE: shape.kind = ShapeKind::Sphere; shape.radius = size[0]; break;
+        case mjGEOM_CAPSULE: shape.kind = ShapeKind::Capsule; shape.radius = size[0]; shape.length = 2 * size[1]; break;
+        case mjGEOM_CYLINDER: shape.kind = ShapeKind::Cylinder; shape.radius = size[0]; shape.length = 2 * size[1]; break;
+        case mjGEOM_BOX: shape.kind = ShapeKind::Box; shape.size = 2 * vec(size); break;
+        default: return false;
+    }
+    shape.position = vec(d->geom_xpos + 3 * g);
+    shape.rotation = mat(d->geom_xmat + 9 * g);
+    const float* rgba = m->geom_rgba + 4 * g;
+    shape.color = Vec3(rgba[0], rgba[1], rgba[2]);
+    return true;
+}
+
+// MuJoCo's keyframes as named initial states: key_qpos against qpos0, key_qvel as it is.
+void read_keyframes(const mjModel* m, SourceTree& tree) {
+    for (int k = 0; k < m->nkey; ++k) {
+        SourceKeyframe key;
+        key.name = name_of(m, mjOBJ_KEY, k, "key");
+        const mjtNum* qpos = m->key_qpos + k * m->nq;
+        const mjtNum* qvel = m->key_qvel + k * m->nv;
+        for (int j = 0; j < m->njnt; ++j) {
+            const std::string joint = name_of(m, mjOBJ_JOINT, j, "joint");
+            const int q = m->jnt_qposadr[j], v = m->jnt_dofadr[j], type = m->jnt_type[j];
+            const int nq = type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1, nv = type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1;
+            bool moved = false, moving = false;
+            for (int i = 0; i < nq; ++i) moved |= qpos[q + i] != m->qpos0[q + i];
+            for (int i = 0; i < nv; ++i) moving |= qvel[v + i] != 0.0;
+            if (moving) key.velocities[joint] = std::vector<double>(qvel + v, qvel + v + nv);
+            if (!moved) continue;
+            if (type == mjJNT_FREE)
+                key.free_poses[joint] = {vec(qpos + q), Vec4(qpos[q + 3], qpos[q + 4], qpos[q + 5], qpos[q + 6]).normalized()};
+            else if (type == mjJNT_BALL)
+                key.moved_balls.push_back(joint);
+            else
+                key.positions[joint] = qpos[q] - m->qpos0[q];
+        }
+        tree.keyframes.push_back(std::move(key));
+    }
+}
+
 // The named elements of one kind (count n, names of type `type`).
 std::vector<std::string> names(const mjModel* m, int type, int n, const char* kind) {
     std::vector<std::string> out;
@@ -99,12 +180,11 @@ void list_unmapped(const mjModel* m, SourceTree& tree) {
     auto add = [&](const std::string& kind, std::vector<std::string> list, const std::string& note) {
         if (!list.empty()) tree.unmapped.push_back({kind, std::move(list), note});
     };
-    add("geoms", names(m, mjOBJ_GEOM, m->ngeom, "geom"), "contact and visual geometry (contacts are not imported)");
+    add("geoms", names(m, mjOBJ_GEOM, m->ngeom, "geom"), "contacts are not imported; spheres, capsules, cylinders and boxes are drawn, meshes and the rest not");
     add("sites", names(m, mjOBJ_SITE, m->nsite, "site"), "");
     add("tendons", names(m, mjOBJ_TENDON, m->ntendon, "tendon"), "");
     add("actuators", names(m, mjOBJ_ACTUATOR, m->nu, "actuator"), "");
     add("sensors", names(m, mjOBJ_SENSOR, m->nsensor, "sensor"), "");
-    add("keyframes", names(m, mjOBJ_KEY, m->nkey, "key"), "");
     std::vector<std::string> limited, armature, friction, ball_damping;
     for (int j = 0; j < m->njnt; ++j) {
         const std::string name = name_of(m, mjOBJ_JOINT, j, "joint");
@@ -116,13 +196,13 @@ void list_unmapped(const mjModel* m, SourceTree& tree) {
             has_friction |= m->dof_frictionloss[k] != 0.0;
             has_damping |= m->dof_damping[k] != 0.0;
         }
-        if (m->jnt_limited[j]) limited.push_back(name);
-        if (has_armature) armature.push_back(name);
+        if (m->jnt_limited[j] && dofs > 1) limited.push_back(name);  // a hinge's or slide's is a joint_stop
+        if (has_armature && dofs > 1) armature.push_back(name);  // a hinge's or slide's is a rotor (scene_builder)
         if (has_friction) friction.push_back(name);
         if (dofs > 1 && (has_damping || m->jnt_stiffness[j] != 0.0)) ball_damping.push_back(name);
     }
-    add("joint limits", limited, "no joint stops imported yet");
-    add("joint armatures", armature, "mbd has no rotor inertia in a joint yet; the armature is left out");
+    add("ball joint limits", limited, "a cone limit has no joint_stop");
+    add("ball / free joint armatures", armature, "only a hinge's or slide's armature becomes a rotor; left out");
     add("joint friction losses", friction, "");
     add("ball / free joint springs and damping", ball_damping, "");
 }
@@ -156,11 +236,17 @@ SourceTree read_mjcf_model(const mjModel* m, const std::string& file) {
             body.joints.push_back(joint(m, d, j, file));
         tree.bodies.push_back(std::move(body));
     }
+    for (int g = 0; g < m->ngeom; ++g) {  // the world's geoms (a floor) belong to no body
+        VisualShape shape;
+        shape.where = file + ": geom '" + name_of(m, mjOBJ_GEOM, g, "geom") + "'";
+        if (m->geom_bodyid[g] > 0 && geom_shape(m, d, g, shape)) tree.bodies[m->geom_bodyid[g] - 1].visuals.push_back(shape);
+    }
     list_unmapped(m, tree);
+    read_keyframes(m, tree);
     const std::vector<std::string> equalities = read_equalities(m, d, tree);
     if (!equalities.empty())
         tree.unmapped.push_back({"equality constraints", equalities,
-                                 "joint and tendon couplings are not imported yet; inactive ones are left out"});
+                                 "tendon couplings and a joint equality without joint2 are not imported yet; inactive ones are left out"});
     return tree;
 }
 

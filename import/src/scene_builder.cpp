@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <deque>
+#include <map>
 #include <set>
 
 namespace mbd::import {
@@ -83,6 +85,7 @@ void merge(SceneBody& into, const SourceBody& part) {
     into.inertia = 0.5 * (into.inertia + into.inertia.transpose());
     into.mass = m;
     into.position = c;
+    into.visuals.insert(into.visuals.end(), part.visuals.begin(), part.visuals.end());
 }
 
 std::string joint_type(SourceJointKind kind) {
@@ -153,6 +156,7 @@ public:
         }
         propagate_velocities(scene_, joint_source_, parent_joint_);
         for (const SourceLoop& loop : tree_.loops) add_loop(loop);
+        for (const SourceCoupling& coupling : tree_.couplings) add_coupling(coupling);
         if (!welded_to_world_.empty())
             scene_.notes.push_back("welded to the world, so part of the ground: " + joined(welded_to_world_));
         if (!outside_limits_.empty())
@@ -196,6 +200,7 @@ private:
             frame.mass = frame_mass_;
             frame.inertia = frame_mass_ * 0.01 * Mat3::Identity();
             frame.com = joint.point;
+            frame.visuals.clear();  // the body's shapes go on the body, not on its frames
             const std::string joint_name = joint.name.empty() ? "joint" + std::to_string(k + 1) : joint.name;
             const int b = add_body(frame, body_names_.unique(body.name + "_" + joint_name + "_frame", ""),
                                    "frame between the joints of " + what + ", moved by its joint '" + joint.name + "'");
@@ -231,6 +236,94 @@ private:
         j.pitch = loop.joint.pitch;
         j.comment = tree_.format + (tree_.format == "MJCF" ? " equality " : " ") + kind + " '" + loop.joint.name + "' (closes a loop)";
         scene_.joints.push_back(j);
+    }
+
+    // MuJoCo's armature I_a of a hinge or slide (kinetic energy 1/2 I_a qdot^2, I_a on the joint's diagonal
+    // of the joint-space mass matrix) as a rotor: a disc of axial moment I_a pinned to the ground
+    // (so it has no other motion) whose angle is coupled one to one to the joint's coordinate (rad per
+    // rad, or rad per m). Its kinetic energy is then exactly 1/2 I_a qdot^2, and the coupling hands
+    // -I_a qddot to the joint's coordinate, as MuJoCo's mass matrix does, whatever the parent's motion.
+    void add_rotor(const SourceJoint& source, int joint) {
+        if (source.armature < 0.0 || !std::isfinite(source.armature))
+            throw InputError(source.where, tree_.format + " joint '" + source.name + "': armature " +
+                                               format_number(source.armature) + " is not an inertia (give a number >= 0)");
+        const SceneJoint j = scene_.joints[joint];  // a copy: scene_.joints grows below
+        SceneBody rotor;
+        rotor.name = body_names_.unique(j.name + "_rotor", "");
+        rotor.where = source.where;
+        rotor.comment = "rotor of the armature " + format_number(source.armature) + " of " + tree_.format + " joint '" +
+                        source.name + "', pinned to the ground, its angle coupled to the joint's coordinate";
+        rotor.mass = source.armature / 0.01;  // a disc of radius 0.14 m; pinned, so its mass does nothing
+        rotor.position = j.point;
+        rotor.rotation.col(2) = j.axis;
+        rotor.rotation.col(0) = any_perpendicular(j.axis);
+        rotor.rotation.col(1) = j.axis.cross(rotor.rotation.col(0));
+        rotor.inertia = Vec3(0.5, 0.5, 1.0).asDiagonal() * source.armature;
+        rotor.frame = true;  // not a body of the source
+        scene_.bodies.push_back(rotor);
+        parent_joint_.push_back(-1);
+        free_source_.push_back(nullptr);
+        const int b = static_cast<int>(scene_.bodies.size()) - 1;
+
+        SourceJoint& pin = rotor_sources_.emplace_back(source);  // its rate is the joint's
+        pin.kind = SourceJointKind::Hinge;
+        SceneJoint p = j;
+        p.name = joint_names_.unique(j.name + "_rotor_pin", "");
+        p.type = "revolute";
+        p.kind = SourceJointKind::Hinge;
+        p.parent = -1;
+        p.child = b;
+        p.comment = "pin of the rotor of " + tree_.format + " joint '" + source.name + "'";
+        scene_.joints.push_back(p);
+        joint_source_.push_back(&pin);
+        parent_joint_[b] = static_cast<int>(scene_.joints.size()) - 1;
+
+        SceneCoupling c;
+        c.name = joint_names_.unique(j.name + "_armature", "");
+        c.where = source.where;
+        c.comment = "armature of " + tree_.format + " joint '" + source.name + "': the rotor turns with its coordinate";
+        c.follower = parent_joint_[b];
+        c.leader = joint;
+        c.follower_start = c.leader_start = source.position;
+        scene_.couplings.push_back(c);
+    }
+
+    // The scene joint of the source joint named `name` (InputError naming the coupling when the file has none
+    // or it has no single coordinate).
+    int coupled_joint(const SourceCoupling& c, const std::string& name, const char* role) const {
+        const auto it = joint_of_source_name_.find(name);
+        if (it == joint_of_source_name_.end())
+            throw InputError(c.where, c.what + ": its " + role + " joint '" + name + "' is not a joint of the " + tree_.format +
+                                          " file (check the joint name)");
+        const SourceJointKind kind = joint_source_[it->second]->kind;
+        if (kind != SourceJointKind::Hinge && kind != SourceJointKind::Slide && kind != SourceJointKind::Screw)
+            throw InputError(c.where, c.what + ": its " + role + " joint '" + name + "' is a " + joint_type(kind) +
+                                          " joint; only hinge, slide and screw joints have the one coordinate a coupling ties");
+        return it->second;
+    }
+
+    // q_follower = multiplier q_leader + offset as a coordinate_coupling joint; the start must satisfy it.
+    void add_coupling(const SourceCoupling& c) {
+        SceneCoupling out;
+        out.follower = coupled_joint(c, c.follower, "follower");
+        out.leader = coupled_joint(c, c.leader, "leader");
+        if (out.follower == out.leader)
+            throw InputError(c.where, c.what + ": it couples joint '" + c.follower + "' to itself");
+        out.follower_start = joint_source_[out.follower]->position;
+        out.leader_start = joint_source_[out.leader]->position;
+        const double wanted = c.multiplier * out.leader_start + c.offset;
+        if (std::abs(out.follower_start - wanted) > 1e-9 * (1.0 + std::abs(wanted)))
+            throw InputError(c.where, c.what + ": the start does not satisfy it: joint '" + c.follower + "' is at " +
+                                          format_number(out.follower_start) + ", the coupling wants " +
+                                          format_number(wanted) + " (give --position " + c.follower + "=" +
+                                          format_number(wanted, 17) + ")");
+        out.name = joint_names_.unique(c.name + "_coupling", "");
+        out.where = c.where;
+        out.comment = c.what + ": " + c.follower + " = " + format_number(c.multiplier) + " " + c.leader + " + " +
+                      format_number(c.offset);
+        out.multiplier = c.multiplier;
+        out.offset = c.offset;
+        scene_.couplings.push_back(out);
     }
 
     // The limits of a hinge or slide as a joint_stop. The stop's angle is zero at the scene's
@@ -272,6 +365,7 @@ private:
         b.inertia = source.inertia;
         b.position = source.com;
         b.rotation = source.rotation;
+        b.visuals = source.visuals;
         scene_.bodies.push_back(b);
         parent_joint_.push_back(-1);
         free_source_.push_back(nullptr);
@@ -292,8 +386,10 @@ private:
         j.pitch = source.pitch;
         scene_.joints.push_back(j);
         joint_source_.push_back(&source);
+        if (!source.name.empty()) joint_of_source_name_.emplace(source.name, static_cast<int>(scene_.joints.size()) - 1);
         parent_joint_[child] = static_cast<int>(scene_.joints.size()) - 1;
         if (source.limited) add_stop(j, source);
+        if (source.armature != 0.0) add_rotor(source, static_cast<int>(scene_.joints.size()) - 1);
         if (source.stiffness == 0.0 && source.damping == 0.0) return;
         if (source.kind != SourceJointKind::Hinge) {
             slide_passive_.push_back(j.name);
@@ -316,7 +412,9 @@ private:
     ImportedScene scene_;
     double frame_mass_ = 0.0;
     Names body_names_, joint_names_, force_names_;
-    std::vector<const SourceJoint*> joint_source_;  // per scene joint
+    std::vector<const SourceJoint*> joint_source_;  // per scene joint of the tree
+    std::deque<SourceJoint> rotor_sources_;         // the pins of the armature rotors (stable addresses)
+    std::map<std::string, int> joint_of_source_name_;  // scene joint of each named source joint
     std::vector<int> parent_joint_;                 // per scene body: the joint to its parent, -1 none
     std::vector<const SourceBody*> free_source_;    // per scene body: the source of a free body
     std::vector<std::string> welded_to_world_, slide_passive_, wide_limits_, outside_limits_;

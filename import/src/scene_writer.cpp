@@ -1,9 +1,12 @@
 // ImportedScene -> YAML text (scene_writer.hpp).
 #include <mbd/import/scene_writer.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <sstream>
+
+#include <Eigen/Geometry>
 
 namespace mbd::import {
 
@@ -38,6 +41,27 @@ std::string source(const std::string& where, const std::string& what) {
     return "  # " + (where.empty() ? std::string() : where + ": ") + what + "\n";
 }
 
+// A rotation as the scene's {axis, angle}.
+std::string rotation_text(const Mat3& r) {
+    const Eigen::AngleAxisd turn(r);
+    return "{axis: " + vector(turn.axis()) + ", angle: " + number(turn.angle()) + "}";
+}
+
+// The body's shapes (posed in world at t = 0) in its frame: origin the mass centre, body axes.
+void write_visuals(std::ostringstream& out, const SceneBody& b) {
+    if (b.visuals.empty()) return;
+    out << "    visual:\n";
+    for (const VisualShape& v : b.visuals) {
+        out << "      # " << v.where << "\n      - {shape: " << shape_kind_name(v.kind);
+        if (v.kind == ShapeKind::Box) out << ", size: " << vector(v.size);
+        if (v.kind != ShapeKind::Box && v.kind != ShapeKind::Mesh) out << ", radius: " << number(v.radius);
+        if (v.kind == ShapeKind::Cylinder || v.kind == ShapeKind::Capsule) out << ", length: " << number(v.length);
+        if (v.kind == ShapeKind::Mesh) out << ", file: \"" << v.mesh_file << "\", scale: " << vector(v.scale);
+        out << ", position: " << vector(b.rotation.transpose() * (v.position - b.position))
+            << ", rotation: " << rotation_text(b.rotation.transpose() * v.rotation) << ", color: " << vector(v.color) << "}\n";
+    }
+}
+
 void write_bodies(std::ostringstream& out, const ImportedScene& scene) {
     out << "bodies:\n";
     for (const SceneBody& b : scene.bodies) {
@@ -51,7 +75,27 @@ void write_bodies(std::ostringstream& out, const ImportedScene& scene) {
             << ", " << number(p[3]) << "]}\n";
         if (!b.velocity.isZero(0.0)) out << "    velocity: " << vector(b.velocity) << "\n";
         if (!b.angular_velocity.isZero(0.0)) out << "    angular_velocity: " << vector(b.angular_velocity) << "\n";
+        write_visuals(out, b);
     }
+}
+
+// A coordinate_coupling over the bodies of its two joints (each once, in order).
+void write_coupling(std::ostringstream& out, const ImportedScene& scene, const SceneCoupling& c) {
+    const SceneJoint& f = scene.joints[c.follower];
+    const SceneJoint& l = scene.joints[c.leader];
+    std::vector<int> bodies;
+    for (int b : {f.parent, f.child, l.parent, l.child})
+        if (std::find(bodies.begin(), bodies.end(), b) == bodies.end()) bodies.push_back(b);
+    auto side = [&](const SceneJoint& j, double start) {
+        return "{bodies: [" + body_name(scene, j.parent) + ", " + body_name(scene, j.child) + "], point: " + vector(j.point) +
+               ", axis: " + vector(j.axis) + ", coordinate: " + (j.type == "prismatic" ? "travel" : "angle") +
+               ", start: " + number(start) + "}";
+    };
+    out << source(c.where, c.comment);
+    out << "  - {name: " << c.name << ", type: coordinate_coupling, bodies: [";
+    for (size_t k = 0; k < bodies.size(); ++k) out << (k ? ", " : "") << body_name(scene, bodies[k]);
+    out << "], multiplier: " << number(c.multiplier) << ", offset: " << number(c.offset) << ",\n     follower: "
+        << side(f, c.follower_start) << ",\n     leader: " << side(l, c.leader_start) << "}\n";
 }
 
 void write_joints(std::ostringstream& out, const ImportedScene& scene) {
@@ -68,6 +112,7 @@ void write_joints(std::ostringstream& out, const ImportedScene& scene) {
         if (j.type == "screw") out << ", pitch: " << number(j.pitch);
         out << "}\n";
     }
+    for (const SceneCoupling& c : scene.couplings) write_coupling(out, scene, c);
 }
 
 void write_stops(std::ostringstream& out, const ImportedScene& scene) {

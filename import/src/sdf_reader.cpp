@@ -2,6 +2,7 @@
 // libsdformat in the model frame (`__model__`), so its frame semantics apply exactly.
 #include <mbd/import/sdf_reader.hpp>
 
+#include <mbd/import/mesh_file.hpp>
 #include <mbd/sdk/params.hpp>  // InputError
 
 #include <sdf/Console.hh>
@@ -12,6 +13,14 @@
 #include <sdf/Model.hh>
 #include <sdf/Root.hh>
 #include <sdf/SemanticPose.hh>
+#include <sdf/Box.hh>
+#include <sdf/Capsule.hh>
+#include <sdf/Cylinder.hh>
+#include <sdf/Geometry.hh>
+#include <sdf/Material.hh>
+#include <sdf/Mesh.hh>
+#include <sdf/Sphere.hh>
+#include <sdf/Visual.hh>
 #include <sdf/World.hh>
 
 #include <tinyxml.h>
@@ -83,7 +92,9 @@ public:
         auto add_unmapped = [&](const std::string& kind, const std::vector<std::string>& names, const std::string& note) {
             if (!names.empty()) tree_.unmapped.push_back({kind, names, note});
         };
-        add_unmapped("links' visual and collision geometry", geometry_, "contacts and meshes are not imported");
+        add_unmapped("links' collision geometry", geometry_, "contacts are not imported");
+        add_unmapped("visual meshes not found", missing_meshes_, "not drawn; the dynamics do not depend on them");
+        add_unmapped("visual meshes mbd cannot draw yet", undrawable_meshes_, "only STL and OBJ meshes are drawn");
         add_unmapped("sensors", sensors_, "");
         add_unmapped("joint limits", limited_, "limits of ball, universal and screw joints, and empty ranges, are not imported");
         add_unmapped("joint friction", friction_, "");
@@ -115,6 +126,47 @@ private:
         }
     }
 
+    // A <visual> as a shape posed in world at t = 0 (as a URDF one, urdf_reader.cpp add_visual).
+    void add_visual(SourceBody& body, const sdf::Visual& v) {
+        const sdf::Geometry& g = *v.Geom();
+        VisualShape shape;
+        shape.where = where(v.Element(), tree_.file) + ": <visual> '" + v.Name() + "' of link '" + body.name + "'";
+        ignition::math::Pose3d pose;
+        throw_errors(v.SemanticPose().Resolve(pose, kModelFrame), tree_.file, "could not resolve the pose of visual '" + v.Name() + "'");
+        shape.position = placement_.point(pose.Pos());
+        shape.rotation = placement_.rotation * rot(pose.Rot());
+        if (v.Material()) {  // a material given by a script only keeps libsdformat's black diffuse: grey then
+            const ignition::math::Color c = v.Material()->Diffuse();
+            if (c.R() + c.G() + c.B() > 0) shape.color = Vec3(c.R(), c.G(), c.B());
+        }
+        switch (g.Type()) {
+            case sdf::GeometryType::BOX: shape.kind = ShapeKind::Box; shape.size = vec(g.BoxShape()->Size()); break;
+            case sdf::GeometryType::SPHERE: shape.kind = ShapeKind::Sphere; shape.radius = g.SphereShape()->Radius(); break;
+            case sdf::GeometryType::CYLINDER:
+                shape.kind = ShapeKind::Cylinder;
+                shape.radius = g.CylinderShape()->Radius();
+                shape.length = g.CylinderShape()->Length();
+                break;
+            case sdf::GeometryType::CAPSULE:
+                shape.kind = ShapeKind::Capsule;
+                shape.radius = g.CapsuleShape()->Radius();
+                shape.length = g.CapsuleShape()->Length();
+                break;
+            case sdf::GeometryType::MESH: {
+                shape.kind = ShapeKind::Mesh;
+                shape.scale = vec(g.MeshShape()->Scale());
+                const std::string uri = g.MeshShape()->Uri();
+                const MeshLookup found = find_mesh(uri, tree_.file, shape.mesh_file);
+                if (found == MeshLookup::Missing) missing_meshes_.push_back(uri + " (link '" + body.name + "')");
+                if (found == MeshLookup::Undrawable) undrawable_meshes_.push_back(uri + " (link '" + body.name + "')");
+                if (found != MeshLookup::Found) return;
+                break;
+            }
+            default: return;
+        }
+        body.visuals.push_back(shape);
+    }
+
     // Link `link` (moved by `joint`, nullptr: free or welded to the world) and its subtree.
     void add(const sdf::Link& link, int parent, const sdf::Joint* joint) {
         SourceBody body;
@@ -131,7 +183,8 @@ private:
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c) body.inertia(r, c) = moi(r, c);
         body.com = body.origin + body.rotation * vec(inertial.Pose().Pos());
-        if (link.VisualCount() + link.CollisionCount() > 0) geometry_.push_back(link.Name());
+        if (link.CollisionCount() > 0) geometry_.push_back(link.Name());
+        for (uint64_t v = 0; v < link.VisualCount(); ++v) add_visual(body, *link.VisualByIndex(v));
         if (link.SensorCount() > 0) sensors_.push_back(link.Name());
         if (joint) {
             body.joints = joints(*joint);
@@ -269,7 +322,7 @@ private:
     std::map<std::string, std::vector<std::string>> children_;  // parent link ("world") -> child links
     std::map<std::string, int> index_;                          // link -> SourceTree::bodies index
     std::vector<LoopJoint> loop_joints_;
-    std::vector<std::string> geometry_, sensors_, limited_, friction_, gearbox_, loops_, loop_passive_;
+    std::vector<std::string> geometry_, sensors_, limited_, friction_, gearbox_, loops_, loop_passive_, missing_meshes_, undrawable_meshes_;
 };
 
 }  // namespace

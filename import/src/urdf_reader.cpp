@@ -1,6 +1,8 @@
 // URDF -> SourceTree (urdf_reader.hpp; docs/import.md, "URDF").
 #include <mbd/import/urdf_reader.hpp>
 
+#include <mbd/import/mesh_file.hpp>
+
 #include <mbd/sdk/params.hpp>  // InputError
 
 #include <console_bridge/console.h>
@@ -88,7 +90,8 @@ struct Walker {
     std::vector<std::string>& limited;
     std::vector<std::string>& friction;
     std::vector<std::string>& geometry;
-    std::vector<std::string>& mimic;
+    std::vector<std::string>& missing_meshes;
+    std::vector<std::string>& undrawable_meshes;
 
     void add(const urdf::Link& link, int parent, const Vec3& origin, const Mat3& rotation) {
         SourceBody body;
@@ -107,7 +110,9 @@ struct Walker {
             body.inertia = r * inertia * r.transpose();
             body.com = origin + rotation * vec(in.origin.position);
         }
-        if (!link.visual_array.empty() || !link.collision_array.empty()) geometry.push_back(link.name);
+        if (!link.collision_array.empty()) geometry.push_back(link.name);
+        for (const urdf::VisualSharedPtr& v : link.visual_array)
+            if (v && v->geometry) add_visual(body, *v, origin, rotation);
         if (link.parent_joint) body.joints = joints(*link.parent_joint, origin, rotation);
         tree.bodies.push_back(body);
         const int index = static_cast<int>(tree.bodies.size()) - 1;
@@ -116,6 +121,51 @@ struct Walker {
             const urdf::LinkSharedPtr child = link.child_links.empty() ? nullptr : find_child(link, j->child_link_name);
             if (child) add(*child, index, origin + rotation * vec(pose.position), rotation * rot(pose.rotation));
         }
+    }
+
+    // A <visual> as a shape posed in world at t = 0 (the link frame at origin, rotation). A mesh is
+    // looked for by its path (package:// and file:// taken off, relative to the URDF's folder); one
+    // not found or that mbd cannot draw (only STL and OBJ) is listed, never an error: it has no dynamics.
+    void add_visual(SourceBody& body, const urdf::Visual& v, const Vec3& origin, const Mat3& rotation) {
+        VisualShape shape;
+        shape.where = body.where + ": <visual> of link '" + body.name + "'";
+        shape.position = origin + rotation * vec(v.origin.position);
+        shape.rotation = rotation * rot(v.origin.rotation);
+        if (v.material && v.material->color.a > 0)
+            shape.color = Vec3(v.material->color.r, v.material->color.g, v.material->color.b);
+        switch (v.geometry->type) {
+            case urdf::Geometry::SPHERE:
+                shape.kind = ShapeKind::Sphere;
+                shape.radius = static_cast<const urdf::Sphere&>(*v.geometry).radius;
+                break;
+            case urdf::Geometry::BOX:
+                shape.kind = ShapeKind::Box;
+                shape.size = vec(static_cast<const urdf::Box&>(*v.geometry).dim);
+                break;
+            case urdf::Geometry::CYLINDER: {
+                const auto& c = static_cast<const urdf::Cylinder&>(*v.geometry);
+                shape.kind = ShapeKind::Cylinder;
+                shape.radius = c.radius;
+                shape.length = c.length;
+                break;
+            }
+            case urdf::Geometry::MESH: {
+                const auto& mesh = static_cast<const urdf::Mesh&>(*v.geometry);
+                shape.kind = ShapeKind::Mesh;
+                shape.scale = vec(mesh.scale);
+                if (!mesh_path(mesh.filename, shape.mesh_file, body.name)) return;
+                break;
+            }
+            default: return;
+        }
+        body.visuals.push_back(shape);
+    }
+
+    bool mesh_path(const std::string& filename, std::string& path, const std::string& link) {
+        const MeshLookup found = find_mesh(filename, tree.file, path);
+        if (found == MeshLookup::Missing) missing_meshes.push_back(filename + " (link '" + link + "')");
+        if (found == MeshLookup::Undrawable) undrawable_meshes.push_back(filename + " (link '" + link + "')");
+        return found == MeshLookup::Found;
     }
 
     static urdf::LinkSharedPtr find_child(const urdf::Link& link, const std::string& name) {
@@ -155,7 +205,9 @@ struct Walker {
                                   std::to_string(j.limits->upper) + ")");
             }
         }
-        if (j.mimic) mimic.push_back(j.name + " mimics " + j.mimic->joint_name);
+        if (j.mimic)  // urdfdom does not check that the mimicked joint exists; the scene builder does
+            tree.couplings.push_back({j.name, out.where, "URDF joint '" + j.name + "' <mimic>", j.name, j.mimic->joint_name,
+                                      j.mimic->multiplier, j.mimic->offset});
         return {out};
     }
 };
@@ -187,16 +239,17 @@ SourceTree read_urdf(const std::filesystem::path& path) {
     tree.file = file;
     tree.format = "URDF";
     tree.name = model->getName();
-    std::vector<std::string> limited, friction, geometry, mimic;
-    Walker walker{layout, tree, limited, friction, geometry, mimic};
+    std::vector<std::string> limited, friction, geometry, missing_meshes, undrawable_meshes;
+    Walker walker{layout, tree, limited, friction, geometry, missing_meshes, undrawable_meshes};
     walker.add(*model->getRoot(), -1, Vec3::Zero(), Mat3::Identity());
     auto add = [&](const std::string& kind, const std::vector<std::string>& names, const std::string& note) {
         if (!names.empty()) tree.unmapped.push_back({kind, names, note});
     };
-    add("links' visual and collision geometry", geometry, "contacts and meshes are not imported");
+    add("links' collision geometry", geometry, "contacts are not imported");
+    add("visual meshes not found", missing_meshes, "not drawn; the dynamics do not depend on them");
+    add("visual meshes mbd cannot draw yet", undrawable_meshes, "only STL and OBJ meshes are drawn");
     add("joint limits", limited, "an empty range is not imported as a stop");
     add("joint friction", friction, "");
-    add("mimic couplings", mimic, "no coupling constraint imported yet: the joints move independently");
     return tree;
 }
 

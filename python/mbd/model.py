@@ -5,6 +5,7 @@ workspace), and the engine works with the GIL released."""
 import collections.abc
 import logging
 import os
+import warnings
 
 import numpy as np
 
@@ -18,9 +19,14 @@ _log = logging.getLogger("mbd")
 
 
 def load(path):
-    """The Model of a scene file (YAML, docs/scene-format.md). Raises SceneError (file, line,
-    key) for a scene to fix and PluginError for a type no plugin provides."""
-    return Model(_mbd.load(os.fspath(path)))
+    """The Model of a scene file (YAML, docs/scene-format.md) or of a model file (MJCF, URDF or
+    SDF, known from its content), imported as `mbd import` imports it (docs/import.md); what the
+    import leaves out is one UserWarning. Raises SceneError (file, line, key) for a scene or model
+    to fix and PluginError for a type no plugin provides."""
+    handle, left_out = _mbd.load(os.fspath(path))
+    if left_out:
+        warnings.warn("not imported: " + left_out.split(": not imported: ", 1)[-1], stacklevel=2)
+    return Model(handle)
 
 
 def _plain(value, depth=0):

@@ -2,6 +2,7 @@
 // model holds (info, check).
 #include "bindings.hpp"
 
+#include <mbd/import/import.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/scene_check.hpp>
 #include <mbd/scene_parameters.hpp>
@@ -88,11 +89,16 @@ ModelHandle made(Model model, std::shared_ptr<Registry> registry, bool from_dict
     return ModelHandle{std::make_shared<const Model>(std::move(model)), std::move(registry), from_dict};
 }
 
-ModelHandle load(const std::string& path) {
+// A scene file, or a model file (MJCF, URDF, SDF: known from its content) imported as `mbd import`
+// does with its default options (docs/import.md); the second item is the import's one-line list of
+// what it left out ("" when nothing), which the Python side warns with.
+std::pair<ModelHandle, std::string> load(const std::string& path) {
     std::shared_ptr<Registry> registry = current_registry();
     py::gil_scoped_release release;
+    std::string left_out;
     try {
-        return made(load_scene(path, *registry), registry, false);
+        Model model = import::load_scene_or_model(path, *registry, [&](const std::string& w) { left_out = w; });
+        return {made(std::move(model), registry, false), left_out};
     } catch (const InputError& e) {
         rethrow_scene_error(e, nullptr, false, true);
     }
@@ -216,7 +222,7 @@ void bind_model(py::module_& m) {
         .def("param", &param, py::arg("path"))
         .def("info", &info)
         .def("check", &check, py::arg("rank_tolerance"));
-    m.def("load", &load, py::arg("path"), "The model of a scene file.");
+    m.def("load", &load, py::arg("path"), "The model of a scene or model (MJCF, URDF, SDF) file, and what its import left out.");
     m.def("from_dict", &from_dict, py::arg("scene"), py::arg("label"), "The model of a scene given as dicts.");
 }
 

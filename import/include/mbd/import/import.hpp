@@ -24,6 +24,9 @@ struct ImportOptions {
     // axes; ball the angular velocity in the body's axes; free / floating six numbers, the
     // velocity of the body frame's origin in world axes, then the angular velocity in body axes
     std::map<std::string, std::vector<double>> joint_velocities;
+    // an MJCF keyframe by name: its joint positions and velocities (and free bodies' poses) are the
+    // start; joint_positions and joint_velocities given beside it take precedence
+    std::string keyframe;
 };
 
 // Moves the tree to the positions of `options`: the body of each joint and all its descendants

@@ -29,6 +29,7 @@ struct SceneBody {
     Vec3 velocity = Vec3::Zero();      // of the mass centre, world
     Vec3 angular_velocity = Vec3::Zero();  // world
     bool frame = false;                // an intermediate frame body (kFrameMassFraction)
+    std::vector<VisualShape> visuals;  // posed in world at t = 0 (source_tree.hpp)
 };
 
 struct SceneJoint {
@@ -67,6 +68,17 @@ struct SceneStop {
     bool has_lower = true, has_upper = true;  // an angle limit at or beyond +-pi is left out
 };
 
+// A coordinate_coupling joint (docs/scene-format.md) between two scene joints, indices in
+// ImportedScene::joints, with their positions at the start (the source's coordinates there).
+struct SceneCoupling {
+    std::string name;
+    std::string where;
+    std::string comment;
+    int follower = -1, leader = -1;
+    double multiplier = 1.0, offset = 0.0;
+    double follower_start = 0.0, leader_start = 0.0;
+};
+
 struct ImportedScene {
     std::string name;
     std::string file;
@@ -76,6 +88,7 @@ struct ImportedScene {
     std::vector<SceneJoint> joints;
     std::vector<SceneForce> forces;
     std::vector<SceneStop> stops;
+    std::vector<SceneCoupling> couplings;
     std::vector<Unmapped> unmapped;
     std::vector<std::string> notes;  // mapping decisions the scene's header comment states
     // index of the scene body each source body became (-1: the ground), by source index

@@ -6,8 +6,11 @@
 #pragma once
 
 #include <mbd/sdk/rotation.hpp>
+#include <mbd/visual.hpp>
 
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mbd::import {
@@ -32,6 +35,12 @@ struct SourceJoint {
     // `stop_stiffness` N m/rad or N/m (SDF <limit><stiffness>; Gazebo's 1e8 for URDF)
     bool limited = false;
     double lower = 0.0, upper = 0.0, stop_stiffness = 1e8;
+    // hinge / slide / screw: the joint position at the scene's start, from the reference
+    // configuration (--position; MuJoCo's qpos - qpos0, URDF / SDF joint position)
+    double position = 0.0;
+    // hinge / slide: MuJoCo's armature, an inertia (kg m^2, or kg) added to the joint's diagonal of
+    // the joint-space mass matrix (kinetic energy 1/2 armature qdot^2)
+    double armature = 0.0;
 };
 
 struct SourceBody {
@@ -45,6 +54,9 @@ struct SourceBody {
     Vec3 com = Vec3::Zero();            // mass centre, world
     // the joints between the parent and this body, parent side first; none: welded to the parent
     std::vector<SourceJoint> joints;
+    // what it looks like (URDF <visual>): shapes posed in WORLD at t = 0 (position, rotation),
+    // meshes by absolute path; the scene writer poses them in the scene body's frame
+    std::vector<VisualShape> visuals;
 };
 
 // A constraint that closes a loop of the tree (MJCF equality `connect` and `weld`, an SDF joint
@@ -56,12 +68,34 @@ struct SourceLoop {
     int body_a = -1, body_b = -1;  // indices in SourceTree::bodies, -1: the world
 };
 
+// A linear coupling of two one-coordinate joints (URDF <mimic>, MJCF <equality joint>):
+// q_follower = multiplier * q_leader + offset, q each joint's position from the reference
+// configuration (URDF: the joint position; MJCF: qpos - qpos0).
+struct SourceCoupling {
+    std::string name;   // the element: the mimic joint's or the equality's name
+    std::string where;
+    std::string what;   // "URDF mimic of joint 'j'", "MJCF equality joint 'e'"
+    std::string follower, leader;  // joint names as in the file
+    double multiplier = 1.0, offset = 0.0;
+};
+
 // What the file holds that the import does not map, by kind ("tendon", "sensor", ...), each
 // with the element's name (and where, when the parser gives it).
 struct Unmapped {
     std::string kind;
     std::vector<std::string> names;
     std::string note;  // why, or what mbd lacks
+};
+
+// A named initial state (MJCF <key>): joint positions from the reference configuration (hinge,
+// slide), joint velocities in MuJoCo's qvel convention (as --velocity), and the world poses of
+// free joints' bodies (frame origin, Euler parameters) that differ from qpos0.
+struct SourceKeyframe {
+    std::string name;
+    std::map<std::string, double> positions;
+    std::map<std::string, std::vector<double>> velocities;
+    std::map<std::string, std::pair<Vec3, Vec4>> free_poses;
+    std::vector<std::string> moved_balls;  // ball joints the keyframe turns (not supported)
 };
 
 struct SourceTree {
@@ -71,6 +105,8 @@ struct SourceTree {
     Vec3 gravity = Vec3(0, 0, -9.81);
     std::vector<SourceBody> bodies;     // parents before children
     std::vector<SourceLoop> loops;      // constraints beyond the tree
+    std::vector<SourceCoupling> couplings;
+    std::vector<SourceKeyframe> keyframes;
     std::vector<Unmapped> unmapped;
 };
 
