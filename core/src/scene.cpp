@@ -223,30 +223,7 @@ void Loader::load_body(const Param& node, int index) {
     const Param& inertia = require(node, "inertia", what,
                                    planar ? "a positive number, kg m^2 about the mass centre"
                                           : "[Ixx, Iyy, Izz] or a 3x3 matrix about the mass centre, body axes");
-    if (planar) {
-        const double J = number(inertia, "inertia", what);
-        if (!(J >= 0)) inertia.fail(what + ": 'inertia' must be positive (or 0), got " + inertia.text);
-        body.inertia(2, 2) = J;
-    } else {
-        if (inertia.is_list() && !inertia.items.empty() && inertia.items[0].is_list()) {
-            const Mat3 J = matrix3(inertia, "inertia", what);
-            if (!J.isApprox(J.transpose(), 1e-9) && (J - J.transpose()).cwiseAbs().maxCoeff() > 1e-12)
-                inertia.fail(what + ": 'inertia' matrix must be symmetric");
-            const Mat3 Js = 0.5 * (J + J.transpose());
-            const Eigen::SelfAdjointEigenSolver<Mat3> eig(Js);
-            check_principal_moments(eig.eigenvalues(), inertia, what, "the principal moments (eigenvalues)");
-            body.inertia = Js;
-        } else {
-            const Eigen::VectorXd d =
-                vector(inertia, "inertia", what, 3, "[Ixx, Iyy, Izz] (or a 3x3 matrix)");
-            for (int k = 0; k < 3; ++k)
-                if (!(d[k] >= 0))
-                    inertia.items[k].fail(what + ": 'inertia' moments must be positive (or 0), got " +
-                                          inertia.items[k].text);
-            check_principal_moments(d, inertia, what, "the principal moments [Ixx, Iyy, Izz]");
-            body.inertia = d.asDiagonal();
-        }
-    }
+    body.inertia = body_inertia(inertia, what);
 
     if (const Param* p = find(node, "position")) body.position = space_vector(*p, "position", what);
     if (const Param* v = find(node, "visual")) body.visuals = parse_visual(*v, model_.dimension, what);
@@ -259,41 +236,75 @@ void Loader::load_body(const Param& node, int index) {
     } else {
         if (const Param* w = find(node, "angular_velocity"))
             body.angular_velocity = vector(*w, "angular_velocity", what, 3, "[wx, wy, wz] in world axes");
-        if (const Param* o = find(node, "orientation")) {
-            const std::string owhat = what + " orientation";
-            if (!o->is_map())
-                o->fail(what + ": 'orientation' must be one of {euler_parameters: [e0, e1, e2, e3]}, "
-                               "{axis: [x, y, z], angle: radians} or {matrix: [[..], [..], [..]]}");
-            const bool has_ep = find(*o, "euler_parameters"), has_axis = find(*o, "axis"),
-                       has_angle = find(*o, "angle"), has_matrix = find(*o, "matrix");
-            check_keys(*o, what + " 'orientation'", {"euler_parameters", "axis", "angle", "matrix"});
-            const int forms = int(has_ep) + int(has_axis || has_angle) + int(has_matrix);
-            if (forms != 1)
-                o->fail(what + ": 'orientation' takes exactly one of 'euler_parameters', 'axis' + 'angle' or 'matrix'");
-            if (has_ep) {
-                const Param& e = *find(*o, "euler_parameters");
-                Vec4 p = vector(e, "euler_parameters", what, 4, "[e0, e1, e2, e3]");
-                if (!(p.norm() > 1e-12)) e.fail(what + ": 'euler_parameters' must not be all zero");
-                body.euler_parameters = p / p.norm();
-            } else if (has_matrix) {
-                const Param& mp = *find(*o, "matrix");
-                const Mat3 A = matrix3(mp, "matrix", what);
-                if ((A.transpose() * A - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-6 || A.determinant() < 0)
-                    mp.fail(what + ": orientation 'matrix' must be a rotation matrix (orthonormal, determinant +1, "
-                                   "within 1e-6)");
-                body.euler_parameters = euler_parameters_from_rotation(A);
-            } else {
-                if (!has_axis) o->fail(what + ": 'orientation' with 'angle' also needs 'axis: [x, y, z]'");
-                if (!has_angle) o->fail(what + ": 'orientation' with 'axis' also needs 'angle' (radians)");
-                const Param& ap = *find(*o, "axis");
-                const Vec3 axis = vector(ap, "axis", what, 3, "[x, y, z]");
-                if (!(axis.norm() > 1e-12)) ap.fail(what + ": orientation 'axis' must not be the zero vector");
-                const double angle = number(*find(*o, "angle"), "angle", what);
-                body.euler_parameters = euler_parameters_from_axis_angle(axis, angle);
-            }
-        }
+        if (const Param* o = find(node, "orientation")) body.euler_parameters = body_orientation(*o, what);
     }
     model_.bodies.push_back(std::move(body));
+}
+
+// `inertia:` about the mass centre: planar J; spatial [Ixx, Iyy, Izz] or a symmetric 3x3 matrix,
+// each meeting the triangle inequality of principal moments.
+Mat3 Loader::body_inertia(const Param& inertia, const std::string& what) const {
+    Mat3 result = Mat3::Zero();
+    if (model_.dimension == Dimension::Planar) {
+        const double J = number(inertia, "inertia", what);
+        if (!(J >= 0)) inertia.fail(what + ": 'inertia' must be positive (or 0), got " + inertia.text);
+        result(2, 2) = J;
+    } else {
+        if (inertia.is_list() && !inertia.items.empty() && inertia.items[0].is_list()) {
+            const Mat3 J = matrix3(inertia, "inertia", what);
+            if (!J.isApprox(J.transpose(), 1e-9) && (J - J.transpose()).cwiseAbs().maxCoeff() > 1e-12)
+                inertia.fail(what + ": 'inertia' matrix must be symmetric");
+            const Mat3 Js = 0.5 * (J + J.transpose());
+            const Eigen::SelfAdjointEigenSolver<Mat3> eig(Js);
+            check_principal_moments(eig.eigenvalues(), inertia, what, "the principal moments (eigenvalues)");
+            result = Js;
+        } else {
+            const Eigen::VectorXd d =
+                vector(inertia, "inertia", what, 3, "[Ixx, Iyy, Izz] (or a 3x3 matrix)");
+            for (int k = 0; k < 3; ++k)
+                if (!(d[k] >= 0))
+                    inertia.items[k].fail(what + ": 'inertia' moments must be positive (or 0), got " +
+                                          inertia.items[k].text);
+            check_principal_moments(d, inertia, what, "the principal moments [Ixx, Iyy, Izz]");
+            result = d.asDiagonal();
+        }
+    }
+    return result;
+}
+
+// `orientation:` of a spatial body: exactly one of {euler_parameters: [..]} (normalised),
+// {axis: [..], angle: ..} or {matrix: [[..], [..], [..]]} (a rotation within 1e-6).
+Vec4 Loader::body_orientation(const Param& o, const std::string& what) const {
+    if (!o.is_map())
+        o.fail(what + ": 'orientation' must be one of {euler_parameters: [e0, e1, e2, e3]}, "
+                       "{axis: [x, y, z], angle: radians} or {matrix: [[..], [..], [..]]}");
+    const bool has_ep = find(o, "euler_parameters"), has_axis = find(o, "axis"),
+               has_angle = find(o, "angle"), has_matrix = find(o, "matrix");
+    check_keys(o, what + " 'orientation'", {"euler_parameters", "axis", "angle", "matrix"});
+    const int forms = int(has_ep) + int(has_axis || has_angle) + int(has_matrix);
+    if (forms != 1)
+        o.fail(what + ": 'orientation' takes exactly one of 'euler_parameters', 'axis' + 'angle' or 'matrix'");
+    if (has_ep) {
+        const Param& e = *find(o, "euler_parameters");
+        Vec4 p = vector(e, "euler_parameters", what, 4, "[e0, e1, e2, e3]");
+        if (!(p.norm() > 1e-12)) e.fail(what + ": 'euler_parameters' must not be all zero");
+        return p / p.norm();
+    } else if (has_matrix) {
+        const Param& mp = *find(o, "matrix");
+        const Mat3 A = matrix3(mp, "matrix", what);
+        if ((A.transpose() * A - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-6 || A.determinant() < 0)
+            mp.fail(what + ": orientation 'matrix' must be a rotation matrix (orthonormal, determinant +1, "
+                           "within 1e-6)");
+        return euler_parameters_from_rotation(A);
+    } else {
+        if (!has_axis) o.fail(what + ": 'orientation' with 'angle' also needs 'axis: [x, y, z]'");
+        if (!has_angle) o.fail(what + ": 'orientation' with 'axis' also needs 'angle' (radians)");
+        const Param& ap = *find(o, "axis");
+        const Vec3 axis = vector(ap, "axis", what, 3, "[x, y, z]");
+        if (!(axis.norm() > 1e-12)) ap.fail(what + ": orientation 'axis' must not be the zero vector");
+        const double angle = number(*find(o, "angle"), "angle", what);
+        return euler_parameters_from_axis_angle(axis, angle);
+    }
 }
 
 // ---------------------------------------------------------------- joint frames

@@ -50,6 +50,82 @@ void Loader::add_gravity() {
     model_.forces.push_back(std::move(force));
 }
 
+// `body: NAME` or `bodies: [a, b, ...]` of a force element: named bodies, each once, not the
+// ground alone.
+std::vector<int> Loader::force_bodies(const Param& node, const std::string& what) const {
+    std::vector<int> indices;
+    const Param* body = find(node, "body");
+    const Param* bodies = find(node, "bodies");
+    if (body && bodies) body->fail(what + ": give either 'body: NAME' or 'bodies: [a, b]', not both");
+    if (!body && !bodies)
+        throw InputError(where(node), what + " needs 'body: NAME' (one body) or 'bodies: [a, b]' (two bodies)");
+    if (body) {
+        indices.push_back(body_index(*body, what));
+    } else {
+        if (!bodies->is_list() || bodies->items.empty())
+            bodies->fail(what + ": 'bodies' must be a list of body names [a, b]");
+        for (const auto& item : bodies->items) indices.push_back(body_index(item, what));
+    }
+    const Param& body_list = body ? *body : *bodies;
+    if (indices.size() == 1 && indices[0] == kGround)
+        body_list.fail(what + ": a force on the ground alone has no effect; apply it to a moving body");
+    for (size_t a = 0; a < indices.size(); ++a)
+        for (size_t b = a + 1; b < indices.size(); ++b)
+            if (indices[a] == indices[b])
+                body_list.fail(what + ": a body appears twice in 'bodies'; a force connects different bodies");
+    return indices;
+}
+
+// The markers of a force element's bodies: one body's `point` (its own frame, default the mass
+// centre); one `points` entry per body (each body's frame); a world `point` / `axis` giving a
+// joint-like frame at t = 0; else each body's mass centre.
+std::vector<Marker> Loader::force_markers(const Param& node, const std::string& what, const ForceInstance& force,
+                                          Params& params) const {
+    const bool planar = model_.dimension == Dimension::Planar;
+    const bool single = force.bodies.size() == 1;
+    std::vector<Marker> markers;
+    const Param* point = find(node, "point");
+    const Param* points = find(node, "points");
+    const Param* axis = find(node, "axis");
+    const Param* x_axis = find(node, "x_axis");
+    if (point && points) point->fail(what + ": give either 'point' or 'points', not both");
+
+    if (single) {
+        // one body: `point` in the body's own frame (default: the mass centre)
+        if (points) {
+            if (!points->is_list() || points->items.size() != 1)
+                points->fail(what + ": 'points' must list one point per body (1 here); or use 'point: [..]'");
+            point = &points->items[0];
+        }
+        Marker m;
+        if (point) m.u_bar = space_vector(*point, "point", what);
+        markers.push_back(m);
+    } else if (points) {
+        // one point per body, each in that body's own frame, body-aligned axes
+        if (!points->is_list() || points->items.size() != force.bodies.size())
+            points->fail(what + ": 'points' must list one point per body (" + std::to_string(force.bodies.size()) +
+                         "), each in that body's own frame");
+        for (const auto& p : points->items) {
+            Marker m;
+            m.u_bar = space_vector(p, "points", what);
+            markers.push_back(m);
+        }
+        if (axis || x_axis)
+            (axis ? axis : x_axis)
+                ->fail(what + ": 'axis' / 'x_axis' go with a world 'point' (a joint-like frame), not with 'points'");
+    } else if (point || axis) {
+        // a joint-like frame in world at t = 0: markers coincide at the point
+        params.mark_read("axis");
+        if (!planar) params.mark_read("x_axis");
+        const WorldFrame frame = joint_frame(node, what, force.type, force.bodies, false);
+        for (int b : force.bodies) markers.push_back(marker_from_world(b, frame.origin, frame.axes));
+    } else {
+        // default: each body's mass centre, body-aligned axes
+        for (size_t k = 0; k < force.bodies.size(); ++k) markers.emplace_back();
+    }
+    return markers;
+}
+
 void Loader::load_force(const Param& node, int index) {
     const std::string fallback = "force #" + std::to_string(index + 1);
     if (!node.is_map()) node.fail(fallback + " must be a map of keys (type, body or bodies, ...)");
@@ -67,70 +143,11 @@ void Loader::load_force(const Param& node, int index) {
                   std::string(model_.dimension == Dimension::Spatial ? ", gz" : "") + "]' instead");
     require_unique_name(model_.forces, force.name, node, "force");
 
-    const Param* body = find(node, "body");
-    const Param* bodies = find(node, "bodies");
-    if (body && bodies) body->fail(what + ": give either 'body: NAME' or 'bodies: [a, b]', not both");
-    if (!body && !bodies)
-        throw InputError(where(node), what + " needs 'body: NAME' (one body) or 'bodies: [a, b]' (two bodies)");
-    if (body) {
-        force.bodies.push_back(body_index(*body, what));
-    } else {
-        if (!bodies->is_list() || bodies->items.empty())
-            bodies->fail(what + ": 'bodies' must be a list of body names [a, b]");
-        for (const auto& item : bodies->items) force.bodies.push_back(body_index(item, what));
-    }
-    const Param& body_list = body ? *body : *bodies;
-    if (force.bodies.size() == 1 && force.bodies[0] == kGround)
-        body_list.fail(what + ": a force on the ground alone has no effect; apply it to a moving body");
-    for (size_t a = 0; a < force.bodies.size(); ++a)
-        for (size_t b = a + 1; b < force.bodies.size(); ++b)
-            if (force.bodies[a] == force.bodies[b])
-                body_list.fail(what + ": a body appears twice in 'bodies'; a force connects different bodies");
+    force.bodies = force_bodies(node, what);
 
-    const bool planar = model_.dimension == Dimension::Planar;
-    const bool single = force.bodies.size() == 1;
     Params params(what, &node);
     for (const auto& k : {"name", "type", "body", "bodies", "point", "points"}) params.mark_read(k);
-
-    const Param* point = find(node, "point");
-    const Param* points = find(node, "points");
-    const Param* axis = find(node, "axis");
-    const Param* x_axis = find(node, "x_axis");
-    if (point && points) point->fail(what + ": give either 'point' or 'points', not both");
-
-    if (single) {
-        // one body: `point` in the body's own frame (default: the mass centre)
-        if (points) {
-            if (!points->is_list() || points->items.size() != 1)
-                points->fail(what + ": 'points' must list one point per body (1 here); or use 'point: [..]'");
-            point = &points->items[0];
-        }
-        Marker m;
-        if (point) m.u_bar = space_vector(*point, "point", what);
-        force.markers.push_back(m);
-    } else if (points) {
-        // one point per body, each in that body's own frame, body-aligned axes
-        if (!points->is_list() || points->items.size() != force.bodies.size())
-            points->fail(what + ": 'points' must list one point per body (" + std::to_string(force.bodies.size()) +
-                         "), each in that body's own frame");
-        for (const auto& p : points->items) {
-            Marker m;
-            m.u_bar = space_vector(p, "points", what);
-            force.markers.push_back(m);
-        }
-        if (axis || x_axis)
-            (axis ? axis : x_axis)
-                ->fail(what + ": 'axis' / 'x_axis' go with a world 'point' (a joint-like frame), not with 'points'");
-    } else if (point || axis) {
-        // a joint-like frame in world at t = 0: markers coincide at the point
-        params.mark_read("axis");
-        if (!planar) params.mark_read("x_axis");
-        const WorldFrame frame = joint_frame(node, what, force.type, force.bodies, false);
-        for (int b : force.bodies) force.markers.push_back(marker_from_world(b, frame.origin, frame.axes));
-    } else {
-        // default: each body's mass centre, body-aligned axes
-        for (size_t k = 0; k < force.bodies.size(); ++k) force.markers.emplace_back();
-    }
+    force.markers = force_markers(node, what, force, params);
 
     const ForceSpec spec = force_spec(force, params);
 

@@ -266,8 +266,13 @@ private:
     void build();
     void load_formulation(const Param& node);
     void load_body(const Param& node, int index);
+    Mat3 body_inertia(const Param& inertia, const std::string& what) const;
+    Vec4 body_orientation(const Param& orientation, const std::string& what) const;
     void load_joint(const Param& node, int index);
     void load_force(const Param& node, int index);
+    std::vector<int> force_bodies(const Param& node, const std::string& what) const;
+    std::vector<Marker> force_markers(const Param& node, const std::string& what, const ForceInstance& force,
+                                      Params& params) const;
     void load_driver(const Param& node, int index);
     void load_actuator(const Param& node, int index);
     void load_joint_limits(const Param& node, JointInstance& joint) const;

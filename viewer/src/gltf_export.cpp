@@ -198,6 +198,89 @@ void push(std::vector<float>& out, Eigen::Quaterniond q, size_t row) {
 
 }  // namespace
 
+namespace {
+
+// The animation's channels: each node's samples (translation, rotation, scale) against the
+// rows' times, linearly interpolated.
+struct MotionChannels {
+    GlbBuilder& b;
+    const std::string& source;
+    tinygltf::Animation animation;
+    int time_accessor = -1;
+
+    void add(int node, const char* path, const std::vector<float>& values, int type, int components) {
+        tinygltf::AnimationSampler s;
+        s.input = time_accessor;
+        s.output = b.accessor(values, type, components, 0, false, source + ": " + b.model().nodes[node].name + " " + path);
+        s.interpolation = "LINEAR";
+        animation.samplers.push_back(s);
+        tinygltf::AnimationChannel c;
+        c.sampler = static_cast<int>(animation.samplers.size() - 1);
+        c.target_node = node;
+        c.target_path = path;
+        animation.channels.push_back(c);
+    }
+};
+
+// A body's node with its shapes, posed at the first row; its motion added to `motion` (if any).
+int body_node(GlbBuilder& b, const Model& model, const MotionTable& table, const PoseColumns& columns,
+              const SceneMeshes& meshes, int body, MotionChannels* motion) {
+    tinygltf::Node n;
+    n.name = model.bodies[body].name;
+    for (size_t k = 0; k < meshes.bodies[body].size(); ++k)
+        n.children.push_back(b.node(shape_node(b, meshes, meshes.bodies[body][k], n.name + "/shape" + std::to_string(k))));
+    const BodyPose first = body_pose(table, columns, 0);
+    n.translation = to_vector(first.position);
+    n.rotation = to_vector(first.rotation);
+    const int index = b.node(n);
+    if (!motion) return index;
+    std::vector<float> translation, rotation;
+    translation.reserve(3 * table.rows());
+    rotation.reserve(4 * table.rows());
+    for (size_t r = 0; r < table.rows(); ++r) {
+        const BodyPose pose = body_pose(table, columns, r);
+        push(translation, pose.position);
+        push(rotation, pose.rotation, r);
+    }
+    motion->add(index, "translation", translation, TINYGLTF_TYPE_VEC3, 3);
+    motion->add(index, "rotation", rotation, TINYGLTF_TYPE_VEC4, 4);
+    return index;
+}
+
+// A connector's node (a rod between its two bodies' points), placed, turned and stretched at
+// every row; its motion added to `motion` (if any).
+int connector_node(GlbBuilder& b, const MotionTable& table, const std::vector<PoseColumns>& columns,
+                   const SceneMeshes& meshes, const VisualConnector& c, MotionChannels* motion) {
+    std::vector<float> translation, rotation, scale;
+    for (size_t r = 0; r < table.rows(); ++r) {
+        Vec3 t, s;
+        Eigen::Quaterniond q;
+        const BodyPose a = c.body_a == kGround ? BodyPose() : body_pose(table, columns[c.body_a], r);
+        const BodyPose b_pose = c.body_b == kGround ? BodyPose() : body_pose(table, columns[c.body_b], r);
+        connector_pose(c, c.body_a == kGround ? nullptr : &a, c.body_b == kGround ? nullptr : &b_pose, t, q, s);
+        push(translation, t);
+        push(rotation, q, r);
+        push(scale, s);
+    }
+    require_finite(translation, 3, table.source + ": connector " + c.name + " translation");
+    require_finite(rotation, 4, table.source + ": connector " + c.name + " rotation");
+    require_finite(scale, 3, table.source + ": connector " + c.name + " scale");
+    tinygltf::Node n;
+    n.name = c.name;
+    n.mesh = b.mesh(meshes, meshes.connector_mesh, c.color);
+    n.translation = {translation[0], translation[1], translation[2]};
+    n.rotation = {rotation[0], rotation[1], rotation[2], rotation[3]};
+    n.scale = {scale[0], scale[1], scale[2]};
+    const int index = b.node(n);
+    if (!motion) return index;
+    motion->add(index, "translation", translation, TINYGLTF_TYPE_VEC3, 3);
+    motion->add(index, "rotation", rotation, TINYGLTF_TYPE_VEC4, 4);
+    motion->add(index, "scale", scale, TINYGLTF_TYPE_VEC3, 3);
+    return index;
+}
+
+}  // namespace
+
 void write_glb(const Model& model, const MotionTable& table, std::ostream& out) {
     const std::vector<PoseColumns> columns = match_pose_columns(model, table);
     VisualScene scene = build_visual_scene(model);
@@ -217,84 +300,22 @@ void write_glb(const Model& model, const MotionTable& table, std::ostream& out) 
         ground.children.push_back(b.node(shape_node(b, meshes, meshes.ground[k], "ground/shape" + std::to_string(k))));
     root.children.push_back(b.node(ground));
 
-    tinygltf::Animation animation;
-    animation.name = "motion";
-    int time_accessor = -1;
+    MotionChannels motion{b, table.source, {}, -1};
+    motion.animation.name = "motion";
     if (animated) {
         std::vector<float> times(rows);
         for (size_t r = 0; r < rows; ++r) times[r] = static_cast<float>(table.at(r, 0));
-        time_accessor = b.accessor(times, TINYGLTF_TYPE_SCALAR, 1, 0, true, table.source + ": column 't'");
+        motion.time_accessor = b.accessor(times, TINYGLTF_TYPE_SCALAR, 1, 0, true, table.source + ": column 't'");
     }
-    auto channel = [&](int node, const char* path, const std::vector<float>& values, int type, int components) {
-        tinygltf::AnimationSampler s;
-        s.input = time_accessor;
-        s.output = b.accessor(values, type, components, 0, false,
-                              table.source + ": " + b.model().nodes[node].name + " " + path);
-        s.interpolation = "LINEAR";
-        animation.samplers.push_back(s);
-        tinygltf::AnimationChannel c;
-        c.sampler = static_cast<int>(animation.samplers.size() - 1);
-        c.target_node = node;
-        c.target_path = path;
-        animation.channels.push_back(c);
-    };
+    MotionChannels* channels = animated ? &motion : nullptr;
 
     // the binary chunk: about 7 floats per body and row
     b.model().buffers[0].data.reserve(rows * (model.body_count() * 7 + scene.connectors.size() * 10 + 1) * 4 +
                                       (1 << 20));
-
-    for (int body = 0; body < model.body_count(); ++body) {
-        tinygltf::Node n;
-        n.name = model.bodies[body].name;
-        for (size_t k = 0; k < meshes.bodies[body].size(); ++k)
-            n.children.push_back(
-                b.node(shape_node(b, meshes, meshes.bodies[body][k], n.name + "/shape" + std::to_string(k))));
-        const BodyPose first = body_pose(table, columns[body], 0);
-        n.translation = to_vector(first.position);
-        n.rotation = to_vector(first.rotation);
-        const int index = b.node(n);
-        root.children.push_back(index);
-        if (!animated) continue;
-        std::vector<float> translation, rotation;
-        translation.reserve(3 * rows);
-        rotation.reserve(4 * rows);
-        for (size_t r = 0; r < rows; ++r) {
-            const BodyPose pose = body_pose(table, columns[body], r);
-            push(translation, pose.position);
-            push(rotation, pose.rotation, r);
-        }
-        channel(index, "translation", translation, TINYGLTF_TYPE_VEC3, 3);
-        channel(index, "rotation", rotation, TINYGLTF_TYPE_VEC4, 4);
-    }
-
-    for (const VisualConnector& c : scene.connectors) {
-        std::vector<float> translation, rotation, scale;
-        for (size_t r = 0; r < rows; ++r) {
-            Vec3 t, s;
-            Eigen::Quaterniond q;
-            const BodyPose a = c.body_a == kGround ? BodyPose() : body_pose(table, columns[c.body_a], r);
-            const BodyPose b_pose = c.body_b == kGround ? BodyPose() : body_pose(table, columns[c.body_b], r);
-            connector_pose(c, c.body_a == kGround ? nullptr : &a, c.body_b == kGround ? nullptr : &b_pose, t, q, s);
-            push(translation, t);
-            push(rotation, q, r);
-            push(scale, s);
-        }
-        require_finite(translation, 3, table.source + ": connector " + c.name + " translation");
-        require_finite(rotation, 4, table.source + ": connector " + c.name + " rotation");
-        require_finite(scale, 3, table.source + ": connector " + c.name + " scale");
-        tinygltf::Node n;
-        n.name = c.name;
-        n.mesh = b.mesh(meshes, meshes.connector_mesh, c.color);
-        n.translation = {translation[0], translation[1], translation[2]};
-        n.rotation = {rotation[0], rotation[1], rotation[2], rotation[3]};
-        n.scale = {scale[0], scale[1], scale[2]};
-        const int index = b.node(n);
-        root.children.push_back(index);
-        if (!animated) continue;
-        channel(index, "translation", translation, TINYGLTF_TYPE_VEC3, 3);
-        channel(index, "rotation", rotation, TINYGLTF_TYPE_VEC4, 4);
-        channel(index, "scale", scale, TINYGLTF_TYPE_VEC3, 3);
-    }
+    for (int body = 0; body < model.body_count(); ++body)
+        root.children.push_back(body_node(b, model, table, columns[body], meshes, body, channels));
+    for (const VisualConnector& c : scene.connectors)
+        root.children.push_back(connector_node(b, table, columns, meshes, c, channels));
 
     const int root_index = b.node(root);
     tinygltf::Scene gltf_scene;
@@ -302,7 +323,7 @@ void write_glb(const Model& model, const MotionTable& table, std::ostream& out) 
     gltf_scene.nodes.push_back(root_index);
     b.model().scenes.push_back(gltf_scene);
     b.model().defaultScene = 0;
-    if (animated) b.model().animations.push_back(animation);
+    if (animated) b.model().animations.push_back(motion.animation);
     b.model().buffers[0].data.resize((b.model().buffers[0].data.size() + 3) / 4 * 4, 0);
 
     tinygltf::TinyGLTF writer;

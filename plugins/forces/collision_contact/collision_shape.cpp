@@ -86,6 +86,52 @@ std::shared_ptr<const Mesh> mesh_of(const Param& node, const Shape& s) {
     return mesh;
 }
 
+// The keys that size a shape of its kind (radius, length, size, the plane's normal and point,
+// a mesh's file); `type` is the node of its `shape` key.
+void read_dimensions(const Param& node, const Param& type, Shape& s, bool ground) {
+    switch (s.kind) {
+        case ShapeKind::Sphere: s.radius = positive(node, "radius", s.label, "the sphere's radius, m"); break;
+        case ShapeKind::Capsule:
+        case ShapeKind::Cylinder:
+            s.radius = positive(node, "radius", s.label, "m");
+            s.length = positive(node, "length", s.label,
+                                s.kind == ShapeKind::Capsule ? "between the centres of its end caps, along its z axis, m"
+                                                             : "end to end, along its z axis, m");
+            break;
+        case ShapeKind::Box: {
+            if (!node.fields.count("size")) node.fail(s.label + ": missing key 'size' ([lx, ly, lz], the edge lengths, m)");
+            const Param& size = node.fields.at("size");
+            s.size = vector3(size, "size", s.label);
+            for (int k = 0; k < 3; ++k)
+                if (!(s.size[k] > 0.0))
+                    size.items[k].fail(s.label + ": 'size' entries must be positive (the edge lengths, m), got " +
+                                       size.items[k].text);
+            break;
+        }
+        case ShapeKind::Plane: {
+            if (!ground)
+                type.fail(s.label + ": a plane (a half-space) is a ground shape; give it under "
+                                            "'ground: {collision: [...]}', or use a box on a body");
+            const Vec3 n = node.fields.count("normal") ? vector3(node.fields.at("normal"), "normal", s.label)
+                                                       : Vec3::UnitZ();
+            if (!(n.norm() > 1e-12))
+                node.fields.at("normal").fail(s.label + ": 'normal' must not be the zero vector (it points out of "
+                                                        "the ground, into the space where bodies move)");
+            s.rotation = frame_of_normal(n.normalized());
+            if (node.fields.count("point")) s.position = vector3(node.fields.at("point"), "point", s.label);
+            break;
+        }
+        case ShapeKind::TriangleMesh:
+            if (!ground)
+                type.fail(s.label + ": a triangle_mesh is a ground shape (static, touched by the bodies' "
+                                            "other shapes); give it under 'ground: {collision: [...]}', or give a "
+                                            "body a convex_mesh");
+            s.mesh = mesh_of(node, s);
+            break;
+        case ShapeKind::ConvexMesh: s.mesh = mesh_of(node, s); break;
+    }
+}
+
 Shape read_shape(const Param& node, const std::string& owner, bool ground) {
     if (!node.is_map()) node.fail(owner + " must be a map of keys (shape, radius or size, material, ...)");
     const auto type = node.fields.find("shape");
@@ -109,47 +155,7 @@ Shape read_shape(const Param& node, const std::string& owner, bool ground) {
                                for (const auto& k : accepted) list += (list.empty() ? "" : ", ") + k;
                                return list;
                            }());
-    switch (s.kind) {
-        case ShapeKind::Sphere: s.radius = positive(node, "radius", s.label, "the sphere's radius, m"); break;
-        case ShapeKind::Capsule:
-        case ShapeKind::Cylinder:
-            s.radius = positive(node, "radius", s.label, "m");
-            s.length = positive(node, "length", s.label,
-                                s.kind == ShapeKind::Capsule ? "between the centres of its end caps, along its z axis, m"
-                                                             : "end to end, along its z axis, m");
-            break;
-        case ShapeKind::Box: {
-            if (!node.fields.count("size")) node.fail(s.label + ": missing key 'size' ([lx, ly, lz], the edge lengths, m)");
-            const Param& size = node.fields.at("size");
-            s.size = vector3(size, "size", s.label);
-            for (int k = 0; k < 3; ++k)
-                if (!(s.size[k] > 0.0))
-                    size.items[k].fail(s.label + ": 'size' entries must be positive (the edge lengths, m), got " +
-                                       size.items[k].text);
-            break;
-        }
-        case ShapeKind::Plane: {
-            if (!ground)
-                type->second.fail(s.label + ": a plane (a half-space) is a ground shape; give it under "
-                                            "'ground: {collision: [...]}', or use a box on a body");
-            const Vec3 n = node.fields.count("normal") ? vector3(node.fields.at("normal"), "normal", s.label)
-                                                       : Vec3::UnitZ();
-            if (!(n.norm() > 1e-12))
-                node.fields.at("normal").fail(s.label + ": 'normal' must not be the zero vector (it points out of "
-                                                        "the ground, into the space where bodies move)");
-            s.rotation = frame_of_normal(n.normalized());
-            if (node.fields.count("point")) s.position = vector3(node.fields.at("point"), "point", s.label);
-            break;
-        }
-        case ShapeKind::TriangleMesh:
-            if (!ground)
-                type->second.fail(s.label + ": a triangle_mesh is a ground shape (static, touched by the bodies' "
-                                            "other shapes); give it under 'ground: {collision: [...]}', or give a "
-                                            "body a convex_mesh");
-            s.mesh = mesh_of(node, s);
-            break;
-        case ShapeKind::ConvexMesh: s.mesh = mesh_of(node, s); break;
-    }
+    read_dimensions(node, type->second, s, ground);
     if (node.fields.count("position")) s.position = vector3(node.fields.at("position"), "position", s.label);
     if (node.fields.count("orientation")) s.rotation = orientation(node.fields.at("orientation"), s.label);
     if (node.fields.count("group")) s.group_bit = group_bit(node.fields.at("group"), s.label);
