@@ -381,6 +381,12 @@ bool named_model(const std::string& name, double h, Model& model) {
 
 int main(int argc, char** argv) {
     const PeerArgs a = parse_peer_args(argc, argv);
+    // A MuJoCo warning (a diverging run, which MuJoCo would reset to the initial state and go
+    // on) fails the run, on stderr, and writes no MUJOCO_LOG.TXT into the user's folder.
+    mju_user_warning = [](const char* message) {
+        std::fprintf(stderr, "mujoco peer: %s\n", message);
+        std::exit(1);
+    };
     if (a.tolerance) {
         std::fprintf(stderr, "mujoco peer: only fixed steps (step VALUE)\n");
         return 2;
