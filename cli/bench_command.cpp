@@ -1,10 +1,13 @@
 // mbd bench SCENE...: work-precision benchmark (error against CPU time, docs/benchmarks.md).
-// Every scene's `bench:` key gives its measure, reference and grid; each grid point is run
-// --repeat times (median CPU time). Writes one CSV and one JSON row per run.
+// Every scene's `bench:` key gives its measure, reference and grid; a model file (URDF, MJCF)
+// gets the default spec of bench_model_file.hpp. Each grid point is run --repeat times (median
+// CPU time). Writes one CSV and one JSON row per run.
+#include "bench_model_file.hpp"
 #include "commands.hpp"
 #include "options.hpp"
 
 #include <mbd/app/bench.hpp>
+#include <mbd/import/model_format.hpp>
 #include <mbd/sdk/text.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
@@ -65,7 +68,9 @@ void add_bench_command(CLI::App& app, Commands& commands) {
         "bench", "Work-precision benchmark: run each scene's grid of formulation x integrator x tolerance (or step), "
                  "measure the error against its reference and the CPU time");
     auto args = std::make_shared<BenchArguments>();
-    sub->add_option("SCENE", args->scenes, "Benchmark scenes (YAML with a 'bench:' key)")->required();
+    sub->add_option("SCENE", args->scenes,
+                    "Benchmark scenes (YAML with a 'bench:' key), or model files (URDF, MJCF: the default spec of "
+                    "docs/benchmarks.md, run by every peer that reads the file)")->required();
     sub->add_option("--csv", args->csv, "CSV output (one row per run)")->capture_default_str();
     sub->add_option("--json", args->json, "JSON output (scenes with their references, and the rows)")
         ->capture_default_str();
@@ -73,7 +78,7 @@ void add_bench_command(CLI::App& app, Commands& commands) {
         ->capture_default_str()
         ->check(positive_number());
     sub->add_option("--peers", args->peers,
-                    "Folder of the peer programs (mbd_peer_simbody, mbd_peer_mujoco); default: the peers built with "
+                    "Folder of the peer programs (mbd_peer_simbody, mbd_peer_mujoco, mbd_peer_dart); default: the peers built with "
                     "this mbd (bin/peers beside it, or libexec/mbd/peers when installed); a missing one is reported "
                     "and its runs skipped");
     sub->add_option("--formulation", args->formulations, "Only these formulations (repeatable)");
@@ -85,9 +90,12 @@ void add_bench_command(CLI::App& app, Commands& commands) {
         Registry registry;
         // the outputs must not be a scene or one of its base files, nor each other
         std::vector<std::filesystem::path> inputs;
+        auto is_model_file = [](const std::string& file) { return import::detect_format(file) != import::ModelFormat::Scene; };
         for (const std::string& scene : args->scenes) {
             Registry scene_registry;
-            for (const auto& file : scene_files(scene, load_scene(scene, scene_registry))) inputs.push_back(file);
+            if (is_model_file(scene)) inputs.emplace_back(scene);
+            else
+                for (const auto& file : scene_files(scene, load_scene(scene, scene_registry))) inputs.push_back(file);
         }
         check_output_path(args->csv, inputs, "--csv");
         inputs.emplace_back(args->csv);
@@ -103,9 +111,15 @@ void add_bench_command(CLI::App& app, Commands& commands) {
         std::vector<BenchSceneResult> results;
         const auto start = std::chrono::steady_clock::now();
         for (const std::string& scene : args->scenes) {
-            results.push_back(run_bench_scene(scene, registry, options, [&](const std::string& text) {
+            const auto log = [&](const std::string& text) {
                 console_line("mbd bench: " + scene + ": " + text);  // above the progress bar
-            }));
+            };
+            if (is_model_file(scene)) {
+                const ModelFileBench bench = model_file_bench(scene, registry);
+                results.push_back(run_bench(bench.model, bench.spec, registry, options, log));
+            } else {
+                results.push_back(run_bench_scene(scene, registry, options, log));
+            }
             // the scenes done so far, in NAME.partial until the end
             const std::string done = "the runs of the first " + std::to_string(results.size()) + " of " +
                                      std::to_string(args->scenes.size()) + " scenes";

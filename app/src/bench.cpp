@@ -151,10 +151,17 @@ struct PeerRun {
 };
 
 PeerRun run_peer(const std::string& exe, const std::string& model, double t_end, double output_step, bool tolerance,
-                 double value, int points) {
+                 double value, int points, const std::vector<std::string>& arguments) {
     PeerRun r;
-    const std::string cmd = "'" + exe + "' " + model + " " + format_number(t_end) + " " + format_number(output_step) + " " +
-                            (tolerance ? "tol " : "step ") + format_number(value) + " 2>&1";
+    const auto quoted = [](const std::string& word) {
+        std::string out = "'";
+        for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+        return out + "'";
+    };
+    std::string cmd = quoted(exe) + " " + quoted(model) + " " + format_number(t_end) + " " + format_number(output_step) + " " +
+                      (tolerance ? "tol " : "step ") + format_number(value);
+    for (const std::string& word : arguments) cmd += " " + quoted(word);
+    cmd += " 2>&1";
     FILE* pipe = ::popen(cmd.c_str(), "r");
     if (!pipe) {
         r.message = "could not start " + exe;
@@ -394,7 +401,7 @@ void time_peer_point(const std::string& exe, const BenchSpec& spec, const BenchP
     std::vector<double> cpu;
     for (int k = 0; k < repeat; ++k) {
         const PeerRun r = run_peer(exe, spec.peer_model + ":" + series.integrator, spec.t_end, output_step, adaptive,
-                                   value, static_cast<int>(spec.measure.bodies.size()));
+                                   value, static_cast<int>(spec.measure.bodies.size()), spec.peer_arguments);
         if (!r.ok) {
             row.status = "failed: " + r.message;
             row.error = std::numeric_limits<double>::quiet_NaN();
@@ -420,9 +427,14 @@ void time_peer_point(const std::string& exe, const BenchSpec& spec, const BenchP
 
 BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& registry, const BenchOptions& options,
                                  const std::function<void(const std::string&)>& log) {
-    BenchSceneResult out;
     const Model model = load_scene(scene_file, registry);
-    out.spec = load_bench_spec(model);
+    return run_bench(model, load_bench_spec(model), registry, options, log);
+}
+
+BenchSceneResult run_bench(const Model& model, const BenchSpec& bench_spec, Registry& registry, const BenchOptions& options,
+                           const std::function<void(const std::string&)>& log) {
+    BenchSceneResult out;
+    out.spec = bench_spec;
     const BenchSpec& spec = out.spec;
     out.automatic = automatic_method(model, spec.t_end);
     auto note = [&](const std::string& text) {

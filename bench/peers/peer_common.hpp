@@ -1,10 +1,13 @@
 // Command line and output of the peer programs (protocol of app/src/bench.cpp):
-//   mbd_peer_<engine> MODEL[:INTEGRATOR] T_END OUTPUT_STEP tol|step VALUE
+//   mbd_peer_<engine> MODEL[:INTEGRATOR] T_END OUTPUT_STEP tol|step VALUE [BODIES VELOCITIES]
 // prints "cpu_s steps" and then one line "t x1 y1 z1 [x2 y2 z2 ...]" per output time
 // (output_step, 2 output_step, ..., t_end) with the measured points of the model (the
 // same points as the scene's bench measure). Models: pendulum_a01, four_bar_N (IFToMM A02 with N
-// four-bar loops), chain_N, gyroscope, bricard, flyball, car_axis. A peer that cannot express a
-// model exits with status 2 and says why on stderr.
+// four-bar loops), chain_N, gyroscope, bricard, flyball, car_axis, or a model file (URDF, MJCF)
+// read by the peer's own reader: then BODIES names the bodies whose mass centres are measured
+// (comma-separated) and VELOCITIES the initial joint velocities ("-" for none; else
+// comma-separated JOINT=V or JOINT=V1/V2/..., MuJoCo's qvel convention, docs/benchmarks.md).
+// A peer that cannot express a model exits with status 2 and says why on stderr.
 #pragma once
 
 #include <algorithm>
@@ -12,23 +15,36 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 struct PeerArgs {
     std::string model, integrator;
     double t_end = 0, output_step = 0, value = 0;
     bool tolerance = true;
+    // a model file's measured bodies and initial joint velocities (joint name, its numbers)
+    std::vector<std::string> bodies;
+    std::vector<std::pair<std::string, std::vector<double>>> velocities;
 };
 
+inline std::vector<std::string> split(const std::string& text, char separator) {
+    std::vector<std::string> out;
+    size_t from = 0;
+    for (size_t at = text.find(separator); at != std::string::npos; at = text.find(separator, from = at + 1))
+        out.push_back(text.substr(from, at - from));
+    out.push_back(text.substr(from));
+    return out;
+}
+
 inline PeerArgs parse_peer_args(int argc, char** argv) {
-    if (argc != 6) {
-        std::fprintf(stderr, "usage: %s MODEL[:INTEGRATOR] T_END OUTPUT_STEP tol|step VALUE\n", argv[0]);
+    if (argc != 6 && argc != 8) {
+        std::fprintf(stderr, "usage: %s MODEL[:INTEGRATOR] T_END OUTPUT_STEP tol|step VALUE [BODIES VELOCITIES]\n", argv[0]);
         std::exit(2);
     }
     PeerArgs a;
     a.model = argv[1];
-    const auto colon = a.model.find(':');
-    if (colon != std::string::npos) {
+    const auto colon = a.model.rfind(':');
+    if (colon != std::string::npos && a.model.find('/', colon) == std::string::npos) {
         a.integrator = a.model.substr(colon + 1);
         a.model = a.model.substr(0, colon);
     }
@@ -36,7 +52,26 @@ inline PeerArgs parse_peer_args(int argc, char** argv) {
     a.output_step = std::atof(argv[3]);
     a.tolerance = std::string(argv[4]) == "tol";
     a.value = std::atof(argv[5]);
+    if (argc == 8) {
+        a.bodies = split(argv[6], ',');
+        if (std::string(argv[7]) != "-")
+            for (const std::string& item : split(argv[7], ',')) {
+                const auto eq = item.find('=');
+                std::vector<double> v;
+                for (const std::string& x : split(item.substr(eq + 1), '/')) v.push_back(std::atof(x.c_str()));
+                a.velocities.push_back({item.substr(0, eq), v});
+            }
+    }
     return a;
+}
+
+// A model file (URDF or MJCF) rather than a model name.
+inline bool is_model_file(const std::string& model) {
+    auto ends = [&](const char* e) {
+        const std::string x(e);
+        return model.size() > x.size() && model.compare(model.size() - x.size(), x.size(), x) == 0;
+    };
+    return ends(".urdf") || ends(".xml") || ends(".URDF") || ends(".XML");
 }
 
 inline std::vector<double> peer_output_times(const PeerArgs& a) {

@@ -5,13 +5,20 @@
 // force that gives it the prescribed acceleration) and integrated with MuJoCo's fixed-step
 // integrators (rk4: RK4, euler: semi-implicit Euler) at the given step (shortened so that the
 // output step is a whole number of steps). Contacts are disabled.
+// A model file (MJCF or URDF) is compiled by MuJoCo itself, as it is but for contacts (off), the
+// integrator and the step; URDF without its <visual> and <collision> elements (the dynamics uses
+// the explicit <inertial> only, and MuJoCo refuses meshes it cannot find). Its measured points
+// are the named bodies' mass centres (xipos).
 #include "peer_common.hpp"
 
 #include <mujoco/mujoco.h>
 
 #include <array>
 #include <ctime>
+#include <fstream>
 #include <functional>
+#include <regex>
+#include <stdexcept>
 #include <sstream>
 #include <unistd.h>
 
@@ -304,16 +311,82 @@ mjModel* compile(const Model& model, double h, const std::string& integrator) {
     return m;
 }
 
+// A model file compiled by MuJoCo (URDF through a geometry-free copy in /tmp; the file itself is
+// never written), null with the compiler's message on stderr.
+mjModel* compile_file(const std::string& file) {
+    std::string path = file, copy;
+    if (file.size() > 5 && file.substr(file.size() - 5) == ".urdf") {
+        std::ifstream in(file);
+        std::stringstream text;
+        text << in.rdbuf();
+        static const std::regex geometry("<visual[\\s>][\\s\\S]*?</visual>|<collision[\\s>][\\s\\S]*?</collision>");
+        char name[] = "/tmp/mbd_peer_mujoco_XXXXXX.urdf";
+        const int fd = ::mkstemps(name, 5);
+        if (fd < 0) return nullptr;
+        const std::string stripped = std::regex_replace(text.str(), geometry, "");
+        const bool written = ::write(fd, stripped.data(), stripped.size()) == static_cast<ssize_t>(stripped.size());
+        ::close(fd);
+        path = copy = name;
+        if (!written || !in) {
+            ::unlink(name);
+            std::fprintf(stderr, "mujoco peer: cannot read %s\n", file.c_str());
+            return nullptr;
+        }
+    }
+    char error[1000] = "";
+    mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
+    if (!copy.empty()) ::unlink(copy.c_str());
+    if (!m) std::fprintf(stderr, "mujoco peer: %s: %s\n", file.c_str(), error);
+    return m;
+}
+
+// The model file's run: its measured mass centres (xipos) and initial velocities by name.
+Model file_model(const PeerArgs& a, const mjModel* m) {
+    Model model;
+    for (const std::string& name : a.bodies) model.measured.push_back({name, {0, 0, 0}});
+    model.init = [velocities = a.velocities](const mjModel* m, mjData* d) {
+        for (const auto& [name, v] : velocities) {
+            const int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
+            for (size_t k = 0; k < v.size(); ++k) d->qvel[m->jnt_dofadr[j] + k] = v[k];
+        }
+    };
+    for (const auto& [name, v] : a.velocities) {
+        const int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
+        const size_t dofs = j < 0 ? 0 : m->jnt_type[j] == mjJNT_FREE ? 6 : m->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+        if (dofs != v.size()) throw std::runtime_error("no joint '" + name + "' with " + std::to_string(v.size()) + " velocities");
+    }
+    return model;
+}
+
 void set_initial_state(const Model& model, const mjModel* m, mjData* d) {
     for (const auto& [name, q] : model.qpos) d->qpos[m->jnt_qposadr[mj_name2id(m, mjOBJ_JOINT, name.c_str())]] = q;
     for (const auto& [name, u] : model.qvel) d->qvel[m->jnt_dofadr[mj_name2id(m, mjOBJ_JOINT, name.c_str())]] = u;
     if (model.init) model.init(m, d);
 }
 
+// The benchmark's named models; false for an unknown name.
+bool named_model(const std::string& name, double h, Model& model) {
+    if (name == "pendulum_a01") model = build_pendulum();
+    else if (const int n = four_bar_loops(name)) model = build_four_bar(n, h);
+    else if (const int n = chain_links(name)) model = build_chain(n);
+    else if (name == "gyroscope") model = build_gyroscope();
+    else if (name == "bricard") model = build_bricard(h);
+    else if (name == "flyball") model = build_flyball();
+    else if (name == "car_axis") model = build_car_axis();
+    else return false;
+    return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     const PeerArgs a = parse_peer_args(argc, argv);
+    // A MuJoCo warning (a diverging run, which MuJoCo would reset to the initial state and go
+    // on) fails the run, on stderr, and writes no MUJOCO_LOG.TXT into the user's folder.
+    mju_user_warning = [](const char* message) {
+        std::fprintf(stderr, "mujoco peer: %s\n", message);
+        std::exit(1);
+    };
     if (a.tolerance) {
         std::fprintf(stderr, "mujoco peer: only fixed steps (step VALUE)\n");
         return 2;
@@ -321,18 +394,24 @@ int main(int argc, char** argv) {
     const long per_output = std::max(1L, static_cast<long>(std::ceil(a.output_step / a.value - 1e-9)));
     const double h = a.output_step / per_output;
     Model model;
-    if (a.model == "pendulum_a01") model = build_pendulum();
-    else if (const int n = four_bar_loops(a.model)) model = build_four_bar(n, h);
-    else if (const int n = chain_links(a.model)) model = build_chain(n);
-    else if (a.model == "gyroscope") model = build_gyroscope();
-    else if (a.model == "bricard") model = build_bricard(h);
-    else if (a.model == "flyball") model = build_flyball();
-    else if (a.model == "car_axis") model = build_car_axis();
-    else {
+    mjModel* m = nullptr;
+    if (is_model_file(a.model)) {
+        m = compile_file(a.model);
+        if (!m) return 2;
+        m->opt.timestep = h;
+        m->opt.integrator = a.integrator == "euler" ? mjINT_EULER : mjINT_RK4;
+        m->opt.disableflags |= mjDSBL_CONTACT;
+        try {
+            model = file_model(a, m);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "mujoco peer: %s: %s\n", a.model.c_str(), e.what());
+            return 2;
+        }
+    } else if (!named_model(a.model, h, model)) {
         std::fprintf(stderr, "mujoco peer: unknown model '%s'\n", a.model.c_str());
         return 2;
     }
-    mjModel* m = compile(model, h, a.integrator == "euler" ? "Euler" : "RK4");
+    if (!m) m = compile(model, h, a.integrator == "euler" ? "Euler" : "RK4");
     if (!m) return 1;
     mjData* d = mj_makeData(m);
     set_initial_state(model, m, d);
@@ -342,7 +421,15 @@ int main(int argc, char** argv) {
         mjcb_control = apply_driver;
     }
     std::vector<int> bodies;
-    for (const auto& [name, p] : model.measured) bodies.push_back(mj_name2id(m, mjOBJ_BODY, name.c_str()));
+    for (const auto& [name, p] : model.measured) {
+        bodies.push_back(mj_name2id(m, mjOBJ_BODY, name.c_str()));
+        if (bodies.back() < 0) {
+            std::fprintf(stderr, "mujoco peer: no body '%s' in %s\n", name.c_str(), a.model.c_str());
+            return 2;
+        }
+    }
+    // named models: a point of the body frame; model files: the mass centre
+    const mjtNum* positions = is_model_file(a.model) ? d->xipos : d->xpos;
     const std::vector<double> times = peer_output_times(a);
     std::vector<std::vector<double>> rows;
     long steps = 0;
@@ -356,7 +443,7 @@ int main(int argc, char** argv) {
         mj_kinematics(m, d);
         std::vector<double> row{t};
         for (size_t k = 0; k < bodies.size(); ++k) {
-            const double* p = d->xpos + 3 * bodies[k];
+            const double* p = positions + 3 * bodies[k];
             const double* R = d->xmat + 9 * bodies[k];
             const auto& s = model.measured[k].second;
             for (int i = 0; i < 3; ++i) row.push_back(p[i] + R[3 * i] * s[0] + R[3 * i + 1] * s[1] + R[3 * i + 2] * s[2]);

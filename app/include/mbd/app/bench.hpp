@@ -46,7 +46,7 @@ struct BenchSeries {
 };
 
 struct BenchPeerSeries {
-    std::string engine;              // simbody, mujoco
+    std::string engine;              // simbody, mujoco, dart
     std::string integrator;          // the peer's own name for it
     std::vector<double> tolerances, steps;
 };
@@ -59,7 +59,8 @@ struct BenchSpec {
     BenchMeasure measure;
     BenchReference reference;
     std::vector<BenchSeries> runs;
-    std::string peer_model;          // model name the peer programs know
+    std::string peer_model;          // model name the peer programs know, or a model file's path
+    std::vector<std::string> peer_arguments;  // a model file's: measured bodies, initial velocities (peer_common.hpp)
     std::vector<BenchPeerSeries> peers;
 };
 
@@ -103,7 +104,7 @@ Trajectory sample_trajectory(const Model& model, Registry& registry, const Simul
 double bench_error(const Trajectory& run, const Trajectory& reference, const BenchMeasure& measure);
 
 struct BenchRow {
-    std::string engine = "mbd";      // mbd, simbody, mujoco
+    std::string engine = "mbd";      // mbd, simbody, mujoco, dart
     std::string scene, formulation, integrator;
     double tolerance = 0.0;          // 0: fixed step
     double step = 0.0;               // 0: adaptive
@@ -150,6 +151,10 @@ BenchTally tally(const BenchSceneResult& result);
 // Runs the grid of one scene (and its peers). `log` gets the notes as they happen.
 BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& registry, const BenchOptions& options,
                                  const std::function<void(const std::string&)>& log = {});
+
+// The same for a model and its spec given (a model file's default spec, bench_model_file.hpp).
+BenchSceneResult run_bench(const Model& model, const BenchSpec& spec, Registry& registry, const BenchOptions& options,
+                           const std::function<void(const std::string&)>& log = {});
 
 // The CSV (one row per run) and JSON (scenes with their references, and the rows) texts;
 // `mbd bench` writes them through OutputFile (output_file.hpp).
