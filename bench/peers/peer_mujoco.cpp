@@ -377,6 +377,24 @@ bool named_model(const std::string& name, double h, Model& model) {
     return true;
 }
 
+// A model file compiled by MuJoCo itself at the step h, contacts off; its measured bodies read
+// into `model`. Null (the cause printed) when it cannot be read.
+mjModel* compile_model_file(const PeerArgs& a, double h, Model& model) {
+    mjModel* m = compile_file(a.model);
+    if (!m) return nullptr;
+    m->opt.timestep = h;
+    m->opt.integrator = a.integrator == "euler" ? mjINT_EULER : mjINT_RK4;
+    m->opt.disableflags |= mjDSBL_CONTACT;
+    try {
+        model = file_model(a, m);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "mujoco peer: %s: %s\n", a.model.c_str(), e.what());
+        mj_deleteModel(m);
+        return nullptr;
+    }
+    return m;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -396,17 +414,8 @@ int main(int argc, char** argv) {
     Model model;
     mjModel* m = nullptr;
     if (is_model_file(a.model)) {
-        m = compile_file(a.model);
+        m = compile_model_file(a, h, model);
         if (!m) return 2;
-        m->opt.timestep = h;
-        m->opt.integrator = a.integrator == "euler" ? mjINT_EULER : mjINT_RK4;
-        m->opt.disableflags |= mjDSBL_CONTACT;
-        try {
-            model = file_model(a, m);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "mujoco peer: %s: %s\n", a.model.c_str(), e.what());
-            return 2;
-        }
     } else if (!named_model(a.model, h, model)) {
         std::fprintf(stderr, "mujoco peer: unknown model '%s'\n", a.model.c_str());
         return 2;
