@@ -4,6 +4,7 @@
 #include <mbd/model_system.hpp>
 #include <mbd/scene_document.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <map>
@@ -70,6 +71,90 @@ std::pair<Vec3, Vec3> relative_velocity(const Frame& parent, const Frame& child)
 
 const std::set<std::string> kTreeJoints = {"revolute", "prismatic", "spherical", "fixed"};
 
+// A rotor, the form the MJCF import gives a joint's armature (docs/import.md): a body pinned to
+// the ground by a revolute joint, its mass centre on the pin's axis, whose angle a
+// coordinate_coupling ties to the coordinate of a revolute or prismatic joint between two other
+// bodies, and which no other joint or force element touches. Its kinetic energy is
+// 1/2 I_axis (multiplier qdot)^2 and nothing else: MJCF's armature I_axis multiplier^2.
+struct Rotor {
+    int body = -1, pin = -1, coupling = -1, joint = -1;
+    double armature = 0.0;
+};
+
+// One side of a coupling (`follower:` or `leader:`): its two bodies, world axis and coordinate.
+struct CouplingSide {
+    std::set<int> bodies;
+    Vec3 axis = Vec3::UnitZ();
+    bool angle = true;
+};
+
+bool read_side(const Model& model, const JointInstance& coupling, const Param& node, const char* key, CouplingSide& side) {
+    const auto it = node.fields.find(key);
+    if (it == node.fields.end() || !it->second.is_map()) return false;
+    const Param& s = it->second;
+    if (const auto b = s.fields.find("bodies"); b != s.fields.end()) {
+        if (!b->second.is_list()) return false;
+        for (const Param& name : b->second.items) side.bodies.insert(model.body_index(name.text));
+    } else if (coupling.bodies.size() >= 2) {
+        side.bodies = {coupling.bodies[0], coupling.bodies[1]};
+    }
+    if (const auto a = s.fields.find("axis"); a != s.fields.end()) side.axis = a->second.as_vector("axis", 3).normalized();
+    if (const auto c = s.fields.find("coordinate"); c != s.fields.end()) side.angle = c->second.text != "travel";
+    return side.bodies.size() == 2 && !side.bodies.count(-2);
+}
+
+bool parallel(const Vec3& a, const Vec3& b) { return std::abs(std::abs(a.normalized().dot(b.normalized())) - 1.0) < 1e-9; }
+
+// The rotors of a spatial model (none planar: the coupling joint is spatial only).
+std::vector<Rotor> find_rotors(const Model& model, const State& start) {
+    std::vector<Rotor> rotors;
+    if (model.dimension != Dimension::Spatial) return rotors;
+    auto joints_on = [&](int b) {
+        std::vector<int> on;
+        for (size_t j = 0; j < model.joints.size(); ++j)
+            if (std::count(model.joints[j].bodies.begin(), model.joints[j].bodies.end(), b)) on.push_back(static_cast<int>(j));
+        return on;
+    };
+    for (size_t c = 0; c < model.joints.size(); ++c) {
+        const JointInstance& coupling = model.joints[c];
+        const Param* node = coupling.type == "coordinate_coupling" ? scene_element_node(model, "joints", coupling.name) : nullptr;
+        CouplingSide follower, leader;
+        if (!node || !read_side(model, coupling, *node, "follower", follower) ||
+            !read_side(model, coupling, *node, "leader", leader) || !follower.angle || !follower.bodies.count(kGround))
+            continue;
+        Rotor rotor;
+        rotor.coupling = static_cast<int>(c);
+        rotor.body = *follower.bodies.rbegin();
+        const std::vector<int> on = joints_on(rotor.body);
+        if (on.size() != 2 || leader.bodies.count(rotor.body)) continue;
+        rotor.pin = on[0] == rotor.coupling ? on[1] : on[0];
+        const JointInstance& pin = model.joints[rotor.pin];
+        if (pin.type != "revolute" || std::set<int>(pin.bodies.begin(), pin.bodies.end()) != follower.bodies) continue;
+        const int ground_end = pin.bodies[0] == kGround ? 0 : 1;
+        const Vec3 axis = pin.markers[ground_end].A_bar.col(2), point = pin.markers[ground_end].u_bar;
+        const Frame f = body_frame(model, start, rotor.body);
+        if (!parallel(axis, follower.axis) || (f.origin - point).cross(axis).norm() > 1e-12 * (1.0 + point.norm())) continue;
+        bool loaded = false;
+        for (const ForceInstance& force : model.forces)
+            loaded |= force.type != "gravity" && std::count(force.bodies.begin(), force.bodies.end(), rotor.body);
+        if (loaded) continue;
+        for (size_t j = 0; j < model.joints.size(); ++j) {
+            const JointInstance& joint = model.joints[j];
+            if (joint.type != (leader.angle ? "revolute" : "prismatic") ||
+                std::set<int>(joint.bodies.begin(), joint.bodies.end()) != leader.bodies)
+                continue;
+            const Frame fi = body_frame(model, start, joint.bodies[0]);
+            if (parallel(marker_axes(model, fi, joint.markers[0]).col(2), leader.axis)) rotor.joint = static_cast<int>(j);
+        }
+        if (rotor.joint < 0) continue;
+        const double multiplier = node->fields.count("multiplier") ? node->fields.at("multiplier").as_number("multiplier") : 1.0;
+        const Vec3 a = axis.normalized();
+        rotor.armature = a.dot(f.axes * model.bodies[rotor.body].inertia * f.axes.transpose() * a) * multiplier * multiplier;
+        rotors.push_back(rotor);
+    }
+    return rotors;
+}
+
 class TreeBuilder {
 public:
     explicit TreeBuilder(const Model& model) : model_(model), start_(start_of(model)) {
@@ -80,8 +165,14 @@ public:
         if (tree_.planar) tree_.gravity.z() = 0.0;
         for (int b = 0; b < model.body_count(); ++b) frames_.push_back(body_frame(model, start_, b));
         adjacent_.resize(model.body_count() + 1);
+        for (const Rotor& r : find_rotors(model, start_)) {
+            rotor_bodies_.insert(r.body);
+            rotor_joints_.insert({r.pin, r.coupling});
+            armature_of_[r.joint] = r;
+        }
         for (size_t j = 0; j < model.joints.size(); ++j) {
             const JointInstance& joint = model.joints[j];
+            if (rotor_joints_.count(static_cast<int>(j))) continue;  // written as its joint's armature
             if (!kTreeJoints.count(joint.type) || joint.bodies.size() != 2) {
                 left("joints of a type MJCF and URDF do not have", joint.name + " (" + joint.type + ")",
                      "only revolute, prismatic, spherical and fixed joints and free bodies are written");
@@ -94,7 +185,7 @@ public:
     ExportTree build() {
         grow(kGround);
         for (int b = 0; b < model_.body_count(); ++b) {
-            if (export_of_.count(b)) continue;
+            if (export_of_.count(b) || rotor_bodies_.count(b)) continue;
             add_free_root(b);
             grow(b);
         }
@@ -196,6 +287,10 @@ private:
             const Vec3 axis = tree_.planar ? Vec3(axes.col(0)) : Vec3(axes.col(2));
             body.joints.push_back({joint.name, ExportJointKind::Slide, point, axis, {axis.dot(v)}});
         }
+        if (const auto rotor = armature_of_.find(j); rotor != armature_of_.end() && !body.joints.empty()) {
+            body.joints.back().armature = rotor->second.armature;
+            body.joints.back().rotor = model_.bodies[rotor->second.body].name;
+        }
         add_body(child, std::move(body));
         hinge_bodies_[j] = {parent, child};
     }
@@ -253,6 +348,8 @@ private:
     std::set<int> used_;
     std::map<int, int> export_of_;                   // model body -> ExportTree body
     std::map<int, std::pair<int, int>> hinge_bodies_;  // tree joint -> (parent, child) model bodies
+    std::set<int> rotor_bodies_, rotor_joints_;        // rotors and their pins and couplings
+    std::map<int, Rotor> armature_of_;                 // tree joint -> the rotor giving its armature
 };
 
 }  // namespace

@@ -82,6 +82,7 @@ private:
             e->SetAttribute("springref", xml::number(joint.spring_reference));
         }
         if (joint.damping != 0.0) e->SetAttribute("damping", xml::number(joint.damping));
+        if (joint.armature != 0.0) e->SetAttribute("armature", xml::number(joint.armature));
         qvel_.insert(qvel_.end(), joint.velocity.begin(), joint.velocity.end());
         if (!joint.spring_name.empty())
             body_element->LinkEndChild(new TiXmlComment((" spring-damper '" + joint.spring_name + "' ").c_str()));

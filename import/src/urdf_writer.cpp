@@ -90,6 +90,7 @@ private:
             name = j.name;
             type = j.kind == ExportJointKind::Hinge ? "continuous" : j.kind == ExportJointKind::Slide ? "prismatic" : "floating";
             if (j.stiffness != 0.0) springs_.push_back(j.spring_name);
+            if (j.armature != 0.0) rotors_.push_back(j.rotor);
             for (double v : j.velocity) moving_ |= v != 0.0;
         }
         joint->SetAttribute("name", name);
@@ -119,6 +120,8 @@ private:
     void list_left_out() {
         if (!springs_.empty())
             left_out_.push_back({"joint springs in URDF", springs_, "URDF has damping but no stiffness; export MJCF to keep them"});
+        if (!rotors_.empty())
+            left_out_.push_back({"joint armatures (rotors) in URDF", rotors_, "URDF has no armature; export MJCF to keep them"});
         if (moving_)
             left_out_.push_back({"initial velocities in URDF", {tree_.name}, "URDF holds no initial state; the MJCF export keeps it"});
         if ((tree_.gravity - Vec3(0, 0, -9.81)).norm() > 1e-12)
@@ -127,7 +130,7 @@ private:
 
     const ExportTree& tree_;
     std::vector<Unmapped>& left_out_;
-    std::vector<std::string> springs_;
+    std::vector<std::string> springs_, rotors_;
     bool moving_ = false;
 };
 

@@ -28,6 +28,10 @@ struct ExportJoint {
     // a hinge's spring-damper (MJCF stiffness, springref from the start, damping)
     double stiffness = 0.0, damping = 0.0, spring_reference = 0.0;
     std::string spring_name;  // the rotational_spring_damper it carries ("" none)
+    // MJCF armature: the axial moment times multiplier^2 of a rotor pinned to the ground and
+    // coupled to this joint's coordinate (the form the MJCF import gives armature; docs/import.md)
+    double armature = 0.0;
+    std::string rotor;  // that rotor body ("" none)
 };
 
 struct ExportBody {
