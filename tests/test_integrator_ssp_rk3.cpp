@@ -38,20 +38,8 @@ TEST(SspRk3, OneStepIsTheCubicTaylorPolynomialOfTheExponential) {
 }
 
 TEST(SspRk3, ThirdOrderOnTheHarmonicOscillator) {
-    const double w = 2.0, T = 5.0;
     std::vector<double> errors;
-    for (double h : {0.04, 0.02, 0.01, 0.005}) {
-        FunctionProblem problem(2, [w](double, const VectorXd& y, VectorXd& f) {
-            f[0] = y[1];
-            f[1] = -w * w * y[0];
-        });
-        mbd::IntegratorSettings s;
-        s.step = h;
-        VectorXd y0(2);
-        y0 << 1.0, 0.0;
-        const VectorXd y = run("ssp_rk3", s, problem, 0.0, y0, {T}).y.back();
-        errors.push_back(std::max(std::abs(y[0] - std::cos(w * T)), std::abs(y[1] + w * std::sin(w * T))));
-    }
+    for (double h : {0.04, 0.02, 0.01, 0.005}) errors.push_back(mbd::test::oscillator_error("ssp_rk3", h));
     for (size_t k = 1; k < errors.size(); ++k) {
         const double order = std::log2(errors[k - 1] / errors[k]);
         std::printf("SSP-RK3 oscillator: error %.3e -> %.3e, order %.3f\n", errors[k - 1], errors[k], order);

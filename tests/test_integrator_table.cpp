@@ -29,20 +29,7 @@ using mbd::test::run;
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-// x'' = -w^2 x, x(0) = 1, x'(0) = 0: x = cos wt. The largest error at T of a run with step h.
-double oscillator_error(const std::string& integrator, double h) {
-    const double w = 2.0, T = 5.0;
-    FunctionProblem problem(2, [w](double, const VectorXd& y, VectorXd& f) {
-        f[0] = y[1];
-        f[1] = -w * w * y[0];
-    });
-    mbd::IntegratorSettings s;
-    s.step = h;
-    VectorXd y0(2);
-    y0 << 1.0, 0.0;
-    const VectorXd y = run(integrator, s, problem, 0.0, y0, {T}).y.back();
-    return std::max(std::abs(y[0] - std::cos(w * T)), std::abs(y[1] + w * std::sin(w * T)));
-}
+using mbd::test::oscillator_error;
 
 // A ball dropped from 1 m: x'' = -g; the event is its height x, crossing zero at sqrt(2 / g).
 class FallingBall : public FunctionProblem {

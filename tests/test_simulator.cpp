@@ -134,6 +134,17 @@ std::string steps_function(const std::vector<double>& forces) {
     return table.str();
 }
 
+// The message of what `f` throws ("no error" when it throws nothing).
+template <class F>
+std::string message_of(F&& f) {
+    try {
+        f();
+    } catch (const std::exception& e) {
+        return std::string(e.what());
+    }
+    return std::string("no error");
+}
+
 TEST(Simulator, LqrCartPoleThroughSetInputMatchesTheClosedLoop) {
     const Eigen::RowVector4d K = lqr_gain();
     const double t_end = 10.0;
@@ -342,14 +353,6 @@ TEST(Simulator, EventsAreReportedAsTheyHappen) {
 TEST(Simulator, BadInputsAreClearErrors) {
     const mbd::Model model = scene(cart_pole_yaml("{type: input, name: force}"), "cart-pole.yaml");
     mbd::Simulator sim(model, mbd::test::shared_registry(), quiet("dopri5", 1e-8, 0.0, 1.0));
-    auto message_of = [](auto&& f) {
-        try {
-            f();
-        } catch (const std::exception& e) {
-            return std::string(e.what());
-        }
-        return std::string("no error");
-    };
     // an input that does not exist: the known ones listed
     EXPECT_NE(message_of([&] { sim.set_input("forse", 1.0); }).find("its inputs are: force"), std::string::npos);
     EXPECT_NE(message_of([&] { sim.set_input("force", std::nan("")); }).find("finite"), std::string::npos);
@@ -440,14 +443,6 @@ TEST(Simulator, JointStateByNameIsReadAndWrittenOntoTheConstraints) {
     sim.advance_to(0.4);  // and runs on from there
     EXPECT_NEAR(sim.time(), 0.4, 1e-15);
 
-    auto message_of = [](auto&& f) {
-        try {
-            f();
-        } catch (const std::exception& e) {
-            return std::string(e.what());
-        }
-        return std::string("no error");
-    };
     EXPECT_NE(message_of([&] { sim.joint_coordinate("pinn"); }).find("its joints are: rail, pin"), std::string::npos);
     EXPECT_NE(message_of([&] { sim.set_joint_state("pin", std::nan(""), 0.0); }).find("finite"), std::string::npos);
 }

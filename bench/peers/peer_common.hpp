@@ -82,6 +82,16 @@ inline std::vector<double> peer_output_times(const PeerArgs& a) {
     return t;
 }
 
+// The peer's answer on stdout, read by `mbd bench`: "CPU_SECONDS STEPS", then one row per output
+// time (t, then the measured points' coordinates), each number to the last bit.
+inline void print_peer_result(double cpu, long steps, const std::vector<std::vector<double>>& rows) {
+    std::printf("%.9g %ld\n", cpu, steps);
+    for (const auto& row : rows) {
+        for (size_t k = 0; k < row.size(); ++k) std::printf(k ? " %.17g" : "%.17g", row[k]);
+        std::printf("\n");
+    }
+}
+
 // Measured links of chain_N (the scene's bench measure, scripts/gen_bench_scenes.py): the tip
 // for short chains, else the ends of links 5, N/2 and N.
 inline std::vector<int> chain_measured(int n) {

@@ -460,11 +460,7 @@ int main(int argc, char** argv) {
         rows.push_back(row);
     }
     const double cpu = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
-    std::printf("%.9g %ld\n", cpu, steps);
-    for (const auto& row : rows) {
-        for (size_t k = 0; k < row.size(); ++k) std::printf(k ? " %.17g" : "%.17g", row[k]);
-        std::printf("\n");
-    }
+    print_peer_result(cpu, steps, rows);
     mj_deleteData(d);
     mj_deleteModel(m);
     return 0;

@@ -255,11 +255,7 @@ int run(MultibodySystem& system, const Model& model, const PeerArgs& a) {
         rows.push_back(row);
     }
     const double cpu = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
-    std::printf("%.9g %d\n", cpu, integ->getNumStepsTaken());
-    for (const auto& row : rows) {
-        for (size_t k = 0; k < row.size(); ++k) std::printf(k ? " %.17g" : "%.17g", row[k]);
-        std::printf("\n");
-    }
+    print_peer_result(cpu, integ->getNumStepsTaken(), rows);
     return 0;
 }
 

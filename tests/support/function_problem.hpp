@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <string>
 #include <utility>
@@ -53,6 +55,22 @@ inline RunResult run(const std::string& name, const IntegratorSettings& settings
             },
             r.stats);
     return r;
+}
+
+// x'' = -w^2 x, x(0) = 1, x'(0) = 0, w = 2: x = cos wt. The largest error at T = 5 of the
+// fixed-step `integrator` with step h (an integrator's order from the ratio of two steps).
+inline double oscillator_error(const std::string& integrator, double h) {
+    const double w = 2.0, T = 5.0;
+    FunctionProblem problem(2, [w](double, const Eigen::VectorXd& y, Eigen::VectorXd& f) {
+        f[0] = y[1];
+        f[1] = -w * w * y[0];
+    });
+    IntegratorSettings s;
+    s.step = h;
+    Eigen::VectorXd y0(2);
+    y0 << 1.0, 0.0;
+    const Eigen::VectorXd y = run(integrator, s, problem, 0.0, y0, {T}).y.back();
+    return std::max(std::abs(y[0] - std::cos(w * T)), std::abs(y[1] + w * std::sin(w * T)));
 }
 
 }  // namespace mbd::test
