@@ -165,7 +165,7 @@ TEST(Hdf5Output, ReactionsAndDiagnosticsOverManyBandsAreTheCsvs) {
 // `mbd ARGUMENTS` started in a child process (its output to /dev/null).
 // The peak resident memory (kB) of `mbd ARGUMENTS`, run to its end.
 long mbd_peak_kb(const std::string& arguments) {
-    return mbd::test::wait_peak_kb(mbd::test::spawn_quiet(std::string(MBD_EXECUTABLE) + " " + arguments), 0, arguments);
+    return mbd::test::wait_peak_kb(mbd::test::spawn_quiet(mbd::test::mbd_command(MBD_EXECUTABLE, arguments)), 0, arguments);
 }
 
 // Rows stream to the file in bands: 400,001 rows of 13 values (42 MB of doubles) take no more

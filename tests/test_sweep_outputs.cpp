@@ -177,8 +177,8 @@ TEST(SweepOutputs, ResumeRefusesWhenTheSceneOrItsBaseChanged) {
 // its journal holds a case when `interrupt`.
 long sweep_peak_kb(const fs::path& study, const fs::path& output, bool interrupt) {
     // the sanitizer's quarantine kept small in mbd too (see __asan_default_options above)
-    const pid_t child = spawn_quiet("env ASAN_OPTIONS=\"${ASAN_OPTIONS}:quarantine_size_mb=1\" " + std::string(MBD_EXECUTABLE) +
-                              " sweep " + study.string() + " -q --flush-seconds 0.01 -o " + output.string());
+    const pid_t child = spawn_quiet(mbd::test::mbd_command(
+        MBD_EXECUTABLE, "sweep " + study.string() + " -q --flush-seconds 0.01 -o " + output.string()));
     if (interrupt) {
         const fs::path journal = output.string() + ".partial";
         EXPECT_TRUE(wait_until([&] { return fs::exists(journal) && !mbd::read_sweep_rows(output).empty(); }, child))

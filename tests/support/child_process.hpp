@@ -24,6 +24,13 @@ inline pid_t spawn_quiet(const std::string& command) {
     return pid;
 }
 
+// `mbd ARGUMENTS` as a command for spawn_quiet, with AddressSanitizer's quarantine of freed
+// blocks (256 MB by default) kept small in the child, so that its peak memory measures mbd, not
+// the sanitizer (ignored in a build without it; the rest of ASAN_OPTIONS is kept).
+inline std::string mbd_command(const std::string& executable, const std::string& arguments) {
+    return "env ASAN_OPTIONS=\"${ASAN_OPTIONS}:quarantine_size_mb=1\" " + executable + " " + arguments;
+}
+
 // Waits for `done` up to a generous wall time (a loaded or sanitizer build); false if it never
 // held or the child ended first.
 template <class Condition>
