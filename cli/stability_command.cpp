@@ -1,7 +1,7 @@
 // mbd stability [SCENE...] [--markdown docs/stability.md]: the stability matrix of the extreme
 // cases (issue 8). Runs every scene (default: scenes/extreme/*.yaml) with every formulation the
 // registry finds and the integrators of stability_integrators(), each run in a forked
-// child with the case's wall-time budget, and writes the case x formulation x integrator matrix
+// child with the case's processor-time budget, and writes the case x formulation x integrator matrix
 // (app/src/stability.cpp). Exit status 1 when a declared pair misses its declared outcome or a
 // child crashed.
 #include "commands.hpp"

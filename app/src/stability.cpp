@@ -17,7 +17,9 @@
 
 #include <Eigen/Geometry>
 
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <ctime>
 #include <unistd.h>
 #include <poll.h>
 
@@ -253,6 +255,13 @@ private:
     Vec3 L0_ = Vec3::Zero();
 };
 
+// This process's processor time (all its threads), in seconds.
+double processor_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 CellOutcome run_case(const Model& model, Registry& registry, const Expectation& e, const std::string& formulation,
                      const std::string& integrator, double t_end, const CaseProgress& progress) {
     CellOutcome out;
@@ -273,10 +282,10 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
     CaseMeasure measure(model, e, t_end);
     bool over_budget = false;
     double last_t = 0.0;
-    const auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&start] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
+    // The budget is the run's processor time, not wall time, so a cell's outcome does not depend on
+    // what else the machine is doing (the matrix may run beside a build).
+    const double start = processor_seconds();
+    auto elapsed = [start] { return processor_seconds() - start; };
 
     auto callback = [&](const SimulationSample& sample) -> bool {
         last_t = sample.state.t;
@@ -348,8 +357,13 @@ void write_all(int fd, const std::string& text) {
 // The forked child of run_case_isolated: runs the case, writing "progress\tT\tT_END" lines
 // (at most ten a second) and then its result line "KIND\tERROR\tBOUND\tTIME\tSECONDS\tMESSAGE".
 [[noreturn]] void run_child(const std::string& scene, const std::string& formulation, const std::string& integrator,
-                            double t_end, int fd) {
+                            double t_end, double cpu_limit, int fd) {
     CellOutcome c;
+    if (cpu_limit > 0.0) {  // a run that ignores its budget (stuck in one step) ends by SIGXCPU
+        const rlim_t seconds = static_cast<rlim_t>(std::ceil(cpu_limit));
+        const rlimit limit{seconds, seconds + 5};
+        setrlimit(RLIMIT_CPU, &limit);
+    }
     auto last = std::chrono::steady_clock::now() - std::chrono::seconds(1);
     const CaseProgress report = [&](double t, double end) {
         const auto now = std::chrono::steady_clock::now();
@@ -422,6 +436,7 @@ struct ChildReport {
         out.error = std::stod(error);
         out.bound = std::stod(bound);
         out.time = std::stod(time);
+        out.seconds = std::stod(seconds);
         out.message = message;
     }
 
@@ -450,7 +465,7 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
-        run_child(scene, formulation, integrator, t_end, fds[1]);
+        run_child(scene, formulation, integrator, t_end, budget + 10.0, fds[1]);
     }
     close(fds[1]);
     if (pid < 0) {
@@ -461,8 +476,11 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
     }
     ChildReport report;
     int status = 0;
+    rusage usage{};
     bool killed = false;
-    const double hard_limit = budget + 10.0;
+    // The child ends itself by SIGXCPU past its processor budget; this wall limit only catches a child
+    // that hangs without computing, so it is generous for a loaded machine.
+    const double hard_limit = 20.0 * budget + 60.0;
     for (;;) {
         pollfd p{fds[0], POLLIN, 0};
         const int ready = poll(&p, 1, 100);
@@ -484,22 +502,16 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
             kill(pid, SIGKILL);
             killed = true;
         }
-        if (killed && ready <= 0) {
-            int st = 0;
-            if (waitpid(pid, &st, WNOHANG) == pid) {
-                status = st;
-                close(fds[0]);
-                out.kind = "budget_exceeded";
-                out.seconds = t;
-                return out;
-            }
-        }
+        if (killed && ready <= 0 && wait4(pid, &status, WNOHANG, &usage) == pid) break;
     }
-    report.end();
+    if (!killed) {
+        report.end();
+        wait4(pid, &status, 0, &usage);
+    }
     close(fds[0]);
-    waitpid(pid, &status, 0);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (killed) {
+    out.seconds = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                  1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+    if (killed || (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU)) {
         out.kind = "budget_exceeded";
         return out;
     }
@@ -535,7 +547,7 @@ std::string stability_markdown(const std::vector<StabilityCase>& cases, const st
     md << "# Stability matrix of the extreme cases (issue 8)\n\n"
        << "Generated by `" << command << "` (app/src/stability.cpp, cli/stability_command.cpp); do not edit by "
        << "hand. Every scene of `scenes/extreme/` declares its expected outcome in its header comment and in its "
-       << "`expect:` key; each cell is one run (a forked child with the case's wall-time budget) of that case with "
+       << "`expect:` key; each cell is one run (a forked child with the case's processor-time budget) of that case with "
        << "one formulation and one integrator, at the case's tolerance (" << integrators_where(integrators, true)
        << ") or step (" << integrators_where(integrators, false) << ").\n\n"
        << "Cells: `pass (error E)` (the case's error measure within its bound), `inaccurate (error E > B)`, or a "
