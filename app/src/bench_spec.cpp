@@ -87,6 +87,103 @@ void check_keys(const Param& n, const std::string& what, const std::vector<std::
 
 }  // namespace
 
+namespace {
+
+// `measure:` {body|bodies, point|points, quantity, norm}
+BenchMeasure read_measure(const Param& b) {
+    const Param* m = field(b, "measure");
+    if (!m) b.fail("bench: missing key 'measure' ({body: NAME, quantity: position, norm: max})");
+    check_keys(*m, "measure", {"body", "bodies", "point", "points", "quantity", "norm"});
+    BenchMeasure measure;
+    if (const Param* body = field(*m, "body")) measure.bodies.push_back(word(*body, "body"));
+    if (const Param* bodies = field(*m, "bodies")) {
+        if (!bodies->is_list()) bodies->fail("bench: 'bodies' must be a list of body names");
+        for (const Param& x : bodies->items) measure.bodies.push_back(word(x, "bodies"));
+    }
+    if (measure.bodies.empty()) m->fail("bench: 'measure' needs 'body' or 'bodies'");
+    measure.points.assign(measure.bodies.size(), Eigen::Vector3d::Zero());
+    auto read_point = [](const Param& n) {
+        const std::vector<double> v = number_list(&n, "point");
+        if (v.size() < 2 || v.size() > 3) n.fail("bench: a point is [x, y] or [x, y, z]");
+        return Eigen::Vector3d(v[0], v[1], v.size() == 3 ? v[2] : 0.0);
+    };
+    if (const Param* point = field(*m, "point")) measure.points[0] = read_point(*point);
+    if (const Param* points = field(*m, "points")) {
+        if (!points->is_list() || points->items.size() != measure.bodies.size())
+            points->fail("bench: 'points' needs one point per measured body");
+        for (size_t i = 0; i < measure.bodies.size(); ++i) measure.points[i] = read_point(points->items[i]);
+    }
+    measure.quantity = word_or(*m, "quantity", measure.quantity);
+    if (measure.quantity != "position") field(*m, "quantity")->fail("bench: only 'quantity: position' is measured");
+    measure.norm = word_or(*m, "norm", measure.norm);
+    if (measure.norm != "max" && measure.norm != "final") field(*m, "norm")->fail("bench: 'norm' is max or final");
+    return measure;
+}
+
+// `reference:` {kind: closed_form|published|tight_run, name, formulation, ..., parameters}
+BenchReference read_reference(const Param& b) {
+    const Param* r = field(b, "reference");
+    if (!r) b.fail("bench: missing key 'reference' ({kind: closed_form|published|tight_run, ...})");
+    if (!r->is_map()) r->fail("bench: 'reference' must be a map of keys");
+    BenchReference reference;
+    reference.kind = word_or(*r, "kind", "");
+    for (const auto& [key, value] : r->fields) {
+        if (key == "kind") continue;
+        if (key == "name") reference.name = word(value, key);
+        else if (key == "formulation") reference.formulation = word(value, key);
+        else if (key == "integrator") reference.integrator = word(value, key);
+        else if (key == "cross_check") reference.cross_check = word(value, key);
+        else if (key == "tolerance") reference.tolerance = value.as_number(key, "bench");
+        else reference.params[key] = value.as_number(key, "bench");
+    }
+    if (reference.kind != "closed_form" && reference.kind != "published" && reference.kind != "tight_run")
+        r->fail("bench: reference 'kind' is closed_form, published or tight_run");
+    return reference;
+}
+
+// `runs:` [{formulation, integrator, tolerances|steps}]
+std::vector<BenchSeries> read_runs(const Param& b) {
+    const Param* runs = field(b, "runs");
+    if (!runs || !runs->is_list()) (runs ? runs : &b)->fail("bench: 'runs' must be a list of series");
+    std::vector<BenchSeries> list;
+    for (const Param& s : runs->items) {
+        check_keys(s, "runs", {"formulation", "integrator", "tolerances", "steps"});
+        BenchSeries series;
+        series.formulation = word_or(s, "formulation", "augmented");
+        series.integrator = word_or(s, "integrator", "dopri5");
+        series.tolerances = grid_list(field(s, "tolerances"), "tolerances");
+        series.steps = grid_list(field(s, "steps"), "steps");
+        list.push_back(series);
+    }
+    return list;
+}
+
+// `peers:` {model, simbody: series or list, mujoco: series or list}
+void read_peers(const Param& p, BenchSpec& spec) {
+    check_keys(p, "peers", {"model", "simbody", "mujoco"});
+    spec.peer_model = word_or(p, "model", "");
+    for (const char* engine : {"simbody", "mujoco"}) {
+        const Param* e = field(p, engine);
+        if (!e) continue;
+        std::vector<const Param*> list;
+        if (e->is_list())
+            for (const Param& x : e->items) list.push_back(&x);
+        else
+            list.push_back(e);
+        for (const Param* s : list) {
+            check_keys(*s, std::string("peers.") + engine, {"integrator", "tolerances", "steps"});
+            BenchPeerSeries ps;
+            ps.engine = engine;
+            ps.integrator = word_or(*s, "integrator", "default");
+            ps.tolerances = grid_list(field(*s, "tolerances"), "tolerances");
+            ps.steps = grid_list(field(*s, "steps"), "steps");
+            spec.peers.push_back(ps);
+        }
+    }
+}
+
+}  // namespace
+
 BenchSpec load_bench_spec(const Model& model) {
     // the scene's `bench:` key as the loader read it (inherited through `base:` like every key)
     const Param* b = model.document ? field(*model.document, "bench") : nullptr;
@@ -100,83 +197,10 @@ BenchSpec load_bench_spec(const Model& model) {
     spec.t_end = t_end->as_number("t_end", "bench");
     if (const Param* h = field(*b, "output_step")) spec.output_step = h->as_number("output_step", "bench");
     if (!(spec.t_end > 0)) t_end->fail("bench: 't_end' must be positive");
-
-    const Param* m = field(*b, "measure");
-    if (!m) b->fail("bench: missing key 'measure' ({body: NAME, quantity: position, norm: max})");
-    check_keys(*m, "measure", {"body", "bodies", "point", "points", "quantity", "norm"});
-    if (const Param* body = field(*m, "body")) spec.measure.bodies.push_back(word(*body, "body"));
-    if (const Param* bodies = field(*m, "bodies")) {
-        if (!bodies->is_list()) bodies->fail("bench: 'bodies' must be a list of body names");
-        for (const Param& x : bodies->items) spec.measure.bodies.push_back(word(x, "bodies"));
-    }
-    if (spec.measure.bodies.empty()) m->fail("bench: 'measure' needs 'body' or 'bodies'");
-    spec.measure.points.assign(spec.measure.bodies.size(), Eigen::Vector3d::Zero());
-    auto read_point = [](const Param& n) {
-        const std::vector<double> v = number_list(&n, "point");
-        if (v.size() < 2 || v.size() > 3) n.fail("bench: a point is [x, y] or [x, y, z]");
-        return Eigen::Vector3d(v[0], v[1], v.size() == 3 ? v[2] : 0.0);
-    };
-    if (const Param* point = field(*m, "point")) spec.measure.points[0] = read_point(*point);
-    if (const Param* points = field(*m, "points")) {
-        if (!points->is_list() || points->items.size() != spec.measure.bodies.size())
-            points->fail("bench: 'points' needs one point per measured body");
-        for (size_t i = 0; i < spec.measure.bodies.size(); ++i) spec.measure.points[i] = read_point(points->items[i]);
-    }
-    spec.measure.quantity = word_or(*m, "quantity", spec.measure.quantity);
-    if (spec.measure.quantity != "position") field(*m, "quantity")->fail("bench: only 'quantity: position' is measured");
-    spec.measure.norm = word_or(*m, "norm", spec.measure.norm);
-    if (spec.measure.norm != "max" && spec.measure.norm != "final")
-        field(*m, "norm")->fail("bench: 'norm' is max or final");
-
-    const Param* r = field(*b, "reference");
-    if (!r) b->fail("bench: missing key 'reference' ({kind: closed_form|published|tight_run, ...})");
-    if (!r->is_map()) r->fail("bench: 'reference' must be a map of keys");
-    spec.reference.kind = word_or(*r, "kind", "");
-    for (const auto& [key, value] : r->fields) {
-        if (key == "kind") continue;
-        if (key == "name") spec.reference.name = word(value, key);
-        else if (key == "formulation") spec.reference.formulation = word(value, key);
-        else if (key == "integrator") spec.reference.integrator = word(value, key);
-        else if (key == "cross_check") spec.reference.cross_check = word(value, key);
-        else if (key == "tolerance") spec.reference.tolerance = value.as_number(key, "bench");
-        else spec.reference.params[key] = value.as_number(key, "bench");
-    }
-    if (spec.reference.kind != "closed_form" && spec.reference.kind != "published" && spec.reference.kind != "tight_run")
-        r->fail("bench: reference 'kind' is closed_form, published or tight_run");
-
-    const Param* runs = field(*b, "runs");
-    if (!runs || !runs->is_list()) (runs ? runs : b)->fail("bench: 'runs' must be a list of series");
-    for (const Param& s : runs->items) {
-        check_keys(s, "runs", {"formulation", "integrator", "tolerances", "steps"});
-        BenchSeries series;
-        series.formulation = word_or(s, "formulation", "augmented");
-        series.integrator = word_or(s, "integrator", "dopri5");
-        series.tolerances = grid_list(field(s, "tolerances"), "tolerances");
-        series.steps = grid_list(field(s, "steps"), "steps");
-        spec.runs.push_back(series);
-    }
-    if (const Param* p = field(*b, "peers")) {
-        check_keys(*p, "peers", {"model", "simbody", "mujoco"});
-        spec.peer_model = word_or(*p, "model", "");
-        for (const char* engine : {"simbody", "mujoco"}) {
-            const Param* e = field(*p, engine);
-            if (!e) continue;
-            std::vector<const Param*> list;
-            if (e->is_list())
-                for (const Param& x : e->items) list.push_back(&x);
-            else
-                list.push_back(e);
-            for (const Param* s : list) {
-                check_keys(*s, std::string("peers.") + engine, {"integrator", "tolerances", "steps"});
-                BenchPeerSeries ps;
-                ps.engine = engine;
-                ps.integrator = word_or(*s, "integrator", "default");
-                ps.tolerances = grid_list(field(*s, "tolerances"), "tolerances");
-                ps.steps = grid_list(field(*s, "steps"), "steps");
-                spec.peers.push_back(ps);
-            }
-        }
-    }
+    spec.measure = read_measure(*b);
+    spec.reference = read_reference(*b);
+    spec.runs = read_runs(*b);
+    if (const Param* p = field(*b, "peers")) read_peers(*p, spec);
     return spec;
 }
 

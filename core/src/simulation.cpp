@@ -9,6 +9,7 @@
 #include <mbd/model_system.hpp>
 #include <mbd/output_times.hpp>
 #include <mbd/progress_bar.hpp>
+#include <mbd/sdk/non_finite_motion.hpp>
 #include <mbd/sdk/reactions.hpp>
 #include <mbd/sdk/text.hpp>
 #include <mbd/tolerance_choice.hpp>
@@ -288,7 +289,7 @@ public:
         motion_y_ = y_run.head(motion_size_);
         formulation_.from_ode(t, motion_y_, sample_.state);
         if (!sample_.state.q.allFinite() || !sample_.state.v.allFinite())
-            throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+            throw NonFiniteMotion(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
         row_ = motion_values(model_, sample_.state);
         append_constraints_and_reactions(t);
         append_energies(t, y_run);

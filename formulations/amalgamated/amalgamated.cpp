@@ -45,6 +45,7 @@
 #include <sparse_metric.hpp>
 #include <sparse_velocity_transform.hpp>
 
+#include <mbd/sdk/non_finite_motion.hpp>
 #include <mbd/sdk/coordinate_rates.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/ode_state.hpp>
@@ -246,7 +247,7 @@ void Amalgamated::solve_dynamics(double t) {
     System& sys = *system_;
     sys.constraints(state_, cv_, true);
     sys.generalized_forces(state_, Q_);
-    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged (try a smaller tolerance or step)");
+    if (!Q_.allFinite()) throw NonFiniteMotion(t, "non-finite generalized forces: the motion diverged (try a smaller tolerance or step)");
     gamma_s_ = cv_.gamma;
     if (options_.stabilization == Stabilization::Baumgarte && nc_ > 0) {
         const double a = options_.baumgarte_alpha, b = options_.baumgarte_beta;
@@ -302,7 +303,7 @@ void Amalgamated::solve_block_system(double t) {
 }
 
 void Amalgamated::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
-    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    if (!y.allFinite()) throw NonFiniteMotion(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     from_ode(t, y, state_);
     solve_dynamics(t);
     ydot.resize(nq_ + nv_);

@@ -1,5 +1,6 @@
 // The articulated-body formulation of a tree in joint coordinates: see articulated_body.hpp.
 #include "articulated_body.hpp"
+#include <mbd/sdk/non_finite_motion.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -308,7 +309,7 @@ void ArticulatedBody::articulated(double t, const Eigen::VectorXd& Q, Eigen::Vec
         c.vdot = base + Hc * ud;
         c.f = c.P * c.vdot + c.z;
     }
-    if (!udot.allFinite()) throw DynamicsError(t, "non-finite accelerations: the motion diverged");
+    if (!udot.allFinite()) throw NonFiniteMotion(t, "non-finite accelerations: the motion diverged");
 }
 
 void ArticulatedBody::vdot_system(Eigen::VectorXd& vdot) {
@@ -334,12 +335,12 @@ void ArticulatedBody::from_ode(double t, const Eigen::VectorXd& y, State& state)
 }
 
 void ArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
-    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    if (!y.allFinite()) throw NonFiniteMotion(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     expand(t, y);
     kinematics(s_, u_);
     write_state(t, state_);
     system_->generalized_forces(state_, Q_);
-    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
+    if (!Q_.allFinite()) throw NonFiniteMotion(t, "non-finite generalized forces: the motion diverged");
     articulated(t, Q_, udot_);
     write_ydot(y, ydot);
 }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include <mbd/sdk/non_finite_motion.hpp>
 #include <mbd/sdk/text.hpp>
 
 namespace mbd::articulated {
@@ -207,13 +208,13 @@ bool LoopClosure::factor(double t, bool robust) {
 }
 
 void LoopClosure::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
-    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    if (!y.allFinite()) throw NonFiniteMotion(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     s_ = y.head(ns_);
     u_ = y.tail(nu_);
     kinematics(s_, u_);
     joint_space(t);
     system_->generalized_forces(state_, Q_);
-    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
+    if (!Q_.allFinite()) throw NonFiniteMotion(t, "non-finite generalized forces: the motion diverged");
     joint_mass(true);
     dynamics(t);
     ydot.resize(ns_ + nu_);

@@ -1,5 +1,6 @@
 // The recursive path's rhs in planar algebra: see planar_articulated_body.hpp.
 #include "planar_articulated_body.hpp"
+#include <mbd/sdk/non_finite_motion.hpp>
 
 #include <cmath>
 
@@ -185,12 +186,12 @@ void PlanarArticulatedBody::planar_articulated(double t) {
             c.vdot = base + c.H * ud;
         }
     }
-    if (!udot.allFinite()) throw DynamicsError(t, "non-finite accelerations: the motion diverged");
+    if (!udot.allFinite()) throw NonFiniteMotion(t, "non-finite accelerations: the motion diverged");
 }
 
 void PlanarArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     if (!fast_) return ArticulatedBody::rhs(t, y, ydot);
-    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    if (!y.allFinite()) throw NonFiniteMotion(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     expand(t, y);
     planar_kinematics();
     state_.t = t;
@@ -201,7 +202,7 @@ void PlanarArticulatedBody::rhs(double t, const Eigen::VectorXd& y, Eigen::Vecto
         state_.v.segment<3>(3 * b) = c.v;
     }
     system_->generalized_forces(state_, Q_);
-    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
+    if (!Q_.allFinite()) throw NonFiniteMotion(t, "non-finite generalized forces: the motion diverged");
     planar_articulated(t);
     write_ydot(y, ydot);
 }

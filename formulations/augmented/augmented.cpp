@@ -36,6 +36,7 @@
 // (Newton on C(q, t) = 0 with steps of minimum kinetic-energy norm,
 // dq = -M^-1 J^T S^-1 C, then v <- v - M^-1 J^T S^-1 (J v + C_t)); Baumgarte
 // (book Sec. 6.12, L9420-9442: gamma - 2 alpha (J v + C_t) - beta^2 C); or none.
+#include <mbd/sdk/non_finite_motion.hpp>
 #include <mbd/sdk/block_mass_inverse.hpp>
 #include <mbd/sdk/dense_gram.hpp>
 #include <mbd/sdk/formulation.hpp>
@@ -222,7 +223,7 @@ void Augmented::check_finite(double t, const Eigen::VectorXd& x, const char* wha
     while (worst < x.size() && std::isfinite(x[worst])) ++worst;
     std::string where;
     if (worst < x.size() && x.size() == nv_) where = " (body '" + system_->body(worst / nvb_).name + "')";
-    throw DynamicsError(t, std::string("non-finite ") + what + where +
+    throw NonFiniteMotion(t, std::string("non-finite ") + what + where +
                                ": the motion diverged (try a smaller tolerance or step)");
 }
 
@@ -450,7 +451,7 @@ void Augmented::solve_multipliers(double t, double gamma_norm) {
 
 void Augmented::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
     from_ode(t, y, state_);
-    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    if (!y.allFinite()) throw NonFiniteMotion(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     solve_dynamics(t);
     ydot.resize(nq_ + nv_);
     if (planar_) {

@@ -1,6 +1,7 @@
 // The dense path of the embedding formulation: see partitioned.hpp.
 #include "partitioned.hpp"
 
+#include <mbd/sdk/non_finite_motion.hpp>
 #include <mbd/sdk/coordinate_rates.hpp>
 #include <mbd/sdk/text.hpp>  // format_time
 
@@ -107,7 +108,7 @@ void Partitioned::solve_accelerations(double t, const CoordinatePartition& p, co
                                       Eigen::VectorXd& vdot) {
     const int k = static_cast<int>(p.independent.size());
     system_->generalized_forces(state, Q_);
-    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
+    if (!Q_.allFinite()) throw NonFiniteMotion(t, "non-finite generalized forces: the motion diverged");
     // B (Eqs. 6.80-6.85) and gamma' (Eqs. 6.90-6.94), velocity_transform.hpp
     if (!velocity_transform(J_, cv_.gamma, p, B_, gamma_prime_, transform_))
         throw DynamicsError(t, "embedding: the dependent sub-Jacobian J_d is singular (independent coordinates " +
@@ -128,7 +129,7 @@ void Partitioned::solve_accelerations(double t, const CoordinatePartition& p, co
     }
     vdot.noalias() = B_ * vdot_i_;
     vdot += gamma_prime_;
-    if (!vdot.allFinite()) throw DynamicsError(t, "non-finite accelerations: the motion diverged");
+    if (!vdot.allFinite()) throw NonFiniteMotion(t, "non-finite accelerations: the motion diverged");
 }
 
 void Partitioned::to_ode(const State& state, Eigen::VectorXd& y) {
@@ -148,7 +149,7 @@ void Partitioned::from_ode(double t, const Eigen::VectorXd& y, State& state) {
 }
 
 void Partitioned::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
-    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    if (!y.allFinite()) throw NonFiniteMotion(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     last_rhs_t_ = t;
     state_.t = t;
     state_.q = y.head(nq_);

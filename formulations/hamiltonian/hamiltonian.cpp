@@ -56,6 +56,7 @@
 // (as the embedding formulation); the velocity constraints hold by construction. Near a
 // singular J_d the partition is re-selected at the end of an accepted step and p rewritten
 // as B_new^T M v (the same velocities).
+#include <mbd/sdk/non_finite_motion.hpp>
 #include <mbd/sdk/coordinate_rates.hpp>
 #include <mbd/sdk/formulation.hpp>
 #include <mbd/sdk/partition.hpp>
@@ -407,12 +408,12 @@ double Hamiltonian::hamiltonian(double t, const Eigen::VectorXd& y) {
 }
 
 void Hamiltonian::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
-    if (!y.allFinite()) throw DynamicsError(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
+    if (!y.allFinite()) throw NonFiniteMotion(t, "non-finite state: the motion diverged (try a smaller tolerance or step)");
     last_rhs_t_ = t;
     const int k = static_cast<int>(part_.independent.size());
     kinematics(t, y);
     system_->generalized_forces(state_, Q_);
-    if (!Q_.allFinite()) throw DynamicsError(t, "non-finite generalized forces: the motion diverged");
+    if (!Q_.allFinite()) throw NonFiniteMotion(t, "non-finite generalized forces: the motion diverged");
     ydot.resize(nq_ + k);
     write_coordinate_rates(system_->dimension(), state_.q, state_.v, ydot.head(nq_));  // from qdot_i = dH/dp
     if (k == 0) return;
@@ -423,7 +424,7 @@ void Hamiltonian::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
             Q_ -= jt_mu_;
         }
         sparse_transform_.transpose_times(cv_.J, Q_, pdot_);
-        if (!pdot_.allFinite()) throw DynamicsError(t, "non-finite momentum rates: the motion diverged");
+        if (!pdot_.allFinite()) throw NonFiniteMotion(t, "non-finite momentum rates: the motion diverged");
         ydot.tail(k) = pdot_.cwiseQuotient(momentum_scale_);
         return;
     }
@@ -442,7 +443,7 @@ void Hamiltonian::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
             pdot_[c] -= mu_.dot(jw_kept_);
         }
     }
-    if (!pdot_.allFinite()) throw DynamicsError(t, "non-finite momentum rates: the motion diverged");
+    if (!pdot_.allFinite()) throw NonFiniteMotion(t, "non-finite momentum rates: the motion diverged");
     ydot.tail(k) = pdot_.cwiseQuotient(momentum_scale_);
 }
 

@@ -15,6 +15,7 @@
 #include "common.hpp"
 #include "cvode_dense_lu.hpp"
 #include "event_locator.hpp"
+#include <mbd/sdk/non_finite_motion.hpp>
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_proj.h>
@@ -46,6 +47,8 @@ int rhs_callback(realtype t, N_Vector y, N_Vector ydot, void* user) {
         cb->problem->rhs(t, cb->y, cb->ydot);
         Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(ydot), n) = cb->ydot;
         return cb->ydot.allFinite() ? 0 : 1;  // recoverable: CVODE retries with a smaller step
+    } catch (const NonFiniteMotion&) {
+        return 1;  // recoverable, as a non-finite ydot
     } catch (...) {
         cb->error = std::current_exception();
         return -1;

@@ -1,5 +1,6 @@
 // The driver of the embedded Runge-Kutta pairs (embedded_runge_kutta.hpp).
 #include "embedded_runge_kutta.hpp"
+#include <mbd/sdk/non_finite_motion.hpp>
 
 #include <cmath>
 
@@ -153,7 +154,12 @@ bool EmbeddedRungeKutta::step(double t_stop, StepOutputs* outputs) {
             last = true;
         }
         const double t_new = last ? t_stop : t_ + h;
-        double err = attempt(problem, t_, h, t_new, y_, *stats_);
+        double err;
+        try {
+            err = attempt(problem, t_, h, t_new, y_, *stats_);
+        } catch (const NonFiniteMotion&) {  // a stage landed where the motion is not finite: too long a step
+            err = 1e10;
+        }
         if (!std::isfinite(err)) err = 1e10;
         const double fac11 = std::pow(std::max(err, 1e-300), expo1);
         if (err > 1.0) {
