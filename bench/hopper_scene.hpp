@@ -21,7 +21,11 @@ struct Spec {
     double box_x = 0.03, box_y = 0.02, box_z = 0.02, box_mass = 0.02;  // edge lengths, kg
     double half_width = 0.12;  // the hopper's inner half-width (square), m
     double opening = 0.06;     // the opening's half-width (square, centred in the floor), m
-    double floor_z = 0.3;      // the top of the hopper's floor, m
+    double floor_z = 0.3;      // the height of the opening's edge (the floor's top there), m
+    // the floor's four plates rise from the opening to the walls at this angle: steeper than a
+    // box's friction angle (atan 0.5 = 26.6 deg), so the hopper can empty (a flat floor keeps
+    // its ledges full)
+    double slope = 35 * M_PI / 180;
     double wall_top = 0.7, wall = 0.01;  // the top of its walls; wall and floor thickness
     double bin_half_width = 0.25, bin_height = 0.15;  // the bin on the ground (z = 0)
     // mbd's Hunt-Crossley law of every body: F = k delta^1.5 (1 + damping), e at impact_velocity
@@ -41,7 +45,11 @@ struct Body {
 // A static box of the ground: half extents and centre.
 struct Slab {
     double hx, hy, hz, x, y, z;
+    double ax = 1, ay = 0, az = 0, angle = 0;  // its axes turned by angle (rad) about (ax, ay, az)
 };
+
+// The floor's rise from the opening's edge to the wall.
+inline double floor_rise(const Spec& s) { return (s.half_width - s.opening) * std::tan(s.slope); }
 
 inline std::string num(double v) {
     char b[40];
@@ -69,10 +77,10 @@ inline std::vector<Body> bodies(const Spec& s) {
         const int layer = k / (side * side), cell = k % (side * side);
         b.x = first + spacing * (cell % side) + jitter();
         b.y = first + spacing * (cell / side) + jitter();
-        b.z = s.floor_z + s.radius + 0.002 + spacing * layer;
+        b.z = s.floor_z + floor_rise(s) + s.radius + 0.002 + spacing * layer;
         out.push_back(b);
     }
-    const double top = s.floor_z + 0.002 + spacing * ((s.spheres + side * side - 1) / (side * side)) + s.box_z;
+    const double top = s.floor_z + floor_rise(s) + 0.002 + spacing * ((s.spheres + side * side - 1) / (side * side)) + s.box_z;
     for (int k = 0; k < s.boxes; ++k) {
         Body b;
         b.name = "b" + std::to_string(k);
@@ -90,16 +98,20 @@ inline std::vector<Body> bodies(const Spec& s) {
     return out;
 }
 
-// The hopper (four walls, a floor of four plates around the opening) and the bin's four walls.
+// The hopper (four walls; a floor of four plates sloping down to the opening, each a slab whose
+// top face runs from the opening's edge at floor_z up to the wall) and the bin's four walls.
 inline std::vector<Slab> slabs(const Spec& s) {
-    const double a = s.half_width, o = s.opening, t = s.wall;
+    const double a = s.half_width, o = s.opening, t = s.wall, c = std::cos(s.slope), n = std::sin(s.slope);
     const double wall_h = 0.5 * (s.wall_top - (s.floor_z - t)), wall_z = 0.5 * (s.wall_top + s.floor_z - t);
-    const double plate = 0.5 * (a - o), plate_at = o + plate, floor_mid = s.floor_z - 0.5 * t;
+    const double half_run = 0.5 * (a - o) / c;  // half the plate's width along its slope
+    const double at = 0.5 * (a + o) + 0.5 * t * n, mid_z = s.floor_z + 0.5 * floor_rise(s) - 0.5 * t * c;
     const double b = s.bin_half_width;
     return {{a + t, 0.5 * t, wall_h, 0, a + 0.5 * t, wall_z},  {a + t, 0.5 * t, wall_h, 0, -a - 0.5 * t, wall_z},
             {0.5 * t, a, wall_h, a + 0.5 * t, 0, wall_z},      {0.5 * t, a, wall_h, -a - 0.5 * t, 0, wall_z},
-            {a, plate, 0.5 * t, 0, plate_at, floor_mid},       {a, plate, 0.5 * t, 0, -plate_at, floor_mid},
-            {plate, o, 0.5 * t, plate_at, 0, floor_mid},       {plate, o, 0.5 * t, -plate_at, 0, floor_mid},
+            {a, half_run, 0.5 * t, 0, at, mid_z, 1, 0, 0, s.slope},
+            {a, half_run, 0.5 * t, 0, -at, mid_z, 1, 0, 0, -s.slope},
+            {half_run, a, 0.5 * t, at, 0, mid_z, 0, 1, 0, -s.slope},
+            {half_run, a, 0.5 * t, -at, 0, mid_z, 0, 1, 0, s.slope},
             {b + t, 0.5 * t, 0.5 * s.bin_height, 0, b + 0.5 * t, 0.5 * s.bin_height},
             {b + t, 0.5 * t, 0.5 * s.bin_height, 0, -b - 0.5 * t, 0.5 * s.bin_height},
             {0.5 * t, b, 0.5 * s.bin_height, b + 0.5 * t, 0, 0.5 * s.bin_height},
@@ -116,8 +128,9 @@ inline std::string mbd_scene(const Spec& s) {
       << "ground:\n  collision:\n    - {shape: plane, normal: [0, 0, 1], material: {" << friction << "}}\n";
     for (const Slab& w : slabs(s))  // rigid (no stiffness): each pair has the body's own law
         y << "    - {shape: box, size: [" << num(2 * w.hx) << ", " << num(2 * w.hy) << ", " << num(2 * w.hz)
-          << "], position: [" << num(w.x) << ", " << num(w.y) << ", " << num(w.z) << "], material: {" << friction
-          << "}}\n";
+          << "], position: [" << num(w.x) << ", " << num(w.y) << ", " << num(w.z) << "], orientation: {axis: ["
+          << num(w.ax) << ", " << num(w.ay) << ", " << num(w.az) << "], angle: " << num(w.angle) << "}, material: {"
+          << friction << "}}\n";
     y << "bodies:\n";
     for (const Body& b : bodies(s)) {
         y << "  - {name: " << b.name << ", mass: " << num(b.mass) << ", inertia: [" << num(b.inertia[0]) << ", "
@@ -152,9 +165,13 @@ inline MujocoContact mujoco_contact(const Spec& s) {
 inline std::string mjcf(const Spec& s, double timestep) {
     const MujocoContact c = mujoco_contact(s);
     std::ostringstream x;
-    x << "<mujoco model=\"hopper\">\n  <option timestep=\"" << num(timestep) << "\" integrator=\"Euler\" gravity=\"0 0 "
-      << num(-s.gravity) << "\"/>\n  <size nconmax=\"" << 8 * (s.spheres + s.boxes) << "\" njmax=\""
-      << 24 * (s.spheres + s.boxes) << "\"/>\n"
+    // elliptic cones (Coulomb's circle, as mbd's friction; 3 rows a contact), room for 2 contacts
+    // a body: MuJoCo 2.2 allocates njmax x njmax and njmax x nv arrays and cannot make an mjData
+    // of 2 GB or more (3 contacts a body, njmax = 9,090, failed for 1,010 bodies); a run that
+    // needs more stops with MuJoCo's warning (peer_mujoco_hopper)
+    x << "<mujoco model=\"hopper\">\n  <compiler angle=\"radian\"/>\n  <option timestep=\"" << num(timestep)
+      << "\" integrator=\"Euler\" cone=\"elliptic\" gravity=\"0 0 " << num(-s.gravity) << "\"/>\n  <size nconmax=\""
+      << 2 * (s.spheres + s.boxes) << "\" njmax=\"" << 6 * (s.spheres + s.boxes) << "\"/>\n"
       << "  <custom><numeric name=\"hopper_floor\" data=\"" << num(s.floor_z) << "\"/><numeric name=\"radius\" data=\""
       << num(s.radius) << "\"/><numeric name=\"wall\" data=\"" << num(s.wall) << "\"/></custom>\n"
       << "  <default><geom condim=\"3\" friction=\"" << num(s.friction) << " 0 0\" solref=\"" << num(-c.K) << " "
@@ -162,7 +179,8 @@ inline std::string mjcf(const Spec& s, double timestep) {
       << "    <geom name=\"floor\" type=\"plane\" size=\"0 0 1\"/>\n";
     for (const Slab& w : slabs(s))
         x << "    <geom type=\"box\" size=\"" << num(w.hx) << " " << num(w.hy) << " " << num(w.hz) << "\" pos=\""
-          << num(w.x) << " " << num(w.y) << " " << num(w.z) << "\"/>\n";
+          << num(w.x) << " " << num(w.y) << " " << num(w.z) << "\" axisangle=\"" << num(w.ax) << " " << num(w.ay) << " "
+          << num(w.az) << " " << num(w.angle) << "\"/>\n";
     for (const Body& b : bodies(s)) {
         x << "    <body name=\"" << b.name << "\" pos=\"" << num(b.x) << " " << num(b.y) << " " << num(b.z)
           << "\"><freejoint/><inertial pos=\"0 0 0\" mass=\"" << num(b.mass) << "\" diaginertia=\"" << num(b.inertia[0])

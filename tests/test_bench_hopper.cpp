@@ -71,24 +71,30 @@ TEST(BenchHopper, TheMjcfAndTheMbdSceneDescribeTheSameBodies) {
         EXPECT_EQ(numbers(std::regex_replace((*it)[1].str(), std::regex(","), " ")),
                   (std::vector<double>{spec.box_x, spec.box_y, spec.box_z}));
     EXPECT_EQ(scene_boxes, 3);
-    // the hopper and the bin: 12 static boxes in each, the same half sizes and centres
-    const std::regex slab(R"re(<geom type="box" size="([^"]+)" pos="([^"]+)"/>)re");
-    const std::regex ground_box(R"(shape: box, size: \[([^\]]+)\], position: \[([^\]]+)\])");
+    // the hopper and the bin: 12 static boxes in each, the same sizes, centres and orientations
+    const std::regex slab(R"re(<geom type="box" size="([^"]+)" pos="([^"]+)" axisangle="([^"]+)"/>)re");
+    const std::regex ground_box(
+        R"(shape: box, size: \[([^\]]+)\], position: \[([^\]]+)\], orientation: \{axis: \[([^\]]+)\], angle: ([^}]+)\})");
     std::vector<std::vector<double>> in_xml, in_yaml;
     for (auto it = std::sregex_iterator(xml.begin(), xml.end(), slab); it != std::sregex_iterator(); ++it) {
-        std::vector<double> v = numbers((*it)[1]), p = numbers((*it)[2]);
+        std::vector<double> v = numbers((*it)[1]), p = numbers((*it)[2]), turn = numbers((*it)[3]);
         for (double& x : v) x *= 2;
         v.insert(v.end(), p.begin(), p.end());
+        v.insert(v.end(), turn.begin(), turn.end());  // MJCF in radians (<compiler angle="radian"/>)
         in_xml.push_back(v);
     }
     for (auto it = std::sregex_iterator(yaml.begin(), yaml.end(), ground_box); it != std::sregex_iterator(); ++it) {
         std::vector<double> v = numbers(std::regex_replace((*it)[1].str(), std::regex(","), " "));
         const std::vector<double> p = numbers(std::regex_replace((*it)[2].str(), std::regex(","), " "));
+        const std::vector<double> axis = numbers(std::regex_replace((*it)[3].str(), std::regex(","), " "));
         v.insert(v.end(), p.begin(), p.end());
+        v.insert(v.end(), axis.begin(), axis.end());
+        v.push_back(std::stod((*it)[4]));
         in_yaml.push_back(v);
     }
     EXPECT_EQ(in_xml.size(), 12u);
     EXPECT_EQ(in_xml, in_yaml);
+    EXPECT_NE(xml.find("<compiler angle=\"radian\"/>"), std::string::npos);
 }
 
 // MuJoCo's contact is matched to mbd's at a sphere resting on the ground: the linear spring K
