@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "bench_stats.hpp"
@@ -127,7 +128,7 @@ std::vector<double> sphere_heights(const hopper::Spec& spec, const mbd::Model& m
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv) try {
     if (argc < 2) {
         std::fprintf(stderr, "usage: bench_hopper OUT [SPHERES [BOXES [T_END [STEP [INTEGRATOR]]]]]\n");
         return 2;
@@ -138,6 +139,10 @@ int main(int argc, char** argv) {
     if (argc > 3) spec.boxes = std::atoi(argv[3]);
     const double t_end = argc > 4 ? std::atof(argv[4]) : 2.0, step = argc > 5 ? std::atof(argv[5]) : 1e-4;
     const std::string integrator = argc > 6 ? argv[6] : "rk4";
+    if (spec.spheres < 1 || spec.boxes < 0 || !(t_end > 0) || !(step > 0)) {
+        std::fprintf(stderr, "bench_hopper: SPHERES must be at least 1, BOXES at least 0, T_END and STEP positive\n");
+        return 2;
+    }
     std::filesystem::create_directories(out);
     const std::string yaml = hopper::mbd_scene(spec);
     std::ofstream(out / "hopper.yaml") << yaml;
@@ -185,4 +190,7 @@ int main(int argc, char** argv) {
     std::printf("at the most contacts (t = %.2f s): element %.1f us, broad phase %.1f us of CPU (%.0f%%, %ld candidate pairs)\n",
                 busiest.t, 1e6 * whole, 1e6 * broad, 100 * broad / whole, candidates);
     return 0;
+} catch (const std::exception& e) {  // a bad integrator name, a failed step: said, not an abort
+    std::fprintf(stderr, "bench_hopper: %s\n", e.what());
+    return 1;
 }

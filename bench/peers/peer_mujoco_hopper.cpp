@@ -44,6 +44,10 @@ int main(int argc, char** argv) {
         return 2;
     }
     const double t_end = argc > 2 ? std::atof(argv[2]) : 2.0;
+    if (!(t_end > 0)) {
+        std::fprintf(stderr, "mbd_peer_mujoco_hopper: T_END must be positive\n");
+        return 2;
+    }
     char error[1000] = "";
     mjModel* m = mj_loadXML(argv[1], nullptr, error, sizeof error);
     if (!m) {
