@@ -4,13 +4,16 @@
 // pressed 1 mm into its grid neighbours too (spacing 0.098 m: about 3N contacts), or lifted
 // 1 cm off the ground and apart (no contact: the cost of the tree's refit and traversal and the
 // sphere/plane tests). Median time of one evaluation, and of the augmented formulation's whole
-// rhs, with the slope of log(time) against log(N). The pairs grow as N^2 / 2; a cost that grows
+// rhs, and the time of one force Jacobian (sparse, one contact at a time: System::force_jacobians),
+// with the slope of log(time) against log(N). Times are the thread's CPU time (thread_cpu_clock):
+// the machine is shared. The pairs grow as N^2 / 2; a cost that grows
 // with the contacts and bodies has slope 1 (N log N for the tree: slightly above).
 //   bench_collision [N...]   (default 100 300 1000 3000 10000)
 #include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -46,23 +49,29 @@ double rhs_seconds(mbd::Registry& registry, mbd::ModelSystem& system, const mbd:
     f->bind(system, options);
     Eigen::VectorXd y, ydot;
     f->to_ode(state, y);
-    return median_seconds_per_call([&] { f->rhs(0.0, y, ydot); });
+    return median_seconds_per_call([&] { f->rhs(0.0, y, ydot); }, thread_cpu_clock());
 }
 
 struct Timing {
-    double element = 0.0, rhs = 0.0;
+    double element = 0.0, rhs = 0.0, jacobian = 0.0;
 };
 
-// The whole rhs is timed up to kRhsBodies bodies: the augmented formulation's Jacobian workspace
-// is square in the velocities (docs/architecture.md "Collision detection"), 29 GB at 10,000.
-constexpr int kRhsBodies = 3000;
+// One force Jacobian after one warm-up (a median would repeat it: seconds at 10,000 bodies).
+double jacobian_seconds(mbd::ModelSystem& system, const mbd::State& state) {
+    Eigen::SparseMatrix<double> dq, dv;
+    system.force_jacobians(state, dq, dv);
+    const auto start = thread_cpu_clock::now();
+    system.force_jacobians(state, dq, dv);
+    return std::chrono::duration<double>(thread_cpu_clock::now() - start).count();
+}
 
 Timing time_scene(mbd::Registry& registry, const std::string& yaml) {
     const mbd::Model model = mbd::load_scene_text(yaml, "bench.yaml", registry);
     mbd::ModelSystem system(model);
     mbd::State state = system.initial_state();
     Timing t;
-    if (static_cast<int>(model.bodies.size()) <= kRhsBodies && !std::getenv("BENCH_COLLISION_ELEMENT_ONLY")) t.rhs = rhs_seconds(registry, system, state);
+    if (!std::getenv("BENCH_COLLISION_ELEMENT_ONLY")) t.rhs = rhs_seconds(registry, system, state);
+    t.jacobian = jacobian_seconds(system, state);
     // the element alone, on the bodies' initial states
     const mbd::ForceInstance* contact = nullptr;
     for (const auto& force : model.forces)
@@ -77,10 +86,12 @@ Timing time_scene(mbd::Registry& registry, const std::string& yaml) {
         view.spatial_bodies.push_back(&bodies[k]);
     }
     Eigen::VectorXd Q = Eigen::VectorXd::Zero(6 * static_cast<Eigen::Index>(bodies.size()));
-    t.element = median_seconds_per_call([&] {
-        Q.setZero();
-        contact->force->evaluate(view, Q);
-    });
+    t.element = median_seconds_per_call(
+        [&] {
+            Q.setZero();
+            contact->force->evaluate(view, Q);
+        },
+        thread_cpu_clock());
     return t;
 }
 
@@ -99,19 +110,21 @@ int main(int argc, char** argv) {
     };
     const Layout layouts[] = {{"apart (N contacts)", 0.12, 0.049}, {"touching (~3N contacts)", 0.098, 0.049},
                               {"lifted (no contact)", 0.12, 0.06}};
-    std::printf("%-24s %7s %14s %12s %14s\n", "layout", "N", "element [us]", "per body", "rhs [us]");
+    std::printf("%-24s %7s %14s %12s %14s %14s\n", "layout", "N", "element [us]", "per body", "rhs [us]",
+                "jacobian [ms]");
     for (const Layout& layout : layouts) {
-        std::vector<double> n, te, tr;
+        std::vector<double> n, te, tr, tj;
         for (int count : counts) {
             const Timing t = time_scene(registry, grid_scene(count, layout.spacing, layout.height));
-            std::printf("%-24s %7d %14.1f %12.3f %14.1f\n", layout.name, count, 1e6 * t.element,
-                        1e6 * t.element / count, 1e6 * t.rhs);
+            std::printf("%-24s %7d %14.1f %12.3f %14.1f %14.2f\n", layout.name, count, 1e6 * t.element,
+                        1e6 * t.element / count, 1e6 * t.rhs, 1e3 * t.jacobian);
             std::fflush(stdout);
-            n.push_back(count), te.push_back(t.element);
+            n.push_back(count), te.push_back(t.element), tj.push_back(t.jacobian);
             if (t.rhs > 0) tr.push_back(t.rhs);
         }
         std::printf("%-24s slope of log(time) against log(N): element %.3f", layout.name, slope(n, te));
-        if (tr.size() > 1) std::printf(", rhs %.3f (N <= %d)", slope({n.begin(), n.begin() + tr.size()}, tr), kRhsBodies);
+        if (tr.size() > 1) std::printf(", rhs %.3f", slope(n, tr));
+        std::printf(", jacobian %.3f", slope(n, tj));
         std::printf("\n");
     }
     return 0;

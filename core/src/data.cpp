@@ -1,5 +1,7 @@
 #include <mbd/data.hpp>
 
+#include "coupled_force_jacobians.hpp"
+
 #include <algorithm>
 
 namespace mbd {
@@ -9,7 +11,8 @@ Data::Data(const Model& model) : poses(model) {
     size_t widest = 1, widest_varying = 1;  // the widest element; the widest whose load varies
     for (const ForceInstance& f : model.forces) {
         widest = std::max(widest, f.bodies.size());
-        if (!f.constant_load) widest_varying = std::max(widest_varying, f.bodies.size());
+        // an element with couplings differences two bodies at a time (coupled_force_jacobians.hpp)
+        if (!f.constant_load && !force_couplings(f)) widest_varying = std::max(widest_varying, f.bodies.size());
     }
     for (const JointInstance& j : model.joints) widest = std::max(widest, j.bodies.size());
     view.planar_bodies.reserve(widest);

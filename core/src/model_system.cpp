@@ -1,5 +1,7 @@
 #include <mbd/model_system.hpp>
 
+#include "coupled_force_jacobians.hpp"
+
 #include <stdexcept>
 #include <string>
 
@@ -227,6 +229,10 @@ void ModelSystem::force_jacobians(const State& state, Eigen::SparseMatrix<double
     data_.pose(state);
     for (const ForceInstance& f : m.forces) {
         if (f.constant_load) continue;  // zero Jacobians
+        if (const ForceCouplings* couplings = force_couplings(f)) {  // sparse, one coupling at a time
+            add_coupled_force_jacobians(m, f, *couplings, state, data_.poses, data_.view, tq, tv);
+            continue;
+        }
         const int n = nvb * static_cast<int>(f.bodies.size());
         auto element_dq = data_.force_dQ_dq.topLeftCorner(n, n), element_dv = data_.force_dQ_dv.topLeftCorner(n, n);
         element_dq.setZero();

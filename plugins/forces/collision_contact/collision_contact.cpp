@@ -11,6 +11,7 @@
 // at delta = 0) for the adaptive integrators to find their steps.
 #include "collision_world.hpp"
 
+#include <mbd/sdk/force_couplings.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/plugin_keys.hpp>
 
@@ -23,7 +24,7 @@ namespace {
 
 force_support::SpatialT<double> kinematics(const SpatialBody& b) { return {b.R, b.Rdot, b.omega_bar, b.A}; }
 
-class CollisionContact final : public Force {
+class CollisionContact final : public Force, public ForceCouplings {
 public:
     explicit CollisionContact(const ForceSpec& spec) {
         if (spec.dimension != Dimension::Spatial)
@@ -52,17 +53,26 @@ public:
     void evaluate(const BodyStates& bodies, Eigen::Ref<Eigen::VectorXd> Q) const override {
         Borrowed world(*this);
         for (const Contact& c : world->detect(bodies)) {
-            const Shape& si = shapes_[c.shape_i];
-            const Shape& sj = shapes_[c.shape_j];
-            const PairLaw law = pair_law(si.material, curvature_radius(si), sj.material, curvature_radius(sj));
-            const auto bi = kinematics(bodies.spatial(si.body));
-            const auto bj = kinematics(bodies.spatial(sj.body));
-            const contact::ContactGeometry<double, 3> g{c.normal, c.point, -c.depth, true};
-            const Vec3 v_rel = contact::material_velocity(bj, c.point) - contact::material_velocity(bi, c.point);
-            const Vec3 F = contact::contact_load(law.normal, law.friction, g, v_rel);
-            contact::add_point_force(bj, c.point, F, Q.segment<6>(6 * sj.body));
-            contact::add_point_force(bi, c.point, Vec3(-F), Q.segment<6>(6 * si.body));
+            const int bi = shapes_[c.shape_i].body, bj = shapes_[c.shape_j].body;
+            add_contact_load(bodies, c, Q.segment<6>(6 * bi), Q.segment<6>(6 * bj));
         }
+    }
+
+    // --- sparse Jacobians (mbd/sdk/force_couplings.hpp): one coupling per pair of shapes in
+    // contact, whose force is that of the pair's contacts
+    void couplings(const BodyStates& bodies, std::vector<ForceCoupling>& out) const override {
+        out.clear();
+        Borrowed world(*this);
+        // the narrow phase gives each pair's contacts together, each pair once (collision_world.cpp)
+        for (const Contact& c : world->detect(bodies))
+            if (out.empty() || out.back().item_i != c.shape_i || out.back().item_j != c.shape_j)
+                out.push_back({shapes_[c.shape_i].body, shapes_[c.shape_j].body, c.shape_i, c.shape_j});
+    }
+
+    void coupling_force(const BodyStates& bodies, const ForceCoupling& pair, Eigen::Ref<Eigen::VectorXd> Q) const override {
+        Borrowed world(*this);
+        for (const Contact& c : world->detect_pair(pair.item_i, pair.item_j, bodies))
+            add_contact_load(bodies, c, Q.segment<6>(0), Q.segment<6>(6));
     }
 
     // The elastic energy stored in the contacts (k delta^(n+1) / (n + 1) each).
@@ -111,6 +121,21 @@ public:
     }
 
 private:
+    // One contact's force F on shape j's body at the contact point (Q_j) and -F on shape i's (Q_i).
+    void add_contact_load(const BodyStates& bodies, const Contact& c, Eigen::Ref<Eigen::VectorXd> Q_i,
+                          Eigen::Ref<Eigen::VectorXd> Q_j) const {
+        const Shape& si = shapes_[c.shape_i];
+        const Shape& sj = shapes_[c.shape_j];
+        const PairLaw law = pair_law(si.material, curvature_radius(si), sj.material, curvature_radius(sj));
+        const auto bi = kinematics(bodies.spatial(si.body));
+        const auto bj = kinematics(bodies.spatial(sj.body));
+        const contact::ContactGeometry<double, 3> g{c.normal, c.point, -c.depth, true};
+        const Vec3 v_rel = contact::material_velocity(bj, c.point) - contact::material_velocity(bi, c.point);
+        const Vec3 F = contact::contact_load(law.normal, law.friction, g, v_rel);
+        contact::add_point_force(bj, c.point, F, Q_j);
+        contact::add_point_force(bi, c.point, Vec3(-F), Q_i);
+    }
+
     // A World from the pool for one evaluation, returned when done: threads evaluating the same
     // Model each get their own, and after the first evaluations none is allocated.
     class Borrowed {

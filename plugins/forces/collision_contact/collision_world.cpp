@@ -212,14 +212,26 @@ World::World(const std::vector<Shape>& shapes, const PairFilter& filter) : detai
 
 World::~World() = default;
 
+void World::place(int shape, const BodyStates& bodies) {
+    Detail& d = *detail_;
+    const Shape& s = (*d.shapes)[shape];
+    const SpatialBody& b = bodies.spatial(s.body);
+    d.objects[shape]->setTransform(pose(b.R, b.A, s));
+    d.objects[shape]->computeAABB();
+}
+
+const std::vector<Contact>& World::detect_pair(int i, int j, const BodyStates& bodies) {
+    Detail& d = *detail_;
+    place(i, bodies);
+    place(j, bodies);
+    d.contacts.clear();
+    d.narrow_phase(i, j);
+    return d.contacts;
+}
+
 const std::vector<Contact>& World::detect(const BodyStates& bodies) {
     Detail& d = *detail_;
-    for (size_t k = 0; k < d.objects.size(); ++k) {
-        const Shape& s = (*d.shapes)[k];
-        const SpatialBody& b = bodies.spatial(s.body);
-        d.objects[k]->setTransform(pose(b.R, b.A, s));
-        d.objects[k]->computeAABB();
-    }
+    for (size_t k = 0; k < d.objects.size(); ++k) place(static_cast<int>(k), bodies);
     d.manager.update();  // refit the tree to the new boxes
     d.contacts.clear();
     d.manager.collide(&d, &Detail::on_candidate);

@@ -51,10 +51,14 @@ public:
 
     // The contacts at the bodies' poses (positions in the element's body order).
     const std::vector<Contact>& detect(const BodyStates& bodies);
+    // The contacts of shapes i and j alone (the narrow phase of that pair as detect() runs it,
+    // none when they may not touch): the force Jacobians, one pair at a time.
+    const std::vector<Contact>& detect_pair(int i, int j, const BodyStates& bodies);
 
     struct Detail;  // the FCL objects
 
 private:
+    void place(int shape, const BodyStates& bodies);  // shape's FCL object to its body's pose
     std::unique_ptr<Detail> detail_;
 };
 
