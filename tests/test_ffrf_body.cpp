@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <sstream>
 
@@ -81,10 +82,11 @@ struct LumpedModes {
     }
 };
 
-// A body from a mode file of `text`, given relative to the scene file's folder.
+// A body from a mode file of `text` (none written when empty), given relative to the scene
+// file's folder.
 std::unique_ptr<test::BodyFromKeys> make_from_file(const std::string& text, const std::string& name = "modes.txt") {
     const auto dir = test::scratch("ffrf_body");
-    test::write_text(dir / name, text);
+    if (!text.empty()) test::write_text(dir / name, text);
     Param file = scalar_param(name);
     file.file = (dir / "beam.yaml").string();
     return test::make_body("ffrf_body", {{"mode_file", file}, {"position", list_param({0.4, -0.3})},
@@ -335,6 +337,158 @@ TEST(FfrfBody, FreeFloatingBodyConservesEnergyAndMomentum) {
         EXPECT_GT(coarse[0] / fine[0], 12.0) << c.what << ": RK4's order 4: the drift is the integrator's, not the model's";
         EXPECT_LT(fine[1], 10 * c.bound) << c.what;
     }
+}
+
+// ---------------------------------------------------------------- rotating beam
+// At a constant spin Omega the modes obey Mff pddot = -(Kff + Omega^2 (Kg - Mff)) p (in-plane
+// bending): the first frequency is omega^2 = omega_0^2 + (K_1 - 1) Omega^2 with K_1 the
+// Southwell coefficient of a uniform cantilever with no hub offset, 1.1933 (Wright, Smith,
+// Thresher and Wang, J. Appl. Mech. 49 (1982) 197-202; 1.193363 by the test author's own
+// quadrature of the exact first mode). Linearized from the body's own Q_v (linear in p).
+TEST(FfrfBody, GeometricStiffeningGivesTheSouthwellCoefficient) {
+    BeamKeys keys;
+    keys.elements = 40, keys.stiffening = true;
+    auto b = make_beam(keys);
+    const FlexibleBody& body = *b->body;
+    const int n = body.coordinates();
+    const double omega0 = 1.875104068711961 * 1.875104068711961, spin = 0.1 * omega0;
+    Eigen::VectorXd q = body.initial_coordinates(), v = Eigen::VectorXd::Zero(n), Q(n), Q0(n), Qe(n);
+    v[2] = spin;
+    body.quadratic_velocity_forces(q, v, Q0);
+    Eigen::MatrixXd stiffness(n - 3, n - 3), dQ(n, n);
+    body.elastic_jacobian(q, dQ);
+    for (int i = 0; i < n - 3; ++i) {
+        Eigen::VectorXd qi = q;
+        qi[3 + i] += 1.0;
+        body.quadratic_velocity_forces(qi, v, Q);
+        stiffness.col(i) = -dQ.col(3 + i).tail(n - 3) - (Q - Q0).tail(n - 3);
+    }
+    const Eigen::MatrixXd M = mass_at(body, q).bottomRightCorner(n - 3, n - 3);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (stiffness + stiffness.transpose()), M);
+    const double southwell = 1.0 + (eig.eigenvalues()[0] - omega0 * omega0) / (spin * spin);
+    std::printf("Southwell coefficient %.6f\n", southwell);
+    EXPECT_NEAR(southwell, 1.193363, 1e-3);
+}
+
+// Kane, Ryan and Banerjee's spin-up (J. Guidance 10 (1987) 139-151): the frame's angle is
+// prescribed, thetadot = (Omega / T) (t - T / (2 pi) sin(2 pi t / T)) up to T = 15 s, then Omega.
+// The beam: L = 10 m, EI = 14000 N m^2, rho A = 1.2 kg/m (omega_1 = 3.80 rad/s). The modes obey
+// Mff pddot = Q_f - M_ftheta thetaddot (the frame's origin fixed). Returns the largest |tip
+// deflection| (the tip's y in the frame's axes) up to t_end.
+double spin_up_tip_deflection(bool stiffening, double Omega, double t_end) {
+    BeamKeys keys;
+    keys.length = 10, keys.elements = 10, keys.stiffening = stiffening;
+    keys.modulus = 7e10, keys.second_moment = 2e-7, keys.area = 4e-4, keys.density = 3000;
+    auto b = make_beam(keys);
+    const FlexibleBody& body = *b->body;
+    const int n = body.coordinates(), m = n - 3;
+    const double T = 15.0, pi = std::acos(-1.0);
+    auto spin = [&](double t, double& w, double& wdot, double& angle) {
+        if (t >= T) {
+            w = Omega, wdot = 0, angle = Omega * (T / 2) + Omega * (t - T);
+            return;
+        }
+        const double s = 2 * pi * t / T;
+        w = Omega / T * (t - T / (2 * pi) * std::sin(s));
+        wdot = Omega / T * (1 - std::cos(s));
+        angle = Omega / T * (t * t / 2 + (T / (2 * pi)) * (T / (2 * pi)) * (std::cos(s) - 1));
+    };
+    auto rate = [&](double t, const Eigen::VectorXd& y) {
+        Eigen::VectorXd q = Eigen::VectorXd::Zero(n), v = Eigen::VectorXd::Zero(n), Q(n), Qe(n);
+        double wdot = 0;
+        spin(t, v[2], wdot, q[2]);
+        q.tail(m) = y.head(m), v.tail(m) = y.tail(m);
+        body.quadratic_velocity_forces(q, v, Q);
+        body.elastic_forces(q, Qe);
+        const Eigen::MatrixXd M = mass_at(body, q);
+        Eigen::VectorXd ydot(2 * m);
+        ydot << y.tail(m), M.bottomRightCorner(m, m).lu().solve(Eigen::VectorXd((Q + Qe).tail(m) - M.col(2).tail(m) * wdot));
+        return ydot;
+    };
+    const double L = 10.0;
+    double largest = 0, h = 2e-3;
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(2 * m);
+    for (int s = 0; s < std::lround(t_end / h); ++s) {
+        const double t = s * h;
+        const Eigen::VectorXd k1 = rate(t, y), k2 = rate(t + h / 2, y + h / 2 * k1), k3 = rate(t + h / 2, y + h / 2 * k2),
+                              k4 = rate(t + h, y + h * k3);
+        y += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+        Eigen::VectorXd q = Eigen::VectorXd::Zero(n);
+        q.tail(m) = y.head(m);
+        MaterialPoint tip;
+        body.point(q, Eigen::VectorXd::Zero(n), &L, tip);  // theta = 0: the frame's axes are the world's
+        largest = std::max(largest, std::abs(tip.r.y()));
+        if (largest > 10 * L) break;  // diverged
+    }
+    return largest;
+}
+
+TEST(FfrfBody, RotatingBeamStaysBoundedWithGeometricStiffeningAndDivergesWithout) {
+    // The peak inertial load rho A thetaddot_max x (thetaddot_max = 2 Omega / T) bends the
+    // non-rotating cantilever by 11 q L^4 / (120 EI) = 0.42 m at Omega = 4; a dynamic load at most
+    // doubles that.
+    const double stiffened = spin_up_tip_deflection(true, 4.0, 25.0);
+    const double linear = spin_up_tip_deflection(false, 4.0, 25.0);
+    const double below_critical = spin_up_tip_deflection(false, 3.0, 25.0);
+    std::printf("largest tip deflection: stiffened %.4f m, linear %.4g m at 4 rad/s; linear %.4f m at 3 rad/s\n",
+                stiffened, linear, below_critical);
+    EXPECT_LT(stiffened, 2 * 0.42);
+    EXPECT_GT(linear, 10.0) << "above omega_1 = 3.80 rad/s the linear model diverges (deflection beyond L)";
+    EXPECT_LT(below_critical, 10.0) << "below omega_1 the linear model stays bounded";
+}
+
+// ---------------------------------------------------------------- bad input
+std::string refusal(const std::function<void()>& make) {
+    try {
+        make();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(accepted)";
+}
+void expect_refusal(const std::string& message, std::initializer_list<const char*> parts) {
+    for (const char* part : parts) EXPECT_NE(message.find(part), std::string::npos) << message;
+}
+
+TEST(FfrfBody, BadInputIsRefusedNamingTheBody) {
+    auto beam_with = [](auto change) {
+        return refusal([&] {
+            BeamKeys k;
+            change(k);
+            make_beam(k);
+        });
+    };
+    expect_refusal(beam_with([](BeamKeys& k) { k.modulus = 0; }), {"body 'beam'", "'modulus' must be positive", "beam.yaml:3"});
+    expect_refusal(beam_with([](BeamKeys& k) { k.area = -1; }), {"body 'beam'", "'area' must be positive"});
+    expect_refusal(beam_with([](BeamKeys& k) { k.length = 0; }), {"body 'beam'", "zero length"});
+    expect_refusal(beam_with([](BeamKeys& k) { k.elements = 0; }), {"body 'beam'", "needs two nodes"});
+    expect_refusal(beam_with([](BeamKeys& k) { k.elements = 1, k.modes = 4; }), {"body 'beam'", "4 modes need at least 2 elements"});
+    const LumpedModes lumped;
+    std::string text = lumped.text();
+    expect_refusal(refusal([] { make_from_file("", "absent.txt"); }), {"body 'beam'", "cannot open the mode file"});
+    std::string bad_mass = test::replaced(text, "mode " + [&] {
+        std::ostringstream o;
+        o.precision(17);
+        o << lumped.modal_mass(0);
+        return o.str();
+    }(), "mode -1");
+    expect_refusal(refusal([&] { make_from_file(bad_mass, "bad_mass.txt"); }),
+                   {"body 'beam'", "bad_mass.txt:6", "modal mass must be positive"});
+    expect_refusal(refusal([&] { make_from_file(test::replaced(text, "1 0.20000000000000001 2", "1 zero 2"), "bad_line.txt"); }),
+                   {"body 'beam'", "bad_line.txt:4", "'zero' is not a number"});
+    expect_refusal(refusal([&] { make_from_file("nodes 2\n0 0 1\n1 0 1\nmode 1 1\n0 1 0\n", "short.txt"); }),
+                   {"body 'beam'", "short.txt:5", "the file ends where"});
+    expect_refusal(refusal([&] {
+                       const auto dir = test::scratch("ffrf_body");
+                       test::write_text(dir / "modes.txt", lumped.text());
+                       test::make_body("ffrf_body", {{"mode_file", scalar_param((dir / "modes.txt").string())},
+                                                     {"geometric_stiffening", scalar_param("true")}});
+                   }),
+                   {"body 'beam'", "geometric stiffening needs the beam's slopes"});
+    auto b = make_beam(BeamKeys{});
+    const double inside = 1.0, beyond = 1.001;
+    EXPECT_NO_THROW(b->body->check_material_point(&inside));
+    EXPECT_THROW(b->body->check_material_point(&beyond), InputError);
 }
 
 }  // namespace
