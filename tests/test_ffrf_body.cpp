@@ -486,9 +486,14 @@ TEST(FfrfBody, BadInputIsRefusedNamingTheBody) {
                    }),
                    {"body 'beam'", "geometric stiffening needs the beam's slopes"});
     auto b = make_beam(BeamKeys{});
-    const double inside = 1.0, beyond = 1.001;
+    const double inside = 1.0, beyond = 1.001, between_nodes = 0.5, last_node = 2.0;
     EXPECT_NO_THROW(b->body->check_material_point(&inside));
     EXPECT_THROW(b->body->check_material_point(&beyond), InputError);
+    auto f = make_from_file(lumped.text());
+    EXPECT_NO_THROW(f->body->check_material_point(&last_node));
+    EXPECT_THROW(f->body->check_material_point(&between_nodes), InputError);
+    const double past_last_node = 3.0;
+    EXPECT_THROW(f->body->check_material_point(&past_last_node), InputError);
 }
 
 }  // namespace

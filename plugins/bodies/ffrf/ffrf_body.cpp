@@ -176,7 +176,7 @@ public:
             throw InputError("", "the point at " + model_.parameter + " " + format_number(xi[0]) +
                                      " lies outside the body [" + format_number(model_.lowest) + ", " +
                                      format_number(model_.highest) + "]");
-        if (model_.Kg.size() == 0 && xi[0] != std::round(xi[0]))
+        if (model_.whole_parameter && xi[0] != std::round(xi[0]))
             throw InputError("", "a mode file's material point is a node index, got " + format_number(xi[0]));
     }
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {

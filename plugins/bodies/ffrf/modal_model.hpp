@@ -47,6 +47,7 @@ struct ModalModel {
     // mode file: the node's index) and the modes there.
     double lowest = 0.0, highest = 0.0;
     std::string parameter;  // what the parameter means, for messages
+    bool whole_parameter = false;  // only whole parameters are points (a mode file's node indices)
     std::vector<double> nodes;
     std::function<ModalPoint(double)> at;
 

@@ -137,6 +137,7 @@ ModalModel read_mode_file(const std::string& path, const std::string& owner) {
     model.lowest = 0.0;
     model.highest = static_cast<double>(nodes.size() - 1);
     model.parameter = "node index";
+    model.whole_parameter = true;
     model.at = [points](double index) { return (*points)[static_cast<size_t>(std::lround(index))]; };
     return model;
 }
