@@ -2,7 +2,7 @@
 // oracles: Euler-Bernoulli cantilever frequencies, the linear tip deflection P L^3 / (3 EI), the
 // elastica by elliptic integrals, energy conservation of a flexible pendulum, finite differences
 // of its own derivatives, and refusals of bad input naming the body.
-#include "support/test_support.hpp"
+#include "support/flexible_body.hpp"
 
 #include <mbd/integrator.hpp>
 #include <mbd/sdk/body.hpp>
@@ -23,24 +23,8 @@ namespace mbd {
 namespace {
 
 // ---------------------------------------------------------------- a cable from keys
-Param scalar(const std::string& text) {
-    Param p;
-    p.text = text;
-    p.file = "beam.yaml";
-    p.line = 3;
-    return p;
-}
-Param num(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return scalar(buf);
-}
-Param pair(double a, double b) {
-    Param p = scalar("");
-    p.kind = Param::Kind::List;
-    p.items = {num(a), num(b)};
-    return p;
-}
+using test::number_param;
+using test::Reduced;
 
 struct CableKeys {
     double length = 1.0;
@@ -49,38 +33,19 @@ struct CableKeys {
     int axial_points = 0;  // 0: the key left out
 };
 
-struct Cable {
-    Param node;
-    BodySpec spec;
-    std::shared_ptr<const FlexibleBody> body;
-};
+using Cable = test::BodyFromKeys;
 
 std::unique_ptr<Cable> make_cable(const CableKeys& k) {
-    auto c = std::make_unique<Cable>();
-    c->node = scalar("");
-    c->node.kind = Param::Kind::Map;
-    c->node.fields = {{"from", pair(0, 0)},          {"to", pair(k.length, 0)},
-                      {"elements", num(k.elements)}, {"modulus", num(k.modulus)},
-                      {"area", num(k.area)},         {"second_moment", num(k.second_moment)},
-                      {"density", num(k.density)}};
-    if (k.axial_points) c->node.fields["axial_points"] = num(k.axial_points);
-    c->spec = {"beam", "ancf_cable", Dimension::Planar, Params("body 'beam'", &c->node)};
-    c->body = test::shared_registry().create_body(c->spec, "beam.yaml:2");
-    return c;
+    std::map<std::string, Param> fields = {{"from", test::list_param({0, 0})},
+                                           {"to", test::list_param({k.length, 0})},
+                                           {"elements", number_param(k.elements)},
+                                           {"modulus", number_param(k.modulus)},
+                                           {"area", number_param(k.area)},
+                                           {"second_moment", number_param(k.second_moment)},
+                                           {"density", number_param(k.density)}};
+    if (k.axial_points) fields["axial_points"] = number_param(k.axial_points);
+    return test::make_body("ancf_cable", fields);
 }
-
-// The coordinates left free when some are held (a clamp holds a node's position and slope, a pin
-// its position: both are linear in ANCF coordinates, so they are held by leaving them out).
-struct Reduced {
-    std::vector<int> free;
-    explicit Reduced(int n, int held) {
-        for (int k = held; k < n; ++k) free.push_back(k);
-    }
-    int size() const { return static_cast<int>(free.size()); }
-    Eigen::VectorXd take(const Eigen::VectorXd& full) const { return full(free); }
-    Eigen::MatrixXd take(const Eigen::MatrixXd& full) const { return full(free, free); }
-    void put(const Eigen::VectorXd& part, Eigen::VectorXd& full) const { full(free) = part; }
-};
 
 // Static equilibrium Q_e(q) + F = 0 on the free coordinates, the load in `steps` equal increments,
 // Newton-Raphson at each.
@@ -275,22 +240,8 @@ TEST(AncfCable, DerivativesAgreeWithFiniteDifferences) {
         body.elastic_forces(qm, Qm);
         EXPECT_LT(((Qp - Qm) / (2 * h) - dQ.col(k)).norm(), 1e-6 * (1 + dQ.norm())) << "column " << k;
     }
-    // the frame at a material point: velocity G v, acceleration G vdot + a (along q + v t, vdot = 0)
-    MaterialFrame f, fp, fm;
-    const double x = 1.3;
-    body.frame(q, v, &x, f);
-    body.frame(q + h * v, v, &x, fp);
-    body.frame(q - h * v, v, &x, fm);
-    const Eigen::Vector3d rate((fp.planar.R - fm.planar.R).x() / (2 * h), (fp.planar.R - fm.planar.R).y() / (2 * h),
-                               (fp.planar.theta - fm.planar.theta) / (2 * h));
-    EXPECT_LT((rate - f.jacobian * v).norm(), 1e-7 * (1 + rate.norm()));
-    EXPECT_NEAR((fp.planar.omega - fm.planar.omega) / (2 * h), f.bias[2], 1e-5 * (1 + std::abs(f.bias[2])));
-    EXPECT_NEAR(f.planar.omega, (f.jacobian * v)[2], 1e-12 * (1 + std::abs(f.planar.omega)));
-    // a material point's Jacobian maps velocities to its velocity; gravity's potential has Q_g as gradient
-    MaterialPoint pt;
-    body.point(q, v, &x, pt);
-    EXPECT_LT((pt.rdot - pt.jacobian * v).norm(), 1e-12 * (1 + pt.rdot.norm()));
-    EXPECT_LT((pt.r.head<2>() - f.planar.R).norm(), 1e-14);
+    // the frame at a material point: velocity G v, acceleration G vdot + a
+    test::expect_frame_derivatives(body, q, v, 1.3, 1e-5);
     const Vec3 g(0.3, -9.81, 0);
     body.gravity_forces(q, g, Q);
     EXPECT_NEAR(-(body.gravity_potential(q + h * v, g) - body.gravity_potential(q - h * v, g)) / (2 * h), Q.dot(v),

@@ -8,38 +8,7 @@ namespace {
 
 // 5-point Gauss-Legendre on [0, 1]: exact to degree 9, so the mass (degree 6), gravity and the
 // axial energy (eps^2: degree 8) are integrated exactly; the curvature term is rational.
-constexpr int kGaussPoints = 5;
-// nodes +-0.9061798459386640, +-0.5384693101056831, 0 and weights on [-1, 1], mapped to [0, 1]
-constexpr double kGaussXi[kGaussPoints] = {0.5 * (1 - 0.9061798459386640), 0.5 * (1 - 0.5384693101056831), 0.5,
-                                           0.5 * (1 + 0.5384693101056831), 0.5 * (1 + 0.9061798459386640)};
-constexpr double kGaussW[kGaussPoints] = {0.5 * 0.2369268850561891, 0.5 * 0.4786286704993665,
-                                          0.5 * 0.5688888888888889, 0.5 * 0.4786286704993665,
-                                          0.5 * 0.2369268850561891};
-
-// Gauss-Legendre rules of 1 to 5 points on [0, 1], for the axial term (ancf_cable_element.hpp)
-struct Rule {
-    int n;
-    double xi[5], w[5];
-};
-Rule gauss_rule(int n) {
-    static const double a3 = std::sqrt(0.6), a2 = 1.0 / std::sqrt(3.0);
-    static const double a4[2] = {0.3399810435848563, 0.8611363115940526}, w4[2] = {0.6521451548625461,
-                                                                                  0.3478548451374538};
-    switch (n) {
-        case 1: return {1, {0.5}, {1.0}};
-        case 2: return {2, {0.5 * (1 - a2), 0.5 * (1 + a2)}, {0.5, 0.5}};
-        case 3: return {3, {0.5 * (1 - a3), 0.5, 0.5 * (1 + a3)}, {5.0 / 18, 8.0 / 18, 5.0 / 18}};
-        case 4:
-            return {4,
-                    {0.5 * (1 - a4[1]), 0.5 * (1 - a4[0]), 0.5 * (1 + a4[0]), 0.5 * (1 + a4[1])},
-                    {0.5 * w4[1], 0.5 * w4[0], 0.5 * w4[0], 0.5 * w4[1]}};
-        default: {
-            Rule r{kGaussPoints, {}, {}};
-            for (int k = 0; k < kGaussPoints; ++k) r.xi[k] = kGaussXi[k], r.w[k] = kGaussW[k];
-            return r;
-        }
-    }
-}
+const beam::GaussRule kGauss = beam::gauss_rule(5);
 
 // sum_k c[k] e_k: a 2-vector combination of the element's nodal 2-vectors
 Eigen::Vector2d combine(const Eigen::Vector4d& c, const Vec8& e) {
@@ -65,27 +34,18 @@ Mat8 spread2(const Eigen::Vector4d& c1, const Eigen::Vector4d& c2, const Eigen::
 
 }  // namespace
 
-Shape shape(double xi, double l) {
-    const double x2 = xi * xi, x3 = x2 * xi;
-    Shape f;
-    f.s << 1 - 3 * x2 + 2 * x3, l * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, l * (x3 - x2);
-    f.ds << (-6 * xi + 6 * x2) / l, 1 - 4 * xi + 3 * x2, (6 * xi - 6 * x2) / l, 3 * x2 - 2 * xi;
-    f.dds << (-6 + 12 * xi) / (l * l), (-4 + 6 * xi) / l, (6 - 12 * xi) / (l * l), (6 * xi - 2) / l;
-    return f;
-}
-
 Mat8 element_mass(const Section& section, double l) {
     Mat8 M = Mat8::Zero();
-    for (int g = 0; g < kGaussPoints; ++g) {
-        const Shape f = shape(kGaussXi[g], l);
-        M += (kGaussW[g] * l * section.rhoA) * spread2(f.s, f.s, Eigen::Matrix2d::Identity());
+    for (int g = 0; g < kGauss.n; ++g) {
+        const Shape f = shape(kGauss.xi[g], l);
+        M += (kGauss.w[g] * l * section.rhoA) * spread2(f.s, f.s, Eigen::Matrix2d::Identity());
     }
     return M;
 }
 
 Vec8 element_gravity(const Section& section, double l, const Eigen::Vector2d& g) {
     Vec8 Q = Vec8::Zero();
-    for (int p = 0; p < kGaussPoints; ++p) Q += (kGaussW[p] * l * section.rhoA) * spread(shape(kGaussXi[p], l).s, g);
+    for (int p = 0; p < kGauss.n; ++p) Q += (kGauss.w[p] * l * section.rhoA) * spread(shape(kGauss.xi[p], l).s, g);
     return Q;
 }
 
@@ -136,11 +96,11 @@ double element_strain_energy(const Section& section, double l, const Vec8& e, Ve
     if (gradient) gradient->setZero();
     if (hessian) hessian->setZero();
     double U = 0.0;
-    const Rule axial = gauss_rule(section.axial_points);
+    const beam::GaussRule axial = beam::gauss_rule(section.axial_points);
     for (int p = 0; p < axial.n; ++p)
         U += add_axial(shape(axial.xi[p], l), section.EA, axial.w[p] * l, e, gradient, hessian);
-    for (int p = 0; p < kGaussPoints; ++p)
-        U += add_bending(shape(kGaussXi[p], l), section.EI, kGaussW[p] * l, e, gradient, hessian);
+    for (int p = 0; p < kGauss.n; ++p)
+        U += add_bending(shape(kGauss.xi[p], l), section.EI, kGauss.w[p] * l, e, gradient, hessian);
     return U;
 }
 

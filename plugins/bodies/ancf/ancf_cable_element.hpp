@@ -10,6 +10,8 @@
 // Gradient and Hessian of U_e are exact (differentiated by hand below), integrated by Gauss.
 #pragma once
 
+#include "shared/hermite.hpp"
+
 #include <Eigen/Core>
 
 namespace mbd::ancf {
@@ -17,12 +19,10 @@ namespace mbd::ancf {
 using Vec8 = Eigen::Matrix<double, 8, 1>;
 using Mat8 = Eigen::Matrix<double, 8, 8>;
 
-// Hermite shape functions at xi = x / l in [0, 1] and their first and second x-derivatives:
-// r = sum_k s[k] e_k, with e_k the k-th 2-vector of the element's coordinates.
-struct Shape {
-    Eigen::Vector4d s, ds, dds;
-};
-Shape shape(double xi, double l);
+// Hermite shape functions (shared/hermite.hpp): r = sum_k s[k] e_k, with e_k the k-th 2-vector
+// of the element's coordinates.
+using beam::Shape;
+using beam::shape;
 
 struct Section {
     double EA = 0.0;        // axial stiffness
