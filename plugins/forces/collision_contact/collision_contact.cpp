@@ -8,9 +8,11 @@
 // on shape i's, so the element conserves the momentum and angular momentum of the bodies it
 // touches. It declares no events: the set of contacts changes between evaluations, and the
 // force's onset is smooth enough (F_n = k delta^n with n > 1 has a continuous first derivative
-// at delta = 0) for the adaptive integrators to find their steps.
+// at delta = 0) for the adaptive integrators to find their steps. It reports its contacts
+// (mbd/sdk/contact_report.hpp) for `mbd simulate --contacts` and the viewer.
 #include "collision_world.hpp"
 
+#include <mbd/sdk/contact_report.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/plugin_keys.hpp>
 
@@ -23,7 +25,7 @@ namespace {
 
 force_support::SpatialT<double> kinematics(const SpatialBody& b) { return {b.R, b.Rdot, b.omega_bar, b.A}; }
 
-class CollisionContact final : public Force {
+class CollisionContact final : public Force, public ContactReporter {
 public:
     explicit CollisionContact(const ForceSpec& spec) {
         if (spec.dimension != Dimension::Spatial)
@@ -54,15 +56,29 @@ public:
         for (const Contact& c : world->detect(bodies)) {
             const Shape& si = shapes_[c.shape_i];
             const Shape& sj = shapes_[c.shape_j];
-            const PairLaw law = pair_law(si.material, curvature_radius(si), sj.material, curvature_radius(sj));
-            const auto bi = kinematics(bodies.spatial(si.body));
-            const auto bj = kinematics(bodies.spatial(sj.body));
-            const contact::ContactGeometry<double, 3> g{c.normal, c.point, -c.depth, true};
-            const Vec3 v_rel = contact::material_velocity(bj, c.point) - contact::material_velocity(bi, c.point);
-            const Vec3 F = contact::contact_load(law.normal, law.friction, g, v_rel);
-            contact::add_point_force(bj, c.point, F, Q.segment<6>(6 * sj.body));
-            contact::add_point_force(bi, c.point, Vec3(-F), Q.segment<6>(6 * si.body));
+            const Vec3 F = load(c, bodies);
+            contact::add_point_force(kinematics(bodies.spatial(sj.body)), c.point, F, Q.segment<6>(6 * sj.body));
+            contact::add_point_force(kinematics(bodies.spatial(si.body)), c.point, Vec3(-F), Q.segment<6>(6 * si.body));
         }
+    }
+
+    // The same contacts and loads as evaluate(), each split into its normal and friction parts.
+    std::vector<ContactReport> contacts(const BodyStates& bodies) const override {
+        Borrowed world(*this);
+        std::vector<ContactReport> reports;
+        for (const Contact& c : world->detect(bodies)) {
+            const Vec3 F = load(c, bodies);
+            ContactReport r;
+            r.body_i = shapes_[c.shape_i].body;
+            r.body_j = shapes_[c.shape_j].body;
+            r.point = c.point;
+            r.normal = c.normal;
+            r.depth = c.depth;
+            r.normal_force = F.dot(c.normal);
+            r.friction_force = F - r.normal_force * c.normal;
+            reports.push_back(r);
+        }
+        return reports;
     }
 
     // The elastic energy stored in the contacts (k delta^(n+1) / (n + 1) each).
@@ -111,6 +127,18 @@ public:
     }
 
 private:
+    // The force of contact c on shape j's body (contact_load: the normal law and friction).
+    Vec3 load(const Contact& c, const BodyStates& bodies) const {
+        const Shape& si = shapes_[c.shape_i];
+        const Shape& sj = shapes_[c.shape_j];
+        const PairLaw law = pair_law(si.material, curvature_radius(si), sj.material, curvature_radius(sj));
+        const auto bi = kinematics(bodies.spatial(si.body));
+        const auto bj = kinematics(bodies.spatial(sj.body));
+        const contact::ContactGeometry<double, 3> g{c.normal, c.point, -c.depth, true};
+        const Vec3 v_rel = contact::material_velocity(bj, c.point) - contact::material_velocity(bi, c.point);
+        return contact::contact_load(law.normal, law.friction, g, v_rel);
+    }
+
     // A World from the pool for one evaluation, returned when done: threads evaluating the same
     // Model each get their own, and after the first evaluations none is allocated.
     class Borrowed {
