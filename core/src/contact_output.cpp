@@ -3,6 +3,8 @@
 #include <mbd/contact_output.hpp>
 #include <mbd/csv.hpp>
 
+#include <utility>
+
 namespace mbd {
 
 struct ContactProbe::Poses {
@@ -27,6 +29,11 @@ std::vector<ContactReport> ContactProbe::contacts(const State& state) const {
         for (ContactReport r : e.reporter->contacts(poses_->view)) {
             r.body_i = (*e.bodies)[r.body_i];  // element position -> model body (kGround stays)
             r.body_j = (*e.bodies)[r.body_j];
+            if (r.body_i > r.body_j) {  // one order whatever the detection's: body i the smaller index
+                std::swap(r.body_i, r.body_j);
+                r.normal = -r.normal;  // the normal force on the new j is the same along the new normal
+                r.friction_force = -r.friction_force;
+            }
             all.push_back(r);
         }
     }

@@ -5,7 +5,7 @@
 // The contact table has one row per contact and output time (a time without contacts has no
 // row), in the columns of contact_columns():
 //   t, body_i, body_j       the two bodies: their positions in the scene's `bodies:` (from 0),
-//                           -1 for the ground
+//                           -1 for the ground; body_i < body_j
 //   x, y, z                 the contact point, world
 //   nx, ny, nz              the unit normal, from body_i toward body_j
 //   depth                   the penetration (> 0)
@@ -25,7 +25,7 @@
 namespace mbd {
 
 // The contacts of a model's reporting elements; body_i, body_j of its reports are model body
-// indices (kGround for the ground).
+// indices (kGround for the ground), body_i < body_j. Not for concurrent use (one pose workspace).
 class ContactProbe {
 public:
     explicit ContactProbe(const Model& model);
