@@ -54,11 +54,13 @@ public:
     void evaluate(const BodyStates& bodies, Eigen::Ref<Eigen::VectorXd> Q) const override {
         Borrowed world(*this);
         for (const Contact& c : world->detect(bodies)) {
-            const Shape& si = shapes_[c.shape_i];
-            const Shape& sj = shapes_[c.shape_j];
-            const Vec3 F = load(c, bodies);
-            contact::add_point_force(kinematics(bodies.spatial(sj.body)), c.point, F, Q.segment<6>(6 * sj.body));
-            contact::add_point_force(kinematics(bodies.spatial(si.body)), c.point, Vec3(-F), Q.segment<6>(6 * si.body));
+            const int i = shapes_[c.shape_i].body, j = shapes_[c.shape_j].body;
+            const Load l = load(c, bodies);
+            contact::add_point_force(kinematics(bodies.spatial(j)), c.point, l.force, Q.segment<6>(6 * j));
+            contact::add_point_force(kinematics(bodies.spatial(i)), c.point, Vec3(-l.force), Q.segment<6>(6 * i));
+            if (l.torque.isZero(0.0)) continue;  // no rolling resistance
+            Q.segment<3>(6 * j + 3) += bodies.spatial(j).A.transpose() * l.torque;  // moments in body axes
+            Q.segment<3>(6 * i + 3) -= bodies.spatial(i).A.transpose() * l.torque;
         }
     }
 
@@ -67,7 +69,7 @@ public:
         Borrowed world(*this);
         std::vector<ContactReport> reports;
         for (const Contact& c : world->detect(bodies)) {
-            const Vec3 F = load(c, bodies);
+            const Vec3 F = load(c, bodies).force;
             ContactReport r;
             r.body_i = shapes_[c.shape_i].body;
             r.body_j = shapes_[c.shape_j].body;
@@ -96,7 +98,8 @@ public:
     // where the gap rate is the depth's derivative: spheres, planes; collision_world.hpp).
     bool is_conservative() const override {
         for (const Shape& s : shapes_)
-            if ((!s.material.rigid && s.material.normal.damping != 0.0) || s.material.friction.mu_static != 0.0)
+            if ((!s.material.rigid && s.material.normal.damping != 0.0) || s.material.friction.mu_static != 0.0 ||
+                s.material.rolling_resistance != 0.0)
                 return false;
         return true;
     }
@@ -127,8 +130,13 @@ public:
     }
 
 private:
-    // The force of contact c on shape j's body (contact_load: the normal law and friction).
-    Vec3 load(const Contact& c, const BodyStates& bodies) const {
+    // The force of contact c on shape j's body at the contact point (contact_load: the normal law
+    // and friction) and the rolling resistance's torque on it (world); their opposites act on
+    // shape i's.
+    struct Load {
+        Vec3 force, torque;
+    };
+    Load load(const Contact& c, const BodyStates& bodies) const {
         const Shape& si = shapes_[c.shape_i];
         const Shape& sj = shapes_[c.shape_j];
         const PairLaw law = pair_law(si.material, curvature_radius(si), sj.material, curvature_radius(sj));
@@ -136,7 +144,9 @@ private:
         const auto bj = kinematics(bodies.spatial(sj.body));
         const contact::ContactGeometry<double, 3> g{c.normal, c.point, -c.depth, true};
         const Vec3 v_rel = contact::material_velocity(bj, c.point) - contact::material_velocity(bi, c.point);
-        return contact::contact_load(law.normal, law.friction, g, v_rel);
+        const Vec3 F = contact::contact_load(law.normal, law.friction, g, v_rel);
+        const Vec3 w_rel = bj.omega() - bi.omega();
+        return {F, rolling_torque(law, c.normal, F.dot(c.normal), w_rel)};
     }
 
     // A World from the pool for one evaluation, returned when done: threads evaluating the same
