@@ -3,12 +3,14 @@
 // (integrator_descriptions(), mbd/integrator.hpp), written through the output sinks
 // (mbd/output_sink.hpp): the --output file in the format of its extension (CSV, HDF5;
 // mbd/app/output_formats.hpp), the --animation from the same rows; optionally with joint
-// reactions and energy / constraint diagnostics.
+// reactions and energy / constraint diagnostics; --contacts writes the contacts of the same rows
+// (mbd/contact_output.hpp).
 #include "commands.hpp"
 #include "options.hpp"
 
 #include <mbd/app/json_output.hpp>
 #include <mbd/app/output_formats.hpp>
+#include <mbd/contact_output.hpp>
 #include <mbd/formulation_setup.hpp>
 #include <mbd/integrator.hpp>
 #include <mbd/linear_algebra.hpp>
@@ -49,6 +51,7 @@ struct SimulateArguments {
     bool json = false;
     bool tolerance_given = false, step_given = false;
     std::string animation;  // --animation out.glb | out.html
+    std::string contacts;   // --contacts contacts.csv | contacts.h5
 };
 
 // The options of `mbd simulate` after SCENE; returns --tol and --step (their counts tell whether they were given).
@@ -98,6 +101,9 @@ std::pair<CLI::Option*, CLI::Option*> add_simulate_options(CLI::App* sub, Simula
     sub->add_flag("--json", a.json, "Print the summary as one JSON object on stdout");
     sub->add_option("--animation", a.animation,
                     "Also write the motion as a glTF 2.0 binary (.glb) or a browser viewer (.html); see mbd animate");
+    sub->add_option("--contacts", a.contacts,
+                    "Also write every active contact of the bodies' collision shapes, one row per contact and output "
+                    "time (bodies, point, normal, depth, normal and friction force): .csv or .h5, see docs/user-guide.md");
     return {tol, step};
 }
 
@@ -249,6 +255,15 @@ void add_simulate_command(CLI::App& app, Commands& commands) {
         OutputSinks sinks{output.get()};
         std::unique_ptr<OutputSink> animation;  // from the rows of this run: the viewer shows exactly the result
         if (!args->animation.empty()) sinks.push_back((animation = viewer::make_animation_sink(model, args->animation)).get());
+        std::unique_ptr<OutputSink> contacts;  // the contacts at the same rows, in a table of their own
+        if (!args->contacts.empty()) {
+            check_output_path(args->contacts, scene_files(args->scene, model), "--contacts");
+            if (args->contacts == args->output || args->contacts == args->animation)
+                throw InputError("--contacts", "'" + args->contacts + "' is also the file of --output or --animation: "
+                                               "give the contacts a file of their own");
+            contacts = make_contact_sink(model, make_output_sink(args->contacts, "--contacts"), "--contacts");
+            sinks.push_back(contacts.get());
+        }
 
         const SimulationSettings settings = simulation_settings(*args);
         std::vector<Eigen::VectorXd> positions;

@@ -245,3 +245,29 @@ TEST(CollisionMesh, OpenOrConcaveMeshesAsConvexAndTriangleMeshesOnBodiesAreRefus
 }
 
 }  // namespace
+
+namespace {
+
+// A box, slightly tilted in its body, on a ground slab given as a triangle mesh (its top face two
+// triangles split along x = y) pushes as on the plane z = 0 of that face: at random places on the
+// face (also across the diagonal) and random velocities, each corner below the face carries the
+// plane's force, to rounding. FCL alone gives one point per triangle: at most two of the four
+// corners, which let a box resting on a mesh rock or fall through it.
+TEST(CollisionMesh, BoxOnATriangleMeshRestsOnItsCornersAsOnThePlaneOfItsFace) {
+    const auto dir = mbd::test::scratch("collision_mesh_box_on_triangles");
+    const auto file = mbd::test::write_text(dir / "slab.stl", stl(corners(Vector3d(2, 2, 0.25))));
+    const std::string box = box_body("{shape: box, size: [0.5, 0.25, 0.125], orientation: {axis: [1, 2, 0], angle: 0.004}, "
+                                     "material: " + kLaw + "}");
+    const mbd::Model on_plane = mbd::test::scene(
+        "dimension: spatial\nground:\n  collision:\n    - {shape: plane, normal: [0, 0, 1], material: {static_friction: 0.5}}\n" + box);
+    const mbd::Model on_mesh = mbd::test::scene("dimension: spatial\nground:\n  collision:\n    - {shape: triangle_mesh, "
+                                                "file: " + file.string() + ", position: [0, 0, -0.125], "
+                                                "material: {static_friction: 0.5}}\n" + box);
+    const double worst = worst_force_difference(on_plane, on_mesh, 100, 11, [](int, const auto& u) {
+        return Vector3d(0.6 * u(), 0.6 * u(), 0.0625 - 0.001 * (1.5 + u()));  // corners 0 to 3.5 mm deep
+    });
+    EXPECT_LE(worst, 1e-12);
+    RecordProperty("worst_relative_difference", g17(worst));
+}
+
+}  // namespace

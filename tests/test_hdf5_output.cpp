@@ -162,6 +162,21 @@ TEST(Hdf5Output, ReactionsAndDiagnosticsOverManyBandsAreTheCsvs) {
     expect_bit_equal(a, b);
 }
 
+// The contact table of `--contacts` (contact_output.hpp) in HDF5 holds the CSV's numbers: a
+// ball, a brick and a capsule falling onto a plane and onto each other, a row per contact.
+TEST(Hdf5Output, TheContactTableIsTheCsvs) {
+    const fs::path dir = scratch("contacts");
+    const std::string run = "simulate " + mbd::test::scene_path("examples/force-collision-contact.yaml").string() +
+                            " --integrator dopri5 --tol 1e-8 --t-end 1 --output-step 0.01 -q ";
+    ASSERT_EQ(run_mbd(run + "-o " + (dir / "a.csv").string() + " --contacts " + (dir / "c.csv").string()).exit_code, 0);
+    const auto h5 = run_mbd(run + "-o " + (dir / "b.csv").string() + " --contacts " + (dir / "c.h5").string());
+    ASSERT_EQ(h5.exit_code, 0) << h5.err;
+    const Table a = read_csv_exactly(dir / "c.csv"), b = read_h5(dir / "c.h5");
+    ASSERT_EQ(a.columns.size(), 14u);
+    EXPECT_GT(a.values.size(), 14u * 101u) << "more contacts than output rows: bodies rest on several points";
+    expect_bit_equal(a, b);
+}
+
 // `mbd ARGUMENTS` started in a child process (its output to /dev/null).
 // The peak resident memory (kB) of `mbd ARGUMENTS`, run to its end.
 long mbd_peak_kb(const std::string& arguments) {

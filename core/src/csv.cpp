@@ -59,6 +59,24 @@ std::vector<double> motion_values(const Model& model, const State& state) {
     return values;
 }
 
+State motion_state(const Model& model, const double* values) {
+    State state;
+    state.set_zero(model.nq(), model.nv());
+    state.t = values[0];
+    const int nb = model.body_count(), nc = coordinates_per_body(model.dimension), nw = velocities_per_body(model.dimension);
+    const double* velocities = values + 1 + nb * nc;
+    for (int b = 0; b < nb; ++b) {
+        const int q0 = model.q_offset(b), v0 = model.v_offset(b);
+        for (int k = 0; k < nc; ++k) state.q[q0 + k] = values[1 + b * nc + k];
+        for (int k = 0; k < nw; ++k) state.v[v0 + k] = velocities[b * nw + k];
+        if (model.dimension == Dimension::Spatial) {  // wbar = A^T w
+            const Vec4 p = state.q.segment<4>(q0 + 3);
+            state.v.segment<3>(v0 + 3) = rotation_from_euler_parameters(p / p.norm()).transpose() * state.v.segment<3>(v0 + 3);
+        }
+    }
+    return state;
+}
+
 std::string CsvWriter::header(const std::vector<std::string>& columns) {
     std::string line;
     for (size_t k = 0; k < columns.size(); ++k) line += (k ? "," : "") + columns[k];

@@ -149,6 +149,58 @@ function poseAt(index, row, f, position, quaternion) {
   quaternionAt(p, r2, qb);
   return quaternion.slerpQuaternions(qa, qb, f);
 }
+// ---- contacts (html_export.cpp json_contacts): at each keyframe the collision contacts, each
+// [x, y, z, nx, ny, nz, normal force, friction x, y, z] (the forces on body j), drawn as at the
+// keyframe at or before the time shown: a dot at the point, an arrow along the normal force and
+// one along the friction force. Arrow lengths are in proportion to the forces, the median normal
+// force of the run a sixth of the scene's length scale (impacts, far larger, are capped at the
+// length scale). Drawn over the bodies (a resting body hides the points it stands on).
+const contactFrames = scene.contacts || [];
+const normalForces = contactFrames.flatMap((f) => f.map((c) => Math.abs(c[6]))).filter((f) => f > 0).sort((a, b) => a - b);
+const typicalForce = normalForces.length ? normalForces[Math.floor(normalForces.length / 2)] : 0;
+const metresPerNewton = typicalForce > 0 ? scene.lengthScale / (6 * typicalForce) : 0;
+const contactDots = new THREE.Points(new THREE.BufferGeometry(),
+  new THREE.PointsMaterial({ color: 0xd03020, size: 7, sizeAttenuation: false, depthTest: false }));
+contactDots.renderOrder = 2;
+contactDots.frustumCulled = false;
+world.add(contactDots);
+const normalArrows = [], frictionArrows = [];
+let shownContacts = [], shownRow = 0;
+function arrowOf(pool, i, color) {
+  if (!pool[i]) {
+    const a = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector3(), 1, color);
+    a.line.material.depthTest = false; a.cone.material.depthTest = false;
+    a.renderOrder = 2; a.line.renderOrder = 2; a.cone.renderOrder = 2;
+    world.add(a);
+    pool[i] = a;
+  }
+  return pool[i];
+}
+function drawArrow(pool, i, color, point, force) {
+  const length = Math.min(force.length() * metresPerNewton, scene.lengthScale);
+  const a = arrowOf(pool, i, color);
+  a.visible = length > 1e-9 * scene.lengthScale;
+  if (!a.visible) return;
+  a.position.copy(point);
+  a.setDirection(force.clone().divideScalar(force.length()));
+  a.setLength(length, Math.min(0.3 * length, 0.05 * scene.lengthScale), Math.min(0.15 * length, 0.025 * scene.lengthScale));
+}
+function placeContacts(row) {
+  shownRow = row;
+  shownContacts = contactFrames.length ? contactFrames[row] : [];
+  const dots = new Float32Array(3 * shownContacts.length);
+  const point = new THREE.Vector3(), force = new THREE.Vector3();
+  shownContacts.forEach((c, i) => {
+    point.set(c[0], c[1], c[2]);
+    dots.set([c[0], c[1], c[2]], 3 * i);
+    drawArrow(normalArrows, i, 0xd03020, point, force.set(c[3], c[4], c[5]).multiplyScalar(c[6]));
+    drawArrow(frictionArrows, i, 0x2060d0, point, force.set(c[7], c[8], c[9]));
+  });
+  for (const pool of [normalArrows, frictionArrows]) for (let i = shownContacts.length; i < pool.length; i++) pool[i].visible = false;
+  contactDots.geometry.setAttribute('position', new THREE.BufferAttribute(dots, 3));
+  contactDots.visible = shownContacts.length > 0;
+}
+
 const pa = new THREE.Vector3(), pb = new THREE.Vector3(), d = new THREE.Vector3();
 let current = tStart;
 function apply(t) {
@@ -167,6 +219,7 @@ function apply(t) {
     connectorPoses[i].compose(pa, q, scale.set(c.radius, c.radius, Math.max(length, 1e-9)));
   });
   placeInstances();
+  placeContacts(row);
   if (follow && lastMean) {  // the camera and its target move with the mechanism
     const now = meanPosition(bodies, new THREE.Vector3());
     camera.position.add(now.clone().sub(lastMean));
@@ -394,6 +447,24 @@ window.mbdViewer = {
       const r = renderer.domElement.getBoundingClientRect();
       return { joint: j.name, drawnOn: j.marker.body, world, x: r.left + ((v3.x + 1) / 2) * r.width, y: r.top + ((1 - v3.y) / 2) * r.height };
     });
+  },
+  // the contacts drawn now, those of the keyframe at `time`: each point (world), its normal,
+  // normal force and friction, and its normal force's arrow as drawn (null when not drawn): base
+  // and tip, world and CSS pixels
+  contacts() {
+    const r = renderer.domElement.getBoundingClientRect();
+    const screen = (p) => { v3.copy(p).project(camera); return [r.left + ((v3.x + 1) / 2) * r.width, r.top + ((1 - v3.y) / 2) * r.height]; };
+    const list = shownContacts.map((c, i) => {
+      const a = normalArrows[i];
+      let arrow = null;
+      if (a && a.visible) {
+        a.updateMatrixWorld(true);
+        const base = a.localToWorld(new THREE.Vector3(0, 0, 0)), tip = a.localToWorld(new THREE.Vector3(0, a.cone.position.y, 0));
+        arrow = { base: base.toArray(), tip: tip.toArray(), baseScreen: screen(base), tipScreen: screen(tip) };
+      }
+      return { point: c.slice(0, 3), normal: c.slice(3, 6), normalForce: c[6], friction: c.slice(7, 10), arrow };
+    });
+    return { time: value(shownRow, 0), contacts: list, drawn: normalArrows.filter((a) => a.visible).length };
   },
   following: () => follow,
   setFollow(on) { setFollow(Boolean(on)); apply(current); renderer.render(world, camera); },

@@ -1,6 +1,10 @@
 // The self-contained HTML viewer: the page (viewer/js/page.html with three.js bundled in
 // at build time) filled with the scene as JSON and the motion as base64 binary series (see
-// column_series), so that it opens offline from file:// and fetches nothing.
+// column_series), so that it opens offline from file:// and fetches nothing. A scene with
+// collision shapes also carries its contacts at each keyframe (json_contacts), which the page
+// draws as points and force arrows.
+#include <mbd/contact_output.hpp>
+#include <mbd/csv.hpp>
 #include <mbd/viewer/animation_export.hpp>
 #include <mbd/viewer/keyframes.hpp>
 #include <mbd/viewer/shape_mesh.hpp>
@@ -225,6 +229,33 @@ void write_motion(const MotionTable& table, const PageMotion& motion, std::ostre
     writer.finish();
 }
 
+// The contacts at each keyframe (contact_output.hpp), when the table holds the motion columns
+// (positions and velocities) and the scene has collision shapes: per keyframe a list of
+// [x, y, z, nx, ny, nz, normal_force, fx, fy, fz], the point, the unit normal and the forces on
+// body j (friction f). The page draws each at the keyframe at or before its time.
+std::string json_contacts(const Model& model, const MotionTable& table, const PageMotion& motion) {
+    const ContactProbe probe(model);
+    const std::vector<std::string> motion_names = motion_columns(model);
+    if (!probe.reports() || table.columns.size() < motion_names.size() ||
+        !std::equal(motion_names.begin(), motion_names.end(), table.columns.begin()))
+        return "null";
+    std::string out = "[";
+    for (size_t k = 0; k < motion.keyframes.size(); ++k) {
+        out += k ? ",[" : "[";
+        const std::vector<ContactReport> contacts = probe.contacts_at_row(&table.values[motion.keyframes[k] * table.columns.size()]);
+        for (size_t c = 0; c < contacts.size(); ++c) {
+            const ContactReport& r = contacts[c];
+            out += std::string(c ? "," : "") + "[" + json_number(r.point.x()) + "," + json_number(r.point.y()) + "," +
+                   json_number(r.point.z()) + "," + json_number(r.normal.x()) + "," + json_number(r.normal.y()) + "," +
+                   json_number(r.normal.z()) + "," + json_number(r.normal_force) + "," +
+                   json_number(r.friction_force.x()) + "," + json_number(r.friction_force.y()) + "," +
+                   json_number(r.friction_force.z()) + "]";
+        }
+        out += "]";
+    }
+    return out + "]";
+}
+
 }  // namespace
 
 void write_html(const Model& model, const MotionTable& table, const AnimationOptions& options, std::ostream& out) {
@@ -287,7 +318,7 @@ void write_html(const Model& model, const MotionTable& table, const AnimationOpt
     j += "],\"plotBuckets\":" + std::to_string(kPlotBuckets) + ",\"rows\":" + std::to_string(table.rows()) +
          ",\"keyframes\":" + std::to_string(motion.keyframes.size()) + ",\"plotColumn\":" +
          json_string(options.plot_column.empty() && table.columns.size() > 1 ? table.columns[1] : options.plot_column) +
-         "}";
+         ",\"contacts\":" + json_contacts(model, table, motion) + "}";
 
     out << kPageBeforeScene << j << kPageBetween;
     write_motion(table, motion, out);

@@ -18,4 +18,8 @@ run visual-shapes scenes/examples/visual-shapes.yaml 1.0 0.01
 run whipple-bicycle scenes/reference/whipple-bicycle.yaml 3.0 0.01
 "$mbd" statics "$src/scenes/statics/pendulum-torque.yaml" --animation "$out/statics.html" > /dev/null
 "$mbd" statics "$src/scenes/statics/pendulum-torque.yaml" --animation "$out/statics.glb" > /dev/null
+# a ball, a brick and a capsule falling onto a plane: the contacts the viewer draws (contacts.mjs)
+"$mbd" simulate "$src/scenes/examples/force-collision-contact.yaml" --integrator dopri5 --tol 1e-8 --t-end 1 \
+  --output-step 0.01 -q --output "$out/collision.csv" --contacts "$out/collision-contacts.csv" \
+  --animation "$out/collision.html"
 ls "$out"

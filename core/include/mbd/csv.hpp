@@ -16,6 +16,10 @@ namespace mbd {
 
 std::vector<std::string> motion_columns(const Model& model);
 std::vector<double> motion_values(const Model& model, const State& state);
+// The state a row of motion_values holds (its first motion_columns(model).size() values): the
+// inverse of motion_values, the Euler parameters as written (world angular velocities turned
+// back into body axes).
+State motion_state(const Model& model, const double* values);
 
 // A CSV result file in the output contract of output_file.hpp: PATH.partial while
 // the rows come in, PATH after close(); destroyed without close() (a failed or

@@ -8,9 +8,11 @@
 // on shape i's, so the element conserves the momentum and angular momentum of the bodies it
 // touches. It declares no events: the set of contacts changes between evaluations, and the
 // force's onset is smooth enough (F_n = k delta^n with n > 1 has a continuous first derivative
-// at delta = 0) for the adaptive integrators to find their steps.
+// at delta = 0) for the adaptive integrators to find their steps. It reports its contacts
+// (mbd/sdk/contact_report.hpp) for `mbd simulate --contacts` and the viewer.
 #include "collision_world.hpp"
 
+#include <mbd/sdk/contact_report.hpp>
 #include <mbd/sdk/force_couplings.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/plugin_keys.hpp>
@@ -24,7 +26,7 @@ namespace {
 
 force_support::SpatialT<double> kinematics(const SpatialBody& b) { return {b.R, b.Rdot, b.omega_bar, b.A}; }
 
-class CollisionContact final : public Force, public ForceCouplings {
+class CollisionContact final : public Force, public ForceCouplings, public ContactReporter {
 public:
     explicit CollisionContact(const ForceSpec& spec) {
         if (spec.dimension != Dimension::Spatial)
@@ -75,6 +77,25 @@ public:
             add_contact_load(bodies, c, Q.segment<6>(0), Q.segment<6>(6));
     }
 
+    // The same contacts and loads as evaluate(), each split into its normal and friction parts.
+    std::vector<ContactReport> contacts(const BodyStates& bodies) const override {
+        Borrowed world(*this);
+        std::vector<ContactReport> reports;
+        for (const Contact& c : world->detect(bodies)) {
+            const Vec3 F = load(c, bodies).force;
+            ContactReport r;
+            r.body_i = shapes_[c.shape_i].body;
+            r.body_j = shapes_[c.shape_j].body;
+            r.point = c.point;
+            r.normal = c.normal;
+            r.depth = c.depth;
+            r.normal_force = F.dot(c.normal);
+            r.friction_force = F - r.normal_force * c.normal;
+            reports.push_back(r);
+        }
+        return reports;
+    }
+
     // The elastic energy stored in the contacts (k delta^(n+1) / (n + 1) each).
     double potential_energy(const BodyStates& bodies) const override {
         Borrowed world(*this);
@@ -90,7 +111,8 @@ public:
     // where the gap rate is the depth's derivative: spheres, planes; collision_world.hpp).
     bool is_conservative() const override {
         for (const Shape& s : shapes_)
-            if ((!s.material.rigid && s.material.normal.damping != 0.0) || s.material.friction.mu_static != 0.0)
+            if ((!s.material.rigid && s.material.normal.damping != 0.0) || s.material.friction.mu_static != 0.0 ||
+                s.material.rolling_resistance != 0.0)
                 return false;
         return true;
     }
@@ -121,9 +143,26 @@ public:
     }
 
 private:
-    // One contact's force F on shape j's body at the contact point (Q_j) and -F on shape i's (Q_i).
+    // One contact's load on its two bodies: the force F of load() on shape j's body at the contact
+    // point and the rolling resistance's torque (moments in body axes) into Q_j, their opposites into Q_i.
     void add_contact_load(const BodyStates& bodies, const Contact& c, Eigen::Ref<Eigen::VectorXd> Q_i,
                           Eigen::Ref<Eigen::VectorXd> Q_j) const {
+        const int i = shapes_[c.shape_i].body, j = shapes_[c.shape_j].body;
+        const Load l = load(c, bodies);
+        contact::add_point_force(kinematics(bodies.spatial(j)), c.point, l.force, Q_j);
+        contact::add_point_force(kinematics(bodies.spatial(i)), c.point, Vec3(-l.force), Q_i);
+        if (l.torque.isZero(0.0)) return;  // no rolling resistance
+        Q_j.segment<3>(3) += bodies.spatial(j).A.transpose() * l.torque;
+        Q_i.segment<3>(3) -= bodies.spatial(i).A.transpose() * l.torque;
+    }
+
+    // The force of contact c on shape j's body at the contact point (contact_load: the normal law
+    // and friction) and the rolling resistance's torque on it (world); their opposites act on
+    // shape i's.
+    struct Load {
+        Vec3 force, torque;
+    };
+    Load load(const Contact& c, const BodyStates& bodies) const {
         const Shape& si = shapes_[c.shape_i];
         const Shape& sj = shapes_[c.shape_j];
         const PairLaw law = pair_law(si.material, curvature_radius(si), sj.material, curvature_radius(sj));
@@ -132,8 +171,8 @@ private:
         const contact::ContactGeometry<double, 3> g{c.normal, c.point, -c.depth, true};
         const Vec3 v_rel = contact::material_velocity(bj, c.point) - contact::material_velocity(bi, c.point);
         const Vec3 F = contact::contact_load(law.normal, law.friction, g, v_rel);
-        contact::add_point_force(bj, c.point, F, Q_j);
-        contact::add_point_force(bi, c.point, Vec3(-F), Q_i);
+        const Vec3 w_rel = bj.omega() - bi.omega();
+        return {F, rolling_torque(law, c.normal, F.dot(c.normal), w_rel)};
     }
 
     // A World from the pool for one evaluation, returned when done: threads evaluating the same

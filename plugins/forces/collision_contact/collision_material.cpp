@@ -35,7 +35,7 @@ void refuse_unread(const Params& params, const Param& node, const std::string& o
                                  "'; a material takes stiffness and exponent (or young_modulus and poisson_ratio), damping or "
                                  "restitution with "
                                  "impact_velocity and restitution_model, static_friction, kinetic_friction, "
-                                 "stiction_velocity");
+                                 "stiction_velocity, rolling_resistance");
 }
 
 // young_modulus E (> 0) and poisson_ratio nu (0 <= nu < 0.5); the damping keys read by the
@@ -90,6 +90,7 @@ Material read_material(const Param& node, const std::string& owner, bool ground)
         }
         m.friction = contact::read_friction(spec);
         m.stiction_given = spec.params.has("stiction_velocity");
+        m.rolling_resistance = force_support::non_negative_or(spec, "rolling_resistance", 0.0);
         refuse_unread(spec.params, node, owner);
         return 0;
     });
@@ -129,7 +130,19 @@ PairLaw pair_law(const Material& i, double radius_i, const Material& j, double r
         law.friction.stiction_velocity = std::min(i.friction.stiction_velocity, j.friction.stiction_velocity);
     else if (i.stiction_given || j.stiction_given)
         law.friction.stiction_velocity = i.stiction_given ? i.friction.stiction_velocity : j.friction.stiction_velocity;
+    law.rolling_resistance = std::min(i.rolling_resistance, j.rolling_resistance);
+    law.rolling_radius = 1.0 / (1.0 / radius_i + 1.0 / radius_j);
     return law;
+}
+
+Vec3 rolling_torque(const PairLaw& law, const Vec3& n, double normal_force, const Vec3& w) {
+    if (law.rolling_resistance == 0.0 || !std::isfinite(law.rolling_radius) || normal_force <= 0.0) return Vec3::Zero();
+    const double R = law.rolling_radius;
+    const Vec3 rolling_speed = R * (w - w.dot(n) * n);  // the rolling velocity v_r = R* w_r
+    const friction::CoulombLaw ramp{1.0, 1.0, law.friction.stiction_velocity};
+    // mu_r R* F_n phi(|v_r|) along -v_r / |v_r|: coefficient_per_speed is phi(|v_r|) / |v_r|
+    return -law.rolling_resistance * R * normal_force * ramp.coefficient_per_speed(rolling_speed.squaredNorm()) *
+           rolling_speed;
 }
 
 }  // namespace mbd::collision

@@ -19,7 +19,10 @@
 //    restitution of an impact at a given speed) is the compliance-weighted mean of the two, so a
 //    pair of one material, or a material against a rigid ground, keeps its own alpha exactly;
 //  - friction: the smaller of each coefficient, and the smaller stiction velocity of those given
-//    (the default 1e-6 m/s when neither gives one).
+//    (the default 1e-6 m/s when neither gives one);
+//  - rolling resistance: the smaller of the two `rolling_resistance` coefficients mu_r (0 when a
+//    material gives none), acting with the pair's effective radius R* = 1 / (1/R_i + 1/R_j)
+//    (rolling_torque below; none between two flat faces).
 #pragma once
 
 #include <mbd/sdk/contact.hpp>
@@ -38,6 +41,7 @@ struct Material {
     contact::NormalLaw normal;    // stiffness, exponent, damping (unused when rigid)
     friction::CoulombLaw friction;
     bool stiction_given = false;  // the stiction velocity was given (not the default)
+    double rolling_resistance = 0.0;  // mu_r (dimensionless), 0: none
 };
 
 // The material under `node` (a map of the law's keys); `owner` names the shape in messages.
@@ -46,10 +50,22 @@ Material read_material(const Param& node, const std::string& owner, bool ground)
 struct PairLaw {
     contact::NormalLaw normal;
     friction::CoulombLaw friction;
+    double rolling_resistance = 0.0;  // mu_r
+    double rolling_radius = 0.0;      // R*, m (infinite between flat faces)
 };
 
 // The law of two shapes' materials at their contact; `radius_i`, `radius_j` are the shapes'
 // radii of curvature there (infinity for a flat face), which a Hertz material needs.
 PairLaw pair_law(const Material& i, double radius_i, const Material& j, double radius_j);
+
+// Rolling resistance: the torque on body j (world) of a contact with normal n (unit, from i
+// toward j) carrying the normal force F_n >= 0, when body j rolls on body i with the relative
+// angular velocity w (world, w_j - w_i). Its rolling part w_r = w - (w . n) n (spin about the
+// normal is not rolling) meets the torque M = -mu_r R* F_n w_r / |w_r|, regularised as the
+// friction law is: M = -mu_r R* F_n phi(|v_r|) v_r / |v_r|, with v_r = R* w_r the rolling
+// velocity and phi the stiction ramp of the pair's friction law with both coefficients 1, so it
+// rises smoothly from 0 at rest to its full value at the stiction velocity and stays there (a
+// constant resistance, no viscous term). Zero when mu_r is 0 or R* is infinite.
+Vec3 rolling_torque(const PairLaw& law, const Vec3& n, double normal_force, const Vec3& w);
 
 }  // namespace mbd::collision

@@ -1,5 +1,7 @@
 #include "collision_world.hpp"
 
+#include <algorithm>
+
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -129,7 +131,10 @@ struct World::Detail {
 
     void narrow_phase(int i, int j);
     void solid_on_plane(int plane, int solid);
-    std::vector<LowPoint> low;  // solid_on_plane's workspace
+    void solid_on_triangles(int mesh, int solid);
+    std::vector<LowPoint> low;  // solid_on_plane's and solid_on_triangles' workspace
+    std::vector<int> triangles; // solid_on_triangles' workspace
+    std::vector<bool> held;
     static bool on_candidate(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* self) {
         static_cast<Detail*>(self)->narrow_phase(shape_of(a), shape_of(b));
         return false;  // go on: every candidate pair
@@ -149,6 +154,42 @@ void World::Detail::solid_on_plane(int plane, int solid) {
     }
 }
 
+// A solid shape against a triangle mesh: as against a plane, a contact at each of its low points
+// below a triangle the solid overlaps (FCL's contacts name them), where the point's foot on the
+// triangle's plane lies inside the triangle, along the triangle's outward normal. FCL itself gives
+// one point per triangle, so a box face resting on the two triangles of a flat square was held at
+// two points and rocked or fell through; its 4 corners hold it as a plane does. A low point is
+// held by one triangle (the first that contains its foot: on a shared edge, not twice).
+void World::Detail::solid_on_triangles(int mesh, int solid) {
+    triangles.clear();
+    for (size_t k = 0; k < result.numContacts(); ++k) {
+        const fcl::Contactd& c = result.getContact(k);
+        const int triangle = static_cast<int>(c.o1 == objects[mesh]->collisionGeometry().get() ? c.b1 : c.b2);
+        if (std::find(triangles.begin(), triangles.end(), triangle) == triangles.end()) triangles.push_back(triangle);
+    }
+    const fcl::Transform3d& M = objects[mesh]->getTransform();
+    const Mesh& m = *(*shapes)[mesh].mesh;
+    held.assign(16, false);
+    for (int t : triangles) {
+        const Vec3 a = M * m.vertices[m.triangles[t][0]], b = M * m.vertices[m.triangles[t][1]],
+                   c = M * m.vertices[m.triangles[t][2]];
+        const Vec3 n = (b - a).cross(c - a).normalized();  // outward: counter-clockwise from outside
+        low_points((*shapes)[solid], objects[solid]->getTransform(), n, low);
+        if (held.size() < low.size()) held.resize(low.size(), false);
+        for (size_t k = 0; k < low.size(); ++k) {
+            const double height = n.dot(low[k].point - a) - low[k].radius;
+            if (held[k] || height >= 0.0) continue;
+            const Vec3 foot = low[k].point - (height + low[k].radius) * n;
+            // inside the triangle: on the inner side of each edge
+            if (n.dot((b - a).cross(foot - a)) < 0.0 || n.dot((c - b).cross(foot - b)) < 0.0 ||
+                n.dot((a - c).cross(foot - c)) < 0.0)
+                continue;
+            held[k] = true;
+            contacts.push_back(mesh < solid ? Contact{mesh, solid, foot, n, -height} : Contact{solid, mesh, foot, Vec3(-n), -height});
+        }
+    }
+}
+
 void World::Detail::narrow_phase(int i, int j) {
     if (!filter.may_touch(i, j)) return;
     const Shape& a = (*shapes)[i];
@@ -157,6 +198,8 @@ void World::Detail::narrow_phase(int i, int j) {
     if (b.kind == ShapeKind::Plane && has_low_points(a.kind)) return solid_on_plane(j, i);
     result.clear();
     fcl::collide(objects[i].get(), objects[j].get(), &solver, request, result);
+    if (a.kind == ShapeKind::TriangleMesh && has_low_points(b.kind)) return solid_on_triangles(i, j);
+    if (b.kind == ShapeKind::TriangleMesh && has_low_points(a.kind)) return solid_on_triangles(j, i);
     const int plane = a.kind == ShapeKind::Plane ? i : b.kind == ShapeKind::Plane ? j : -1;
     // Against a triangle mesh FCL gives a contact per triangle the shape overlaps: a sphere on a
     // flat mesh near an edge would be pushed by its triangle's face and again, tilted, by the
