@@ -2,7 +2,7 @@
 // under its top-level `expect:` key, the outcome it must end in (a pass with an error
 // measure and a bound, or a named failure). This module reads that declaration, runs a
 // case with one formulation and one integrator (in process, or in a forked child with a
-// wall-time budget so that a hang or a crash becomes a named outcome), classifies the
+// processor-time budget so that a hang or a crash becomes a named outcome), classifies the
 // result and writes the case x formulation x integrator matrix (docs/stability.md).
 #pragma once
 
