@@ -7,6 +7,7 @@
 #include <mbd/import/export_tree.hpp>
 #include <mbd/import/imported_scene.hpp>  // unmapped_summary
 #include <mbd/import/model_writers.hpp>
+#include <mbd/kinematics.hpp>  // KinematicsError
 #include <mbd/output_file.hpp>
 #include <mbd/registry.hpp>
 
@@ -30,6 +31,18 @@ bool wants_urdf(const std::string& output) {
     throw InputError("--output", "'" + output + "': name the model file .xml or .mjcf (MJCF, for MuJoCo) or .urdf (URDF)");
 }
 
+// The tree of the scene at its assembled start. A scene that cannot be assembled has no start
+// to export: bad input (exit 2), named with the assembly's reason.
+import::ExportTree export_tree_of(const Model& model, const std::string& scene) {
+    try {
+        return import::build_export_tree(model);
+    } catch (const KinematicsError& e) {
+        throw InputError(scene, std::string("cannot be exported: its initial state cannot be assembled (") + e.what() +
+                                    "); fix the bodies' initial positions or the joints and drivers that cannot "
+                                    "hold there (mbd check shows the same)");
+    }
+}
+
 }  // namespace
 
 void add_export_command(CLI::App& app, Commands& commands) {
@@ -43,7 +56,7 @@ void add_export_command(CLI::App& app, Commands& commands) {
         Registry registry;
         const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
-        import::ExportTree tree = import::build_export_tree(model);
+        import::ExportTree tree = export_tree_of(model, args->scene);
         const std::string text = urdf ? import::urdf_text(tree, tree.left_out) : import::mjcf_text(tree);
         const std::string missing = import::unmapped_summary(tree.left_out);
         if (!missing.empty() && args->strict)

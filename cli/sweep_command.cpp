@@ -11,6 +11,7 @@
 #include <mbd/app/sweep_mpi.hpp>
 #include <mbd/app/sweep_results.hpp>
 #include <mbd/app/sweep_runner.hpp>
+#include <mbd/import/import.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/output_lock.hpp>
@@ -86,7 +87,10 @@ void print_summary(const SweepArguments& a, const SweepResults& results, const S
 // Rank 0 (or the only process): the outputs checked, the results file opened, the cases run.
 int run_sweep(const SweepArguments& a, const MpiRole& role) {
     Registry registry;
-    const Study study = read_study(a.study, registry);
+    // the study's scene may be a model file (MJCF, URDF, SDF), imported with its one warning
+    const Study study = read_study(a.study, registry, [](const std::filesystem::path& file, Registry& r) {
+        return load_scene_file(file.string(), r);
+    });
     const CaseDesign design(study);  // each case made when it runs: no table of the cases
     if (role.launched && a.threads != 1)
         throw InputError("--threads", "under mpirun every rank runs one case at a time: give more ranks "
@@ -146,7 +150,9 @@ void add_sweep_command(CLI::App& app, Commands& commands) {
             std::optional<Study> study;
             std::optional<CaseDesign> design;
             try {
-                study = read_study(args->study, registry);
+                study = read_study(args->study, registry, [](const std::filesystem::path& file, Registry& r) {
+                    return import::load_scene_or_model(file, r, {});  // rank 0 warns
+                });
                 design.emplace(*study);
             } catch (const InputError&) {
                 return 2;  // rank 0 reads the same study and reports the error once

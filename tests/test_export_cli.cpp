@@ -62,6 +62,9 @@ TEST(ExportCli, BadInputExitsTwoAndWritesNothing) {
         {quoted(dir / "missing.yaml") + " -o " + quoted(dir / "missing.xml"), "missing.yaml", "missing.xml"},
         {quoted(scene_path("examples/spatial-spherical.yaml")) + " -o " + quoted(dir / "ball.urdf"),
          "URDF has no ball joint: 'ball'", "ball.urdf"},
+        // a driver beyond reach from t = 0: no start to export, named with the scene
+        {quoted(scene_path("extreme/unreachable-driver.yaml")) + " -o " + quoted(dir / "unreachable.xml"),
+         "unreachable-driver.yaml: cannot be exported: its initial state cannot be assembled (assembly failed", "unreachable.xml"},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.arguments);

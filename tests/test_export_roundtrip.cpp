@@ -12,6 +12,7 @@
 #include <mbd/import/export_tree.hpp>
 #include <mbd/import/import.hpp>
 #include <mbd/import/model_writers.hpp>
+#include <mbd/scene_document.hpp>
 
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
@@ -156,8 +157,43 @@ void expect_same_model(const Model& a, const Model& b) {
     EXPECT_GT(compared, 0);
 }
 
-// `model_file` imported, exported as `exported` (MJCF or URDF, by its name) and imported again.
-void expect_identity(const fs::path& model_file, const std::string& exported) {
+// Every joint_stop of `a` in `b` by name with the same bodies and the same keys (limits to
+// 1e-12); returns how many.
+int expect_same_stops(const Model& a, const Model& b) {
+    int stops = 0;
+    for (const ForceInstance& stop : a.forces) {
+        if (stop.type != "joint_stop") continue;
+        SCOPED_TRACE("stop " + stop.name);
+        const auto other = std::find_if(b.forces.begin(), b.forces.end(), [&](const ForceInstance& f) { return f.name == stop.name; });
+        EXPECT_NE(other, b.forces.end());
+        if (other == b.forces.end()) continue;
+        EXPECT_EQ(other->type, stop.type);
+        for (size_t e = 0; e < 2; ++e) EXPECT_EQ(b.body_name(other->bodies[e]), a.body_name(stop.bodies[e]));
+        const Param* pa = scene_element_node(a, "forces", stop.name);
+        const Param* pb = scene_element_node(b, "forces", stop.name);
+        EXPECT_TRUE(pa && pb);
+        if (!pa || !pb) continue;
+        for (const char* key : {"coordinate", "lower", "upper", "stiffness", "restitution", "law", "exponent", "damping"}) {
+            SCOPED_TRACE(key);
+            EXPECT_EQ(pa->fields.count(key), pb->fields.count(key));
+            if (!pa->fields.count(key) || !pb->fields.count(key)) continue;
+            const std::string &ta = pa->fields.at(key).text, &tb = pb->fields.at(key).text;
+            if (std::string(key) == "coordinate" || std::string(key) == "law")
+                EXPECT_EQ(ta, tb);
+            else
+                EXPECT_NEAR(std::stod(tb), std::stod(ta), 1e-12 * (1.0 + std::abs(std::stod(ta))));
+        }
+        ++stops;
+    }
+    int in_b = 0;
+    for (const ForceInstance& f : b.forces) in_b += f.type == "joint_stop";
+    EXPECT_EQ(in_b, stops);
+    return stops;
+}
+
+// `model_file` imported, exported as `exported` (MJCF or URDF, by its name) and imported again:
+// the same model and the same joint stops (`stops` of them).
+void expect_identity(const fs::path& model_file, const std::string& exported, int stops = 0) {
     SCOPED_TRACE(model_file.string() + " -> " + exported);
     auto quiet = [](const std::string&) {};
     const Model first = import::load_scene_or_model(model_file, shared_registry(), quiet);
@@ -167,10 +203,71 @@ void expect_identity(const fs::path& model_file, const std::string& exported) {
     const fs::path file = write_text(scratch("export_identity_" + fs::path(exported).stem().string()) / exported, text);
     const Model second = import::load_scene_or_model(file, shared_registry(), quiet);
     expect_same_model(first, second);
+    EXPECT_EQ(expect_same_stops(first, second), stops);
 }
 
+// The humanoid's 21 hinges are all limited (its default class); their ranges lie within +-pi.
 TEST(ExportRoundTrip, ImportExportImportIsTheIdentityOnTheHumanoid) {
-    expect_identity("/usr/share/mujoco/model/humanoid/humanoid.xml", "humanoid.xml");
+    expect_identity("/usr/share/mujoco/model/humanoid/humanoid.xml", "humanoid.xml", 21);
+}
+
+// A URDF arm with a limited shoulder (revolute) and a limited rail (prismatic) whose slider's
+// mass centre lies 0.05 m along the rail from the joint's origin (the stop's travel is
+// measured to it), as MJCF and as URDF.
+TEST(ExportRoundTrip, ImportExportImportKeepsJointLimits) {
+    const fs::path urdf = write_text(scratch("export_identity_limits") / "limited.urdf", R"(<?xml version="1.0"?>
+<robot name="limited">
+  <link name="base"/>
+  <link name="arm"><inertial><origin xyz="0.3 0 0"/><mass value="2"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.06" iyz="0" izz="0.06"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 1" rpy="0.3 0 0"/>
+    <axis xyz="0 1 0"/><limit lower="-0.5" upper="1.2" effort="0" velocity="0"/></joint>
+  <link name="slider"><inertial><origin xyz="0.05 0 0"/><mass value="1"/>
+    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
+  <joint name="rail" type="prismatic"><parent link="arm"/><child link="slider"/><origin xyz="0.6 0 0"/>
+    <axis xyz="1 0 0"/><limit lower="-0.1" upper="0.3" effort="0" velocity="0"/></joint>
+</robot>
+)");
+    expect_identity(urdf, "limited.xml", 2);
+    expect_identity(urdf, "limited.urdf", 2);
+}
+
+// A stop written against its joint (axis reversed) with one limit: the block on a vertical rail
+// (its point at the origin, the block's mass centre at z = 0.5) may not go below z = -0.2. The
+// stop measures s = -z, upper 0.2; the joint's coordinate is q = z - 0.5, so MuJoCo's range is
+// [-0.7, 1e16] (the other side never reached), and the import gives back the stop in the joint's
+// direction: travel z >= -0.2, no upper limit.
+TEST(ExportRoundTrip, AReversedOneSidedStopBecomesTheJointsRange) {
+    const fs::path dir = scratch("export_reversed_stop");
+    const fs::path scene = write_text(dir / "block.yaml", R"(name: block
+dimension: spatial
+gravity: [0, 0, -9.81]
+bodies:
+  - {name: block, mass: 2, inertia: [0.01, 0.01, 0.01], position: [0, 0, 0.5]}
+joints:
+  - {name: rail, type: prismatic, bodies: [ground, block], point: [0, 0, 0], axis: [0, 0, 1]}
+forces:
+  - {name: floor, type: joint_stop, bodies: [ground, block], coordinate: travel, point: [0, 0, 0], axis: [0, 0, -1],
+     upper: 0.2, restitution: 0, law: hunt_crossley, exponent: 1, stiffness: 1.0e8}
+)");
+    auto quiet = [](const std::string&) {};
+    const Model model = import::load_scene_or_model(scene, shared_registry(), quiet);
+    const import::ExportTree tree = import::build_export_tree(model);
+    EXPECT_EQ(import::unmapped_summary(tree.left_out), "");
+    const fs::path xml = write_text(dir / "block.xml", import::mjcf_text(tree));
+    MjModelPtr m = compile(xml);
+    ASSERT_TRUE(m);
+    ASSERT_EQ(m->njnt, 1);
+    EXPECT_EQ(m->jnt_limited[0], 1);
+    EXPECT_NEAR(m->jnt_range[0], -0.7, 1e-15);
+    EXPECT_EQ(m->jnt_range[1], 1e16);
+    const Model back = import::load_scene_or_model(xml, shared_registry(), quiet);
+    EXPECT_EQ(std::count_if(back.forces.begin(), back.forces.end(), [](const ForceInstance& f) { return f.type == "joint_stop"; }), 1);
+    const Param* stop = scene_element_node(back, "forces", "rail_limits");
+    ASSERT_TRUE(stop);
+    EXPECT_NEAR(stop->fields.at("lower").as_number("lower"), -0.2, 1e-15);
+    EXPECT_EQ(stop->fields.count("upper"), 0u);
+    EXPECT_EQ(stop->fields.at("coordinate").text, "travel");
 }
 
 TEST(ExportRoundTrip, ImportExportImportIsTheIdentityOnTheUr5AsMjcfAndAsUrdf) {

@@ -357,7 +357,7 @@ void write_all(int fd, const std::string& text) {
 // The forked child of run_case_isolated: runs the case, writing "progress\tT\tT_END" lines
 // (at most ten a second) and then its result line "KIND\tERROR\tBOUND\tTIME\tSECONDS\tMESSAGE".
 [[noreturn]] void run_child(const std::string& scene, const std::string& formulation, const std::string& integrator,
-                            double t_end, double cpu_limit, int fd) {
+                            double t_end, double cpu_limit, const SceneLoader& load, int fd) {
     CellOutcome c;
     if (cpu_limit > 0.0) {  // a run that ignores its budget (stuck in one step) ends by SIGXCPU
         const rlim_t seconds = static_cast<rlim_t>(std::ceil(cpu_limit));
@@ -375,7 +375,7 @@ void write_all(int fd, const std::string& text) {
     };
     try {
         Registry registry;
-        const Model model = load_scene(scene, registry);
+        const Model model = load_with(load, scene, registry);
         c = run_case(model, registry, read_expectation(model), formulation, integrator, t_end, report);
     } catch (const std::exception& x) {
         c.kind = "error";
@@ -447,11 +447,11 @@ private:
 }  // namespace
 
 CellOutcome run_case_isolated(const std::string& scene, const std::string& formulation, const std::string& integrator,
-                              double t_end, const CaseProgress& progress) {
+                              double t_end, const CaseProgress& progress, const SceneLoader& load) {
     double budget = 30.0;
     {
         Registry registry;
-        budget = read_expectation(load_scene(scene, registry)).budget;
+        budget = read_expectation(load_with(load, scene, registry)).budget;
     }
     int fds[2];
     CellOutcome out;
@@ -465,7 +465,7 @@ CellOutcome run_case_isolated(const std::string& scene, const std::string& formu
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
-        run_child(scene, formulation, integrator, t_end, budget + 10.0, fds[1]);
+        run_child(scene, formulation, integrator, t_end, budget + 10.0, load, fds[1]);
     }
     close(fds[1]);
     if (pid < 0) {

@@ -354,7 +354,7 @@ std::string analysis_name(AnalysisType a) {
     return "simulate";
 }
 
-Study read_study(const std::filesystem::path& file, Registry& registry) {
+Study read_study(const std::filesystem::path& file, Registry& registry, const SceneLoader& load) {
     Study s;
     s.file = file;
     s.text = file_text(file);
@@ -364,7 +364,7 @@ Study read_study(const std::filesystem::path& file, Registry& registry) {
     const Param& scene = required(root, "scene", "study");
     s.scene = word(scene, "scene");
     if (s.scene.is_relative()) s.scene = file.parent_path() / s.scene;
-    s.model = std::make_shared<const Model>(load_scene(s.scene, registry));
+    s.model = std::make_shared<const Model>(load_with(load, s.scene, registry));
     s.analysis = read_analysis(required(root, "analysis", "study"));
     check_analysis(required(root, "analysis", "study"), s.analysis, *s.model, registry);
     s.design = read_design(required(root, "design", "study"));

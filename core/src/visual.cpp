@@ -5,6 +5,7 @@
 #include <mbd/sdk/rotation.hpp>
 #include <mbd/sdk/suggest.hpp>
 
+#include <cctype>
 #include <cmath>
 #include <system_error>
 
@@ -95,7 +96,7 @@ public:
                                                                             : "distance between the cap centres along "
                                                                               "the shape's z axis, metres");
                 break;
-            case ShapeKind::Mesh: s.mesh_file = mesh_path(require("file", "an STL or OBJ file, relative to the scene")); break;
+            case ShapeKind::Mesh: s.mesh_file = mesh_path(require("file", "an STL, OBJ, DAE or glTF file, relative to the scene")); break;
         }
         if (const Param* p = find("position")) s.position = vector3(*p, "position", planar_);
         if (const Param* r = find("rotation")) s.rotation = rotation(*r);
@@ -184,23 +185,27 @@ private:
     }
 
     std::string mesh_path(const Param& p) const {
-        if (!p.is_scalar() || p.text.empty()) p.fail(what_ + ": key 'file' must be the path of an STL or OBJ file");
+        if (!p.is_scalar() || p.text.empty()) p.fail(what_ + ": key 'file' must be the path of an STL, OBJ, DAE or glTF file");
         std::filesystem::path path(p.text);
         if (path.is_relative()) path = std::filesystem::path(node_.file).parent_path() / path;
         std::error_code error;
         const std::filesystem::file_status status = std::filesystem::status(path, error);
         if (std::filesystem::is_directory(status))
-            p.fail(what_ + ": key 'file': " + quote(path.string()) + " is a folder; give the path of an STL or OBJ "
+            p.fail(what_ + ": key 'file': " + quote(path.string()) + " is a folder; give the path of a mesh "
                    "file in it (the path is relative to the scene file's folder)");
         if (!std::filesystem::exists(status))
             p.fail(what_ + ": key 'file': mesh file " + quote(path.string()) +
                    " not found (the path is relative to the scene file's folder)");
         if (!std::filesystem::is_regular_file(status))
             p.fail(what_ + ": key 'file': " + quote(path.string()) + " is not a regular file (a device, FIFO or "
-                   "socket); give the path of an STL or OBJ file");
-        const std::string ext = path.extension().string();
-        if (ext != ".stl" && ext != ".STL" && ext != ".obj" && ext != ".OBJ")
-            p.fail(what_ + ": key 'file': " + quote(path.string()) + " is not an .stl or .obj file");
+                   "socket); give the path of an STL, OBJ, DAE or glTF file");
+        // The formats the viewer reads through Assimp (viewer/src/shape_mesh.cpp); the import's
+        // list of drawable meshes is the same (import/src/mesh_file.cpp).
+        std::string ext = path.extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (ext != ".stl" && ext != ".obj" && ext != ".dae" && ext != ".gltf" && ext != ".glb")
+            p.fail(what_ + ": key 'file': " + quote(path.string()) +
+                   " is not an .stl, .obj, .dae (Collada), .gltf or .glb file");
         return path.string();
     }
 

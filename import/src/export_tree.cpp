@@ -323,12 +323,63 @@ private:
         return false;
     }
 
+    // A joint_stop across a hinge or slide of the tree (the same two bodies, its axis along the
+    // joint's, its coordinate the joint's) as the joint's limits in the joint's coordinate, zero
+    // at the start: a spatial stop's angle is zero there too, a planar one is θ_j − θ_i, its travel
+    // is measured from its point on body i to body j's mass centre (docs/scene-format.md), and
+    // either may run against the joint.
+    bool add_stop(const ForceInstance& force) {
+        if (force.type != "joint_stop" || force.bodies.size() != 2) return false;
+        const Param* node = scene_element_node(model_, "forces", force.name);
+        if (!node) return false;
+        const auto& f = node->fields;
+        const bool travel = f.count("coordinate") && f.at("coordinate").text == "travel";
+        for (const auto& [j, pair] : hinge_bodies_) {
+            const std::set<int> ends{pair.first, pair.second};
+            if (ends != std::set<int>{force.bodies[0], force.bodies[1]} || model_.joints[j].type != (travel ? "prismatic" : "revolute"))
+                continue;
+            ExportJoint& joint = tree_.bodies[export_of_.at(pair.second)].joints.front();
+            const Frame& fi = force.bodies[0] == kGround ? ground_ : frames_[force.bodies[0]];
+            const Frame& fj = force.bodies[1] == kGround ? ground_ : frames_[force.bodies[1]];
+            const Mat3 ai = marker_axes(model_, fi, force.markers[0]);
+            const Vec3 axis = tree_.planar ? (travel ? Vec3(ai.col(0)) : Vec3::UnitZ()) : Vec3(ai.col(2));
+            if (!parallel(axis, joint.axis)) continue;
+            const double s = (pair.second == force.bodies[1] ? 1.0 : -1.0) * (axis.dot(joint.axis) > 0 ? 1.0 : -1.0);
+            // the coordinate at the start: a spatial angle is zero there, a planar one is θ_j − θ_i
+            auto theta = [&](int b) { return b == kGround ? 0.0 : start_.q[3 * b + 2]; };
+            const double start = travel       ? axis.dot(fj.origin - marker_point(model_, fi, force.markers[0]))
+                                 : tree_.planar ? theta(force.bodies[1]) - theta(force.bodies[0])
+                                                : 0.0;
+            bool has[2] = {f.count("lower") > 0, f.count("upper") > 0};
+            double limit[2] = {has[0] ? f.at("lower").as_number("lower") : 0.0, has[1] ? f.at("upper").as_number("upper") : 0.0};
+            for (double& l : limit) l = (l - start) / s;
+            if (s < 0) std::swap(has[0], has[1]), std::swap(limit[0], limit[1]);
+            joint.has_lower = has[0], joint.lower = limit[0];
+            joint.has_upper = has[1], joint.upper = limit[1];
+            joint.stop_name = force.name;
+            if (!imports_as_written(f))
+                left("joint stop laws", force.name,
+                     "its limits are written; MJCF and URDF limits carry no restitution or contact law (an import "
+                     "gives restitution 0 and a linear law of stiffness 1e8)");
+            return true;
+        }
+        return false;
+    }
+
+    // The stop an import makes of a limit (docs/import.md, "Joint limits").
+    static bool imports_as_written(const std::map<std::string, Param>& f) {
+        auto number = [&](const char* key, double otherwise) { return f.count(key) ? f.at(key).as_number(key) : otherwise; };
+        return f.count("law") && f.at("law").text == "hunt_crossley" && number("restitution", -1.0) == 0.0 &&
+               number("exponent", 1.5) == 1.0 && number("stiffness", 0.0) == 1e8 && number("damping", 0.0) == 0.0;
+    }
+
     void add_springs() {
         for (const ForceInstance& force : model_.forces) {
             if (force.type == "gravity") continue;  // the model's gravity
-            if (!add_spring(force))
+            if (!add_spring(force) && !add_stop(force))
                 left("force elements", force.name + " (" + force.type + ")",
-                     "only gravity and a rotational_spring_damper across a revolute joint, without torque, are written");
+                     "only gravity, a rotational_spring_damper across a revolute joint, without torque, and a "
+                     "joint_stop on a revolute or prismatic joint are written");
         }
     }
 

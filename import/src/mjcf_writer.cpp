@@ -83,9 +83,16 @@ private:
         }
         if (joint.damping != 0.0) e->SetAttribute("damping", xml::number(joint.damping));
         if (joint.armature != 0.0) e->SetAttribute("armature", xml::number(joint.armature));
+        if (joint.has_lower || joint.has_upper) {  // a side without a limit: one never reached
+            e->SetAttribute("limited", "true");
+            e->SetAttribute("range", xml::numbers({joint.has_lower ? joint.lower : -kUnreachedLimit,
+                                                   joint.has_upper ? joint.upper : kUnreachedLimit}));
+        }
         qvel_.insert(qvel_.end(), joint.velocity.begin(), joint.velocity.end());
         if (!joint.spring_name.empty())
             body_element->LinkEndChild(new TiXmlComment((" spring-damper '" + joint.spring_name + "' ").c_str()));
+        if (!joint.stop_name.empty())
+            body_element->LinkEndChild(new TiXmlComment((" joint stop '" + joint.stop_name + "' ").c_str()));
     }
 
     const ExportTree& tree_;

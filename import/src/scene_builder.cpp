@@ -346,14 +346,17 @@ private:
         stop.lower = source.lower + start;
         stop.upper = source.upper + start;
         stop.stiffness = source.stop_stiffness;
+        // a limit at +-1e16 is none (SDF's convention, and mbd export's for a side without a stop)
+        stop.has_lower = source.lower > -kNoLimitBeyond;
+        stop.has_upper = source.upper < kNoLimitBeyond;
         if (!stop.travel) {  // mbd's spatial angle lies in (-pi, pi): a limit beyond cannot be met there
-            stop.has_lower = stop.lower > -M_PI;
-            stop.has_upper = stop.upper < M_PI;
-            if (!stop.has_lower || !stop.has_upper)
+            const bool wide_lower = stop.has_lower && !(stop.lower > -M_PI), wide_upper = stop.has_upper && !(stop.upper < M_PI);
+            stop.has_lower = stop.has_lower && !wide_lower;
+            stop.has_upper = stop.has_upper && !wide_upper;
+            if (wide_lower || wide_upper)
                 wide_limits_.push_back(joint.name + (stop.has_lower || stop.has_upper ? " (one side)" : ""));
-            if (!stop.has_lower && !stop.has_upper) return;
         }
-        scene_.stops.push_back(stop);
+        if (stop.has_lower || stop.has_upper) scene_.stops.push_back(stop);
     }
 
     int add_body(const SourceBody& source, const std::string& name, const std::string& comment) {

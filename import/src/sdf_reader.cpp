@@ -94,7 +94,7 @@ public:
         };
         add_unmapped("links' collision geometry", geometry_, "contacts are not imported");
         add_unmapped("visual meshes not found", missing_meshes_, "not drawn; the dynamics do not depend on them");
-        add_unmapped("visual meshes mbd cannot draw yet", undrawable_meshes_, "only STL and OBJ meshes are drawn");
+        add_unmapped("visual meshes mbd cannot draw", undrawable_meshes_, "only STL, OBJ, DAE and glTF meshes are drawn");
         add_unmapped("sensors", sensors_, "");
         add_unmapped("joint limits", limited_, "limits of ball, universal and screw joints, and empty ranges, are not imported");
         add_unmapped("joint friction", friction_, "");

@@ -125,7 +125,7 @@ struct Walker {
 
     // A <visual> as a shape posed in world at t = 0 (the link frame at origin, rotation). A mesh is
     // looked for by its path (package:// and file:// taken off, relative to the URDF's folder); one
-    // not found or that mbd cannot draw (only STL and OBJ) is listed, never an error: it has no dynamics.
+    // not found or that mbd cannot draw (only STL, OBJ, DAE and glTF) is listed, never an error: it has no dynamics.
     void add_visual(SourceBody& body, const urdf::Visual& v, const Vec3& origin, const Mat3& rotation) {
         VisualShape shape;
         shape.where = body.where + ": <visual> of link '" + body.name + "'";
@@ -247,7 +247,7 @@ SourceTree read_urdf(const std::filesystem::path& path) {
     };
     add("links' collision geometry", geometry, "contacts are not imported");
     add("visual meshes not found", missing_meshes, "not drawn; the dynamics do not depend on them");
-    add("visual meshes mbd cannot draw yet", undrawable_meshes, "only STL and OBJ meshes are drawn");
+    add("visual meshes mbd cannot draw", undrawable_meshes, "only STL, OBJ, DAE and glTF meshes are drawn");
     add("joint limits", limited, "an empty range is not imported as a stop");
     add("joint friction", friction, "");
     return tree;

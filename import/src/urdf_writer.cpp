@@ -88,7 +88,9 @@ private:
         if (body.joints.size() == 1) {
             const ExportJoint& j = body.joints[0];
             name = j.name;
-            type = j.kind == ExportJointKind::Hinge ? "continuous" : j.kind == ExportJointKind::Slide ? "prismatic" : "floating";
+            const bool limited = j.has_lower || j.has_upper;
+            type = j.kind == ExportJointKind::Hinge ? (limited ? "revolute" : "continuous")
+                   : j.kind == ExportJointKind::Slide ? "prismatic" : "floating";
             if (j.stiffness != 0.0) springs_.push_back(j.spring_name);
             if (j.armature != 0.0) rotors_.push_back(j.rotor);
             for (double v : j.velocity) moving_ |= v != 0.0;
@@ -100,14 +102,15 @@ private:
         at->SetAttribute("rpy", xml::xyz(rpy(parent_axes.transpose() * body.rotation)));
         xml::child(joint, "parent")->SetAttribute("link", root ? "world" : tree_.bodies[body.parent].name);
         xml::child(joint, "child")->SetAttribute("link", body.name);
-        if (type == "continuous" || type == "prismatic" || type == "planar") {
+        if (type == "continuous" || type == "revolute" || type == "prismatic" || type == "planar") {
             const Vec3 axis = type == "planar" ? Vec3::UnitZ() : body.joints[0].axis;
             xml::child(joint, "axis")->SetAttribute("xyz", xml::xyz(Vec3(body.rotation.transpose() * axis)));
         }
-        if (type == "prismatic") {  // URDF requires limits on a prismatic joint: none that can be reached
+        if (type == "revolute" || type == "prismatic") {  // URDF requires them: a side without a stop never reached
+            const ExportJoint& j = body.joints[0];
             TiXmlElement* limit = xml::child(joint, "limit");
-            limit->SetAttribute("lower", "-1e16");
-            limit->SetAttribute("upper", "1e16");
+            limit->SetAttribute("lower", xml::number(j.has_lower ? j.lower : -kUnreachedLimit));
+            limit->SetAttribute("upper", xml::number(j.has_upper ? j.upper : kUnreachedLimit));
             limit->SetAttribute("effort", "0");
             limit->SetAttribute("velocity", "0");
         }

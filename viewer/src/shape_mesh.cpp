@@ -2,6 +2,7 @@
 #include <mbd/viewer/shape_mesh.hpp>
 
 #include <assimp/Importer.hpp>
+#include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -126,13 +127,18 @@ TriangleMesh capsule(double radius, double length, Tessellation detail) {
 
 TriangleMesh mesh_file(const VisualShape& shape) {
     Assimp::Importer importer;
+    // A Collada file is drawn in its own axes, scaled to metres by its <unit meter>, as ROS's rviz
+    // and Gazebo draw a robot's DAE meshes: Assimp would also turn a Z_UP file to y up, which
+    // would lay every ROS mesh on its side. glTF (metres, no up-axis conversion by Assimp) and
+    // STL/OBJ are drawn as written.
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
     const aiScene* scene = importer.ReadFile(shape.mesh_file, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                                                   aiProcess_GenSmoothNormals |
                                                                   aiProcess_PreTransformVertices);
     if (!scene || !scene->mRootNode || scene->mNumMeshes == 0)
         throw InputError(shape.where, "key 'file': cannot read the mesh " + shape.mesh_file + " (" +
                                           std::string(scene ? "it has no triangles" : importer.GetErrorString()) +
-                                          "); give an STL or OBJ file with triangles");
+                                          "); give an STL, OBJ, DAE or glTF file with triangles");
     Builder b;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         const aiMesh* mesh = scene->mMeshes[m];

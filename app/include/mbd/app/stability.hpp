@@ -6,6 +6,7 @@
 // result and writes the case x formulation x integrator matrix (docs/stability.md).
 #pragma once
 
+#include <mbd/app/scene_loader.hpp>
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
 
@@ -71,9 +72,11 @@ CellOutcome run_case(const Model& model, Registry& registry, const Expectation& 
 // Run one case in a forked child that loads the scene itself; the parent kills it after
 // budget + 10 s (budget_exceeded) and reports a signal as "crashed". The child reports its
 // simulated time through the pipe (at most ten times a second); `progress` gets the latest
-// about every 0.1 s while the parent waits (before the first report: t = 0, t_end = 0).
+// about every 0.1 s while the parent waits (before the first report: t = 0, t_end = 0). The
+// scene is read by `load` (scene_loader.hpp).
 CellOutcome run_case_isolated(const std::string& scene, const std::string& formulation,
-                              const std::string& integrator, double t_end = 0.0, const CaseProgress& progress = {});
+                              const std::string& integrator, double t_end = 0.0, const CaseProgress& progress = {},
+                              const SceneLoader& load = {});
 
 // Does the outcome satisfy the declaration?
 bool outcome_matches(const Expectation& expect, const CellOutcome& outcome);

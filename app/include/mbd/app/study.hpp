@@ -4,6 +4,7 @@
 // runs, and the metrics kept of each case's result table.
 #pragma once
 
+#include <mbd/app/scene_loader.hpp>
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/sdk/params.hpp>
@@ -88,7 +89,8 @@ std::string analysis_name(AnalysisType a);
 
 // Reads and checks the study (keys, the base scene, every parameter path against it, every
 // metric and series column against the analysis's columns); InputError naming the study
-// file:line and the key, with near matches for a mistyped parameter path or column.
-Study read_study(const std::filesystem::path& file, Registry& registry);
+// file:line and the key, with near matches for a mistyped parameter path or column. The base
+// scene is read by `load` (a model file too when the command line gives the import's loader).
+Study read_study(const std::filesystem::path& file, Registry& registry, const SceneLoader& load = {});
 
 }  // namespace mbd

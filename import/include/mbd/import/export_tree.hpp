@@ -2,8 +2,8 @@
 // its world pose at the scene's assembled start, its mass properties and the joints that move it
 // relative to its parent (none: welded to the parent). Built from a loaded Model by
 // build_export_tree; written by mjcf_writer.hpp and urdf_writer.hpp. What the tree cannot hold
-// (drivers, loop-closing or unsupported joints, force elements other than gravity and a
-// rotational spring-damper on a hinge) is listed by name in `left_out`, never dropped silently.
+// (drivers, loop-closing or unsupported joints, force elements other than gravity, a
+// rotational spring-damper on a hinge and a joint_stop on a hinge or slide) is listed by name in `left_out`, never dropped silently.
 #pragma once
 
 #include <mbd/import/source_tree.hpp>  // Unmapped
@@ -32,6 +32,11 @@ struct ExportJoint {
     // coupled to this joint's coordinate (the form the MJCF import gives armature; docs/import.md)
     double armature = 0.0;
     std::string rotor;  // that rotor body ("" none)
+    // a joint_stop on a hinge or slide as the joint's limits (MJCF range, URDF <limit>), in the
+    // joint's coordinate (zero at the start); a side without a limit is not set
+    bool has_lower = false, has_upper = false;
+    double lower = 0.0, upper = 0.0;
+    std::string stop_name;  // the joint_stop it carries ("" none)
 };
 
 struct ExportBody {

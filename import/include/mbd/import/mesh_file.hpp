@@ -9,8 +9,8 @@ namespace mbd::import {
 enum class MeshLookup { Found, Missing, Undrawable };
 
 // `uri` without its package://, model:// or file:// scheme, relative paths from the folder of
-// `model_file`. Found: `path` is the absolute path of an STL or OBJ file; Undrawable: a file of
-// another kind (DAE, glTF: mbd's viewer draws STL and OBJ only); Missing: no such file.
+// `model_file`. Found: `path` is the absolute path of an STL, OBJ, DAE (Collada) or glTF file;
+// Undrawable: a file of another kind (mbd's viewer draws those four); Missing: no such file.
 MeshLookup find_mesh(const std::string& uri, const std::string& model_file, std::string& path);
 
 }  // namespace mbd::import

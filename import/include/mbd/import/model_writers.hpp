@@ -11,12 +11,18 @@
 
 namespace mbd::import {
 
+// The side of a joint's limits that has no stop (URDF requires both sides of a revolute or
+// prismatic joint's limits, MJCF both sides of a range): a limit no motion reaches, which the
+// import reads back as no limit (at or beyond kNoLimitBeyond, source_tree.hpp; docs/import.md).
+constexpr double kUnreachedLimit = 1e16;
+
 // MJCF: nested bodies (frame at the mass centre, full inertia), hinge / slide / ball / free
-// joints with the hinges' spring-dampers, gravity, and the start's velocities as the keyframe
+// joints with the hinges' spring-dampers and limits (joint stops), gravity, and the start's velocities as the keyframe
 // "start" (MuJoCo's qvel; qpos is the reference configuration).
 std::string mjcf_text(const ExportTree& tree);
 
-// URDF: links with their inertials, continuous / prismatic / fixed / floating / planar joints,
+// URDF: links with their inertials, continuous / revolute (a hinge with a stop) / prismatic /
+// fixed / floating / planar joints with their limits,
 // rooted at a link "world". Appends to `left_out` what URDF cannot hold (gravity other than
 // 9.81 down, spring-dampers, initial velocities); throws InputError naming the joints for a ball
 // joint (URDF has none: export MJCF).

@@ -17,6 +17,10 @@ namespace mbd::import {
 
 enum class SourceJointKind { Hinge, Slide, Ball, Free, Planar, Universal, Screw };
 
+// A joint limit at or beyond this is no limit (SDF's convention, +-1e16; mbd export writes
+// kUnreachedLimit for a side without a stop, model_writers.hpp).
+constexpr double kNoLimitBeyond = 1e15;
+
 struct SourceJoint {
     std::string name;   // as in the file ("" when unnamed)
     std::string where;  // "file" or "file:line" of its definition
