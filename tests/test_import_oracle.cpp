@@ -14,7 +14,6 @@
 #include <mbd/import/mjcf_reader.hpp>
 #include <mbd/import/scene_writer.hpp>
 #include <mbd/import/urdf_reader.hpp>
-#include <mbd/method_choice.hpp>
 
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
@@ -185,25 +184,6 @@ TEST(ImportOracle, HumanoidWithArmatureAgreesWithMuJoCo) {
     EXPECT_LT(a.mujoco_self / 3, 1e-9);
     EXPECT_LT(a.mbd, 1e-6);
     EXPECT_GT(effect, 1e-3);
-}
-
-// The automatic method choice on the humanoid as the file has it (its dampers of 0.2 to 5 N m s
-// per rad, armature rotors, limits; contacts are not imported): a tree, so embedding's recursive
-// path, and not stiff: the dampers' fastest rate over the motions the hinges allow is that of
-// the limbs they turn (at most about 1e3 1/s), not that of the near-massless frame bodies
-// between two hinges of one MJCF body (about 1e13 1/s when each was damped alone). The rotors'
-// couplings are not on embedding's recursive path, so the formulation is augmented (which
-// still refuses this model: docs/import.md, "Frame bodies and the formulations").
-TEST(ImportOracle, TheAutomaticChoiceFindsTheHumanoidNotStiff) {
-    auto quiet = [](const std::string&) {};
-    const Model model = import::load_scene_or_model(kHumanoid, shared_registry(), quiet);
-    const double rate = fastest_damping_rate(model);
-    std::printf("humanoid: fastest damping rate %.4g 1/s\n", rate);
-    EXPECT_GT(rate, 0.0);
-    EXPECT_LT(rate, 1e3);
-    const MethodChoice choice = automatic_method(model, 1.0);
-    EXPECT_EQ(choice.formulation, "augmented") << choice.formulation_reason;
-    EXPECT_EQ(choice.integrator, "dop853") << choice.integrator_reason;
 }
 
 // A URDF arm from ../shared/models: mbd reads the file with urdfdom, MuJoCo with its own URDF

@@ -38,28 +38,6 @@ TEST(MethodChoice, TheFastestDampingRateIsThatOfTheDampedMode) {
     EXPECT_EQ(mbd::fastest_damping_rate(mbd::test::scene(damper_scene(2.0, 3.0, 0.0, false))), 0.0);
 }
 
-// A near-massless frame body F between two hinges (the MJCF import's form of two joints in one
-// body): ground -x hinge- F -y hinge- B, B's mass centre on both axes, a damper c on the x hinge.
-// In the hinge angles the kinetic energy is 1/2 (I_Bx + I_Fx) q1'^2 + 1/2 I_By q2'^2 and the damper
-// acts on q1' alone: the one damped mode has the rate c / (I_Bx + I_Fx), about 10 1/s, not
-// c / I_Fx = 3e11 1/s (F damped alone, as if the hinge to B did not carry it along).
-TEST(MethodChoice, ALightBodyBetweenTwoHingesIsDampedWithTheBodyItCarries) {
-    const double c = 3.0, IBx = 0.3, IFx = 1e-11;
-    const mbd::Model model = mbd::test::scene(
-        "dimension: spatial\ngravity: [0, 0, 0]\nbodies:\n"
-        "  - {name: F, mass: 1.0e-9, inertia: [1.0e-11, 1.0e-11, 1.0e-11], position: [0, 0, 0]}\n"
-        "  - {name: B, mass: 2, inertia: [0.3, 0.5, 0.7], position: [0, 0, 0]}\n"
-        "joints:\n"
-        "  - {name: h1, type: revolute, bodies: [ground, F], point: [0, 0, 0], axis: [1, 0, 0]}\n"
-        "  - {name: h2, type: revolute, bodies: [F, B], point: [0, 0, 0], axis: [0, 1, 0]}\n"
-        "forces:\n"
-        "  - {name: d, type: rotational_spring_damper, bodies: [ground, F], point: [0, 0, 0], axis: [1, 0, 0], "
-        "stiffness: 0, damping: 3}\n");
-    EXPECT_NEAR(mbd::fastest_damping_rate(model), c / (IBx + IFx), 1e-9 * c / IBx);
-    const mbd::MethodChoice choice = mbd::automatic_method(model, 10.0);
-    EXPECT_EQ(choice.integrator, "dop853") << choice.integrator_reason;
-}
-
 TEST(MethodChoice, TreesTakeTheRecursiveEmbeddingAndLoopsAugmented) {
     const mbd::MethodChoice pendulum =
         mbd::automatic_method(mbd::test::load("dynamics/pendulum-a01.yaml"), 10.0);

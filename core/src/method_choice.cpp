@@ -8,75 +8,10 @@
 #include <mbd/sdk/topology.hpp>
 
 #include <Eigen/SparseCholesky>
-#include <Eigen/SparseLU>
 
-#include <algorithm>
 #include <cmath>
 
 namespace mbd {
-
-namespace {
-
-// x -> the velocity change the damping load D x gives the constrained system, M y + J^T mu = D x,
-// J y = 0: M^-1 D restricted to the motions the joints and drivers allow (an M-orthogonal
-// projection). A body's damping rate is that of the mode it can move in: a near-massless body
-// between two hinges (the import's frame bodies) moves with its heavy neighbours, not alone.
-class ConstrainedDampingOperator {
-public:
-    ConstrainedDampingOperator(ModelSystem& system, const State& state, Eigen::SparseMatrix<double> D)
-        : D_(std::move(D)), nv_(system.mass_matrix().rows()) {
-        ConstraintValues cv;
-        system.constraints_with_velocity_rows(state, cv, true);
-        const Eigen::SparseMatrix<double>& M = system.mass_matrix();
-        const Eigen::Index nc = cv.J.rows();
-        std::vector<Eigen::Triplet<double>> entries;
-        entries.reserve(static_cast<size_t>(M.nonZeros() + 2 * cv.J.nonZeros()));
-        for (Eigen::Index c = 0; c < M.outerSize(); ++c)
-            for (Eigen::SparseMatrix<double>::InnerIterator it(M, c); it; ++it) entries.emplace_back(it.row(), it.col(), it.value());
-        for (Eigen::Index c = 0; c < cv.J.outerSize(); ++c)
-            for (Eigen::SparseMatrix<double>::InnerIterator it(cv.J, c); it; ++it) {
-                entries.emplace_back(nv_ + it.row(), it.col(), it.value());
-                entries.emplace_back(it.col(), nv_ + it.row(), it.value());
-            }
-        Eigen::SparseMatrix<double> K(nv_ + nc, nv_ + nc);
-        K.setFromTriplets(entries.begin(), entries.end());
-        K.makeCompressed();
-        kkt_.compute(K);
-        rhs_.setZero(nv_ + nc);
-    }
-    // dependent rows (a redundant loop) leave the saddle point singular
-    bool ok() const { return kkt_.info() == Eigen::Success; }
-    void apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) {
-        rhs_.head(nv_) = D_ * x;
-        y = kkt_.solve(rhs_).head(nv_);
-    }
-
-private:
-    Eigen::SparseMatrix<double> D_;
-    Eigen::Index nv_;
-    Eigen::VectorXd rhs_;
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> kkt_;
-};
-
-// The largest eigenvalue of `apply` by power iteration (its eigenvalues are real: D symmetric, M
-// positive definite), from a start with a component along every mode (all ones would be the
-// rigid motion, which a damper between two bodies does not damp).
-template <class Apply>
-double largest_rate(Eigen::Index n, Apply apply) {
-    Eigen::VectorXd x(n), y;
-    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = std::sin(1.0 + 2.3 * static_cast<double>(i));
-    double rate = 0.0;
-    for (int k = 0; k < 60; ++k) {
-        apply(x, y);
-        const double norm = y.norm();
-        if (!(norm > 0.0) || !std::isfinite(norm)) return std::isfinite(norm) ? rate : 0.0;
-        rate = norm / x.norm();
-        x = y / norm;
-    }
-    return rate;
-}
-
-}  // namespace
 
 double fastest_damping_rate(const Model& model) {
     if (model.forces.empty() || model.body_count() == 0) return 0.0;
@@ -90,14 +25,20 @@ double fastest_damping_rate(const Model& model) {
     if (D.nonZeros() == 0) return 0.0;
     Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> mass(system.mass_matrix());
     if (mass.info() != Eigen::Success) return 0.0;  // a massless body: the run itself says so
-    const Eigen::Index nv = system.mass_matrix().rows();
-    // over every body's motion, M^-1 D: an upper bound of the rate over the motions the joints
-    // allow (the largest Rayleigh quotient x^T D x / x^T M x over all x bounds that over a
-    // subspace), which is kept when the saddle point is singular or ill-conditioned
-    const double free_rate = largest_rate(nv, [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { y = mass.solve(D * x); });
-    ConstrainedDampingOperator constrained(system, state, D);
-    if (!constrained.ok()) return free_rate;
-    return std::min(free_rate, largest_rate(nv, [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { constrained.apply(x, y); }));
+    // power iteration on M^-1 D: its eigenvalues are real (D symmetric, M positive definite)
+    // a start with a component along every mode (all ones would be the rigid motion, which
+    // a damper between two bodies does not damp)
+    Eigen::VectorXd x(system.nv()), y;
+    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = std::sin(1.0 + 2.3 * static_cast<double>(i));
+    double rate = 0.0;
+    for (int k = 0; k < 60; ++k) {
+        y = mass.solve(D * x);
+        const double norm = y.norm();
+        if (!(norm > 0.0) || !std::isfinite(norm)) return std::isfinite(norm) ? rate : 0.0;
+        rate = norm / x.norm();
+        x = y / norm;
+    }
+    return rate;
 }
 
 ContactFrequency fastest_contact_frequency(const Model& model) {

@@ -40,9 +40,7 @@ struct MethodChoice {
 inline constexpr double kStiffDampedTimeScales = 1e4;
 
 // The fastest damping rate of the scene's force elements at its initial state, 1/s (0: no
-// damping): the largest eigenvalue of the generalized problem sym(-dQ/dv) x = lambda M x over
-// the motions the joints and drivers allow (J x = 0; over every motion when the constraint rows
-// are dependent).
+// damping): the largest eigenvalue of the generalized problem sym(-dQ/dv) x = lambda M x.
 double fastest_damping_rate(const Model& model);
 
 // The fastest damping rate of the scene's friction elements (those with a velocity scale,
