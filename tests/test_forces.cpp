@@ -742,6 +742,10 @@ TEST(TimeFunctions, InputErrors) {
     m = msg(map({{"type", word("harmonic")}, {"amplitude", num(1)}, {"frequncy", num(2)}}));
     EXPECT_NE(m.find("unknown key 'frequncy'"), std::string::npos) << m;
     EXPECT_NE(m.find("did you mean 'frequency'"), std::string::npos) << m;
+    m = msg(map({{"type", word("constant")}, {"value", num(1)}, {"rate", num(2)}}));  // a misplaced key
+    EXPECT_NE(m.find("unknown key 'rate'"), std::string::npos) << m;
+    m = msg(map({{"type", word("steps")}, {"table", list({nums({0, 1}), word("x")})}}));
+    EXPECT_NE(m.find("row 2 must be a pair"), std::string::npos) << m;
     m = msg(map({{"type", word("constant")}, {"value", word("abc")}}));
     EXPECT_NE(m.find("'value' must be a number"), std::string::npos) << m;
     m = msg(map({{"type", word("spline")}, {"table", list({nums({0, 1}), nums({0, 2})})}}));

@@ -244,21 +244,49 @@ private:
     std::vector<double> t_, f_, m_;
 };
 
+// spline and steps: a table [[t0, f0], [t1, f1], ...] with strictly increasing times.
+inline std::shared_ptr<const TimeFunction> tf_from_table(const TfReader& in, const std::string& type) {
+    in.check_keys({"table"});
+    const Param& table = in.list("table");
+    const size_t fewest = type == "spline" ? 2 : 1;
+    if (table.items.size() < fewest)
+        in.fail(table, "'table' needs at least " + std::to_string(fewest) +
+                           (fewest == 1 ? " point [[t0, f0], ...]" : " points [[t0, f0], [t1, f1], ...]") +
+                           ", got " + std::to_string(table.items.size()));
+    std::vector<double> ts, fs;
+    for (size_t k = 0; k < table.items.size(); ++k) {
+        const Param& row = table.items[k];
+        if (!row.is_list() || row.items.size() != 2)
+            in.fail(row, "'table' row " + std::to_string(k + 1) + " must be a pair [t, f]");
+        const double t = in.to_number(row.items[0], "table"), f = in.to_number(row.items[1], "table");
+        if (!ts.empty() && !(t > ts.back()))
+            in.fail(row, "'table' times must be strictly increasing: row " + std::to_string(k + 1) + " has t = " +
+                             row.items[0].text + " after t = " + std::to_string(ts.back()));
+        ts.push_back(t);
+        fs.push_back(f);
+    }
+    if (type == "steps") return std::make_shared<TfSteps>(std::move(ts), std::move(fs));
+    return std::make_shared<TfSpline>(std::move(ts), std::move(fs));
+}
+
+// The function of a bare number (a constant), or the error for a scalar that is not one.
+inline std::shared_ptr<const TimeFunction> tf_from_scalar(const Param& node, const std::string& what,
+                                                          const std::string& known) {
+    double value = 0.0;
+    const NumberText read = parse_number(node.text, value);
+    if (read == NumberText::Valid) return std::make_shared<TfConstant>(value);
+    if (read != NumberText::NotANumber)
+        throw InputError(node.location(), what + ": a constant time function " + number_problem(read, "value", node.text));
+    throw InputError(node.location(),
+                     what + ": a time function is a number or a map with 'type' (" + known + "), got '" + node.text + "'");
+}
+
 }  // namespace detail
 
 inline std::shared_ptr<const TimeFunction> make_time_function(const Param& node, const std::string& what) {
     using namespace detail;
     const std::string known = tf_join(tf_known_types());
-    if (node.is_scalar()) {
-        double value = 0.0;
-        const NumberText read = parse_number(node.text, value);
-        if (read == NumberText::Valid) return std::make_shared<TfConstant>(value);
-        if (read != NumberText::NotANumber)
-            throw InputError(node.location(), what + ": a constant time function " +
-                                                  number_problem(read, "value", node.text));
-        throw InputError(node.location(), what + ": a time function is a number or a map with 'type' (" +
-                                              known + "), got '" + node.text + "'");
-    }
+    if (node.is_scalar()) return tf_from_scalar(node, what, known);
     if (!node.is_map())
         throw InputError(node.location(), what + ": a time function is a number or a map with 'type' (" +
                                               known + "), not a list");
@@ -279,6 +307,7 @@ inline std::shared_ptr<const TimeFunction> make_time_function(const Param& node,
         return std::make_shared<TfInput>(it->second.text, what);
     }
     if (type == "constant") {
+        in.check_keys({"value"});
         return std::make_shared<TfConstant>(in.number("value"));
     }
     if (type == "linear") {
@@ -306,29 +335,7 @@ inline std::shared_ptr<const TimeFunction> make_time_function(const Param& node,
                     "): the step runs from t0 to t1");
         return std::make_shared<TfSmoothStep>(t0, t1, in.number("from", 0.0), in.number("to"));
     }
-    if (type == "spline" || type == "steps") {
-        in.check_keys({"table"});
-        const Param& table = in.list("table");
-        const size_t fewest = type == "spline" ? 2 : 1;
-        if (table.items.size() < fewest)
-            in.fail(table, "'table' needs at least " + std::to_string(fewest) +
-                               (fewest == 1 ? " point [[t0, f0], ...]" : " points [[t0, f0], [t1, f1], ...]") +
-                               ", got " + std::to_string(table.items.size()));
-        std::vector<double> ts, fs;
-        for (size_t k = 0; k < table.items.size(); ++k) {
-            const Param& row = table.items[k];
-            if (!row.is_list() || row.items.size() != 2)
-                in.fail(row, "'table' row " + std::to_string(k + 1) + " must be a pair [t, f]");
-            const double t = in.to_number(row.items[0], "table"), f = in.to_number(row.items[1], "table");
-            if (!ts.empty() && !(t > ts.back()))
-                in.fail(row, "'table' times must be strictly increasing: row " + std::to_string(k + 1) +
-                                 " has t = " + row.items[0].text + " after t = " + std::to_string(ts.back()));
-            ts.push_back(t);
-            fs.push_back(f);
-        }
-        if (type == "steps") return std::make_shared<TfSteps>(std::move(ts), std::move(fs));
-        return std::make_shared<TfSpline>(std::move(ts), std::move(fs));
-    }
+    if (type == "spline" || type == "steps") return tf_from_table(in, type);
     throw InputError(type_it->second.location().empty() ? node.location() : type_it->second.location(),
                      what + ": unknown time function type '" + type + "'; known types: " + known);
 }
