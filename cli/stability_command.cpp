@@ -82,6 +82,34 @@ std::string default_integrators() {
 
 }  // namespace
 
+namespace {
+
+// Every scene read first, as the matrix's cases: bad input stops before any run, and the
+// --markdown file must not be one of the inputs.
+std::vector<StabilityCase> read_cases(const std::vector<std::string>& scenes, const std::string& markdown) {
+    std::vector<Model> models;
+    std::vector<std::filesystem::path> inputs;
+    for (const std::string& scene : scenes) {
+        Registry r;
+        models.push_back(load_case(scene, r, [](const std::string& warning) {
+            std::cerr << "mbd: warning: " << warning << '\n';
+        }));
+        for (const auto& file : scene_files(scene, models.back())) inputs.push_back(file);
+    }
+    check_output_path(markdown, inputs, "--markdown");
+    std::vector<StabilityCase> cases;
+    for (size_t k = 0; k < scenes.size(); ++k) {
+        StabilityCase c;
+        c.scene = scenes[k];
+        c.name = std::filesystem::path(scenes[k]).stem().string();
+        c.expect = read_expectation(models[k]);
+        cases.push_back(std::move(c));
+    }
+    return cases;
+}
+
+}  // namespace
+
 void add_stability_command(CLI::App& app, Commands& commands) {
     CLI::App* sub = app.add_subcommand("stability", "Run the extreme cases (scenes with an 'expect:' key) with every "
                                                     "formulation and integrator and write the outcome matrix");
@@ -107,25 +135,7 @@ void add_stability_command(CLI::App& app, Commands& commands) {
         std::vector<std::string> integrators = args->integrators;
         if (integrators.empty()) integrators = stability_integrators();
 
-        // every scene read first: bad input stops before any run, and --markdown must not be one of them
-        std::vector<Model> models;
-        std::vector<std::filesystem::path> inputs;
-        for (const std::string& scene : scenes) {
-            Registry r;
-            models.push_back(load_case(scene, r, [](const std::string& warning) {
-                std::cerr << "mbd: warning: " << warning << '\n';
-            }));
-            for (const auto& file : scene_files(scene, models.back())) inputs.push_back(file);
-        }
-        check_output_path(args->markdown, inputs, "--markdown");
-        std::vector<StabilityCase> pending;
-        for (size_t k = 0; k < scenes.size(); ++k) {
-            StabilityCase c;
-            c.scene = scenes[k];
-            c.name = std::filesystem::path(scenes[k]).stem().string();
-            c.expect = read_expectation(models[k]);
-            pending.push_back(std::move(c));
-        }
+        std::vector<StabilityCase> pending = read_cases(scenes, args->markdown);
         const std::string command =
             std::string("mbd stability") + (args->quick ? " --quick" : "") + " --markdown " + args->markdown;
         InterruptScope stop_on_signal;  // SIGINT/SIGTERM/SIGHUP end the matrix between runs
