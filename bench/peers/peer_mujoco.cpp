@@ -7,10 +7,12 @@
 // output step is a whole number of steps). Contacts are disabled.
 // A model file (MJCF or URDF) is compiled by MuJoCo itself, as it is but for contacts (off), the
 // integrator and the step; URDF without its <visual> and <collision> elements (the dynamics uses
-// the explicit <inertial> only, and MuJoCo refuses meshes it cannot find). Its measured points
+// the explicit <inertial> only, and MuJoCo refuses meshes it cannot find); an MJCF file's missing
+// mesh files get placeholders as in the import (import/mjcf_compile.hpp). Its measured points
 // are the named bodies' mass centres (xipos).
 #include "peer_common.hpp"
 
+#include <mbd/import/mjcf_compile.hpp>
 #include <mujoco/mujoco.h>
 
 #include <array>
@@ -333,11 +335,11 @@ mjModel* compile_file(const std::string& file) {
             return nullptr;
         }
     }
-    char error[1000] = "";
-    mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
+    // as the import compiles it: placeholders for missing meshes (import/mjcf_compile)
+    mbd::import::MjcfCompilation compiled = mbd::import::compile_mjcf(path);
     if (!copy.empty()) ::unlink(copy.c_str());
-    if (!m) std::fprintf(stderr, "mujoco peer: %s: %s\n", file.c_str(), error);
-    return m;
+    if (!compiled.model) std::fprintf(stderr, "mujoco peer: %s: %s\n", file.c_str(), compiled.error.c_str());
+    return compiled.model.release();
 }
 
 // The model file's run: its measured mass centres (xipos) and initial velocities by name.

@@ -2,12 +2,14 @@
 // MuJoCo's defaults and frame conventions apply exactly (docs/import.md, "MJCF").
 #include <mbd/import/mjcf_reader.hpp>
 
+#include <mbd/import/mjcf_compile.hpp>
+
 #include <mbd/sdk/params.hpp>  // InputError
 #include <mbd/sdk/text.hpp>
 
 #include <mujoco/mujoco.h>
 
-#include <cctype>
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -207,9 +209,9 @@ void list_unmapped(const mjModel* m, SourceTree& tree) {
     add("ball / free joint springs and damping", ball_damping, "");
 }
 
-}  // namespace
 
-SourceTree read_mjcf_model(const mjModel* m, const std::string& file) {
+// The tree of the compiled model; the geoms of `placeholders` (drawn from missing meshes) are not drawn.
+SourceTree read_tree(const mjModel* m, const std::string& file, const std::vector<int>& placeholders) {
     std::unique_ptr<mjData, void (*)(mjData*)> data(mj_makeData(m), mj_deleteData);
     mjData* d = data.get();
     for (int k = 0; k < m->nq; ++k) d->qpos[k] = m->qpos0[k];
@@ -239,7 +241,8 @@ SourceTree read_mjcf_model(const mjModel* m, const std::string& file) {
     for (int g = 0; g < m->ngeom; ++g) {  // the world's geoms (a floor) belong to no body
         VisualShape shape;
         shape.where = file + ": geom '" + name_of(m, mjOBJ_GEOM, g, "geom") + "'";
-        if (m->geom_bodyid[g] > 0 && geom_shape(m, d, g, shape)) tree.bodies[m->geom_bodyid[g] - 1].visuals.push_back(shape);
+        const bool placeholder = std::find(placeholders.begin(), placeholders.end(), g) != placeholders.end();
+        if (m->geom_bodyid[g] > 0 && !placeholder && geom_shape(m, d, g, shape)) tree.bodies[m->geom_bodyid[g] - 1].visuals.push_back(shape);
     }
     list_unmapped(m, tree);
     read_keyframes(m, tree);
@@ -250,18 +253,30 @@ SourceTree read_mjcf_model(const mjModel* m, const std::string& file) {
     return tree;
 }
 
+}  // namespace
+
+SourceTree read_mjcf_model(const mjModel* m, const std::string& file) { return read_tree(m, file, {}); }
+
+SourceTree read_mjcf_model(const MjcfCompilation& compiled, const std::string& file) {
+    SourceTree tree = read_tree(compiled.model.get(), file, compiled.placeholder_geoms);
+    std::vector<std::string> others;
+    std::vector<std::string> missing = describe_missing(compiled, others);
+    if (!others.empty())
+        tree.unmapped.insert(tree.unmapped.begin(), {"more geoms from missing meshes", std::move(others),
+                                                     "a mesh reading a file listed above, or a shape fitted to one; not drawn"});
+    if (!missing.empty())
+        tree.unmapped.insert(tree.unmapped.begin(),
+                             {"missing mesh and texture files", std::move(missing),
+                              "MuJoCo compiled the file with placeholders in their place, which are not drawn; no body's mass, "
+                              "mass centre or inertia depends on them (compiled with two placeholder sizes, docs/import.md)"});
+    return tree;
+}
+
 SourceTree read_mjcf(const std::filesystem::path& file) {
-    char error[1000] = "";
-    std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(file.c_str(), nullptr, error, sizeof error),
-                                                       mj_deleteModel);
-    if (!model) {
-        std::string message = error;
-        while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back()))) message.pop_back();
-        for (char& c : message)
-            if (c == '\n') c = ' ';
-        throw InputError(file.string(), "MuJoCo's compiler refused the MJCF file: " + message);
-    }
-    return read_mjcf_model(model.get(), file.string());
+    const MjcfCompilation compiled = compile_mjcf(file);
+    if (!compiled.model)
+        throw InputError(file.string(), (compiled.inertia_from_missing_mesh ? "" : "MuJoCo's compiler refused the MJCF file: ") + compiled.error);
+    return read_mjcf_model(compiled, file.string());
 }
 
 }  // namespace mbd::import

@@ -11,10 +11,17 @@ struct mjModel_;
 
 namespace mbd::import {
 
-// Throws InputError with MuJoCo's message (which has the XML line) when the file does not compile.
+struct MjcfCompilation;
+
+// Throws InputError with MuJoCo's message (which has the XML line) when the file does not compile,
+// or names the body whose inertia comes from a missing mesh (compile_mjcf).
 SourceTree read_mjcf(const std::filesystem::path& file);
 
 // A model compiled by the caller (a test that changes its options first); `file` labels it.
 SourceTree read_mjcf_model(const mjModel_* model, const std::string& file);
+
+// A model compiled by compile_mjcf (mjcf_compile.hpp): its placeholder geoms are not drawn and its
+// missing files are listed in the tree's warning.
+SourceTree read_mjcf_model(const MjcfCompilation& compiled, const std::string& file);
 
 }  // namespace mbd::import
