@@ -5,6 +5,7 @@
 // momentum of a free-floating body under the test's own RK4, the rotating beam with and without
 // geometric stiffening, and refusals of bad input naming the body.
 #include "support/flexible_body.hpp"
+#include "support/input_files.hpp"
 
 #include <boost/math/quadrature/gauss.hpp>
 
@@ -438,21 +439,13 @@ TEST(FfrfBody, RotatingBeamStaysBoundedWithGeometricStiffeningAndDivergesWithout
 }
 
 // ---------------------------------------------------------------- bad input
-std::string refusal(const std::function<void()>& make) {
-    try {
-        make();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(accepted)";
-}
 void expect_refusal(const std::string& message, std::initializer_list<const char*> parts) {
     for (const char* part : parts) EXPECT_NE(message.find(part), std::string::npos) << message;
 }
 
 TEST(FfrfBody, BadInputIsRefusedNamingTheBody) {
     auto beam_with = [](auto change) {
-        return refusal([&] {
+        return test::input_error_of([&] {
             BeamKeys k;
             change(k);
             make_beam(k);
@@ -465,20 +458,20 @@ TEST(FfrfBody, BadInputIsRefusedNamingTheBody) {
     expect_refusal(beam_with([](BeamKeys& k) { k.elements = 1, k.modes = 4; }), {"body 'beam'", "4 modes need at least 2 elements"});
     const LumpedModes lumped;
     std::string text = lumped.text();
-    expect_refusal(refusal([] { make_from_file("", "absent.txt"); }), {"body 'beam'", "cannot open the mode file"});
+    expect_refusal(test::input_error_of([] { make_from_file("", "absent.txt"); }), {"body 'beam'", "cannot open the mode file"});
     std::string bad_mass = test::replaced(text, "mode " + [&] {
         std::ostringstream o;
         o.precision(17);
         o << lumped.modal_mass(0);
         return o.str();
     }(), "mode -1");
-    expect_refusal(refusal([&] { make_from_file(bad_mass, "bad_mass.txt"); }),
+    expect_refusal(test::input_error_of([&] { make_from_file(bad_mass, "bad_mass.txt"); }),
                    {"body 'beam'", "bad_mass.txt:6", "modal mass must be positive"});
-    expect_refusal(refusal([&] { make_from_file(test::replaced(text, "1 0.20000000000000001 2", "1 zero 2"), "bad_line.txt"); }),
+    expect_refusal(test::input_error_of([&] { make_from_file(test::replaced(text, "1 0.20000000000000001 2", "1 zero 2"), "bad_line.txt"); }),
                    {"body 'beam'", "bad_line.txt:4", "'zero' is not a number"});
-    expect_refusal(refusal([&] { make_from_file("nodes 2\n0 0 1\n1 0 1\nmode 1 1\n0 1 0\n", "short.txt"); }),
+    expect_refusal(test::input_error_of([&] { make_from_file("nodes 2\n0 0 1\n1 0 1\nmode 1 1\n0 1 0\n", "short.txt"); }),
                    {"body 'beam'", "short.txt:5", "the file ends where"});
-    expect_refusal(refusal([&] {
+    expect_refusal(test::input_error_of([&] {
                        const auto dir = test::scratch("ffrf_body");
                        test::write_text(dir / "modes.txt", lumped.text());
                        test::make_body("ffrf_body", {{"mode_file", scalar_param((dir / "modes.txt").string())},

@@ -3,6 +3,7 @@
 // differences, Q = -dV/dq for conservative elements, and time-function
 // derivatives. The plugins are created through the registry from the build
 // tree, with hand-built ForceSpecs.
+#include "support/input_files.hpp"
 #include "support/test_paths.hpp"
 #include <mbd/registry.hpp>
 #include <mbd/sdk/force.hpp>
@@ -610,44 +611,36 @@ TEST(PointForce, PlanarMomentArmAndTimeFunctionComponents) {
 }
 
 // ======================================================== input errors
-std::string error_of(const std::function<void()>& fn) {
-    try {
-        fn();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
 
 TEST(ForceErrors, ClearMessages) {
     std::mt19937 rng(5);
     TwoBodies tb = random_planar_pair(rng);
     auto neg = make_spec("spring_damper", Dimension::Planar, map({{"stiffness", num(-1)}}));
     neg->spec.bodies = tb.infos;
-    std::string m = error_of([&] { registry().create_force(neg->spec, "test"); });
+    std::string m = test::input_error_of([&] { registry().create_force(neg->spec, "test"); });
     EXPECT_NE(m.find("force 'f1'"), std::string::npos) << m;
     EXPECT_NE(m.find("stiffness"), std::string::npos) << m;
     EXPECT_NE(m.find("negative"), std::string::npos) << m;
 
     auto zero = make_spec("spring_damper", Dimension::Planar, map({{"stiffness", num(1)}}));
     zero->spec.bodies = {tb.infos[0], tb.infos[0]};
-    m = error_of([&] { registry().create_force(zero->spec, "test"); });
+    m = test::input_error_of([&] { registry().create_force(zero->spec, "test"); });
     EXPECT_NE(m.find("rest_length"), std::string::npos) << m;
 
     auto count = make_spec("bushing", Dimension::Spatial, map({{"stiffness", nums({1, 2, 3})}}));
     count->spec.bodies = {spatial_info("a", 1, Vec3::Zero(), Mat3::Identity()), spatial_info("b", 1, Vec3::Zero(), Mat3::Identity())};
     count->spec.markers = {marker(Vec3::Zero()), marker(Vec3::Zero())};
-    m = error_of([&] { registry().create_force(count->spec, "test"); });
+    m = test::input_error_of([&] { registry().create_force(count->spec, "test"); });
     EXPECT_NE(m.find("6 numbers"), std::string::npos) << m;
 
     auto frame = make_spec("point_force", Dimension::Planar, map({{"force", nums({1, 2})}, {"frame", word("local")}}));
     frame->spec.bodies = {tb.infos[0]};
-    m = error_of([&] { registry().create_force(frame->spec, "test"); });
+    m = test::input_error_of([&] { registry().create_force(frame->spec, "test"); });
     EXPECT_NE(m.find("'world' or 'body'"), std::string::npos) << m;
 
     auto comps = make_spec("point_force", Dimension::Spatial, map({{"force", nums({1, 2})}}));
     comps->spec.bodies = {spatial_info("a", 1, Vec3::Zero(), Mat3::Identity())};
-    m = error_of([&] { registry().create_force(comps->spec, "test"); });
+    m = test::input_error_of([&] { registry().create_force(comps->spec, "test"); });
     EXPECT_NE(m.find("3 components"), std::string::npos) << m;
 }
 
@@ -730,7 +723,7 @@ TEST(TimeFunctions, SmoothStepEndsWithZeroRate) {
 }
 
 TEST(TimeFunctions, InputErrors) {
-    auto msg = [](const Param& p) { return error_of([&] { make_time_function(p, "driver 'd1'"); }); };
+    auto msg = [](const Param& p) { return test::input_error_of([&] { make_time_function(p, "driver 'd1'"); }); };
     std::string m = msg(map({{"value", num(1)}}));
     EXPECT_NE(m.find("needs a 'type'"), std::string::npos) << m;
     EXPECT_NE(m.find("test.yaml:7"), std::string::npos) << m;

@@ -9,6 +9,7 @@
 // MuJoCo is not the oracle of the exact coupling: its equality constraints are soft; how far its
 // run is from the exact one (default solref, and made stiff) is measured and printed.
 #include "support/mujoco_oracle.hpp"
+#include "support/input_files.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/import/import.hpp>
@@ -26,9 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path write_file(const std::string& name, const std::string& content) {
-    static const fs::path dir = scratch("import_couplings");
-    std::ofstream(dir / name) << content;
-    return dir / name;
+    return write_scratch_file("import_couplings", name, content);
 }
 
 constexpr double g = 9.81, k = -0.5, m1 = 1.0, c1 = 0.3, m2 = 0.5, c2 = 0.2;

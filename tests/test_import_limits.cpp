@@ -4,6 +4,7 @@
 // of the file's stiffness: it then oscillates between the limit and twice the static deflection
 // m g / k below it. URDF (Gazebo's stiffness 1e8 for a URDF limit) and SDF (<limit><stiffness>).
 #include "support/mujoco_oracle.hpp"
+#include "support/input_files.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/import/import.hpp>
@@ -20,9 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path write_file(const std::string& name, const std::string& content) {
-    static const fs::path dir = scratch("import_limits");
-    std::ofstream(dir / name) << content;
-    return dir / name;
+    return write_scratch_file("import_limits", name, content);
 }
 
 constexpr double kMass = 2.0, kLower = -0.2;

@@ -8,6 +8,7 @@
 // - what is not mapped (a `joint` coupling) stays in the one warning; a weld whose relpose is not
 //   the pose at qpos0 is refused naming it.
 #include "support/mujoco_oracle.hpp"
+#include "support/input_files.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/import/import.hpp>
@@ -26,9 +27,7 @@ namespace fs = std::filesystem;
 using import::ImportedScene;
 
 fs::path write_file(const std::string& name, const std::string& content) {
-    static const fs::path dir = scratch("import_loops");
-    std::ofstream(dir / name) << content;
-    return dir / name;
+    return write_scratch_file("import_loops", name, content);
 }
 
 std::string text(const Vec3& v) {

@@ -5,6 +5,7 @@
 // mesh (no <inertial>: inertiafromgeom) is refused naming the body and the mesh. The dynamics of
 // the menagerie models against MuJoCo's own run: ImportOracle.Menagerie* (test_import_oracle.cpp).
 #include "support/mujoco_oracle.hpp"
+#include "support/input_files.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/import/import.hpp>
@@ -20,9 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path write_file(const std::string& name, const std::string& content) {
-    static const fs::path dir = scratch("import_missing_meshes");
-    std::ofstream(dir / name) << content;
-    return dir / name;
+    return write_scratch_file("import_missing_meshes", name, content);
 }
 
 CommandResult import_to(const fs::path& model, const fs::path& out) {

@@ -8,6 +8,7 @@
 // - the format known from content, the CLI on a real SDF (../shared/models), `--strict`, and
 //   malformed SDF with libsdformat's file:line.
 #include "support/mujoco_oracle.hpp"
+#include "support/input_files.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/import/import.hpp>
@@ -61,9 +62,7 @@ Mat3 inertia(double xx, double yy, double zz, double xy = 0, double xz = 0, doub
 }
 
 fs::path write_file(const std::string& name, const std::string& content) {
-    static const fs::path dir = scratch("import_sdf");
-    std::ofstream(dir / name) << content;
-    return dir / name;
+    return write_scratch_file("import_sdf", name, content);
 }
 
 // A six-link arm in a world with tilted gravity and a placed, turned model: a revolute joint to

@@ -3,6 +3,7 @@
 // frame (origin the mass centre, the link's axes), a missing mesh a warning naming the file and the
 // link, and the dynamics unchanged by any of it.
 #include "support/mujoco_oracle.hpp"
+#include "support/input_files.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/import/import.hpp>
@@ -22,9 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path write_file(const std::string& name, const std::string& content) {
-    static const fs::path dir = scratch("import_visuals");
-    std::ofstream(dir / name) << content;
-    return dir / name;
+    return write_scratch_file("import_visuals", name, content);
 }
 
 // A pendulum link whose frame sits at the hinge (z = 1, turned 90 degrees about x) and whose mass
