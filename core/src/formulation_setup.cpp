@@ -224,10 +224,10 @@ void require_flexible_bodies_handled(const Model& model, const Formulation& form
                                      bool needs_index3, const std::string& integrator) {
     if (model.flexible_bodies.empty()) return;
     const FlexibleBodyInstance& f = model.flexible_bodies.front();
-    require_handled(f.where, "flexible body '" + f.name + "' (type " + f.type + ") is in the scene",
+    require_handled(f.where, "flexible body '" + f.name + "' (type " + f.type + ")",
                     formulation.supports_flexible_bodies(), name,
-                    "does not take flexible bodies; use the augmented formulation (--formulation augmented, or "
-                    "`formulation: augmented` in the scene; docs/formulations.md)",
+                    "does not take (it handles rigid bodies only); use the augmented formulation (--formulation "
+                    "augmented, or `formulation: augmented` in the scene; docs/formulations.md)",
                     needs_index3, integrator,
                     "does not take (its index-3 equations are not mapped through the material frames); use " +
                         through_formulation());
