@@ -78,17 +78,28 @@ ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers, boo
       include_drivers_(include_drivers),
       include_velocity_rows_(include_velocity_rows),
       joint_bodies_(model.joints) {
-    for (const JointInstance& ji : model.joints) joint_.push_back(ji.joint.get());
+    for (const JointInstance& ji : model.joints) {
+        joint_.push_back(ji.joint.get());
+        flexible_.push_back(&ji.flexible);
+    }
     const int nvb = velocities_per_body(model.dimension);
-    // the element rows in evaluation order, each with the bodies its Jacobian row spans
-    std::vector<std::pair<int, const std::vector<int>*>> element_rows;
+    // the element rows in evaluation order, each with the bodies its Jacobian row spans and the
+    // joint's slots on flexible bodies (the drivers' and velocity-level rows have none: the
+    // scene refuses them on a joint at a flexible body)
+    struct ElementRow {
+        int row;
+        const std::vector<int>* bodies;
+        const std::vector<FlexibleAttachment>* flexible;
+    };
+    const std::vector<FlexibleAttachment> none;
+    std::vector<ElementRow> element_rows;
     for (size_t j = 0; j < model.joints.size(); ++j) {
         const JointInstance& ji = model.joints[j];
         const int r = ji.joint->rows();
         joint_offset_.push_back(rows_);
         for (int k = 0; k < r; ++k) {
             owners_.push_back({RowOwner::Kind::Joint, static_cast<int>(j), k, ji.name, ji.joint->row_name(k)});
-            element_rows.emplace_back(rows_ + k, &ji.bodies);
+            element_rows.push_back({rows_ + k, &ji.bodies, &ji.flexible});
         }
         rows_ += r;
     }
@@ -97,7 +108,7 @@ ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers, boo
         for (size_t d = 0; d < model.drivers.size(); ++d) {
             const Driver& dr = model.drivers[d];
             owners_.push_back({RowOwner::Kind::Driver, static_cast<int>(d), 0, dr.name, "coordinate"});
-            element_rows.emplace_back(rows_, &model.joints[dr.joint].bodies);
+            element_rows.push_back({rows_, &model.joints[dr.joint].bodies, &none});
             ++rows_;
         }
     }
@@ -109,17 +120,22 @@ ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers, boo
             for (int k = 0; k < r; ++k) {
                 owners_.push_back({RowOwner::Kind::JointVelocity, static_cast<int>(j), k, ji.name,
                                    ji.joint->velocity_row_name(k)});
-                element_rows.emplace_back(rows_ + k, &ji.bodies);
+                element_rows.push_back({rows_ + k, &ji.bodies, &none});
             }
             rows_ += r;
         }
     }
     // the pattern, then each visited entry's place in it
     std::vector<Eigen::Triplet<double>> entries;
-    for (const auto& [row, bodies] : element_rows)
-        for (int body : *bodies)
+    for (const ElementRow& e : element_rows) {
+        for (int body : *e.bodies)
             if (body != kGround)
-                for (int c = 0; c < nvb; ++c) entries.emplace_back(row, model.v_offset(body) + c, 0.0);
+                for (int c = 0; c < nvb; ++c) entries.emplace_back(e.row, model.v_offset(body) + c, 0.0);
+        for (const FlexibleAttachment& a : *e.flexible) {
+            const FlexibleBodyInstance& f = model.flexible_bodies[a.body];
+            for (int c = 0; c < f.size; ++c) entries.emplace_back(e.row, f.offset + c, 0.0);
+        }
+    }
     pattern_.resize(rows_, model.nv());
     pattern_.setFromTriplets(entries.begin(), entries.end());  // a body twice in one element: one entry
     pattern_.makeCompressed();
@@ -174,7 +190,7 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         }
     };
     // a joint's rows into out at r0, and the sum of all its entries (rows_finite's test, in the same pass)
-    auto place = [&](const ConstraintEval& e, int r0, BodyList bodies) {
+    auto place = [&](const ConstraintEval& e, int r0, BodyList bodies, const std::vector<Data::FlexibleSlot>& flexible) {
         const int rows = static_cast<int>(e.C.size());
         double sum = 0.0;
         for (int r = 0; r < rows; ++r) {
@@ -185,7 +201,11 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         }
         const double* J = e.J.data();
         for (Eigen::Index k = 0; k < e.J.size(); ++k) sum += J[k];
-        for (int r = 0; r < rows; ++r) scatter(bodies, e.J.row(r));
+        for (int r = 0; r < rows; ++r) {
+            scatter(bodies, e.J.row(r));
+            for (const Data::FlexibleSlot& f : flexible)  // J_f G over the flexible body's coordinates
+                for (Eigen::Index c = 0; c < f.J.cols(); ++c) values[*slot++] += f.J(r, c);
+        }
         return sum;
     };
 
@@ -193,7 +213,8 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         const ConstraintEval& e = evaluate_joint(j, state, data);
         // a NaN from a joint would surface later as a failed projection or a singular
         // matrix; name the joint here instead (unless the state itself is not finite)
-        if (!rows_finite(e, place(e, joint_offset_[j], joint_bodies_[j]))) throw_if_state_finite(j, e, state);
+        if (!rows_finite(e, place(e, joint_offset_[j], joint_bodies_[j], data.joint_flexible[j])))
+            throw_if_state_finite(j, e, state);
     }
 
     if (include_drivers_) {
@@ -258,6 +279,12 @@ void ConstraintSystem::gamma_velocity_transpose(const State& state, Data& data, 
     for (size_t j = 0; j < m.joints.size(); ++j) {
         const Joint& joint = *joint_[j];
         if (!joint.has_gamma_velocity_transpose()) continue;
+        if (!flexible_[j]->empty())
+            throw DynamicsError(state.t, "joint '" + m.joints[j].name + "' is attached to flexible body '" +
+                                             m.flexible_bodies[flexible_[j]->front().body].name +
+                                             "', and the derivative of its gamma by the velocities through the "
+                                             "material frame is not available: use the augmented formulation with an "
+                                             "explicit integrator (dopri5, dop853, rk4)");
         const BodyList bodies = joint_bodies_[j];
         local.head(nvb * bodies.size()).setZero();
         data.poses.fill(bodies, state.t, data.view);
@@ -273,7 +300,11 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
     e.J.setZero();
     e.C_t.setZero();
     e.gamma.setZero();
-    data.poses.fill(joint_bodies_[j], state.t, data.view);
+    const std::vector<FlexibleAttachment>& flexible = *flexible_[j];
+    if (flexible.empty())
+        data.poses.fill(joint_bodies_[j], state.t, data.view);
+    else
+        data.fill_view(joint_bodies_[j], flexible, data.joint_flexible[j], state.t);
     try {
         joint_[j]->evaluate(data.view, e);
     } catch (const DomainError& outside) {
@@ -282,6 +313,13 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
         throw DynamicsError(state.t, "joint '" + ji.name + "' (type " + ji.type +
                                          (ji.where.empty() ? "" : ", " + ji.where) + ") left its domain at t = " +
                                          format_time(state.t) + ": " + outside.what());
+    }
+    // the chain rule onto each flexible slot: J = J_f G, gamma -= J_f a (sdk body.hpp); the slot
+    // holds the ground, so the rigid scatter skips its block J_f
+    const int nvb = velocities_per_body(model_->dimension);
+    for (size_t a = 0; a < flexible.size(); ++a) {
+        Data::FlexibleSlot& slot = data.joint_flexible[j][a];
+        map_frame_rows(e.J.middleCols(nvb * flexible[a].slot, nvb), slot.frame, slot.J, e.gamma);
     }
     return e;
 }

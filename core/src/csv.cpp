@@ -28,8 +28,36 @@ std::vector<std::string> motion_columns(const Model& model) {
             for (const char* s : {".vx", ".vy", ".vz", ".wx", ".wy", ".wz"}) columns.push_back(n + s);
         }
     }
+    // each flexible body's nodes (the material points at FlexibleBody::node_parameters): position, then velocity
+    for (const FlexibleBodyInstance& f : model.flexible_bodies)
+        for (int k = 0; k < f.body->node_count(); ++k) {
+            const std::string n = f.name + ".node" + std::to_string(k);
+            const std::vector<const char*> parts =
+                planar ? std::vector<const char*>{".x", ".y", ".vx", ".vy"}
+                       : std::vector<const char*>{".x", ".y", ".z", ".vx", ".vy", ".vz"};
+            for (const char* s : parts) columns.push_back(n + s);
+        }
     return columns;
 }
+
+namespace {
+
+// The flexible bodies' node columns of motion_columns().
+void append_flexible_nodes(const Model& model, const State& state, std::vector<double>& values) {
+    const int dimensions = model.dimension == Dimension::Planar ? 2 : 3;
+    MaterialPoint point;
+    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+        const Eigen::VectorXd q = state.q.segment(f.offset, f.size), v = state.v.segment(f.offset, f.size);
+        for (int k = 0; k < f.body->node_count(); ++k) {
+            const std::vector<double> xi = f.body->node_parameters(k);
+            f.body->point(q, v, xi.data(), point);
+            for (int c = 0; c < dimensions; ++c) values.push_back(point.r[c]);
+            for (int c = 0; c < dimensions; ++c) values.push_back(point.rdot[c]);
+        }
+    }
+}
+
+}  // namespace
 
 std::vector<double> motion_values(const Model& model, const State& state) {
     if (state.q.size() != model.nq() || state.v.size() != model.nv())
@@ -56,6 +84,7 @@ std::vector<double> motion_values(const Model& model, const State& state) {
             for (int k = 0; k < 3; ++k) values.push_back(w[k]);
         }
     }
+    append_flexible_nodes(model, state, values);
     return values;
 }
 

@@ -6,7 +6,7 @@
 
 namespace mbd {
 
-Data::Data(const Model& model) : poses(model) {
+Data::Data(const Model& model) : poses(model), model_(&model) {
     const int nvb = velocities_per_body(model.dimension);
     size_t widest = 1, widest_varying = 1;  // the widest element; the widest whose load varies
     for (const ForceInstance& f : model.forces) {
@@ -34,6 +34,19 @@ Data::Data(const Model& model) : poses(model) {
         velocity.resize(j.joint->velocity_rows(), nvb * static_cast<int>(j.bodies.size()));
         joint_velocity_rows.push_back(std::move(velocity));
     }
+    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+        flexible_q.push_back(Eigen::VectorXd::Zero(f.size));
+        flexible_v.push_back(Eigen::VectorXd::Zero(f.size));
+    }
+    auto slots_of = [&](const std::vector<FlexibleAttachment>& attachments, int rows) {
+        std::vector<FlexibleSlot> slots(attachments.size());
+        for (size_t a = 0; a < attachments.size(); ++a) {
+            const int n = model.flexible_bodies[attachments[a].body].size;
+            slots[a].J.setZero(rows, n);
+        }
+        return slots;
+    };
+    for (const JointInstance& j : model.joints) joint_flexible.push_back(slots_of(j.flexible, j.joint->rows()));
     posed_q_.setZero(model.nq());
     posed_v_.setZero(model.nv());
     for (const Driver& d : model.drivers) {
@@ -50,14 +63,39 @@ void Data::pose(const State& state) {
         // velocity derivative, jdot_transpose.hpp, evaluate many velocities at one position)
         if (state.v == posed_v_) return;
         poses.update_velocities(state);
+        pose_flexible(state);
         posed_v_ = state.v;
         return;
     }
     poses.update(state);
+    pose_flexible(state);
     posed_ = sized;
     if (posed_) {
         posed_q_ = state.q;
         posed_v_ = state.v;
+    }
+}
+
+void Data::pose_flexible(const State& state) {
+    const std::vector<FlexibleBodyInstance>& bodies = model_->flexible_bodies;
+    for (size_t k = 0; k < bodies.size(); ++k) {
+        flexible_q[k] = state.q.segment(bodies[k].offset, bodies[k].size);
+        flexible_v[k] = state.v.segment(bodies[k].offset, bodies[k].size);
+    }
+}
+
+void Data::fill_view(BodyList bodies, const std::vector<FlexibleAttachment>& attachments,
+                     std::vector<FlexibleSlot>& slots, double t) {
+    poses.fill(bodies, t, view);
+    const bool planar = model_->dimension == Dimension::Planar;
+    for (size_t a = 0; a < attachments.size(); ++a) {
+        const FlexibleAttachment& at = attachments[a];
+        MaterialFrame& frame = slots[a].frame;
+        model_->flexible_bodies[at.body].body->frame(flexible_q[at.body], flexible_v[at.body], at.xi.data(), frame);
+        if (planar)
+            view.planar_bodies[at.slot] = &frame.planar;
+        else
+            view.spatial_bodies[at.slot] = &frame.spatial;
     }
 }
 

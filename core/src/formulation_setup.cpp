@@ -220,4 +220,17 @@ void require_reaction_loads_handled(const Model& model, const Formulation& formu
     }
 }
 
+void require_flexible_bodies_handled(const Model& model, const Formulation& formulation, const std::string& name,
+                                     bool needs_index3, const std::string& integrator) {
+    if (model.flexible_bodies.empty()) return;
+    const FlexibleBodyInstance& f = model.flexible_bodies.front();
+    require_handled(f.where, "flexible body '" + f.name + "' (type " + f.type + ")",
+                    formulation.supports_flexible_bodies(), name,
+                    "does not take (it handles rigid bodies only); use the augmented formulation (--formulation "
+                    "augmented, or `formulation: augmented` in the scene; docs/formulations.md)",
+                    needs_index3, integrator,
+                    "does not take (its index-3 equations are not mapped through the material frames); use " +
+                        through_formulation());
+}
+
 }  // namespace mbd

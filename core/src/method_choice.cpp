@@ -66,6 +66,10 @@ MethodChoice automatic_method(const Model& model, double t_end) {
         choice.formulation = "augmented";
         choice.formulation_reason = "force '" + reaction_load->name + "' takes its load from a joint's reaction";
     }
+    if (!model.flexible_bodies.empty()) {  // only augmented takes them (Formulation::supports_flexible_bodies)
+        choice.formulation = "augmented";
+        choice.formulation_reason = "flexible body '" + model.flexible_bodies.front().name + "'";
+    }
     const double initial_rate = fastest_damping_rate(model);
     const StickingDamping sticking = sticking_damping_rate(model);
     const ContactFrequency contact = fastest_contact_frequency(model);
@@ -85,7 +89,8 @@ MethodChoice automatic_method(const Model& model, double t_end) {
     // stiff with loops: cvode's difference Jacobian costs a rhs per state and its
     // LU the cube of their number, so the fewest states win: the closure path's joint coordinates
     std::string closure;
-    if (stiff && !tree && !reaction_load && closure_embedding_possible(system, &closure)) {
+    if (stiff && !tree && !reaction_load && model.flexible_bodies.empty() &&
+        closure_embedding_possible(system, &closure)) {
         choice.formulation = "embedding";
         choice.formulation_reason = closure + ": the closure path of embedding (stiff: the fewest states for cvode)";
     }

@@ -13,6 +13,19 @@ std::string Model::body_name(int index) const {
     return index == kGround ? std::string("ground") : bodies.at(index).name;
 }
 
+void Model::add_flexible_body(FlexibleBodyInstance body) {
+    body.size = body.body->coordinates();
+    body.offset = body_count() * coordinates_per_body(dimension) + flexible_coordinates_;
+    flexible_coordinates_ += body.size;
+    flexible_bodies.push_back(std::move(body));
+}
+
+int Model::flexible_body_index(const std::string& name) const {
+    for (size_t k = 0; k < flexible_bodies.size(); ++k)
+        if (flexible_bodies[k].name == name) return static_cast<int>(k);
+    return -1;
+}
+
 State Model::initial_state() const {
     State s;
     s.t = 0.0;
@@ -32,6 +45,7 @@ State Model::initial_state() const {
             s.v.segment<3>(v_offset(k) + 3) = A.transpose() * b.angular_velocity;
         }
     }
+    for (const FlexibleBodyInstance& f : flexible_bodies) s.q.segment(f.offset, f.size) = f.body->initial_coordinates();
     return s;
 }
 
@@ -45,6 +59,9 @@ void advance_positions(const Model& model, Eigen::VectorXd& q, const Eigen::Vect
         q.segment<3>(iq) += dv.segment<3>(iv);
         q.segment<4>(iq + 3) = rotate_euler_parameters_body(q.segment<4>(iq + 3), dv.segment<3>(iv + 3));
     }
+    // flexible bodies: v = qdot (sdk body.hpp), their coordinates follow the rigid ones' in both
+    const int flexible = model.flexible_coordinates();
+    q.tail(flexible) += dv.tail(flexible);
 }
 
 Eigen::VectorXd coordinate_rates(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
@@ -55,6 +72,8 @@ Eigen::VectorXd coordinate_rates(const Model& model, const Eigen::VectorXd& q, c
         qdot.segment<3>(iq) = v.segment<3>(iv);
         qdot.segment<4>(iq + 3) = 0.5 * euler_Gbar(q.segment<4>(iq + 3)).transpose() * v.segment<3>(iv + 3);
     }
+    const int flexible = model.flexible_coordinates();
+    qdot.tail(flexible) = v.tail(flexible);
     return qdot;
 }
 

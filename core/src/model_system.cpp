@@ -2,6 +2,7 @@
 
 #include "coupled_force_jacobians.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -63,6 +64,17 @@ ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
                     if (b.inertia(i, c) != 0.0) t.emplace_back(o + 3 + i, o + 3 + c, b.inertia(i, c));
         }
     }
+    // each flexible body's constant mass matrix (the scene refuses one whose mass varies)
+    int widest = 0;
+    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+        Eigen::MatrixXd M;
+        f.body->mass_matrix(f.body->initial_coordinates(), M);
+        for (int i = 0; i < f.size; ++i)
+            for (int c = 0; c < f.size; ++c)
+                if (M(i, c) != 0.0) t.emplace_back(f.offset + i, f.offset + c, M(i, c));
+        widest = std::max(widest, f.size);
+    }
+    flexible_Q_.setZero(widest);
     mass_.resize(model.nv(), model.nv());
     mass_.setFromTriplets(t.begin(), t.end());
 }
@@ -132,6 +144,20 @@ void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
     data_.pose(state);
     for (size_t f = 0; f < m.forces.size(); ++f)
         scatter_vector(m, force_bodies_[f], element_force(static_cast<int>(f), state.t), Q);
+    // each flexible body's own forces: elastic, gravity and quadratic-velocity (sdk body.hpp)
+    for (size_t k = 0; k < m.flexible_bodies.size(); ++k) {
+        const FlexibleBodyInstance& f = m.flexible_bodies[k];
+        auto own = flexible_Q_.head(f.size);
+        auto target = Q.segment(f.offset, f.size);
+        f.body->elastic_forces(data_.flexible_q[k], own);
+        target += own;
+        if (!m.gravity.isZero(0.0)) {
+            f.body->gravity_forces(data_.flexible_q[k], m.gravity, own);
+            target += own;
+        }
+        f.body->quadratic_velocity_forces(data_.flexible_q[k], data_.flexible_v[k], own);
+        target += own;
+    }
     if (extra_force_) extra_force_(state, Q);
     if (m.dimension == Dimension::Spatial) {
         // gyroscopic moment in body axes, -wbar x (Jbar wbar) (book Eq. 7.155, Q_v)
@@ -258,6 +284,16 @@ void ModelSystem::force_jacobians(const State& state, Eigen::SparseMatrix<double
                     if (d(i, j) != 0.0) tv.emplace_back(o + i, o + j, d(i, j));
         }
     }
+    // the flexible bodies' elastic stiffness (exact; gravity is constant, and the scene takes
+    // only bodies of constant mass, whose quadratic-velocity forces are zero)
+    for (size_t k = 0; k < m.flexible_bodies.size(); ++k) {
+        const FlexibleBodyInstance& f = m.flexible_bodies[k];
+        Eigen::MatrixXd K(f.size, f.size);
+        f.body->elastic_jacobian(data_.flexible_q[k], K);
+        for (int i = 0; i < f.size; ++i)
+            for (int c = 0; c < f.size; ++c)
+                if (K(i, c) != 0.0) tq.emplace_back(f.offset + i, f.offset + c, K(i, c));
+    }
     dQ_dq.resize(m.nv(), m.nv());
     dQ_dv.resize(m.nv(), m.nv());
     dQ_dq.setFromTriplets(tq.begin(), tq.end());
@@ -274,6 +310,11 @@ double ModelSystem::potential_energy(const State& state) {
     for (const ForceInstance& f : model_->forces) {
         data_.poses.fill(f.bodies, state.t, data_.view);
         V += f.force->potential_energy(data_.view);
+    }
+    const Model& m = *model_;
+    for (size_t k = 0; k < m.flexible_bodies.size(); ++k) {
+        const FlexibleBody& body = *m.flexible_bodies[k].body;
+        V += body.strain_energy(data_.flexible_q[k]) + body.gravity_potential(data_.flexible_q[k], m.gravity);
     }
     return V;
 }

@@ -118,8 +118,8 @@ void Loader::build() {
         root_.fail("a scene must be a map of keys (name, dimension, gravity, bodies, joints, forces, drivers)");
 
     check_keys(root_, "scene",
-               {"name", "dimension", "gravity", "ground", "bodies", "joints", "forces", "drivers", "formulation",
-                "actuators", "bench", "expect"});  // bench: read by `mbd bench` (app/src/bench.cpp) from Model::document;
+               {"name", "dimension", "gravity", "ground", "bodies", "flexible_bodies", "joints", "forces", "drivers",
+                "formulation", "actuators", "bench", "expect"});  // bench: read by `mbd bench` (app/src/bench.cpp) from Model::document;
                                       // expect: stored raw for `mbd stability` (app/src/stability.cpp)
 
     model_.source = file_;
@@ -145,18 +145,25 @@ void Loader::build() {
     if (const Param* f = find(root_, "formulation")) load_formulation(*f);
     if (const Param* e = find(root_, "expect")) model_.expect_node = std::make_shared<Param>(*e);
 
-    if (!find(root_, "bodies"))
+    const bool flexible = find(root_, "flexible_bodies") != nullptr;
+    if (!find(root_, "bodies") && !flexible)
         throw InputError(where(root_), "the scene needs 'bodies' (a list of at least one body)");
-    const Param& bodies = list_section("bodies");
-    if (bodies.items.empty())
-        throw InputError(key_where(root_, "bodies"), "'bodies' is empty; define at least one body");
-    for (size_t k = 0; k < bodies.items.size(); ++k) load_body(bodies.items[k], static_cast<int>(k));
+    if (find(root_, "bodies")) {
+        const Param& bodies = list_section("bodies");
+        if (bodies.items.empty() && !flexible)
+            throw InputError(key_where(root_, "bodies"), "'bodies' is empty; define at least one body");
+        for (size_t k = 0; k < bodies.items.size(); ++k) load_body(bodies.items[k], static_cast<int>(k));
+    }
+    if (flexible) {  // after every rigid body: their coordinates follow the rigid ones' (model.hpp)
+        const Param& bodies = list_section("flexible_bodies");
+        for (size_t k = 0; k < bodies.items.size(); ++k) load_flexible_body(bodies.items[k], static_cast<int>(k));
+    }
 
     if (find(root_, "joints")) {
         const Param& joints = list_section("joints");
         for (size_t k = 0; k < joints.items.size(); ++k) load_joint(joints.items[k], static_cast<int>(k));
     }
-    if (!model_.gravity.isZero(0.0)) add_gravity();
+    if (!model_.gravity.isZero(0.0) && model_.body_count() > 0) add_gravity();  // flexible bodies add their own
     if (find(root_, "forces")) {
         const Param& forces = list_section("forces");
         for (size_t k = 0; k < forces.items.size(); ++k) load_force(forces.items[k], static_cast<int>(k));
@@ -399,10 +406,16 @@ void Loader::load_joint(const Param& node, int index) {
     if (!bodies.is_list() || bodies.items.size() < 2 || bodies.items.size() > 4)
         bodies.fail(what + ": 'bodies' must list two body names [a, b] (a third for a carrier; up to four for a coordinate_coupling), got " +
                     (bodies.is_list() ? std::to_string(bodies.items.size()) + " items" : std::string("no list")));
-    for (const auto& item : bodies.items) joint.bodies.push_back(body_index(item, what));
+    for (const auto& item : bodies.items)
+        joint.bodies.push_back(joint_body(item, what, static_cast<int>(joint.bodies.size()), joint));
+    auto on_flexible = [&](size_t slot) {
+        for (const FlexibleAttachment& a : joint.flexible)
+            if (a.slot == static_cast<int>(slot)) return true;
+        return false;
+    };
     for (size_t a = 0; a < joint.bodies.size(); ++a)
         for (size_t b = a + 1; b < joint.bodies.size(); ++b)
-            if (joint.bodies[a] == joint.bodies[b])
+            if (joint.bodies[a] == joint.bodies[b] && !on_flexible(a) && !on_flexible(b))
                 bodies.fail(what + ": body " + quote(bodies.items[a].text) +
                             " appears twice in 'bodies'; a joint connects different bodies");
 
@@ -414,16 +427,22 @@ void Loader::load_joint(const Param& node, int index) {
     }
     for (const auto& k : core_keys) params.mark_read(k);
 
-    const WorldFrame frame = joint_frame(node, what, joint.type, joint.bodies, true);
+    WorldFrame frame = joint_frame(node, what, joint.type, joint.bodies, true);
 
     JointSpec spec;
     spec.name = joint.name;
     spec.type = joint.type;
     spec.dimension = model_.dimension;
-    for (int b : joint.bodies) {
-        spec.bodies.push_back(body_info(b));
-        joint.markers.push_back(marker_from_world(b, frame.origin, frame.axes));
-    }
+    for (int b : joint.bodies) spec.bodies.push_back(body_info(b));
+    for (const FlexibleAttachment& a : joint.flexible) spec.bodies[a.slot] = flexible_body_info(a);
+    if (!find(node, "point"))  // at the first body's point: a flexible slot's material point counts
+        for (size_t k = 0; k < joint.bodies.size(); ++k)
+            if (!spec.bodies[k].ground) {
+                frame.origin = spec.bodies[k].position;
+                break;
+            }
+    for (const BodyInfo& b : spec.bodies)
+        joint.markers.push_back(marker_in_frame(b.position, b.orientation, b.angle, frame.origin, frame.axes));
     spec.markers = joint.markers;
     spec.params = params;
 
@@ -431,6 +450,7 @@ void Loader::load_joint(const Param& node, int index) {
     joint.joint = create_checked(params, node, what, "joint", joint.type, [&] { return registry_.create_joint(spec, at); });
     if (!joint.joint) type.fail(what + ": the plugin for type " + quote(joint.type) + " created no joint");
     load_joint_limits(node, joint);
+    check_flexible_joint(joint);
     model_.joints.push_back(std::move(joint));
 }
 }  // namespace scene_detail

@@ -19,6 +19,13 @@ Param scalar(const std::string& text, const Param& at) {
     return p;
 }
 
+// Whether the joint's slot is a point of a flexible body (its `bodies` entry holds the ground there).
+bool on_flexible_body(const JointInstance& joint, size_t slot) {
+    for (const FlexibleAttachment& a : joint.flexible)
+        if (a.slot == static_cast<int>(slot)) return true;
+    return false;
+}
+
 }  // namespace
 
 // The element's keys, built here (the plugin reads them, the scene never writes them):
@@ -33,7 +40,7 @@ void Loader::add_collision_contact() {
         if (!ground->is_map()) ground->fail("scene: 'ground' must be a map with the key 'collision'");
         check_keys(*ground, "'ground'", {"collision"});
     }
-    const Param& bodies = root_.fields.at("bodies");
+    const Param* bodies = find(root_, "bodies");  // absent in a scene of flexible bodies only
     ForceInstance force;
     force.name = "collision_contact";
     force.type = "collision_contact";
@@ -56,8 +63,8 @@ void Loader::add_collision_contact() {
         shapes.items.push_back(std::move(entry));
     };
     if (ground && find(*ground, "collision")) add(kGround, *find(*ground, "collision"));
-    for (size_t k = 0; k < bodies.items.size(); ++k)
-        if (const Param* c = find(bodies.items[k], "collision")) add(static_cast<int>(k), *c);
+    for (size_t k = 0; bodies && k < bodies->items.size(); ++k)
+        if (const Param* c = find(bodies->items[k], "collision")) add(static_cast<int>(k), *c);
     if (force.bodies.empty()) return;
 
     Param joined;
@@ -65,6 +72,7 @@ void Loader::add_collision_contact() {
     for (const JointInstance& joint : model_.joints)
         for (size_t a = 0; a < joint.bodies.size(); ++a)
             for (size_t b = a + 1; b < joint.bodies.size(); ++b) {
+                if (on_flexible_body(joint, a) || on_flexible_body(joint, b)) continue;  // its slot holds no ground
                 const auto ia = std::find(force.bodies.begin(), force.bodies.end(), joint.bodies[a]);
                 const auto ib = std::find(force.bodies.begin(), force.bodies.end(), joint.bodies[b]);
                 if (ia == force.bodies.end() || ib == force.bodies.end()) continue;

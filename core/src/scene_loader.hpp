@@ -249,14 +249,18 @@ private:
 
     // A world frame (origin, axes as columns) at t = 0 seen from a body: the marker.
     Marker marker_from_world(int body, const Vec3& origin, const Mat3& axes) const {
-        const Mat3 A = initial_rotation(body);
+        return marker_in_frame(initial_position(body), initial_rotation(body),
+                               body == kGround ? 0.0 : model_.bodies[body].angle, origin, axes);
+    }
+    // The same seen from a frame at `position` with axes A (planar: rotated by `angle`).
+    Marker marker_in_frame(const Vec3& position, const Mat3& A, double angle, const Vec3& origin,
+                           const Mat3& axes) const {
         Marker m;
-        m.u_bar = A.transpose() * (origin - initial_position(body));
+        m.u_bar = A.transpose() * (origin - position);
         m.A_bar = A.transpose() * axes;
         if (model_.dimension == Dimension::Planar) {
             m.u_bar.z() = 0.0;
-            const double body_angle = body == kGround ? 0.0 : model_.bodies[body].angle;
-            m.angle = std::atan2(axes(1, 0), axes(0, 0)) - body_angle;
+            m.angle = std::atan2(axes(1, 0), axes(0, 0)) - angle;
             m.A_bar = rotation_z(m.angle);
         }
         return m;
@@ -266,6 +270,17 @@ private:
     void build();
     void load_formulation(const Param& node);
     void load_body(const Param& node, int index);
+    // scene_flexible.cpp: `flexible_bodies:` and joints at their points
+    void load_flexible_body(const Param& node, int index);
+    std::vector<std::string> flexible_body_names() const;
+    // One item of a joint's `bodies`: a rigid body's name or ground (its index), or a point of a
+    // flexible body, {body: NAME, node: K} or {body: NAME, at: xi}, added to joint.flexible at
+    // this slot (kGround returned: the slot is not a rigid body).
+    int joint_body(const Param& item, const std::string& what, int slot, JointInstance& joint) const;
+    // The material frame at an attachment in the initial configuration, as a body (ground = false).
+    BodyInfo flexible_body_info(const FlexibleAttachment& at) const;
+    // Refuses a joint at a flexible body that is driven or has velocity-level rows (not mapped yet).
+    void check_flexible_joint(const JointInstance& joint) const;
     Mat3 body_inertia(const Param& inertia, const std::string& what) const;
     Vec4 body_orientation(const Param& orientation, const std::string& what) const;
     void load_joint(const Param& node, int index);

@@ -245,6 +245,15 @@ PreparedRun prepare_run(const Model& model, Registry& registry, const Simulation
                                                 name + "' has none");
     require_velocity_rows_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
     require_reaction_loads_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
+    require_flexible_bodies_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
+    // a slot on a flexible body holds the ground for the rigid paths, so reactions.hpp would
+    // read its reaction as the ground's (zero): refused until the frame's reaction is reported
+    if (settings.reactions)
+        for (const JointInstance& j : model.joints)
+            if (!j.flexible.empty())
+                throw InputError(j.where, "joint '" + j.name + "' is attached to flexible body '" +
+                                              model.flexible_bodies[j.flexible.front().body].name +
+                                              "', whose reactions are not reported yet; run without --reactions");
     return run;
 }
 

@@ -73,6 +73,9 @@ public:
     bool supports_index3() const override { return true; }
     bool supports_velocity_constraints() const override { return true; }
     bool supports_reaction_loads() const override { return true; }
+    // flexible bodies: their constant mass block is factored once (sdk block_mass_inverse.hpp),
+    // and S = J M^-1 J^T is formed densely (sdk dense_gram.hpp)
+    bool supports_flexible_bodies() const override { return true; }
     bool may_redefine_state() const override { return false; }  // y = [q; v] whatever rows are kept
     OptionGroups options_used() const override {
         return kStabilizationOptions | kLinearAlgebraOptions | kSingularityOptions;
@@ -159,6 +162,7 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     nc_ = system.constraint_rows(true) + system.velocity_constraint_rows();
     sparse_ = options_.algebra == LinearAlgebra::Sparse ||
               (options_.algebra == LinearAlgebra::Auto && nv_ > options_.sparse_threshold);
+    if (system.flexible_coordinates() > 0) sparse_ = false;  // the sparse S is formed by rigid body blocks only
 
     // M^-1 per body and its Cholesky factor (M is constant: book Eqs. 6.61-6.63)
     mass_inverse_.bind(system, "augmented formulation");
@@ -222,7 +226,8 @@ void Augmented::check_finite(double t, const Eigen::VectorXd& x, const char* wha
     int worst = 0;
     while (worst < x.size() && std::isfinite(x[worst])) ++worst;
     std::string where;
-    if (worst < x.size() && x.size() == nv_) where = " (body '" + system_->body(worst / nvb_).name + "')";
+    if (worst < x.size() && x.size() == nv_ && worst < nb_ * nvb_)
+        where = " (body '" + system_->body(worst / nvb_).name + "')";
     throw NonFiniteMotion(t, std::string("non-finite ") + what + where +
                                ": the motion diverged (try a smaller tolerance or step)");
 }
@@ -464,6 +469,8 @@ void Augmented::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) {
             const Vec4 p = state_.q.segment<4>(iq + 3);
             ydot.segment<4>(iq + 3).noalias() = 0.5 * euler_Gbar(p).transpose() * state_.v.segment<3>(iv + 3);
         }
+        const int flexible = system_->flexible_coordinates();  // v = qdot, after the rigid blocks
+        ydot.segment(nq_ - flexible, flexible) = state_.v.tail(flexible);
     }
     ydot.tail(nv_) = vdot_;
 }

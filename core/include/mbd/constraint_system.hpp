@@ -68,6 +68,7 @@ private:
     // each joint's bodies and its Joint, read in order by the evaluation loops (element_bodies.hpp)
     ElementBodies joint_bodies_;
     std::vector<const Joint*> joint_;
+    std::vector<const std::vector<FlexibleAttachment>*> flexible_;  // each joint's slots on flexible bodies
     std::vector<int> velocity_offset_;  // each joint's first velocity-level row
     std::vector<RowOwner> owners_;
     // The Jacobian's fixed pattern, and for each element row and each of its body

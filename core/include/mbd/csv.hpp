@@ -1,7 +1,8 @@
 // Motion output in the CSV contract: t, then per body NAME.x NAME.y NAME.angle
 // (planar) or NAME.x NAME.y NAME.z NAME.e0..e3 (spatial), then per body
 // NAME.vx NAME.vy NAME.omega or NAME.vx NAME.vy NAME.vz NAME.wx NAME.wy NAME.wz
-// (world axes). Values are written with 17 significant digits; a non-finite
+// (world axes), then per node K of each flexible body NAME.nodeK.x NAME.nodeK.y
+// (.z) NAME.nodeK.vx NAME.nodeK.vy (.vz), world. Values are written with 17 significant digits; a non-finite
 // value is refused (the writer throws) so that no NaN reaches a result file.
 #pragma once
 

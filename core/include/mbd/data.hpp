@@ -34,7 +34,24 @@ struct Data {
     // each joint's velocity-level rows (sized 0 for a joint without any)
     std::vector<VelocityConstraintEval> joint_velocity_rows;
 
+    // Flexible bodies (model.hpp FlexibleBodyInstance): each one's coordinates and velocities
+    // at the posed state, and for each joint its slots on them (in the order of its `flexible`
+    // list): the material frame and the joint's rows mapped to the body's own coordinates
+    // (sdk map_frame_rows).
+    struct FlexibleSlot {
+        MaterialFrame frame;
+        Eigen::MatrixXd J;  // J_f G, rows x n
+    };
+    std::vector<Eigen::VectorXd> flexible_q, flexible_v;
+    std::vector<std::vector<FlexibleSlot>> joint_flexible;
+    // Fill `view` for an element's bodies, its flexible slots' material frames at the posed
+    // state computed into `slots` and put in place of the ground the slots hold.
+    void fill_view(BodyList bodies, const std::vector<FlexibleAttachment>& attachments,
+                   std::vector<FlexibleSlot>& slots, double t);
+
 private:
+    void pose_flexible(const State& state);
+    const Model* model_;
     Eigen::VectorXd posed_q_, posed_v_;  // the state `poses` holds
     bool posed_ = false;
 };

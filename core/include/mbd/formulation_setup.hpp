@@ -44,5 +44,10 @@ void require_velocity_rows_handled(const Model& model, const Formulation& formul
 // the first such element.
 void require_reaction_loads_handled(const Model& model, const Formulation& formulation, const std::string& name,
                                     bool needs_index3, const std::string& integrator);
+// A scene with flexible bodies (Model::flexible_bodies) needs a formulation that takes them
+// (Formulation::supports_flexible_bodies) and an integrator that does not solve the index-3
+// equations on the system: throws InputError at the first flexible body, naming it and what to use.
+void require_flexible_bodies_handled(const Model& model, const Formulation& formulation, const std::string& name,
+                                     bool needs_index3, const std::string& integrator);
 
 }  // namespace mbd

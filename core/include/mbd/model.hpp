@@ -3,6 +3,7 @@
 // MuJoCo). A run owns a State (t, q, v).
 #pragma once
 
+#include <mbd/sdk/body.hpp>
 #include <mbd/sdk/force.hpp>
 #include <mbd/sdk/formulation_options.hpp>
 #include <mbd/sdk/joint.hpp>
@@ -34,6 +35,28 @@ struct Body {
     std::vector<VisualShape> visuals;  // `visual:` (empty: shapes derived from the scene)
 };
 
+// A flexible body (`flexible_bodies:`, a body plugin, sdk body.hpp). Its coordinates follow
+// every rigid body's in q and v (rigid bodies keep their fixed blocks b * nqb, b * nvb):
+// offset = the rigid block's size plus the sizes of the flexible bodies before it.
+struct FlexibleBodyInstance {
+    std::string name;
+    std::string type;
+    std::shared_ptr<const FlexibleBody> body;
+    int offset = 0;  // its first coordinate in q, and its first velocity in v (v = qdot)
+    int size = 0;    // n, its coordinate count
+    std::string where;
+};
+
+// A joint's body slot on a flexible body: the joint sees the material frame at xi as a rigid
+// body (sdk body.hpp), and its `bodies[slot]` holds kGround, so the rigid-body paths skip the
+// slot; the chain rule J_f G adds it (constraint_system.cpp). Forces are not attached to
+// flexible bodies yet.
+struct FlexibleAttachment {
+    int slot = 0;                  // index into the element's bodies
+    int body = 0;                  // index into Model::flexible_bodies
+    std::vector<double> xi;        // material parameters (FlexibleBody::material_parameters())
+};
+
 struct JointInstance {
     std::string name;
     std::string type;
@@ -45,6 +68,7 @@ struct JointInstance {
     bool has_limits = false;
     double limit_lo = 0.0, limit_hi = 0.0;
     std::string limits_where;
+    std::vector<FlexibleAttachment> flexible;  // its slots on flexible bodies (empty: rigid only)
 };
 
 struct ForceInstance {
@@ -87,6 +111,7 @@ public:
     Dimension dimension = Dimension::Planar;
     Vec3 gravity = Vec3::Zero();
     std::vector<Body> bodies;      // the ground is implicit (index kGround)
+    std::vector<FlexibleBodyInstance> flexible_bodies;  // `flexible_bodies:`, coordinates after the rigid ones
     std::vector<JointInstance> joints;
     std::vector<ForceInstance> forces;
     std::vector<Driver> drivers;
@@ -105,8 +130,15 @@ public:
     std::shared_ptr<const Param> expect_node;
 
     int body_count() const { return static_cast<int>(bodies.size()); }
-    int nq() const { return body_count() * coordinates_per_body(dimension); }
-    int nv() const { return body_count() * velocities_per_body(dimension); }
+    int nq() const { return body_count() * coordinates_per_body(dimension) + flexible_coordinates_; }
+    int nv() const { return body_count() * velocities_per_body(dimension) + flexible_coordinates_; }
+    // the coordinates of every flexible body (they follow the rigid bodies' in q and v)
+    int flexible_coordinates() const { return flexible_coordinates_; }
+    // Appends a flexible body after the rigid bodies' coordinates and the flexible ones before it
+    // (every rigid body is added first: the offsets assume the rigid block is complete).
+    void add_flexible_body(FlexibleBodyInstance body);
+    // Index into flexible_bodies by name, -1 when none has it.
+    int flexible_body_index(const std::string& name) const;
     int q_offset(int body) const { return body * coordinates_per_body(dimension); }
     int v_offset(int body) const { return body * velocities_per_body(dimension); }
 
@@ -116,6 +148,9 @@ public:
 
     // The state given in the scene at t = 0 (not necessarily assembled).
     State initial_state() const;
+
+private:
+    int flexible_coordinates_ = 0;
 };
 
 // q <- q (+) dv: add a velocity-like increment to positions. Planar: plain sum.

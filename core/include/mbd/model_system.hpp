@@ -28,6 +28,7 @@ public:
     int body_count() const override { return model_->body_count(); }
     const BodyInfo& body(int index) const override { return bodies_.at(index); }
     Vec3 gravity() const override { return model_->gravity; }
+    int flexible_coordinates() const override { return model_->flexible_coordinates(); }
     int joint_count() const override { return static_cast<int>(joints_.size()); }
     const JointInfo& joint(int index) const override { return joints_.at(index); }
     int driver_count() const override { return static_cast<int>(drivers_.size()); }
@@ -89,6 +90,7 @@ private:
     const ConstraintSystem with_drivers_and_velocity_rows_;
     const ConstraintSystem joints_and_velocity_rows_;
     Data data_;
+    Eigen::VectorXd flexible_Q_;  // one flexible body's force (the widest), workspace
     std::vector<int> reaction_loaded_;  // force indices with a load_joint, in scene order
     std::vector<int> load_slot_;        // per force: its index in loads_, -1 none
     Eigen::VectorXd loads_;             // their loads N (set_reaction_loads)

@@ -3,7 +3,9 @@
 // factor Lm (M^-1 = Lm Lm^T). Shared by the formulations that solve with S = J M^-1 J^T
 // (augmented, the coordinate projection). Blocks are nvb x nvb (3 planar, 6 spatial), stored
 // contiguously body after body: M^-1 x streams 72 bytes a planar body (a 6 x 6 block with the
-// 3 x 3 in its corner was 288, spread over three cache lines).
+// 3 x 3 in its corner was 288, spread over three cache lines). The flexible bodies' coordinates
+// (System::flexible_coordinates(), after the rigid bodies') form one dense block at the end:
+// their constant mass matrices are inverted and factored here, once.
 #pragma once
 
 #include <mbd/sdk/body_state.hpp>
@@ -49,7 +51,26 @@ public:
             least = std::min(least, eigenvalues.minCoeff());
             largest = std::max(largest, eigenvalues.maxCoeff());
         }
-        distortion_ = bodies > 0 ? std::sqrt(largest / least) : 1.0;
+        flexible_offset_ = nvb_ * bodies;
+        const int flexible = system.flexible_coordinates();
+        if (flexible > 0) {
+            const Eigen::MatrixXd block = Eigen::MatrixXd(M.block(flexible_offset_, flexible_offset_, flexible, flexible));
+            const Eigen::LLT<Eigen::MatrixXd> mass(block);
+            flexible_inverse_ = mass.solve(Eigen::MatrixXd::Identity(flexible, flexible));
+            flexible_inverse_ = 0.5 * (flexible_inverse_ + flexible_inverse_.transpose()).eval();
+            const Eigen::LLT<Eigen::MatrixXd> llt(flexible_inverse_);
+            if (mass.info() != Eigen::Success || llt.info() != Eigen::Success || !flexible_inverse_.allFinite())
+                throw InputError("", who + ": the mass matrix of the flexible bodies is not positive definite");
+            flexible_factor_ = llt.matrixL();
+            const Eigen::VectorXd eigenvalues =
+                Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(flexible_inverse_).eigenvalues();
+            least = std::min(least, eigenvalues.minCoeff());
+            largest = std::max(largest, eigenvalues.maxCoeff());
+        } else {
+            flexible_inverse_.resize(0, 0);
+            flexible_factor_.resize(0, 0);
+        }
+        distortion_ = bodies + flexible > 0 ? std::sqrt(largest / least) : 1.0;
     }
     // sqrt(cond M): the most that the kinetic-energy metric stretches one direction of
     // velocity space against another
@@ -59,6 +80,11 @@ public:
     int velocities_per_body() const { return nvb_; }
     Block inverse(int body) const { return Block(inverse_.data() + nvb_ * nvb_ * body, nvb_, nvb_); }
     Block factor(int body) const { return Block(factor_.data() + nvb_ * nvb_ * body, nvb_, nvb_); }  // Lm, lower
+    // The flexible bodies' block: its first velocity, its size, M^-1 and its lower factor Lm.
+    int flexible_offset() const { return flexible_offset_; }
+    int flexible_size() const { return static_cast<int>(flexible_inverse_.rows()); }
+    const Eigen::MatrixXd& flexible_inverse() const { return flexible_inverse_; }
+    const Eigen::MatrixXd& flexible_factor() const { return flexible_factor_; }
 
     // out = M^-1 x
     void apply(const Eigen::VectorXd& x, Eigen::VectorXd& out) const {
@@ -66,6 +92,9 @@ public:
             apply_blocks<3>(x, out);
         else
             apply_blocks<6>(x, out);
+        if (flexible_size() > 0)
+            out.segment(flexible_offset_, flexible_size()).noalias() =
+                flexible_inverse_ * x.segment(flexible_offset_, flexible_size());
     }
 
 private:
@@ -79,6 +108,8 @@ private:
     int nvb_ = 3;
     std::vector<double> inverse_, factor_;  // nvb x nvb blocks, column-major, body after body
     double distortion_ = 1.0;
+    int flexible_offset_ = 0;
+    Eigen::MatrixXd flexible_inverse_, flexible_factor_;  // the flexible bodies' block
 };
 
 }  // namespace mbd

@@ -99,6 +99,13 @@ public:
         const int nvb = m.velocities_per_body();
         W_.setZero();
         for (int col = 0; col < J.outerSize(); ++col) {
+            if (col >= m.flexible_offset() && m.flexible_size() > 0) {  // the flexible bodies' dense block
+                const int k = col - m.flexible_offset();
+                for (Eigen::SparseMatrix<double>::InnerIterator it(J, col); it; ++it)
+                    W_.row(it.row()).segment(m.flexible_offset(), m.flexible_size()) +=
+                        it.value() * m.flexible_factor().row(k);
+                continue;
+            }
             const int b = col / nvb, k = col % nvb;
             for (Eigen::SparseMatrix<double>::InnerIterator it(J, col); it; ++it)
                 W_.row(it.row()).segment(b * nvb, nvb) += it.value() * m.factor(b).row(k).head(nvb);
@@ -151,6 +158,15 @@ private:
 
     // The lower triangle of S, body block by body block (the header's sum).
     void form_S(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& m, const std::vector<int>& decoupled) {
+        if (m.flexible_size() > 0) {  // a flexible body's dense block: S = W W^T
+            form_W(J, m, decoupled);
+            S_.triangularView<Eigen::Lower>() = (W_ * W_.transpose()).eval();
+            if (!decoupled.empty()) {
+                const double unit = std::max(S_.diagonal().maxCoeff(), 1e-300);
+                for (int r : decoupled) S_(r, r) = unit;
+            }
+            return;
+        }
         const int nvb = m.velocities_per_body();
         if (rows_of_body_.empty() || analyzed_nonzeros_ != J.nonZeros()) analyze(J, nvb);
         for (int r : decoupled) skip_[r] = 1;

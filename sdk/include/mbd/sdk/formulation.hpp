@@ -89,6 +89,10 @@ public:
     // True if an implicit integrator may solve this formulation's index-3 DAE
     // M vdot + J^T lambda = Q, C(q, t) = 0 on the System directly.
     virtual bool supports_index3() const { return false; }
+    // True if the formulation takes flexible bodies (System::flexible_coordinates(), sdk
+    // body.hpp): a general constant mass matrix block after the rigid bodies' blocks. The core
+    // refuses a scene with flexible bodies, naming the body, for a formulation that does not.
+    virtual bool supports_flexible_bodies() const { return false; }
 
     // The groups of shared options (formulation_options.hpp) this formulation honours; the
     // host refuses a scene key of any other group, naming the formulation.

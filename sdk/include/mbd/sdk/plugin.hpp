@@ -21,7 +21,7 @@
 #include <memory>
 
 // Bumped whenever a type in the SDK headers changes layout or meaning.
-#define MBD_ABI_VERSION 10
+#define MBD_ABI_VERSION 11
 
 namespace mbd {
 

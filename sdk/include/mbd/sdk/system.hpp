@@ -70,8 +70,12 @@ public:
     virtual const std::string& name() const = 0;
     virtual int body_count() const = 0;
     virtual const BodyInfo& body(int index) const = 0;      // mass, inertia, initial pose
-    int nq() const { return body_count() * coordinates_per_body(dimension()); }
-    int nv() const { return body_count() * velocities_per_body(dimension()); }
+    // Flexible bodies' coordinates (sdk body.hpp) follow every rigid body's in q and v (their
+    // velocities are their coordinates' rates); formulations that take them
+    // (Formulation::supports_flexible_bodies) see their blocks in mass_matrix().
+    virtual int flexible_coordinates() const { return 0; }
+    int nq() const { return body_count() * coordinates_per_body(dimension()) + flexible_coordinates(); }
+    int nv() const { return body_count() * velocities_per_body(dimension()) + flexible_coordinates(); }
     virtual Vec3 gravity() const = 0;
 
     virtual int joint_count() const = 0;
@@ -109,7 +113,8 @@ public:
     virtual void normalize(Eigen::VectorXd& q) const = 0;  // unit Euler parameters
 
     // --- dynamics terms
-    // Constant block-diagonal mass matrix: planar diag(m, m, J); spatial diag(m I, Jbar).
+    // Constant block-diagonal mass matrix: planar diag(m, m, J); spatial diag(m I, Jbar); then
+    // each flexible body's constant mass matrix (its block after the rigid ones).
     virtual const Eigen::SparseMatrix<double>& mass_matrix() const = 0;
     // All applied generalized forces plus, for spatial bodies, the gyroscopic
     // term -wbar x (Jbar wbar) (book Eq. 7.155's Q_v). Q has size nv.
