@@ -106,7 +106,7 @@ void add_check_command(CLI::App& app, Commands& commands) {
         } else {
             std::cout << "kinematically driven: no (no drivers)\n";
         }
-        // the embedding formulation's path (sdk/include/mbd/sdk/topology.hpp)
+        // the embedding formulation's path (kit/include/mbd/kit/topology.hpp)
         std::cout << "embedding: " << check.embedding.path << " path (" << check.embedding.reason << ")\n";
         return 0;
     };

@@ -11,7 +11,7 @@
 #include <mbd/interrupt.hpp>
 #include <mbd/kinematics.hpp>
 #include <mbd/output_file.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/text.hpp>

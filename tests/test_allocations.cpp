@@ -10,7 +10,7 @@
 
 #include <mbd/integrator.hpp>
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/topology.hpp>
+#include <mbd/kit/topology.hpp>
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
 // torque-free body, the steady precession of a heavy top (book Sec. 8.1), constraint
 // drift with projection, and dense vs sparse linear algebra.
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/reactions.hpp>
+#include <mbd/reactions.hpp>
 #include <mbd/simulation.hpp>
 
 #include <boost/math/special_functions/ellint_1.hpp>

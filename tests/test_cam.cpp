@@ -14,7 +14,7 @@
 // phi = pi/2 - theta (cam axes), so y = d(pi/2 - theta).
 #include <mbd/kinematics.hpp>
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/reactions.hpp>
+#include <mbd/reactions.hpp>
 #include <mbd/simulation.hpp>
 #include <mbd/statics_analysis.hpp>
 

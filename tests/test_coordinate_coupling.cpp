@@ -11,7 +11,7 @@
 // constraint is zero). The Jacobian itself is checked by finite differences in
 // tests/test_joint_derivatives.cpp (scenes/examples/spatial-coordinate-coupling.yaml).
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/reactions.hpp>
+#include <mbd/reactions.hpp>
 #include <mbd/sdk/rotation.hpp>
 #include <mbd/simulation.hpp>
 

@@ -16,7 +16,7 @@
 //   - closed-form velocities of the driven and geared scenes (gear ratio, rack travel,
 //     shaft spin, the car axis bump angle rate).
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/reactions.hpp>
+#include <mbd/reactions.hpp>
 #include <mbd/simulation.hpp>
 
 #include <gtest/gtest.h>

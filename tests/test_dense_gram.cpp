@@ -1,4 +1,4 @@
-// The dense S = J M^-1 J^T of the augmented formulation and the projection (sdk dense_gram.hpp):
+// The dense S = J M^-1 J^T of the augmented formulation and the projection (kit dense_gram.hpp):
 // formed by body blocks, it equals the product of the dense matrices; its pivoted Cholesky
 // solves S x = b as a full-pivoting LU does; and the ratio that decides the minimum-norm path
 // is about the inverse condition of the equilibrated S (an SVD here is the oracle), so a badly
@@ -7,8 +7,8 @@
 #include "support/test_support.hpp"
 
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/block_mass_inverse.hpp>
-#include <mbd/sdk/dense_gram.hpp>
+#include <mbd/kit/block_mass_inverse.hpp>
+#include <mbd/kit/dense_gram.hpp>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

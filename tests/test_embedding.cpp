@@ -4,9 +4,9 @@
 // through its rocker's dead points, the joints' own constraint equations and the dense
 // B^T M B path on a 20-link spatial chain, and the topology query of `mbd check`.
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/partition.hpp>
-#include <mbd/sdk/reactions.hpp>
-#include <mbd/sdk/topology.hpp>
+#include <mbd/kit/partition.hpp>
+#include <mbd/reactions.hpp>
+#include <mbd/kit/topology.hpp>
 #include <mbd/simulation.hpp>
 
 #include <Eigen/Dense>

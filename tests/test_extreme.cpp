@@ -67,7 +67,7 @@ TEST(Extreme, EveryCaseEndsInADeclaredOutcome) {
 
 TEST(Extreme, DeadCentreIsASingularConfiguration) {
     // slider crank driven at the slider through its dead centre (book Sec. 3.9): the rank of
-    // J (joints + drivers) drops at t = 0.5 s; the shared rank test (sdk singularity.hpp)
+    // J (joints + drivers) drops at t = 0.5 s; the shared rank test (kit singularity.hpp)
     // reports it instead of a silent pass through an arbitrary branch: after each step of the
     // explicit integrators, and when generalized_alpha's Newton iteration fails there
     const Model model = load_scene(scene_path("extreme/slider-crank-dead-centre.yaml").string(), shared_registry());

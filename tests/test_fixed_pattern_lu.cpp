@@ -1,4 +1,4 @@
-// The sparse LU on a fixed pattern (formulations/support/fixed_pattern_lu.hpp) and the fill of an
+// The sparse LU on a fixed pattern (kit/include/mbd/kit/fixed_pattern_lu.hpp) and the fill of an
 // order (own_order_fill.hpp). From 5,000 rows the LU keeps K's own order where it fills (almost)
 // no more than AMD's, for locality; it must never try an order that fills a dense block, and
 // whichever order it keeps must solve K x = b to round-off, refactored with new values too.

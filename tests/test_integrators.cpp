@@ -17,7 +17,7 @@
 #include <mbd/model_system.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
 #include <mbd/statics_analysis.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Friction whose normal load is a joint's own reaction (issue 19, item 3: `load_joint` of the
-// coulomb_friction and rotational_friction elements, sdk reaction_loads.hpp), and the energy
+// coulomb_friction and rotational_friction elements, kit reaction_loads.hpp), and the energy
 // friction dissipates (the diagnostics column friction_dissipated), against closed forms:
 //  - a block on a prismatic guide inclined at `angle`: the guide's normal reaction is
 //    m g cos(angle) whatever the friction along it, so the block sticks when
@@ -12,7 +12,7 @@
 
 #include <mbd/linearisation.hpp>
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 #include <mbd/simulation.hpp>
 
 #include <gtest/gtest.h>

@@ -12,7 +12,7 @@
 //     driven pendulum in closed form, and augmented on driven trees.
 #include <mbd/model_system.hpp>
 #include <mbd/scene.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 #include <mbd/simulation.hpp>
 
 #include <gtest/gtest.h>

@@ -11,7 +11,7 @@
 #include <mbd/sdk/text.hpp>
 #include <mbd/statics_analysis.hpp>
 #include <mbd/simulation.hpp>
-#include <mbd/sdk/velocity_transform.hpp>
+#include <mbd/kit/velocity_transform.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,11 +1,11 @@
 // A trial stage of an adaptive step that lands where the motion is not finite (a body driven
 // through a contact plane by too long a step, a state the forces cannot be evaluated at) only says
 // the step was too long: the adaptive integrators reject it and retry shorter
-// (sdk formulation.hpp NonFiniteMotion); any other DynamicsError still stops the run.
+// (kit formulation.hpp NonFiniteMotion); any other DynamicsError still stops the run.
 #include "support/function_problem.hpp"
 
 #include <mbd/integrator.hpp>
-#include <mbd/sdk/non_finite_motion.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
 
 #include <gtest/gtest.h>
 

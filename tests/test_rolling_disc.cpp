@@ -21,7 +21,7 @@
 #include <mbd/derivative_check.hpp>
 #include <mbd/mobility.hpp>
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/reactions.hpp>
+#include <mbd/reactions.hpp>
 #include <mbd/sdk/rotation.hpp>
 #include <mbd/simulation.hpp>
 

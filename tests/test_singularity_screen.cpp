@@ -1,6 +1,6 @@
-// Issue 13: the singular-configuration check (sdk singularity.hpp) skips its QR of J^T when the
+// Issue 13: the singular-configuration check (kit singularity.hpp) skips its QR of J^T when the
 // caller's own factorization of S = J M^-1 J^T, or the sparse certificate of J J^T
-// (formulations/support/rank_certificate.hpp), shows that the rows are well independent, and
+// (kit/include/mbd/kit/rank_certificate.hpp), shows that the rows are well independent, and
 // still finds the rank drop at a dead centre. The certificate's bound is checked against
 // sigma_min / sigma_max of J by a dense SVD. Oracles: the dead centre of the slider crank
 // driven at its slider (book Sec. 3.9: crank and rod aligned, the driver's row dependent on the
@@ -8,9 +8,9 @@
 #include "support/test_support.hpp"
 
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/block_mass_inverse.hpp>
-#include <mbd/sdk/dense_gram.hpp>
-#include <mbd/sdk/singularity.hpp>
+#include <mbd/kit/block_mass_inverse.hpp>
+#include <mbd/kit/dense_gram.hpp>
+#include <mbd/kit/singularity.hpp>
 
 #include <rank_certificate.hpp>
 

@@ -1,12 +1,12 @@
 // The sparse S = J M^-1 J^T of the augmented formulation and the coordinate projection
-// (formulations/support/sparse_gram.hpp): its products summed by groups of columns that share
+// (kit/include/mbd/kit/sparse_gram.hpp): its products summed by groups of columns that share
 // their rows, W = J Lm formed body by body (a dense block product where J's columns hold W's
 // rows, entry by entry where they do not). Oracle: the dense product J M^-1 J^T from the
 // System's own mass matrix, and S^-1 b against a dense solve.
 #include "support/test_support.hpp"
 
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/block_mass_inverse.hpp>
+#include <mbd/kit/block_mass_inverse.hpp>
 
 #include <own_order_fill.hpp>
 #include <sparse_gram.hpp>

@@ -1,4 +1,4 @@
-// The sparse coordinate partition (formulations/support/sparse_partition.hpp) against
+// The sparse coordinate partition (kit/include/mbd/kit/sparse_partition.hpp) against
 // independent oracles: the numerical rank of J by SVD, J_d = J[rows, dependent] nonsingular,
 // redundant rows in the span of the kept rows (least squares), the Bricard mechanism's one
 // degree of freedom (its Gruebler count is 0: one of its rows is redundant), and a four-bar
@@ -9,8 +9,8 @@
 
 #include <mbd/model_system.hpp>
 #include <mbd/simulation.hpp>
-#include <mbd/sdk/partition.hpp>
-#include <mbd/sdk/velocity_transform.hpp>
+#include <mbd/kit/partition.hpp>
+#include <mbd/kit/velocity_transform.hpp>
 #include <coordinate_selector.hpp>
 #include <sparse_partition.hpp>
 

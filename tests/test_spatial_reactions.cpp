@@ -11,7 +11,7 @@
 //          = A (0, w^2 J_xz, 0), so with P = 0:  T_P = A (0, w^2 J_xz, 0) + R x F,
 // whose component along the hinge is zero (an ideal hinge carries no moment about its axis).
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/reactions.hpp>
+#include <mbd/reactions.hpp>
 #include <mbd/simulation.hpp>
 
 #include <gtest/gtest.h>

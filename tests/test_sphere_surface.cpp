@@ -8,7 +8,7 @@
 // centre (its vertical part carries the weight). The joint has one row per contact, whose
 // multiplier is that normal force (book Sec. 8.6: one multiplier survives C_s^T lambda = 0).
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/reactions.hpp>
+#include <mbd/reactions.hpp>
 #include <mbd/simulation.hpp>
 
 #include <gtest/gtest.h>

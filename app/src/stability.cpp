@@ -9,7 +9,7 @@
 #include <mbd/model_system.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 #include <mbd/sdk/params.hpp>
 
 #include <boost/math/special_functions/ellint_1.hpp>

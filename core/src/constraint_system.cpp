@@ -1,7 +1,7 @@
 #include <mbd/constraint_system.hpp>
 
 #include <mbd/sdk/domain_error.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <algorithm>
@@ -244,7 +244,7 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
             if (!(e.A.allFinite() && e.b.allFinite() && e.gamma.allFinite()) && state.q.allFinite() &&
                 state.v.allFinite())
                 throw_velocity_rows_not_finite(ji, e, state.t);
-            // A v = b as a row without position residual: C = 0, J = A, C_t = -b (sdk system.hpp)
+            // A v = b as a row without position residual: C = 0, J = A, C_t = -b (kit system.hpp)
             const int r0 = velocity_offset_[j];
             out.C.segment(r0, e.b.size()).setZero();
             out.C_t.segment(r0, e.b.size()) = -e.b;

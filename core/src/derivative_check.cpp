@@ -492,7 +492,7 @@ struct ForceDifferences {
 };
 
 // Q(N) must be affine in the load N (Force::evaluate_at_load): the reaction-load solver takes
-// G = Q(1) - Q(0) as its direction (sdk reaction_loads.hpp), so a curved Q(N) would be solved
+// G = Q(1) - Q(0) as its direction (kit reaction_loads.hpp), so a curved Q(N) would be solved
 // at a wrong load. Second differences at 0, N1, 2 N1.
 void check_load_affinity(ForceProbe& probe, const State& s, DerivativeErrors& worst) {
     probe.poses.update(s);

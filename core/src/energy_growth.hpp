@@ -5,7 +5,7 @@
 // instead of writing a motion that gains energy without bound.
 #pragma once
 
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 
 #include <string>
 

@@ -12,7 +12,7 @@
 #pragma once
 
 #include <mbd/integrator.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 

@@ -6,8 +6,8 @@
 // interpolation between the two samples around the change): there the bodies would separate.
 #pragma once
 
-#include <mbd/sdk/message_log.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/message_log.hpp>
+#include <mbd/kit/system.hpp>
 #include <mbd/simulation.hpp>
 
 #include <Eigen/Core>

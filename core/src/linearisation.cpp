@@ -5,9 +5,9 @@
 #include "reference_motion.hpp"
 
 #include <mbd/body_poses.hpp>
-#include <mbd/sdk/partition.hpp>
+#include <mbd/kit/partition.hpp>
 #include <mbd/sdk/text.hpp>
-#include <mbd/sdk/velocity_transform.hpp>
+#include <mbd/kit/velocity_transform.hpp>
 
 #include <Eigen/Dense>
 

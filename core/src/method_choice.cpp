@@ -5,7 +5,7 @@
 #include <mbd/integrator.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/sdk/text.hpp>
-#include <mbd/sdk/topology.hpp>
+#include <mbd/kit/topology.hpp>
 
 #include <Eigen/SparseCholesky>
 

@@ -2,7 +2,7 @@
 #include <mbd/scene_check.hpp>
 
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/topology.hpp>
+#include <mbd/kit/topology.hpp>
 
 #include <Eigen/Dense>
 

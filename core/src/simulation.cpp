@@ -9,8 +9,8 @@
 #include <mbd/model_system.hpp>
 #include <mbd/output_times.hpp>
 #include <mbd/progress_bar.hpp>
-#include <mbd/sdk/non_finite_motion.hpp>
-#include <mbd/sdk/reactions.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
+#include <mbd/reactions.hpp>
 #include <mbd/sdk/text.hpp>
 #include <mbd/tolerance_choice.hpp>
 

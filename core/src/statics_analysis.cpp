@@ -4,8 +4,8 @@
 #include <mbd/integrator.hpp>
 #include <mbd/kinematics.hpp>
 #include <mbd/simulation.hpp>
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/reactions.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/reactions.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <Eigen/Geometry>

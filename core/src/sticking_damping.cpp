@@ -13,7 +13,7 @@
 #include <mbd/method_choice.hpp>
 
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/reaction_loads.hpp>
+#include <mbd/kit/reaction_loads.hpp>
 #include <mbd/sdk/text.hpp>
 #include <mbd/tolerance_choice.hpp>
 

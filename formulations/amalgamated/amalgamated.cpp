@@ -35,7 +35,7 @@
 // rows (Q_c = -J^T lambda, book Eq. 6.128).
 //
 // State y = [q; v] as the augmented formulation; drift: the same projection after each
-// accepted step (sdk/include/mbd/sdk/projection.hpp), or Baumgarte terms in gamma, or
+// accepted step (kit/include/mbd/kit/projection.hpp), or Baumgarte terms in gamma, or
 // none (the projection's S = J M^-1 J^T dense or sparse by size: projection.hpp,
 // sparse_metric.hpp). Reactions: lambda = mu (redundant rows get zero).
 #include <coordinate_selector.hpp>
@@ -45,15 +45,15 @@
 #include <sparse_metric.hpp>
 #include <sparse_velocity_transform.hpp>
 
-#include <mbd/sdk/non_finite_motion.hpp>
-#include <mbd/sdk/coordinate_rates.hpp>
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/ode_state.hpp>
-#include <mbd/sdk/partition.hpp>
-#include <mbd/sdk/projection.hpp>
-#include <mbd/sdk/singularity.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
+#include <mbd/kit/coordinate_rates.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/ode_state.hpp>
+#include <mbd/kit/partition.hpp>
+#include <mbd/kit/projection.hpp>
+#include <mbd/kit/singularity.hpp>
 #include <mbd/sdk/text.hpp>
-#include <mbd/sdk/velocity_transform.hpp>
+#include <mbd/kit/velocity_transform.hpp>
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>

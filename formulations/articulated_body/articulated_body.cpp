@@ -1,6 +1,6 @@
 // The articulated-body formulation of a tree in joint coordinates: see articulated_body.hpp.
 #include "articulated_body.hpp"
-#include <mbd/sdk/non_finite_motion.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -48,8 +48,8 @@
 // on the joint's few rows.
 #pragma once
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/topology.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/topology.hpp>
 
 #include <Eigen/Dense>
 

@@ -7,12 +7,12 @@
 // udot = M_u^-1 (h - Phi_u^T lambda). S is equilibrated (unit diagonal) and factored by
 // Cholesky; a (nearly) rank-deficient S (redundant loop rows, a singular configuration)
 // takes the minimum-norm S^+ = (W^T)^+ W^+ from complete orthogonal decompositions of W and
-// W^T, whose condition is the square root of S's (as sdk dense_gram.hpp does for J M^-1 J^T).
+// W^T, whose condition is the square root of S's (as kit dense_gram.hpp does for J M^-1 J^T).
 // Left-out rows (structurally redundant) get lambda = 0. Dense: the systems on this path are
 // small. Sized once by resize(): factoring and solving allocate nothing after that.
 #pragma once
 
-#include <mbd/sdk/pseudo_inverse.hpp>
+#include <mbd/kit/pseudo_inverse.hpp>
 
 #include <Eigen/Dense>
 

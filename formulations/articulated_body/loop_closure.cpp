@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include <mbd/sdk/non_finite_motion.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
 #include <mbd/sdk/text.hpp>
 
 namespace mbd::articulated {

@@ -1,6 +1,6 @@
 // The recursive path's rhs in planar algebra: see planar_articulated_body.hpp.
 #include "planar_articulated_body.hpp"
-#include <mbd/sdk/non_finite_motion.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
 
 #include <cmath>
 

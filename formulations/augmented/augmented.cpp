@@ -19,7 +19,7 @@
 //     S = J M^-1 J^T,   S lambda = J M^-1 Q - gamma,   vdot = M^-1 (Q - J^T lambda).
 // With M^-1 = Lm Lm^T (per-body Cholesky factors) S = W W^T, W = J Lm.
 //   dense : S summed body block by body block and factored by Cholesky with symmetric
-//           pivoting (sdk dense_gram.hpp);
+//           pivoting (kit dense_gram.hpp);
 //           a (near) rank-deficient S (redundant constraints) falls back to the
 //           minimum-norm solution by a complete orthogonal decomposition, accepted
 //           only if the acceleration constraints are then satisfied.
@@ -36,18 +36,18 @@
 // (Newton on C(q, t) = 0 with steps of minimum kinetic-energy norm,
 // dq = -M^-1 J^T S^-1 C, then v <- v - M^-1 J^T S^-1 (J v + C_t)); Baumgarte
 // (book Sec. 6.12, L9420-9442: gamma - 2 alpha (J v + C_t) - beta^2 C); or none.
-#include <mbd/sdk/non_finite_motion.hpp>
-#include <mbd/sdk/block_mass_inverse.hpp>
-#include <mbd/sdk/dense_gram.hpp>
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/ode_state.hpp>
-#include <mbd/sdk/projection.hpp>
-#include <mbd/sdk/reaction_loads.hpp>
-#include <mbd/sdk/singularity.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
+#include <mbd/kit/block_mass_inverse.hpp>
+#include <mbd/kit/dense_gram.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/ode_state.hpp>
+#include <mbd/kit/projection.hpp>
+#include <mbd/kit/reaction_loads.hpp>
+#include <mbd/kit/singularity.hpp>
 #include <mbd/sdk/text.hpp>
 
-#include "sparse_gram.hpp"
-#include "rank_certificate.hpp"
+#include <mbd/kit/sparse_gram.hpp>
+#include <mbd/kit/rank_certificate.hpp>
 
 #include <Eigen/Dense>
 
@@ -73,8 +73,8 @@ public:
     bool supports_index3() const override { return true; }
     bool supports_velocity_constraints() const override { return true; }
     bool supports_reaction_loads() const override { return true; }
-    // flexible bodies: their constant mass block is factored once (sdk block_mass_inverse.hpp),
-    // and S = J M^-1 J^T is formed densely (sdk dense_gram.hpp)
+    // flexible bodies: their constant mass block is factored once (kit block_mass_inverse.hpp),
+    // and S = J M^-1 J^T is formed densely (kit dense_gram.hpp)
     bool supports_flexible_bodies() const override { return true; }
     bool may_redefine_state() const override { return false; }  // y = [q; v] whatever rows are kept
     OptionGroups options_used() const override {
@@ -128,7 +128,7 @@ private:
     bool rank_deficient_ = false;
     // sparse path: S = W W^T on W's fixed pattern
     SparseGram sparse_gram_;
-    // rank drop of J after an accepted step: a singular configuration (sdk singularity.hpp)
+    // rank drop of J after an accepted step: a singular configuration (kit singularity.hpp)
     SingularityMonitor singularity_;
     RankCertificate rank_certificate_;  // lent to singularity_ (support/rank_certificate.hpp)
     ReactionLoadSolver reaction_loads_;
@@ -488,7 +488,7 @@ bool Augmented::project(double t, Eigen::VectorXd& y) {
         return true;
     }
     // Newton on C(q, t) = 0 with steps of least kinetic-energy norm, then the velocity
-    // projection (shared with the amalgamated formulation: sdk/include/mbd/sdk/projection.hpp),
+    // projection (shared with the amalgamated formulation: kit/include/mbd/kit/projection.hpp),
     // with this formulation's factorization of S = J M^-1 J^T (fast first, then robust)
     projection_.q0 = y.head(nq_);
     projection_.v0 = y.tail(nv_);

@@ -24,11 +24,11 @@
 #include "partitioned.hpp"
 #include "planar_articulated_body.hpp"
 #include "loop_closure.hpp"
-#include "rank_certificate.hpp"
+#include <mbd/kit/rank_certificate.hpp>
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/singularity.hpp>
-#include <mbd/sdk/topology.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/singularity.hpp>
+#include <mbd/kit/topology.hpp>
 
 #include <iostream>
 #include <memory>

@@ -1,8 +1,8 @@
 // The dense path of the embedding formulation: see partitioned.hpp.
 #include "partitioned.hpp"
 
-#include <mbd/sdk/non_finite_motion.hpp>
-#include <mbd/sdk/coordinate_rates.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
+#include <mbd/kit/coordinate_rates.hpp>
 #include <mbd/sdk/text.hpp>  // format_time
 
 #include <algorithm>

@@ -37,9 +37,9 @@
 #pragma once
 
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/partition.hpp>
-#include <mbd/sdk/velocity_transform.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/partition.hpp>
+#include <mbd/kit/velocity_transform.hpp>
 
 #include <coordinate_selector.hpp>
 

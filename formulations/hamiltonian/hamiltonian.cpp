@@ -1,6 +1,6 @@
 // The Hamiltonian formulation (Shabana, Computational Dynamics, Sec. 5.10, Eqs. 5.165-5.182),
 // EMBEDDED on the independent coordinates of a coordinate partition (the embedding
-// technique's velocity transformation, book Sec. 6.5, sdk velocity_transform.hpp), so that
+// technique's velocity transformation, book Sec. 6.5, kit velocity_transform.hpp), so that
 // closed loops, drivers and redundant rows work as in the embedding formulation's dense path.
 //
 // Partition of J (partition.hpp): v = B v_i + c (B_i = I, B_d = -J_d^-1 J_i, c_d = -J_d^-1 C_t).
@@ -56,14 +56,14 @@
 // (as the embedding formulation); the velocity constraints hold by construction. Near a
 // singular J_d the partition is re-selected at the end of an accepted step and p rewritten
 // as B_new^T M v (the same velocities).
-#include <mbd/sdk/non_finite_motion.hpp>
-#include <mbd/sdk/coordinate_rates.hpp>
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/partition.hpp>
-#include <mbd/sdk/partition_settings.hpp>
-#include <mbd/sdk/singularity.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
+#include <mbd/kit/coordinate_rates.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/partition.hpp>
+#include <mbd/kit/partition_settings.hpp>
+#include <mbd/kit/singularity.hpp>
 #include <mbd/sdk/text.hpp>
-#include <mbd/sdk/velocity_transform.hpp>
+#include <mbd/kit/velocity_transform.hpp>
 
 #include <coordinate_selector.hpp>
 #include <partition_switch.hpp>
@@ -72,7 +72,7 @@
 #include <sparse_gram.hpp>
 #include <sparse_velocity_transform.hpp>
 
-#include <mbd/sdk/block_mass_inverse.hpp>
+#include <mbd/kit/block_mass_inverse.hpp>
 
 #include <Eigen/Dense>
 

@@ -1,5 +1,5 @@
 // Jdot^T mu by coloured polarization of gamma: see jdot_transpose.hpp.
-#include "jdot_transpose.hpp"
+#include <mbd/kit/jdot_transpose.hpp>
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "own_order_fill.hpp"
+#include <mbd/kit/own_order_fill.hpp>
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>

@@ -1,5 +1,5 @@
 // The certificate of full row rank: see rank_certificate.hpp.
-#include "rank_certificate.hpp"
+#include <mbd/kit/rank_certificate.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "sparse_gram.hpp"
+#include <mbd/kit/sparse_gram.hpp>
 
-#include "own_order_fill.hpp"
+#include <mbd/kit/own_order_fill.hpp>
 
 #include <Eigen/OrderingMethods>
 
@@ -67,7 +67,7 @@ void SparseGram::fill(const Eigen::SparseMatrix<double>& J, const BlockMassInver
 // row of a joint has all nvb entries of each of its bodies), W_b = J_b Lm_b is one small dense
 // product of the two value blocks; otherwise entry by entry. Which bodies are dense is read
 // from the first J after analyze(): a System's J keeps its pattern for the System's life
-// (sdk/system.hpp), so later J are not compared index by index (that alone was a pass over
+// (kit/system.hpp), so later J are not compared index by index (that alone was a pass over
 // J's row indices per rhs).
 template <int N>
 void SparseGram::fill_bodies(const Eigen::SparseMatrix<double>& J, const BlockMassInverse& mass_inverse) {

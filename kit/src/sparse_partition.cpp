@@ -1,5 +1,5 @@
 // The sparse coordinate partition: see sparse_partition.hpp.
-#include "sparse_partition.hpp"
+#include <mbd/kit/sparse_partition.hpp>
 
 #include <algorithm>
 #include <cmath>

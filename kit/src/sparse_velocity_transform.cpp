@@ -1,5 +1,5 @@
 // The velocity transformation through a sparse LU of J_d: see sparse_velocity_transform.hpp.
-#include "sparse_velocity_transform.hpp"
+#include <mbd/kit/sparse_velocity_transform.hpp>
 
 #include <utility>
 

@@ -6,7 +6,7 @@
 #include <mbd/kinematics.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/scene_parameters.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <cctype>

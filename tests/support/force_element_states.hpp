@@ -4,7 +4,7 @@
 
 #include <mbd/model.hpp>
 #include <mbd/sdk/body_state.hpp>
-#include <mbd/sdk/state.hpp>
+#include <mbd/kit/state.hpp>
 
 #include <stdexcept>
 #include <string>

@@ -4,8 +4,8 @@
 
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/system.hpp>
 #include <mbd/simulation.hpp>
 
 #include "support/test_paths.hpp"

@@ -2,7 +2,7 @@
 // driver into C(q, t), the sparse Jacobian C_q (with respect to v), C_t and
 // gamma (book Eqs. 3.108-3.124), and remembers which element owns each row.
 // Optionally the joints' velocity-level (nonholonomic) rows A v = b follow the drivers,
-// written as rows with no position residual (C = 0, J = A, C_t = -b: sdk system.hpp).
+// written as rows with no position residual (C = 0, J = A, C_t = -b: kit system.hpp).
 // It is immutable: the Jacobian's sparsity pattern (every body block of every row,
 // zeros included) is fixed when it is built, and each evaluation writes the values
 // in place, into the caller's Data and ConstraintValues.

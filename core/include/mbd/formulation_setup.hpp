@@ -1,5 +1,5 @@
 // A run's formulation from the scene's `formulation:` node: the shared keys read once
-// into the typed FormulationOptions (sdk formulation_options.hpp), the plugin created
+// into the typed FormulationOptions (kit formulation_options.hpp), the plugin created
 // through the registry, and every key checked: a shared key must belong to a group the
 // formulation honours (Formulation::options_used()), any other key must be one the
 // plugin read itself.
@@ -7,7 +7,7 @@
 
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 
 #include <memory>
 #include <string>

@@ -4,8 +4,8 @@
 // redefined y, and, for the implicit index-3 integrator, the DAE behind y.
 #pragma once
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 

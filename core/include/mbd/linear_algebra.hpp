@@ -2,10 +2,10 @@
 // complete orthogonal decomposition, robust to rank deficiency) or sparse
 // (SuiteSparse CHOLMOD on J J^T, with a tiny regularisation so that consistent
 // redundant constraints still solve). Auto switches at kDefaultSparseThreshold velocity
-// coordinates, the formulations' default (sdk formulation_options.hpp).
+// coordinates, the formulations' default (kit formulation_options.hpp).
 #pragma once
 
-#include <mbd/sdk/formulation_options.hpp>
+#include <mbd/kit/formulation_options.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Sparse>

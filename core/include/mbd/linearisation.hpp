@@ -26,7 +26,7 @@
 #pragma once
 
 #include <mbd/model_system.hpp>
-#include <mbd/sdk/inverse.hpp>
+#include <mbd/kit/inverse.hpp>
 
 #include <Eigen/Core>
 

@@ -5,9 +5,9 @@
 
 #include <mbd/sdk/body.hpp>
 #include <mbd/sdk/force.hpp>
-#include <mbd/sdk/formulation_options.hpp>
+#include <mbd/kit/formulation_options.hpp>
 #include <mbd/sdk/joint.hpp>
-#include <mbd/sdk/state.hpp>
+#include <mbd/kit/state.hpp>
 #include <mbd/sdk/time_function.hpp>
 #include <mbd/visual.hpp>
 

@@ -7,7 +7,7 @@
 #include <mbd/data.hpp>
 #include <mbd/kinematics.hpp>
 #include <mbd/model.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <functional>
 #include <memory>

@@ -18,7 +18,7 @@
 // and the driver's is what the motor supplies.
 #pragma once
 
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Sparse>

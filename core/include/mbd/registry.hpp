@@ -4,9 +4,9 @@
 // asks for one of its types.
 #pragma once
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/inverse.hpp>
-#include <mbd/sdk/statics.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/inverse.hpp>
+#include <mbd/kit/statics.hpp>
 #include <mbd/sdk/plugin.hpp>
 
 #include <filesystem>

@@ -15,7 +15,7 @@
 #include <mbd/model.hpp>
 #include <mbd/output_sink.hpp>
 #include <mbd/registry.hpp>
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 
 #include <Eigen/Core>
 

@@ -1,15 +1,15 @@
 // Statics and inverse dynamics over a Model (issue 6): builds the ModelSystem,
 // fills the plugin inputs (joint limits, actuators) from the scene, creates the
 // solver plugin through the registry, and computes joint reactions with
-// <mbd/sdk/reactions.hpp>. Used by `mbd statics`, `mbd inverse` and the tests.
+// <mbd/reactions.hpp>. Used by `mbd statics`, `mbd inverse` and the tests.
 #pragma once
 
 #include <mbd/constraint_system.hpp>
 #include <mbd/model.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
-#include <mbd/sdk/inverse.hpp>
-#include <mbd/sdk/statics.hpp>
+#include <mbd/kit/inverse.hpp>
+#include <mbd/kit/statics.hpp>
 
 #include <Eigen/Core>
 

@@ -15,7 +15,7 @@
 #include "common.hpp"
 #include "cvode_dense_lu.hpp"
 #include "event_locator.hpp"
-#include <mbd/sdk/non_finite_motion.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_proj.h>

@@ -1,6 +1,6 @@
 // The driver of the embedded Runge-Kutta pairs (embedded_runge_kutta.hpp).
 #include "embedded_runge_kutta.hpp"
-#include <mbd/sdk/non_finite_motion.hpp>
+#include <mbd/kit/non_finite_motion.hpp>
 
 #include <cmath>
 

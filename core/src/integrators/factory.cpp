@@ -2,7 +2,7 @@
 // from the table (table.cpp).
 #include "table.hpp"
 
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <cmath>

@@ -43,9 +43,9 @@
 // orders the pattern (COLAMD) only when it changes.
 #include "common.hpp"
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/singularity.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/singularity.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseLU>

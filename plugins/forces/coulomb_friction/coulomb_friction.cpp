@@ -14,7 +14,7 @@
 // surfaces together, e.g. m g cos(alpha) for a block on an incline), or instead load_joint:
 // the prismatic (or other) joint between the two bodies whose reaction force normal to the
 // contact line is F_n, solved with the multipliers (friction in a guide: F = mu_k N with N
-// the normal reaction; sdk reaction_loads.hpp), static_friction
+// the normal reaction; kit reaction_loads.hpp), static_friction
 // mu_s, kinetic_friction mu_k (0 <= mu_k <= mu_s), stiction_velocity v_s (> 0, default
 // 1e-6 m/s), and the frame: `point` with `axis` (world, at t = 0: the contact point and
 // the direction of the contact line). Not conservative; exact Jacobians.

@@ -12,7 +12,7 @@
 // Keys: radius r (m, >= 0), normal_force F_n (N, >= 0, a number or a time function: the
 // load the pin or clutch carries) or instead load_joint: the revolute (or other) joint between
 // the two bodies whose reaction force transverse to the axis (the pin's radial load; planar:
-// the whole reaction force) is F_n, solved with the multipliers (sdk reaction_loads.hpp),
+// the whole reaction force) is F_n, solved with the multipliers (kit reaction_loads.hpp),
 // static_friction mu_s, kinetic_friction mu_k
 // (0 <= mu_k <= mu_s), preload M_p (N m, >= 0, default 0), stiction_velocity (rad/s, > 0,
 // default 1e-6). Not conservative; exact Jacobians.

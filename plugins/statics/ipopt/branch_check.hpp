@@ -10,7 +10,7 @@
 // every accepted step is verified to stay on the start's component of C = 0.
 #pragma once
 
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCholesky>

@@ -8,7 +8,7 @@
 
 #include <IpIpoptApplication.hpp>
 
-#include <mbd/sdk/statics.hpp>
+#include <mbd/kit/statics.hpp>
 
 #include <string>
 #include <vector>

@@ -4,8 +4,8 @@
 // constraint curvature term) over a distance-2 colouring of the body graph.
 #pragma once
 
-#include <mbd/sdk/statics.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/statics.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Sparse>

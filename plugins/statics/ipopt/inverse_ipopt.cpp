@@ -12,8 +12,8 @@
 #include "evaluator.hpp"
 #include "ipopt_common.hpp"
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/inverse.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/inverse.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <IpIpoptApplication.hpp>

@@ -11,7 +11,7 @@
 #include "ipopt_common.hpp"
 #include "relaxation.hpp"
 
-#include <mbd/sdk/statics.hpp>
+#include <mbd/kit/statics.hpp>
 
 #include <IpIpoptApplication.hpp>
 

@@ -10,7 +10,7 @@
 
 #include <mbd/sdk/body_state.hpp>
 #include <mbd/sdk/params.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Dense>
 

@@ -6,10 +6,10 @@
 // re-selection rule of Sec. 6.12 (pivot ratio of J_d below reselect_ratio) unchanged.
 #pragma once
 
-#include "sparse_partition.hpp"
+#include <mbd/kit/sparse_partition.hpp>
 
-#include <mbd/sdk/formulation_options.hpp>
-#include <mbd/sdk/partition.hpp>
+#include <mbd/kit/formulation_options.hpp>
+#include <mbd/kit/partition.hpp>
 
 #include <Eigen/SparseCore>
 

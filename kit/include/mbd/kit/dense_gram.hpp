@@ -25,8 +25,8 @@
 // solving allocate nothing after that.
 #pragma once
 
-#include <mbd/sdk/block_mass_inverse.hpp>
-#include <mbd/sdk/pseudo_inverse.hpp>
+#include <mbd/kit/block_mass_inverse.hpp>
+#include <mbd/kit/pseudo_inverse.hpp>
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>

@@ -8,7 +8,7 @@
 // for a pivoting factorization when that pivot sequence has gone bad.
 #pragma once
 
-#include "own_order_fill.hpp"
+#include <mbd/kit/own_order_fill.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

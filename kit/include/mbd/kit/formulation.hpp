@@ -10,10 +10,10 @@
 // works on the System's M, Q, C and J directly.
 #pragma once
 
-#include <mbd/sdk/formulation_options.hpp>
+#include <mbd/kit/formulation_options.hpp>
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/plugin.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 

@@ -8,8 +8,8 @@
 // (Formulation::options_used()), and a scene key of another group is refused by name.
 #pragma once
 
-#include <mbd/sdk/message_log.hpp>
-#include <mbd/sdk/partition_settings.hpp>
+#include <mbd/kit/message_log.hpp>
+#include <mbd/kit/partition_settings.hpp>
 
 #include <optional>
 #include <string>

@@ -11,7 +11,7 @@
 
 #include <mbd/sdk/params.hpp>
 #include <mbd/sdk/plugin.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 

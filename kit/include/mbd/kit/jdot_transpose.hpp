@@ -25,7 +25,7 @@
 // the other joints and the drivers (none on a chain of pins or ball joints: no probe at all).
 #pragma once
 
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

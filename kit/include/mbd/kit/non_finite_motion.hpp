@@ -4,7 +4,7 @@
 // everywhere else it stops the run like any DynamicsError.
 #pragma once
 
-#include <mbd/sdk/formulation.hpp>
+#include <mbd/kit/formulation.hpp>
 
 namespace mbd {
 

@@ -2,9 +2,9 @@
 // the velocities directly (augmented, amalgamated).
 #pragma once
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/state.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/state.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 

@@ -5,9 +5,9 @@
 // distinct J_d is ordered once.
 #pragma once
 
-#include "sparse_velocity_transform.hpp"
+#include <mbd/kit/sparse_velocity_transform.hpp>
 
-#include <mbd/sdk/partition.hpp>
+#include <mbd/kit/partition.hpp>
 
 #include <Eigen/SparseCore>
 

@@ -26,8 +26,8 @@
 // one. DenseMetricSolver below is a ready-made dense implementation.
 #pragma once
 
-#include <mbd/sdk/dense_gram.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/dense_gram.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Dense>
 

@@ -1,5 +1,5 @@
 // A certificate that J has full row rank, well enough that the singular-configuration check's
-// QR (sdk singularity.hpp) can be skipped: a lower bound on sigma_min(J) / sigma_max(J), from a
+// QR (kit singularity.hpp) can be skipped: a lower bound on sigma_min(J) / sigma_max(J), from a
 // sparse L D L^T of G = J J^T (pattern analysed once, support/sparse_gram.hpp) and an estimate of
 // ||G^-1||_1 by Hager's method with Higham's extra vector (Higham, "Accuracy and Stability of
 // Numerical Algorithms", 2nd ed., Alg. 15.4 and Sec. 15.3, the LAPACK estimator).
@@ -24,10 +24,10 @@
 // anchor. A singular J can never be certified this way (its bound would be <= 0).
 #pragma once
 
-#include "sparse_gram.hpp"
+#include <mbd/kit/sparse_gram.hpp>
 
-#include <mbd/sdk/singularity.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/singularity.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

@@ -17,8 +17,8 @@
 // naming the element.
 #pragma once
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/system.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <Eigen/Dense>

@@ -27,7 +27,7 @@
 //    sigma_min(J) / sigma_max(J), which bounds every |R_kk| / |R_00| from below; when it is
 //    >= 10 tolerance the QR is skipped. It does not depend on M, so it serves where screen 1
 //    cannot (a nearly singular inertia, cond M ~ 1e9) and formulations with no S of their own.
-//    The formulations lend the sparse one of formulations/support/rank_certificate.hpp.
+//    The formulations lend the sparse one of kit/include/mbd/kit/rank_certificate.hpp.
 // Otherwise the QR decides. The recursive embedding does not call the check: on a tree the
 // rows are independent by construction.
 //
@@ -35,8 +35,8 @@
 // default 1e-5; 0 disables the check).
 #pragma once
 
-#include <mbd/sdk/formulation.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/kit/system.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <Eigen/Dense>

@@ -7,8 +7,8 @@
 // 128 KiB, i.e. 16,000 constraint rows).
 #pragma once
 
-#include <mbd/sdk/block_mass_inverse.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/block_mass_inverse.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>

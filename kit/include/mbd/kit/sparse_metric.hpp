@@ -1,14 +1,14 @@
-// A sparse S = J M^-1 J^T solver for project_onto_constraints (sdk projection.hpp), the sparse
+// A sparse S = J M^-1 J^T solver for project_onto_constraints (kit projection.hpp), the sparse
 // counterpart of its DenseMetricSolver with the same interface: S = W W^T, W = J Lm, on W's
 // fixed pattern (sparse_gram.hpp: ordered once, factored L D L^T without allocation); when S is
 // (nearly) singular, damped least squares W W^T + 1e-12 max diag(S) I with two refinements, as
 // the augmented formulation's sparse path.
 #pragma once
 
-#include "sparse_gram.hpp"
+#include <mbd/kit/sparse_gram.hpp>
 
-#include <mbd/sdk/block_mass_inverse.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/block_mass_inverse.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

@@ -1,6 +1,6 @@
 // Coordinate partitioning of a SPARSE constraint Jacobian (Shabana, Computational Dynamics,
 // Sec. 6.5 "Identification of the system degrees of freedom"; Sec. 6.12): the same result
-// type as the dense elimination of sdk partition.hpp (dependent pivot columns, independent
+// type as the dense elimination of kit partition.hpp (dependent pivot columns, independent
 // columns, kept and redundant rows, pivot ratio).
 //
 // Algebra: Gaussian elimination by rows (row r of J reduced by the pivot rows before it, in
@@ -26,7 +26,7 @@
 // 40 four-bars of scenes/extreme/a02-four-bar-40-singular need it); re-selections are rare.
 #pragma once
 
-#include <mbd/sdk/partition.hpp>
+#include <mbd/kit/partition.hpp>
 
 #include <Eigen/SparseCore>
 

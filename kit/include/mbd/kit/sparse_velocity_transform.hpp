@@ -1,5 +1,5 @@
 // The velocity transformation of a coordinate partition (book Sec. 6.5, Eqs. 6.80-6.94, 6.169;
-// sdk velocity_transform.hpp builds the same quantities densely) applied through a sparse LU of
+// kit velocity_transform.hpp builds the same quantities densely) applied through a sparse LU of
 // J_d = J[rows, dependent], never forming B. In absolute coordinates B (n_v x k) is dense: every
 // dependent velocity of a chain depends on the independent velocities of all bodies before it,
 // so B, M B and B^T M B cost O(n_v k) = O(n^2) on a chain, while J_d is as sparse as J.
@@ -10,10 +10,10 @@
 // factorization (no allocation), pivoting again when those pivots no longer fit.
 #pragma once
 
-#include "fixed_pattern_lu.hpp"
+#include <mbd/kit/fixed_pattern_lu.hpp>
 
-#include <mbd/sdk/partition.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/partition.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

@@ -21,7 +21,7 @@
 #include <mbd/sdk/body_state.hpp>
 #include <mbd/sdk/force.hpp>
 #include <mbd/sdk/joint.hpp>
-#include <mbd/sdk/state.hpp>
+#include <mbd/kit/state.hpp>
 #include <mbd/sdk/time_function.hpp>
 
 #include <Eigen/Core>
@@ -131,7 +131,7 @@ public:
     // The force indices of the elements whose load is a joint's reaction, in scene order.
     virtual const std::vector<int>& reaction_loaded_forces() const = 0;
     // The loads N (one per reaction-loaded element, in that order) that generalized_forces()
-    // applies: a formulation solves them together with the multipliers (sdk reaction_loads.hpp)
+    // applies: a formulation solves them together with the multipliers (kit reaction_loads.hpp)
     // and sets them; 0 until set.
     virtual void set_reaction_loads(const Eigen::VectorXd& loads) = 0;
     virtual const Eigen::VectorXd& reaction_loads() const = 0;

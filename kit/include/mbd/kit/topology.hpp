@@ -6,7 +6,7 @@
 // prints the same decision. Header-only, over the SDK's System.
 #pragma once
 
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <cmath>
 #include <numeric>

@@ -12,8 +12,8 @@
 // holding the independent directions, J_d dd = -C (book Sec. 6.12 step 3).
 #pragma once
 
-#include <mbd/sdk/partition.hpp>
-#include <mbd/sdk/system.hpp>
+#include <mbd/kit/partition.hpp>
+#include <mbd/kit/system.hpp>
 
 #include <Eigen/Dense>
 

@@ -62,7 +62,7 @@ struct CoulombLaw {
 // The normal load of a friction element, from its keys: `normal_force` (N, >= 0; a number or a
 // time function: a given load), or `load_joint` (the name of the joint between the element's two
 // bodies whose reaction force transverse to the element's axis is the load, solved with the
-// multipliers: Force::load_joint, sdk reaction_loads.hpp). `what` says what the load is, for the
+// multipliers: Force::load_joint, kit reaction_loads.hpp). `what` says what the load is, for the
 // message when both are missing.
 class NormalLoad {
 public:
