@@ -1,6 +1,7 @@
 # mbd_add_plugin(<kind> <type> SOURCES <files...> [LINK <targets...>])
 # Builds the shared-library plugin libmbd_<kind>_<type>.so from its sources,
-# against the SDK headers only. Used in the mbd tree and, through
+# against the SDK headers only (and the formulation kit's, for the kinds formulation,
+# statics and inverse). Used in the mbd tree and, through
 # find_package(mbd), by outside plugin authors (mbd_add_joint_plugin).
 function(mbd_add_plugin kind type)
   cmake_parse_arguments(ARG "" "OUTPUT_DIRECTORY" "SOURCES;LINK" ${ARGN})
@@ -19,10 +20,17 @@ function(mbd_add_plugin kind type)
     "const char mbd_version__${version_token} = 0;\n")
   configure_file(${version_source}.in ${version_source} COPYONLY)
   add_library(${target} MODULE ${ARG_SOURCES} ${version_source})
-  if(TARGET mbd_sdk)
-    target_link_libraries(${target} PRIVATE mbd_sdk ${ARG_LINK})
+  # An element plugin (joint, force, body) sees the SDK's headers alone; a formulation, statics
+  # or inverse plugin the formulation kit's too (kit/, built on the SDK).
+  if(kind STREQUAL "formulation" OR kind STREQUAL "statics" OR kind STREQUAL "inverse")
+    set(api kit)
   else()
-    target_link_libraries(${target} PRIVATE mbd::sdk ${ARG_LINK})
+    set(api sdk)
+  endif()
+  if(TARGET mbd_${api})
+    target_link_libraries(${target} PRIVATE mbd_${api} ${ARG_LINK})
+  else()
+    target_link_libraries(${target} PRIVATE mbd::${api} ${ARG_LINK})
   endif()
   set_target_properties(${target} PROPERTIES PREFIX "lib" CXX_VISIBILITY_PRESET hidden)
   if(ARG_OUTPUT_DIRECTORY)
