@@ -1,5 +1,5 @@
 // The collision element's force Jacobians taken one contact at a time (sparse,
-// core/src/coupled_force_jacobians.cpp) against the whole element's differences (dense, the path
+// core/src/evaluation/coupled_force_jacobians.cpp) against the whole element's differences (dense, the path
 // every element without couplings takes) and against finite differences of the System's forces;
 // and the workspace that made 10,000 bodies fail (58 GB) is gone.
 #include "support/test_support.hpp"

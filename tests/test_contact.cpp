@@ -9,7 +9,7 @@
 //  - two equal balls colliding head-on: momentum conserved to roundoff, and undamped, the
 //    velocities exchange;
 //  - a ball sliding without spin: it decelerates at mu g and rolls from v = 5/7 v0;
-//  - Jacobians against central differences (core/src/derivative_check.cpp), and the plugin check;
+//  - Jacobians against central differences (core/src/analyses/derivative_check.cpp), and the plugin check;
 //  - bad input named by its key.
 #include "support/test_support.hpp"
 

@@ -1,4 +1,4 @@
-// Messages about a plugin element's keys (core/src/scene_loader.hpp, create_checked): a key
+// Messages about a plugin element's keys (core/src/scene/scene_loader.hpp, create_checked): a key
 // the type describes (mbd/sdk/plugin_keys.hpp) is never called unknown, also when the plugin
 // stops at another key before reading it (issue 42: kinetic_friction, radius, exponent and
 // follower_point were); an unknown key lists the type's valid keys; a described key that the

@@ -16,7 +16,7 @@ MeshLookup find_mesh(const std::string& uri, const std::string& model_file, std:
     if (!std::filesystem::is_regular_file(file, error)) return MeshLookup::Missing;
     std::string ext = file.extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    // The formats mbd's viewer reads (core/src/visual.cpp accepts the same in a scene).
+    // The formats mbd's viewer reads (core/src/scene/visual.cpp accepts the same in a scene).
     if (ext != ".stl" && ext != ".obj" && ext != ".dae" && ext != ".gltf" && ext != ".glb") return MeshLookup::Undrawable;
     path = file.lexically_normal().string();
     return MeshLookup::Found;

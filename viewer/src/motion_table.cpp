@@ -1,4 +1,4 @@
-// Reading a result CSV back (the writer is core/src/csv.cpp) and finding each body's pose.
+// Reading a result CSV back (the writer is core/src/output/csv.cpp) and finding each body's pose.
 #include <mbd/viewer/motion_table.hpp>
 
 #include <mbd/csv.hpp>

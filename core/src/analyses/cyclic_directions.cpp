@@ -1,5 +1,5 @@
 // Cyclic directions of a linearised model: see cyclic_directions.hpp.
-#include "cyclic_directions.hpp"
+#include "analyses/cyclic_directions.hpp"
 
 #include <Eigen/SVD>
 

@@ -1,8 +1,8 @@
 // Linearised equations of motion in independent coordinates: see linearisation.hpp.
 #include <mbd/linearisation.hpp>
 
-#include "cyclic_directions.hpp"
-#include "reference_motion.hpp"
+#include "analyses/cyclic_directions.hpp"
+#include "analyses/reference_motion.hpp"
 
 #include <mbd/body_poses.hpp>
 #include <mbd/kit/partition.hpp>

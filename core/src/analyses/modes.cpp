@@ -1,7 +1,7 @@
 // Modes of a linearised system: see modes.hpp.
 #include <mbd/modes.hpp>
 
-#include "cyclic_directions.hpp"
+#include "analyses/cyclic_directions.hpp"
 
 #include <mbd/sdk/text.hpp>
 

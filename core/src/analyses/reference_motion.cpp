@@ -1,5 +1,5 @@
 // Steady motions of the linearisation: see reference_motion.hpp.
-#include "reference_motion.hpp"
+#include "analyses/reference_motion.hpp"
 
 #include <mbd/linearisation.hpp>
 #include <mbd/sdk/rotation.hpp>

@@ -1,4 +1,4 @@
-#include "coupled_force_jacobians.hpp"
+#include "evaluation/coupled_force_jacobians.hpp"
 
 #include <mbd/sdk/rotation.hpp>
 

@@ -1,6 +1,6 @@
 #include <mbd/data.hpp>
 
-#include "coupled_force_jacobians.hpp"
+#include "evaluation/coupled_force_jacobians.hpp"
 
 #include <algorithm>
 

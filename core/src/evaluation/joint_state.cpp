@@ -1,5 +1,5 @@
 // A joint's coordinate and rate, read and written (joint_state.hpp).
-#include "joint_state.hpp"
+#include "evaluation/joint_state.hpp"
 
 #include <mbd/body_poses.hpp>
 #include <mbd/sdk/rotation.hpp>

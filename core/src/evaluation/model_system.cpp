@@ -1,6 +1,6 @@
 #include <mbd/model_system.hpp>
 
-#include "coupled_force_jacobians.hpp"
+#include "evaluation/coupled_force_jacobians.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -5,7 +5,7 @@
 // names the element and says what to do. Unknown keys are rejected at the key's
 // line with the nearest accepted key as a suggestion; for plugin elements the
 // accepted keys are the core's keys plus the keys the plugin asked for.
-#include "scene_loader.hpp"
+#include "scene/scene_loader.hpp"
 
 #include <mbd/formulation_setup.hpp>
 
@@ -222,7 +222,7 @@ void Loader::load_body(const Param& node, int index) {
         find(node, "name")->fail("'ground' is reserved for the fixed ground; give the body another name");
 
     // zero mass and inertia are accepted: kinematics and statics do not need them; dynamics
-    // refuses a singular mass matrix by name (core/src/simulation.cpp)
+    // refuses a singular mass matrix by name (core/src/simulation/simulation.cpp)
     const Param& mass = require(node, "mass", what, "a positive number, kg");
     body.mass = number(mass, "mass", what);
     if (!(body.mass >= 0)) mass.fail(what + ": 'mass' must be positive (or 0 for a massless body), got " + mass.text);

@@ -5,7 +5,7 @@
 // owns the detection with FCL and the contact laws), like the gravity element it adds for
 // `gravity:`. A scene without shapes never opens that plugin, so it never loads FCL
 // (docs/architecture.md "Collision detection").
-#include "scene_loader.hpp"
+#include "scene/scene_loader.hpp"
 
 namespace mbd::scene_detail {
 

@@ -1,6 +1,6 @@
 // The scene loader's sections for forces, drivers, joint limits, actuators and the gravity
 // force (see scene.cpp and docs/scene-format.md).
-#include "scene_loader.hpp"
+#include "scene/scene_loader.hpp"
 
 #include <algorithm>
 #include <optional>

@@ -1,7 +1,7 @@
 // The scene's flexible bodies (`flexible_bodies:`, docs/scene-format.md): each a body plugin
 // (sdk body.hpp) made from its keys, its coordinates after the rigid bodies'; and the joints
 // attached at their points, {body: NAME, node: K} or {body: NAME, at: xi} in a joint's `bodies`.
-#include "scene_loader.hpp"
+#include "scene/scene_loader.hpp"
 
 #include <mbd/sdk/text.hpp>
 

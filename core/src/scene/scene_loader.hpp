@@ -1,5 +1,5 @@
-// The scene loader's internals (core/src/scene.cpp: the top level, bodies and joints;
-// core/src/scene_elements.cpp: forces, drivers, joint limits, actuators and gravity).
+// The scene loader's internals (core/src/scene/scene.cpp: the top level, bodies and joints;
+// core/src/scene/scene_elements.cpp: forces, drivers, joint limits, actuators and gravity).
 // Not installed: the public interface is mbd/scene.hpp.
 #pragma once
 
@@ -9,7 +9,7 @@
 #include <mbd/sdk/text.hpp>
 #include <mbd/visual.hpp>
 
-#include "scene_source.hpp"
+#include "scene/scene_source.hpp"
 
 #include <yaml-cpp/yaml.h>
 

@@ -3,8 +3,8 @@
 
 #include <mbd/sdk/suggest.hpp>
 
-#include "scene_loader.hpp"
-#include "scene_source.hpp"
+#include "scene/scene_loader.hpp"
+#include "scene/scene_source.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,5 +1,5 @@
 // Bounded reading of scene files and their YAML (see scene_source.hpp).
-#include "scene_source.hpp"
+#include "scene/scene_source.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

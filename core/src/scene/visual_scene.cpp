@@ -6,7 +6,7 @@
 #include <mbd/visual.hpp>
 #include <mbd/visual_joint_markers.hpp>
 
-#include "visual_wheels.hpp"
+#include "scene/visual_wheels.hpp"
 
 #include <mbd/sdk/rotation.hpp>
 

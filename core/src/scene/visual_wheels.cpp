@@ -1,6 +1,6 @@
 // Wheels of rolling contacts and rotors, drawn as discs with a bar across their face
-// (core/src/visual_wheels.hpp).
-#include "visual_wheels.hpp"
+// (core/src/scene/visual_wheels.hpp).
+#include "scene/visual_wheels.hpp"
 
 #include <mbd/scene_document.hpp>
 #include <mbd/sdk/rotation.hpp>

@@ -1,4 +1,4 @@
-// Derived shapes of turning bodies (core/src/visual_scene.cpp): the wheels of rolling
+// Derived shapes of turning bodies (core/src/scene/visual_scene.cpp): the wheels of rolling
 // contacts (rolling_disc, wheel_rail) at their contact radius, and axisymmetric rotors (a
 // gyroscope's), each a disc with a bar across its face so that its turning shows.
 #pragma once

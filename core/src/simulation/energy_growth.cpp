@@ -1,5 +1,5 @@
 // Energy growth of a conservative run (see energy_growth.hpp).
-#include "energy_growth.hpp"
+#include "simulation/energy_growth.hpp"
 
 #include <algorithm>
 #include <cmath>

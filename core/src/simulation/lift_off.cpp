@@ -1,4 +1,4 @@
-#include "lift_off.hpp"
+#include "simulation/lift_off.hpp"
 
 #include <mbd/sdk/text.hpp>
 

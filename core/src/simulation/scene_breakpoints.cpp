@@ -1,6 +1,6 @@
 // The breakpoints of a scene (run_setup.hpp): where its piecewise-constant time functions
 // ({type: steps}) jump, so that a run's steps end there and never integrate across a jump.
-#include "run_setup.hpp"
+#include "simulation/run_setup.hpp"
 
 #include <mbd/sdk/number.hpp>
 

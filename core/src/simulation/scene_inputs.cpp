@@ -1,5 +1,5 @@
 // The inputs a scene reads (run_setup.hpp): its {type: input, name: NAME} time functions.
-#include "run_setup.hpp"
+#include "simulation/run_setup.hpp"
 
 #include <algorithm>
 

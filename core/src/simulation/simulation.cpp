@@ -14,10 +14,10 @@
 #include <mbd/sdk/text.hpp>
 #include <mbd/tolerance_choice.hpp>
 
-#include "energy_growth.hpp"
-#include "friction_dissipation.hpp"
-#include "lift_off.hpp"
-#include "run_setup.hpp"
+#include "simulation/energy_growth.hpp"
+#include "simulation/friction_dissipation.hpp"
+#include "simulation/lift_off.hpp"
+#include "simulation/run_setup.hpp"
 
 #include <Eigen/Eigenvalues>
 

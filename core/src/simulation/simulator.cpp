@@ -5,8 +5,8 @@
 #include <mbd/sdk/text.hpp>
 
 #include "integrators/embedded_runge_kutta.hpp"
-#include "joint_state.hpp"
-#include "run_setup.hpp"
+#include "evaluation/joint_state.hpp"
+#include "simulation/run_setup.hpp"
 
 #include <algorithm>
 #include <cmath>

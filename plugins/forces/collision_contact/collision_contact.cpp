@@ -2,7 +2,7 @@
 // spatial scene, found by FCL (collision_world.hpp) and loaded by the laws of the two-body
 // contact elements (mbd/sdk/contact.hpp: Hunt-Crossley normal force, regularized Coulomb
 // friction). The core adds one such element over every body with `collision:` shapes
-// (core/src/scene_collision.cpp); it is never written under `forces:`.
+// (core/src/scene/scene_collision.cpp); it is never written under `forces:`.
 //
 // Each contact's force F = contact_load(...) acts on shape j's body at the contact point and -F
 // on shape i's, so the element conserves the momentum and angular momentum of the bodies it
@@ -230,7 +230,7 @@ std::unique_ptr<Force> make_collision_contact(const ForceSpec& spec) { return st
 MBD_FORCE_PLUGIN(collision_contact, mbd::collision::make_collision_contact)
 
 // The keys of the element the core builds from the bodies' `collision:` shapes
-// (core/src/scene_collision.cpp); a scene gives them through `collision:`, never directly.
+// (core/src/scene/scene_collision.cpp); a scene gives them through `collision:`, never directly.
 namespace {
 const mbd::PluginKey collision_contact_keys[] = {
     {"shapes", "built by the core: one {body, collision} entry per body with `collision:` shapes", nullptr,

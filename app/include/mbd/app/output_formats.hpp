@@ -1,5 +1,5 @@
 // The result formats of `mbd simulate --output` (output_sink.hpp), chosen by the file's
-// extension: .csv (core/src/csv_sink.cpp), .h5 (app/src/hdf5_sink.cpp, if registered). The
+// extension: .csv (core/src/output/csv_sink.cpp), .h5 (app/src/hdf5_sink.cpp, if registered). The
 // table is app/src/output_formats.cpp, one line per format.
 #pragma once
 
