@@ -1,4 +1,4 @@
-// The cam joint (joints/cam, book Sec. 3.4) against independent closed forms: the lift of a
+// The cam joint (plugins/joints/cam, book Sec. 3.4) against independent closed forms: the lift of a
 // radial follower on a driven cam, for every follower type and profile, its velocity and
 // acceleration from the differentiated closed forms; the contact force of a spring-loaded
 // flat-faced follower from the follower's own Newton law, the Newton-Euler balance of every

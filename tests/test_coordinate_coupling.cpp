@@ -1,4 +1,4 @@
-// The coordinate_coupling joint (joints/coordinate_coupling) against a closed form that no
+// The coordinate_coupling joint (plugins/joints/coordinate_coupling) against a closed form that no
 // formulation computes. A wheel a (axial moment I_a) turned by a constant torque T about a fixed
 // vertical axle drives, through two couplings, a wheel b on its own axle (q_b = -2 q_a, a gear
 // ratio without gear geometry) and a slider of mass M on a horizontal rail (x = 0.05 q_a, a rack).

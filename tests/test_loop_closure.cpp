@@ -1,6 +1,6 @@
 // Issue 13, item 3: the embedding formulation's closure path (a spanning tree in joint
 // coordinates plus the loop-closure rows of the cut joints and drivers, solved by the augmented
-// method in joint space; formulations/articulated_body/loop_closure.hpp). Oracles, none of them
+// method in joint space; plugins/formulations/articulated_body/loop_closure.hpp). Oracles, none of them
 // from the path itself:
 //   - the augmented formulation (book Eq. 6.141 in absolute coordinates) at tight tolerance
 //     (dopri5, tol 1e-12): positions and every row's multiplier (tree joints, cut joints,

@@ -1,4 +1,4 @@
-// The rolling_disc joint (joints/rolling_disc) and the velocity-level (nonholonomic) rows of
+// The rolling_disc joint (plugins/joints/rolling_disc) and the velocity-level (nonholonomic) rows of
 // the joint interface, against independent oracles: the closed-form steady circular rolling
 // of a uniform thin disc, its contact force, the contact point's velocity computed from the
 // state, the conservation of energy, and the refusals by name.

@@ -1,4 +1,4 @@
-// The sphere_surface joint (joints/sphere_surface, book Sec. 8.6) against closed forms: a ball
+// The sphere_surface joint (plugins/joints/sphere_surface, book Sec. 8.6) against closed forms: a ball
 // rolling and sliding without friction in a spherical bowl. The contact force passes through the
 // ball's centre, so the centre moves as a spherical pendulum of length L = R_bowl - r about the
 // bowl's centre and the ball's spin stays what it was. Started on the conical-pendulum circle at

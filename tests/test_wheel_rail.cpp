@@ -1,4 +1,4 @@
-// The wheel_rail joint (joints/wheel_rail, book Sec. 8.6) against closed forms of the geometry
+// The wheel_rail joint (plugins/joints/wheel_rail, book Sec. 8.6) against closed forms of the geometry
 // of a wheel's tread touching a rail's head, and a wheel rolling and sliding on a crowned rail
 // under gravity. The joint's one row is the normal gap g = n . (r_w - r_r); its Jacobian
 //     J = [ -n^T | -(x_r x nu)^T | n^T | (x_w x A_j^T n)^T ]

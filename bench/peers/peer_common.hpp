@@ -108,7 +108,7 @@ inline int four_bar_loops(const std::string& model) {
     return model.rfind("four_bar_", 0) == 0 ? std::atoi(model.c_str() + 9) : 0;
 }
 
-// The bump angle of the Test Set car axis (scenes/bench/car-axis.yaml, joints/caraxis_bump): the
+// The bump angle of the Test Set car axis (scenes/bench/car-axis.yaml, plugins/joints/caraxis_bump): the
 // bump point b(t), y_b = r sin(w t), lies on the circle of radius L about the origin at the angle
 // phi(t) = asin(r sin(w t) / L). Returns phi and its first two time derivatives.
 struct BumpAngle {

@@ -5,7 +5,7 @@
 // rows (the System's joints and drivers) eliminated.
 //
 // Three paths, chosen from the scene (path: auto) or forced (path: dense | recursive | closure):
-//   recursive  (formulations/articulated_body/) the joints form a tree, every joint describes its relative
+//   recursive  (plugins/formulations/articulated_body/) the joints form a tree, every joint describes its relative
 //              motion and every driver drives a joint of one freedom: joint coordinates, a driven
 //              joint's motion prescribed (it leaves the ODE), O(n) articulated-body algorithm; no
 //              constraint drift by construction.

@@ -191,7 +191,7 @@ inline Topology analyse_closure_topology(const System& system) {
 
 // The embedding formulation's second recursive choice (issue 13): a spanning tree in joint
 // coordinates plus the rows of the other joints and of the drivers as loop-closure rows
-// (formulations/articulated_body/loop_closure.hpp). Possible when no joint has velocity-level
+// (plugins/formulations/articulated_body/loop_closure.hpp). Possible when no joint has velocity-level
 // rows and at least one joint is a tree edge (else nothing would be eliminated); `reason` says
 // which joints close the loops.
 inline bool closure_embedding_possible(const System& system, std::string* reason = nullptr) {
