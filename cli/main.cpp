@@ -48,7 +48,8 @@ int main(int argc, char** argv) {
         "stopped by SIGINT/SIGTERM/SIGHUP.\nA result file appears under its name only when complete; the rows of "
         "a failed or stopped run stay in NAME.partial. See docs/user-guide.md.");
     app.set_version_flag("--version", std::string("mbd ") + MBD_VERSION + " (plugin ABI " +
-                                          std::to_string(MBD_ABI_VERSION) + ")");
+                                          std::to_string(MBD_ABI_VERSION) + ", formulation kit ABI " +
+                                          std::to_string(MBD_KIT_ABI_VERSION) + ")");
 
     mbd::cli::Commands actions;
     mbd::cli::add_commands(app, actions);

@@ -262,7 +262,7 @@ int run_check(const CheckOptions& o) {
     for (const PluginType& t : mine) {
         if (t.library.string() != library) {
             library = t.library.string();
-            std::printf("library %s: ABI %d (host %d), version %s\n", library.c_str(), t.abi, MBD_ABI_VERSION,
+            std::printf("library %s: ABI %d (host %d), version %s\n", library.c_str(), t.abi, host_abi(t.kind),
                         t.version.c_str());
         }
         check_type(t, o, *registry, rng, verdict);

@@ -62,7 +62,8 @@ void add_plugins_command(CLI::App& app, Commands& commands) {
         if (!keys_of->empty()) return print_keys(registry, *keys_of);
         std::cout << "plugin search path:\n";
         for (const auto& dir : registry.search_path()) std::cout << "  " << dir.string() << '\n';
-        std::cout << "host plugin ABI: " << MBD_ABI_VERSION << '\n';
+        std::cout << "host plugin ABI: " << MBD_ABI_VERSION << " (joint, force, body)\n";
+        std::cout << "host formulation kit ABI: " << MBD_KIT_ABI_VERSION << " (formulation, statics, inverse)\n";
 
         std::vector<PluginType> types = registry.types();
         std::stable_sort(types.begin(), types.end(), [](const PluginType& a, const PluginType& b) {
@@ -80,7 +81,7 @@ void add_plugins_command(CLI::App& app, Commands& commands) {
             std::cout << std::left << std::setw(static_cast<int>(kind_width) + 2) << t.kind
                       << std::setw(static_cast<int>(type_width) + 2) << t.type << std::setw(6) << t.abi
                       << std::setw(10) << t.version << t.library.string();
-            if (t.abi != MBD_ABI_VERSION) std::cout << "  (refused: built for ABI " << t.abi << ")";
+            if (t.abi != host_abi(t.kind)) std::cout << "  (refused: built for ABI " << t.abi << ")";
             std::cout << '\n';
         }
         if (types.empty()) std::cout << "(no plugin types found)\n";

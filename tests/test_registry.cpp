@@ -15,6 +15,13 @@ std::vector<std::string> file_names(const std::vector<std::string>& paths) {
     return names;
 }
 
+// The problem the registry reports for a library that names `what`, or "" when none does.
+std::string problem_naming(const Registry& registry, const std::string& what) {
+    for (const std::string& p : registry.problems())
+        if (p.find(what) != std::string::npos) return p;
+    return "";
+}
+
 TEST(Registry, FindsEveryStandardTypeWithoutLoadingAnything) {
     Registry registry({test::build_plugin_dir()});
     for (const char* type : {"revolute", "prismatic", "fixed", "gear_pair", "rack_pinion", "cylindrical", "spherical",
@@ -24,8 +31,12 @@ TEST(Registry, FindsEveryStandardTypeWithoutLoadingAnything) {
          {"gravity", "spring_damper", "rotational_spring_damper", "bushing", "point_force", "point_torque"})
         EXPECT_TRUE(registry.has("force", type)) << type;
     EXPECT_TRUE(registry.loaded_libraries().empty());
+    EXPECT_TRUE(registry.has("formulation", "augmented"));
+    EXPECT_TRUE(registry.has("statics", "ipopt"));
     for (const PluginType& t : registry.types()) {
-        EXPECT_EQ(t.abi, MBD_ABI_VERSION);
+        // element plugins carry the SDK's ABI, the formulation kit's plugins the kit's
+        const bool kit = t.kind == "formulation" || t.kind == "statics" || t.kind == "inverse";
+        EXPECT_EQ(t.abi, kit ? MBD_KIT_ABI_VERSION : MBD_ABI_VERSION) << t.kind << " " << t.type;
         EXPECT_EQ(t.version, MBD_TEST_VERSION) << t.library;  // read from the file, not loaded
         // one shared library per joint type and per force type
         if (t.kind == "joint" || t.kind == "force")
@@ -81,8 +92,9 @@ TEST(Registry, PluginOfAnotherAbiIsListedAndRefusedWithoutLoading) {
         }
     EXPECT_TRUE(listed);
     EXPECT_FALSE(registry.has("joint", "old_joint"));
-    ASSERT_FALSE(registry.problems().empty());
-    EXPECT_NE(registry.problems().front().find("ABI 999"), std::string::npos);
+    EXPECT_NE(problem_naming(registry, "joint type 'old_joint' was built for plugin ABI 999, this mbd uses ABI " +
+                                           std::to_string(MBD_ABI_VERSION) + "; rebuild it against this SDK"),
+              "");
 
     JointSpec spec;
     spec.name = "legacy";
@@ -94,6 +106,48 @@ TEST(Registry, PluginOfAnotherAbiIsListedAndRefusedWithoutLoading) {
         const std::string what = e.what();
         EXPECT_NE(what.find("ABI 999"), std::string::npos) << what;
         EXPECT_NE(what.find("rebuild"), std::string::npos) << what;
+    }
+    EXPECT_TRUE(registry.loaded_libraries().empty());
+}
+
+TEST(Registry, FormulationOfAnotherKitAbiIsListedAndRefusedWithAClearMessage) {
+    // tests/plugins/wrong_kit_abi.cpp: kit ABI 999, and the SDK's ABI where the kit's belongs
+    Registry registry({test::build_plugin_dir(), std::filesystem::path(MBD_TEST_PLUGIN_DIR)});
+    int listed = 0;
+    for (const PluginType& t : registry.types())
+        if (t.type == "old_formulation" || t.type == "sdk_abi_formulation") {
+            ++listed;
+            EXPECT_EQ(t.abi, t.type == "old_formulation" ? 999 : MBD_ABI_VERSION);
+        }
+    EXPECT_EQ(listed, 2);
+    EXPECT_FALSE(registry.has("formulation", "old_formulation"));
+    EXPECT_FALSE(registry.has("formulation", "sdk_abi_formulation"));
+    const std::vector<std::string> usable = registry.type_names("formulation");
+    EXPECT_EQ(std::count(usable.begin(), usable.end(), "sdk_abi_formulation"), 0);
+    EXPECT_EQ(std::count(usable.begin(), usable.end(), "augmented"), 1);
+    const std::string host = std::to_string(MBD_KIT_ABI_VERSION);
+    EXPECT_NE(problem_naming(registry, "formulation type 'old_formulation' was built for formulation kit ABI 999, "
+                                       "this mbd uses kit ABI " + host + "; rebuild it against this formulation kit"),
+              "");
+    EXPECT_NE(problem_naming(registry, "formulation type 'sdk_abi_formulation' was built for formulation kit ABI " +
+                                           std::to_string(MBD_ABI_VERSION) + ", this mbd uses kit ABI " + host),
+              "");
+
+    for (const char* type : {"old_formulation", "sdk_abi_formulation"}) {
+        FormulationSpec spec;
+        spec.name = type;
+        spec.type = type;
+        try {
+            registry.create_formulation(spec, "scene.yaml:7");
+            FAIL() << "expected a kit ABI error for " << type;
+        } catch (const PluginError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find("scene.yaml:7"), std::string::npos) << what;
+            EXPECT_NE(what.find("libmbd_formulation_wrong_kit_abi.so, built for formulation kit ABI "),
+                      std::string::npos) << what;
+            EXPECT_NE(what.find("but this mbd uses kit ABI " + host + "; rebuild the plugin against this formulation kit"),
+                      std::string::npos) << what;
+        }
     }
     EXPECT_TRUE(registry.loaded_libraries().empty());
 }

@@ -48,7 +48,7 @@ py::list plugin_types() {
         type["abi"] = t.abi;
         type["library"] = t.library.string();
         type["version"] = t.version;
-        type["usable"] = t.abi == MBD_ABI_VERSION;
+        type["usable"] = t.abi == host_abi(t.kind);
         out.append(type);
     }
     return out;
@@ -72,7 +72,8 @@ void bind_plugins(py::module_& m) {
           "Search these folders (None: the default path) for the models loaded from now on.");
     m.def("plugin_problems", [] { return current_registry()->problems(); },
           "Files of the plugin path that look like plugins but were skipped, with the reason.");
-    m.attr("abi_version") = MBD_ABI_VERSION;
+    m.attr("abi_version") = MBD_ABI_VERSION;          // element plugins (joint, force, body)
+    m.attr("kit_abi_version") = MBD_KIT_ABI_VERSION;  // formulation, statics and inverse plugins
 }
 
 }  // namespace mbd::python

@@ -1,7 +1,9 @@
 // The plugin registry (Boost.DLL). It scans the plugin folders, reads the type
 // names, kinds and ABI versions each library exports (from the ELF symbol
 // table, without loading the library), and loads a library only when a scene
-// asks for one of its types.
+// asks for one of its types. Element plugins (joint, force, body) must carry the SDK's ABI
+// (MBD_ABI_VERSION), formulation, statics and inverse plugins the kit's (MBD_KIT_ABI_VERSION,
+// host_abi in kit plugin.hpp).
 #pragma once
 
 #include <mbd/kit/formulation.hpp>
@@ -36,7 +38,7 @@ public:
 struct PluginType {
     std::string kind;       // "joint", "force", "formulation", ...
     std::string type;       // e.g. "revolute"
-    int abi = 0;
+    int abi = 0;            // the SDK's ABI for element plugins, the kit's for the others (host_abi)
     std::filesystem::path library;
     std::string version;    // the library's version ("0.1.0"), "unknown" if it does not say
 };

@@ -11,7 +11,7 @@ const PluginDescription* plugin_description(const Registry& registry, const std:
                                             const std::string& type) {
     const PluginType* found = nullptr;
     for (const PluginType& t : registry.types())
-        if (t.kind == kind && t.type == type && t.abi == MBD_ABI_VERSION) {
+        if (t.kind == kind && t.type == type && t.abi == host_abi(kind)) {
             found = &t;
             break;
         }

@@ -39,6 +39,12 @@ bool looks_like_library(const fs::path& p) {
     return p.extension() == ".so" || name.find(".so.") != std::string::npos;
 }
 
+// The ABI a kind's plugins are built for, and what to rebuild them against: the SDK's for
+// element plugins, the formulation kit's for formulations, statics and inverse solvers.
+std::string abi_name(const std::string& kind) { return is_kit_kind(kind) ? "formulation kit ABI" : "plugin ABI"; }
+std::string host_abi_name(const std::string& kind) { return is_kit_kind(kind) ? "kit ABI" : "ABI"; }
+std::string rebuild_against(const std::string& kind) { return is_kit_kind(kind) ? "this formulation kit" : "this SDK"; }
+
 std::string join(const std::vector<std::string>& items, const std::string& separator) {
     std::string out;
     for (size_t k = 0; k < items.size(); ++k) out += (k ? separator : "") + items[k];
@@ -92,10 +98,11 @@ Registry::Registry(std::vector<fs::path> search_path) : search_path_(std::move(s
                 if (!std::regex_match(symbol, m, symbol_pattern())) continue;
                 PluginType t{m[2], m[3], std::stoi(m[1]), fs::absolute(file), version};
                 const std::string key = t.kind + "/" + t.type;
-                if (t.abi != MBD_ABI_VERSION) {
-                    problems_.push_back(file.string() + ": " + t.kind + " type '" + t.type + "' was built for plugin ABI " +
-                                        std::to_string(t.abi) + ", this mbd uses ABI " +
-                                        std::to_string(MBD_ABI_VERSION) + "; rebuild it against this SDK");
+                if (t.abi != host_abi(t.kind)) {
+                    problems_.push_back(file.string() + ": " + t.kind + " type '" + t.type + "' was built for " +
+                                        abi_name(t.kind) + " " + std::to_string(t.abi) + ", this mbd uses " +
+                                        host_abi_name(t.kind) + " " + std::to_string(host_abi(t.kind)) +
+                                        "; rebuild it against " + rebuild_against(t.kind));
                 } else if (seen.count(key)) {
                     continue;  // shadowed by an earlier folder
                 } else {
@@ -112,7 +119,7 @@ Registry::~Registry() = default;
 std::vector<std::string> Registry::type_names(const std::string& kind) const {
     std::vector<std::string> names;
     for (const PluginType& t : types_)
-        if (t.kind == kind && t.abi == MBD_ABI_VERSION) names.push_back(t.type);
+        if (t.kind == kind && t.abi == host_abi(kind)) names.push_back(t.type);
     std::sort(names.begin(), names.end());
     names.erase(std::unique(names.begin(), names.end()), names.end());
     return names;
@@ -120,7 +127,7 @@ std::vector<std::string> Registry::type_names(const std::string& kind) const {
 
 bool Registry::has(const std::string& kind, const std::string& type) const {
     for (const PluginType& t : types_)
-        if (t.kind == kind && t.type == type && t.abi == MBD_ABI_VERSION) return true;
+        if (t.kind == kind && t.type == type && t.abi == host_abi(kind)) return true;
     return false;
 }
 
@@ -129,14 +136,15 @@ const PluginType& Registry::find(const std::string& kind, const std::string& typ
     const PluginType* wrong_abi = nullptr;
     for (const PluginType& t : types_) {
         if (t.kind != kind || t.type != type) continue;
-        if (t.abi == MBD_ABI_VERSION) return t;
+        if (t.abi == host_abi(kind)) return t;
         wrong_abi = &t;
     }
     if (wrong_abi)
         throw PluginError(where, owner + ": " + kind + " type '" + type + "' is provided by " +
-                                    wrong_abi->library.string() + ", built for plugin ABI " +
-                                    std::to_string(wrong_abi->abi) + " but this mbd uses ABI " +
-                                    std::to_string(MBD_ABI_VERSION) + "; rebuild the plugin against this SDK");
+                                    wrong_abi->library.string() + ", built for " + abi_name(kind) + " " +
+                                    std::to_string(wrong_abi->abi) + " but this mbd uses " + host_abi_name(kind) + " " +
+                                    std::to_string(host_abi(kind)) + "; rebuild the plugin against " +
+                                    rebuild_against(kind));
     std::vector<std::string> known = type_names(kind);
     const std::string best = nearest_name(type, known);
     std::string folders;
@@ -171,7 +179,7 @@ std::shared_ptr<Product> Registry::create(const std::string& kind, const Spec& s
     } catch (const std::exception& e) {
         throw PluginError(where, owner + ": cannot load plugin " + t.library.string() + ": " + e.what());
     }
-    const std::string symbol = "mbd_abi" + std::to_string(MBD_ABI_VERSION) + "__" + kind + "__" + spec.type;
+    const std::string symbol = "mbd_abi" + std::to_string(host_abi(kind)) + "__" + kind + "__" + spec.type;
     auto& factory = lib->handle.get_alias<Factory>(symbol);
     // A plugin's exception names neither the scene nor the element: add both (an
     // InputError that already has a location, from the scene's keys, is complete).

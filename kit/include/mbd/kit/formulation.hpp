@@ -12,7 +12,7 @@
 
 #include <mbd/kit/formulation_options.hpp>
 #include <mbd/sdk/params.hpp>
-#include <mbd/sdk/plugin.hpp>
+#include <mbd/kit/plugin.hpp>
 #include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
@@ -112,7 +112,7 @@ using FormulationFactory = std::unique_ptr<Formulation>(const FormulationSpec& s
 
 }  // namespace mbd
 
-#define MBD_FORMULATION_PLUGIN(type, factory) MBD_REGISTER_PLUGIN(formulation, type, factory)
+#define MBD_FORMULATION_PLUGIN(type, factory) MBD_REGISTER_KIT_PLUGIN(formulation, type, factory)
 
 // The calls every formulation implements, declared once for the class bodies that implement
 // them (a change of the interface is one edit here): bind, rhs, project, multipliers and

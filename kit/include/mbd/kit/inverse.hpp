@@ -10,7 +10,7 @@
 #pragma once
 
 #include <mbd/sdk/params.hpp>
-#include <mbd/sdk/plugin.hpp>
+#include <mbd/kit/plugin.hpp>
 #include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
@@ -65,4 +65,4 @@ using InverseFactory = std::unique_ptr<InverseSolver>(const InverseSpec& spec);
 
 }  // namespace mbd
 
-#define MBD_INVERSE_PLUGIN(type, factory) MBD_REGISTER_PLUGIN(inverse, type, factory)
+#define MBD_INVERSE_PLUGIN(type, factory) MBD_REGISTER_KIT_PLUGIN(inverse, type, factory)

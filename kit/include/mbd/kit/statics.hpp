@@ -10,7 +10,7 @@
 #pragma once
 
 #include <mbd/sdk/params.hpp>
-#include <mbd/sdk/plugin.hpp>
+#include <mbd/kit/plugin.hpp>
 #include <mbd/kit/system.hpp>
 
 #include <Eigen/Core>
@@ -75,4 +75,4 @@ using StaticsFactory = std::unique_ptr<StaticsSolver>(const StaticsSpec& spec);
 
 }  // namespace mbd
 
-#define MBD_STATICS_PLUGIN(type, factory) MBD_REGISTER_PLUGIN(statics, type, factory)
+#define MBD_STATICS_PLUGIN(type, factory) MBD_REGISTER_KIT_PLUGIN(statics, type, factory)

@@ -20,7 +20,8 @@
 
 #include <memory>
 
-// Bumped whenever a type in the SDK headers changes layout or meaning.
+// The element plugins' ABI (joint, force, body). Bumped whenever a type in the SDK headers
+// changes layout or meaning. The formulation kit has its own (kit plugin.hpp, MBD_KIT_ABI_VERSION).
 #define MBD_ABI_VERSION 11
 
 namespace mbd {
@@ -32,10 +33,12 @@ using ForceFactory = std::unique_ptr<Force>(const ForceSpec&);
 
 #define MBD_PLUGIN_CAT5_(a, b, c, d, e) a##b##c##d##e
 #define MBD_PLUGIN_CAT5(a, b, c, d, e) MBD_PLUGIN_CAT5_(a, b, c, d, e)
-#define MBD_PLUGIN_SYMBOL(kind, type) MBD_PLUGIN_CAT5(mbd_abi, MBD_ABI_VERSION, __, kind, MBD_PLUGIN_CAT5(__, type, , , ))
+#define MBD_PLUGIN_SYMBOL_WITH_ABI(kind, type, abi) MBD_PLUGIN_CAT5(mbd_abi, abi, __, kind, MBD_PLUGIN_CAT5(__, type, , , ))
+#define MBD_PLUGIN_SYMBOL(kind, type) MBD_PLUGIN_SYMBOL_WITH_ABI(kind, type, MBD_ABI_VERSION)
 
-#define MBD_REGISTER_PLUGIN(kind, type, factory) \
-    BOOST_DLL_ALIAS_SECTIONED(factory, MBD_PLUGIN_SYMBOL(kind, type), mbdplug)
+#define MBD_REGISTER_PLUGIN_WITH_ABI(kind, type, factory, abi) \
+    BOOST_DLL_ALIAS_SECTIONED(factory, MBD_PLUGIN_SYMBOL_WITH_ABI(kind, type, abi), mbdplug)
+#define MBD_REGISTER_PLUGIN(kind, type, factory) MBD_REGISTER_PLUGIN_WITH_ABI(kind, type, factory, MBD_ABI_VERSION)
 
 #define MBD_JOINT_PLUGIN(type, factory) MBD_REGISTER_PLUGIN(joint, type, factory)
 #define MBD_FORCE_PLUGIN(type, factory) MBD_REGISTER_PLUGIN(force, type, factory)

@@ -1,0 +1,29 @@
+// Registering a plugin of the formulation kit: kinds formulation, statics and inverse
+// (MBD_FORMULATION_PLUGIN, MBD_STATICS_PLUGIN, MBD_INVERSE_PLUGIN). The symbol is the element
+// plugins' (sdk plugin.hpp: mbd_abi<ABI>__<kind>__<type>) with the kit's own ABI version, so
+// that a change of the kit does not bump the ABI of the joint, force and body plugins, nor
+// one of the SDK the kit's.
+#pragma once
+
+#include <mbd/sdk/plugin.hpp>
+
+#include <string>
+
+// Bumped whenever a type in the kit headers (kit/include/mbd/kit) changes layout or meaning.
+#define MBD_KIT_ABI_VERSION 1
+
+#define MBD_REGISTER_KIT_PLUGIN(kind, type, factory) \
+    MBD_REGISTER_PLUGIN_WITH_ABI(kind, type, factory, MBD_KIT_ABI_VERSION)
+
+namespace mbd {
+
+// The plugin kinds built on the kit; every other kind (joint, force, body) is an element
+// plugin of the SDK's ABI.
+inline bool is_kit_kind(const std::string& kind) {
+    return kind == "formulation" || kind == "statics" || kind == "inverse";
+}
+
+// The ABI this host speaks for plugins of a kind.
+inline int host_abi(const std::string& kind) { return is_kit_kind(kind) ? MBD_KIT_ABI_VERSION : MBD_ABI_VERSION; }
+
+}  // namespace mbd
