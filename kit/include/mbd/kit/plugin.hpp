@@ -1,8 +1,8 @@
 // Registering a plugin of the formulation kit: kinds formulation, statics and inverse
 // (MBD_FORMULATION_PLUGIN, MBD_STATICS_PLUGIN, MBD_INVERSE_PLUGIN). The symbol is the element
 // plugins' (sdk plugin.hpp: mbd_abi<ABI>__<kind>__<type>) with the kit's own ABI version, so
-// that a change of the kit does not bump the ABI of the joint, force and body plugins, nor
-// one of the SDK the kit's.
+// that a change of the kit does not bump the ABI of the joint, force and body plugins. The kit
+// is built on the SDK's types (a System holds Joints and Forces): a change of those bumps both.
 #pragma once
 
 #include <mbd/sdk/plugin.hpp>
@@ -12,8 +12,10 @@
 // Bumped whenever a type in the kit headers (kit/include/mbd/kit) changes layout or meaning.
 #define MBD_KIT_ABI_VERSION 1
 
+#define MBD_KIT_PLUGIN_SYMBOL(kind, type) \
+    MBD_PLUGIN_CAT5(mbd_abi, MBD_KIT_ABI_VERSION, __, kind, MBD_PLUGIN_CAT5(__, type, , , ))
 #define MBD_REGISTER_KIT_PLUGIN(kind, type, factory) \
-    MBD_REGISTER_PLUGIN_WITH_ABI(kind, type, factory, MBD_KIT_ABI_VERSION)
+    BOOST_DLL_ALIAS_SECTIONED(factory, MBD_KIT_PLUGIN_SYMBOL(kind, type), mbdplug)
 
 namespace mbd {
 

@@ -33,12 +33,10 @@ using ForceFactory = std::unique_ptr<Force>(const ForceSpec&);
 
 #define MBD_PLUGIN_CAT5_(a, b, c, d, e) a##b##c##d##e
 #define MBD_PLUGIN_CAT5(a, b, c, d, e) MBD_PLUGIN_CAT5_(a, b, c, d, e)
-#define MBD_PLUGIN_SYMBOL_WITH_ABI(kind, type, abi) MBD_PLUGIN_CAT5(mbd_abi, abi, __, kind, MBD_PLUGIN_CAT5(__, type, , , ))
-#define MBD_PLUGIN_SYMBOL(kind, type) MBD_PLUGIN_SYMBOL_WITH_ABI(kind, type, MBD_ABI_VERSION)
+#define MBD_PLUGIN_SYMBOL(kind, type) MBD_PLUGIN_CAT5(mbd_abi, MBD_ABI_VERSION, __, kind, MBD_PLUGIN_CAT5(__, type, , , ))
 
-#define MBD_REGISTER_PLUGIN_WITH_ABI(kind, type, factory, abi) \
-    BOOST_DLL_ALIAS_SECTIONED(factory, MBD_PLUGIN_SYMBOL_WITH_ABI(kind, type, abi), mbdplug)
-#define MBD_REGISTER_PLUGIN(kind, type, factory) MBD_REGISTER_PLUGIN_WITH_ABI(kind, type, factory, MBD_ABI_VERSION)
+#define MBD_REGISTER_PLUGIN(kind, type, factory) \
+    BOOST_DLL_ALIAS_SECTIONED(factory, MBD_PLUGIN_SYMBOL(kind, type), mbdplug)
 
 #define MBD_JOINT_PLUGIN(type, factory) MBD_REGISTER_PLUGIN(joint, type, factory)
 #define MBD_FORCE_PLUGIN(type, factory) MBD_REGISTER_PLUGIN(force, type, factory)
