@@ -58,6 +58,11 @@ private:
     void throw_if_state_finite(size_t j, const ConstraintEval& e, const State& state) const;
     // driver d's coordinate into data.driver_rows[d], and its motion f(t) (finite, or a named error)
     const CoordinateEval& evaluate_driver(size_t d, const State& state, Data& data, TimeValue& f) const;
+    // evaluate()'s writer of the Jacobian's values, one slot_ entry after another
+    struct JacobianScatter;
+    // evaluate()'s sections after the joints' rows: the drivers', then the velocity-level rows
+    void evaluate_drivers(const State& state, Data& data, ConstraintValues& out, JacobianScatter& J) const;
+    void evaluate_velocity_rows(const State& state, Data& data, ConstraintValues& out, JacobianScatter& J) const;
 
     const Model* model_;
     bool include_drivers_;

@@ -170,25 +170,34 @@ bool has_pattern(const Eigen::SparseMatrix<double>& J, const Eigen::SparseMatrix
 
 }  // namespace
 
-void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues& out) const {
-    data.pose(state);
-    const Model& m = *model_;
-    const int nvb = velocities_per_body(m.dimension);
-    out.C.resize(rows_);
-    out.C_t.resize(rows_);
-    out.gamma.resize(rows_);
-    if (!has_pattern(out.J, pattern_)) out.J = pattern_;  // once per ConstraintValues
-    double* values = out.J.valuePtr();
-    std::fill(values, values + out.J.nonZeros(), 0.0);
-    const int* slot = slot_.data();
-
-    // add one row's body blocks into the Jacobian's values (a body that appears twice adds up)
-    auto scatter = [&](BodyList bodies, const auto& row_values) {
+struct ConstraintSystem::JacobianScatter {
+    double* values;
+    const int* slot;
+    int nvb;
+    // one row's body blocks (a body that appears twice adds up)
+    template <class Row>
+    void add(BodyList bodies, const Row& row_values) {
         for (int b = 0; b < bodies.size(); ++b) {
             if (bodies[b] == kGround) continue;
             for (int c = 0; c < nvb; ++c) values[*slot++] += row_values(nvb * b + c);
         }
-    };
+    }
+    // one row of J_f G over a flexible body's coordinates
+    void add_flexible(const Data::FlexibleSlot& f, int r) {
+        for (Eigen::Index c = 0; c < f.J.cols(); ++c) values[*slot++] += f.J(r, c);
+    }
+};
+
+void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues& out) const {
+    data.pose(state);
+    const Model& m = *model_;
+    out.C.resize(rows_);
+    out.C_t.resize(rows_);
+    out.gamma.resize(rows_);
+    if (!has_pattern(out.J, pattern_)) out.J = pattern_;  // once per ConstraintValues
+    std::fill(out.J.valuePtr(), out.J.valuePtr() + out.J.nonZeros(), 0.0);
+    JacobianScatter scatter{out.J.valuePtr(), slot_.data(), velocities_per_body(m.dimension)};
+
     // a joint's rows into out at r0, and the sum of all its entries (rows_finite's test, in the same pass)
     auto place = [&](const ConstraintEval& e, int r0, BodyList bodies, const std::vector<Data::FlexibleSlot>& flexible) {
         const int rows = static_cast<int>(e.C.size());
@@ -202,9 +211,8 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         const double* J = e.J.data();
         for (Eigen::Index k = 0; k < e.J.size(); ++k) sum += J[k];
         for (int r = 0; r < rows; ++r) {
-            scatter(bodies, e.J.row(r));
-            for (const Data::FlexibleSlot& f : flexible)  // J_f G over the flexible body's coordinates
-                for (Eigen::Index c = 0; c < f.J.cols(); ++c) values[*slot++] += f.J(r, c);
+            scatter.add(bodies, e.J.row(r));
+            for (const Data::FlexibleSlot& f : flexible) scatter.add_flexible(f, r);  // J_f G
         }
         return sum;
     };
@@ -216,41 +224,47 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         if (!rows_finite(e, place(e, joint_offset_[j], joint_bodies_[j], data.joint_flexible[j])))
             throw_if_state_finite(j, e, state);
     }
+    if (include_drivers_) evaluate_drivers(state, data, out, scatter);
+    if (include_velocity_rows_) evaluate_velocity_rows(state, data, out, scatter);
+}
 
-    if (include_drivers_) {
-        for (size_t d = 0; d < m.drivers.size(); ++d) {
-            TimeValue f;
-            const CoordinateEval& e = evaluate_driver(d, state, data, f);
-            // book Sec. 3.6 driving constraints: C = s(q) - f(t), C_t = -fdot, gamma = gamma_s + fddot
-            const int row = joint_rows_ + static_cast<int>(d);
-            const double residual = e.value - f.f;
-            out.C[row] = e.periodic ? wrap_angle(residual) : residual;
-            out.C_t[row] = -f.df;
-            out.gamma[row] = e.gamma + f.ddf;
-            scatter(joint_bodies_[m.drivers[d].joint], e.J);
-        }
+void ConstraintSystem::evaluate_drivers(const State& state, Data& data, ConstraintValues& out,
+                                        JacobianScatter& J) const {
+    const Model& m = *model_;
+    for (size_t d = 0; d < m.drivers.size(); ++d) {
+        TimeValue f;
+        const CoordinateEval& e = evaluate_driver(d, state, data, f);
+        // book Sec. 3.6 driving constraints: C = s(q) - f(t), C_t = -fdot, gamma = gamma_s + fddot
+        const int row = joint_rows_ + static_cast<int>(d);
+        const double residual = e.value - f.f;
+        out.C[row] = e.periodic ? wrap_angle(residual) : residual;
+        out.C_t[row] = -f.df;
+        out.gamma[row] = e.gamma + f.ddf;
+        J.add(joint_bodies_[m.drivers[d].joint], e.J);
     }
+}
 
-    if (include_velocity_rows_) {
-        for (size_t j = 0; j < m.joints.size(); ++j) {
-            const JointInstance& ji = m.joints[j];
-            VelocityConstraintEval& e = data.joint_velocity_rows[j];
-            if (e.b.size() == 0) continue;
-            e.A.setZero();
-            e.b.setZero();
-            e.gamma.setZero();
-            data.poses.fill(joint_bodies_[j], state.t, data.view);
-            joint_[j]->evaluate_velocity(data.view, e);
-            if (!(e.A.allFinite() && e.b.allFinite() && e.gamma.allFinite()) && state.q.allFinite() &&
-                state.v.allFinite())
-                throw_velocity_rows_not_finite(ji, e, state.t);
-            // A v = b as a row without position residual: C = 0, J = A, C_t = -b (kit system.hpp)
-            const int r0 = velocity_offset_[j];
-            out.C.segment(r0, e.b.size()).setZero();
-            out.C_t.segment(r0, e.b.size()) = -e.b;
-            out.gamma.segment(r0, e.b.size()) = e.gamma;
-            for (int r = 0; r < e.b.size(); ++r) scatter(joint_bodies_[j], e.A.row(r));
-        }
+void ConstraintSystem::evaluate_velocity_rows(const State& state, Data& data, ConstraintValues& out,
+                                              JacobianScatter& J) const {
+    const Model& m = *model_;
+    for (size_t j = 0; j < m.joints.size(); ++j) {
+        const JointInstance& ji = m.joints[j];
+        VelocityConstraintEval& e = data.joint_velocity_rows[j];
+        if (e.b.size() == 0) continue;
+        e.A.setZero();
+        e.b.setZero();
+        e.gamma.setZero();
+        data.poses.fill(joint_bodies_[j], state.t, data.view);
+        joint_[j]->evaluate_velocity(data.view, e);
+        if (!(e.A.allFinite() && e.b.allFinite() && e.gamma.allFinite()) && state.q.allFinite() &&
+            state.v.allFinite())
+            throw_velocity_rows_not_finite(ji, e, state.t);
+        // A v = b as a row without position residual: C = 0, J = A, C_t = -b (kit system.hpp)
+        const int r0 = velocity_offset_[j];
+        out.C.segment(r0, e.b.size()).setZero();
+        out.C_t.segment(r0, e.b.size()) = -e.b;
+        out.gamma.segment(r0, e.b.size()) = e.gamma;
+        for (int r = 0; r < e.b.size(); ++r) J.add(joint_bodies_[j], e.A.row(r));
     }
 }
 
