@@ -29,8 +29,8 @@ abi_version = _mbd.abi_version  # element plugins (joint, force, body)
 kit_abi_version = _mbd.kit_abi_version  # formulation, statics and inverse plugins
 
 PluginType = collections.namedtuple("PluginType", "kind type abi library version usable")
-PluginType.__doc__ = "A plugin type found in the plugin path; usable is False when it was built for another ABI
-(abi_version for element plugins, kit_abi_version for formulation, statics and inverse plugins)."
+PluginType.__doc__ = ("A plugin type found in the plugin path; usable is False when it was built for another ABI "
+                      "(abi_version for element plugins, kit_abi_version for formulation, statics and inverse plugins).")
 
 
 def plugins():
