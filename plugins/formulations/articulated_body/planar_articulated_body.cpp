@@ -52,21 +52,23 @@ void PlanarArticulatedBody::planar_kinematics() {
         Link& c = links_[i];
         if (e.joint < 0) {
             c.x = s[e.s0], c.y = s[e.s0 + 1], c.theta = s[e.s0 + 2];
+            c.cos_theta = std::cos(c.theta), c.sin_theta = std::sin(c.theta);
             c.v = u.segment<3>(e.u0);
             c.a.setZero();
             continue;
         }
         Vec2 Rp = Vec2::Zero(), Rpdot = Vec2::Zero();
-        double thp = 0.0, wp = 0.0;
+        double thp = 0.0, wp = 0.0, cos_p = 1.0, sin_p = 0.0;
         if (c.parent >= 0) {
             const Link& p = links_[c.parent];
             Rp = Vec2(p.x, p.y);
             Rpdot = p.v.head<2>();
             thp = p.theta;
+            cos_p = p.cos_theta, sin_p = p.sin_theta;
             wp = p.v[2];
         }
         // the parent's joint frame, and its velocity-product acceleration at vdot_p = 0
-        const Vec2 rho0 = rotated(std::cos(thp), std::sin(thp), e.u_p);
+        const Vec2 rho0 = rotated(cos_p, sin_p, e.u_p);
         Vec2 o = Rp + rho0;
         Vec2 odot = Rpdot + wp * perp(rho0);
         Vec2 oddot = -wp * wp * rho0;
@@ -94,7 +96,8 @@ void PlanarArticulatedBody::planar_kinematics() {
             }
         }
         c.theta = theta - e.angle_c;
-        const Vec2 rho = -rotated(std::cos(c.theta), std::sin(c.theta), e.u_c);
+        c.cos_theta = std::cos(c.theta), c.sin_theta = std::sin(c.theta);
+        const Vec2 rho = -rotated(c.cos_theta, c.sin_theta, e.u_c);
         const Vec2 R = o + rho;
         c.x = R.x(), c.y = R.y();
         c.v << odot + w * perp(rho), w;

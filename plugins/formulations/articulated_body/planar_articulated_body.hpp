@@ -41,6 +41,7 @@ private:
     struct Link {  // one edge of edges_ (same order) and its child body
         int parent = -1;         // index of the parent's link, -1: the ground
         double x = 0, y = 0, theta = 0;
+        double cos_theta = 1, sin_theta = 0;  // of theta, once per kinematics (its children use them)
         Vec3 v = Vec3::Zero();   // (vx, vy, omega)
         Vec2 d = Vec2::Zero();   // Phi = [I2 d; 0 1]
         Vec3 a = Vec3::Zero();   // velocity-product acceleration (vdot at vdot_p = 0, udot = 0)
