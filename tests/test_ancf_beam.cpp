@@ -6,11 +6,13 @@
 #include "support/flexible_body.hpp"
 
 #include <mbd/sdk/body.hpp>
+#include <mbd/simulation.hpp>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -242,6 +244,45 @@ TEST(AncfBeam, BadInputIsRefusedNamingTheBody) {
     EXPECT_NE(refusal(k).find("beam.yaml:3"), std::string::npos) << refusal(k);
     expect_refused(refusal(Keys{}, "shear_modulus"), "shear_modulus");
     expect_refused(refusal(Keys{}, "", Dimension::Spatial), "planar");
+}
+
+TEST(AncfBeam, APinnedBeamInASceneSwingsKeepingItsEnergy) {
+    // a 10 cm square beam (rho A = 1 kg/m, EI = 8.3 N m^2) pinned at node 0, released horizontal;
+    // a soft modulus keeps its fastest mode (the section's stretch, sqrt(EA / rho I) = 3.5e3 rad/s)
+    // cheap for the explicit integrator
+    const std::string text =
+        "dimension: planar\ngravity: [0, -9.81]\nflexible_bodies:\n"
+        "  - {name: bar, type: ancf_beam, from: [0, 0], to: [1, 0], elements: 2, modulus: 1.0e6, "
+        "shear_modulus: 3.846e5, area: 0.01, second_moment: 8.333333e-6, density: 100}\n"
+        "joints:\n  - {name: pin, type: revolute, bodies: [ground, {body: bar, node: 0}]}\n";
+    const Model model = test::scene(text);
+    const double t_end = 0.6, tolerance = 1e-9;
+    SimulationSettings settings = test::adaptive_run("augmented", "dopri5", tolerance, t_end, t_end / 20);
+    settings.diagnostics = true;
+    std::vector<std::string> columns;
+    std::vector<std::vector<double>> rows;
+    const SimulationResult result = simulate(model, test::shared_registry(), settings, [&](const SimulationSample& s) {
+        rows.push_back(*s.row);
+        return true;
+    });
+    columns = result.columns;
+    const auto column = [&](const std::string& name) {
+        return static_cast<size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin());
+    };
+    ASSERT_LT(column("bar.node2.y"), columns.size());
+    const auto energy = [&](size_t r) { return rows[r][column("kinetic_energy")] + rows[r][column("potential_energy")]; };
+    double drift = 0.0, pin = 0.0, lowest = 0.0;
+    for (size_t r = 0; r < rows.size(); ++r) {
+        drift = std::max(drift, std::abs(energy(r) - energy(0)));
+        pin = std::max({pin, std::abs(rows[r][column("bar.node0.x")]), std::abs(rows[r][column("bar.node0.y")])});
+        lowest = std::min(lowest, rows[r][column("bar.node2.y")]);
+    }
+    const double scale = 1.0 * 9.81 * 0.5;  // m g L / 2
+    std::printf("pinned ancf_beam over %g s: energy drift %.3g J of %.3g, pin %.3g m, tip lowest %.3f\n", t_end, drift,
+                scale, pin, lowest);
+    EXPECT_LT(drift, 10 * tolerance * scale);  // the bound of test_flexible_scene's pendulum
+    EXPECT_LT(pin, 1e-12);
+    EXPECT_LT(lowest, -0.8) << "it swings through the bottom";
 }
 
 }  // namespace
