@@ -1,8 +1,11 @@
-// Body type `ancf_cable`: a planar beam meshed between two points into N gradient-deficient ANCF
-// elements (ancf_cable_element.hpp). Coordinates, node by node: [r_k (x, y), r'_k (x, y)],
-// 4 (N + 1) in all; velocities are their rates. The material parameter of a point is its arc
+// Body type `ancf_cable`: a beam meshed between two points into N gradient-deficient ANCF
+// elements. In planar scenes (this file, ancf_cable_element.hpp) the coordinates are, node by
+// node, [r_k (x, y), r'_k (x, y)], 4 (N + 1) in all; in spatial scenes the spatial element
+// (ancf_cable_3d.cpp). Velocities are their rates. The material parameter of a point is its arc
 // length x in [0, L] from `from` in the straight reference configuration.
+#include "ancf_cable_3d.hpp"
 #include "ancf_cable_element.hpp"
+#include "meshed_beam.hpp"
 
 #include <mbd/sdk/body.hpp>
 #include <mbd/sdk/text.hpp>
@@ -17,40 +20,23 @@ namespace {
 using ancf::Mat8;
 using ancf::Vec8;
 
-// Refuses the value of `key` at its file:line, naming the body (the Params' owner).
-[[noreturn]] void refuse(const Params& p, const std::string& key, const std::string& message) {
-    throw InputError(p.at(key).location(), p.owner() + ": " + message);
-}
+using ancf::positive;
 
-double positive(const Params& p, const std::string& key) {
-    const double value = p.number(key);
-    if (!(value > 0)) refuse(p, key, "'" + key + "' must be positive, got " + p.at(key).text);
-    return value;
-}
-
-class AncfCable final : public FlexibleBody {
+class AncfCable final : public ancf::MeshedBeam {
 public:
-    explicit AncfCable(const BodySpec& spec) {
+    explicit AncfCable(const BodySpec& spec) : MeshedBeam(ancf::read_beam_line(spec.params, 2)) {
         const Params& p = spec.params;
-        if (spec.dimension != Dimension::Planar)
-            p.fail("the ancf_cable body is planar; the spatial ANCF element is not available yet");
-        from_ = p.vector("from", 2);
-        const Eigen::Vector2d to = p.vector("to", 2);
-        length_ = (to - from_).norm();
-        if (!(length_ > 0))
-            refuse(p, "to", "'from' and 'to' coincide: the beam has zero length; give two distinct end points");
-        elements_ = static_cast<int>(p.integer("elements", 0, 100000));
-        if (elements_ < 1)
-            refuse(p, "elements", "'elements' must be at least 1: an ANCF cable element needs two nodes");
+        from_ = line_.from;
+        tangent_ = line_.tangent;
+        elements_ = line_.elements;
         const double E = positive(p, "modulus"), A = positive(p, "area"), I = positive(p, "second_moment");
         section_ = {E * A, E * I, positive(p, "density") * A};
         // 5 Gauss points integrate the axial energy exactly; 2 relieve the membrane locking of a
         // nearly inextensible beam in bending, at the price of an axial zero-energy mode where no
         // node's slope is held (docs/plugin-sdk.md "Bodies")
-        section_.axial_points = static_cast<int>(p.has("axial_points") ? p.integer("axial_points", 1, 5) : 5);
-        tangent_ = (to - from_) / length_;
-        element_length_ = length_ / elements_;
-        assemble_constant_terms();
+        section_.axial_points = ancf::read_axial_points(p);
+        element_length_ = line_.element_length();
+        assemble_mass(ancf::element_mass(section_, element_length_), 4);
     }
 
     int coordinates() const override { return 4 * (elements_ + 1); }
@@ -67,18 +53,10 @@ public:
         return "node" + std::to_string(k / 4) + "_" + part[k % 4];
     }
 
-    bool constant_mass() const override { return true; }
-    void mass_matrix(const Eigen::VectorXd& /*q*/, Eigen::MatrixXd& M) const override { M = mass_; }
     void gravity_forces(const Eigen::VectorXd& /*q*/, const Vec3& g, Eigen::Ref<Eigen::VectorXd> Q) const override {
         Q.setZero();
         for (int j = 0; j < elements_; ++j)
             Q.segment<8>(4 * j) += ancf::element_gravity(section_, element_length_, g.head<2>());
-    }
-    double gravity_potential(const Eigen::VectorXd& q, const Vec3& g) const override {
-        // r is linear in q, so the integral of g . r dm is Q_g^T q
-        Eigen::VectorXd Q(coordinates());
-        gravity_forces(q, g, Q);
-        return -Q.dot(q);
     }
 
     double strain_energy(const Eigen::VectorXd& q) const override {
@@ -104,13 +82,6 @@ public:
         }
     }
 
-    int material_parameters() const override { return 1; }
-    void check_material_point(const double* xi) const override {
-        const double slack = 1e-12 * length_;
-        if (!(xi[0] >= -slack && xi[0] <= length_ + slack))
-            throw InputError("", "the point at arc length " + format_number(xi[0]) + " lies outside the beam [0, " +
-                                     format_number(length_) + "]");
-    }
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {
         const Located at = locate(xi[0]);
         const ancf::Shape f = ancf::shape(at.xi, element_length_);
@@ -151,32 +122,17 @@ public:
         out.bias = Eigen::Vector3d(0.0, 0.0, -2.0 * cross * a.dot(adot) / (g * g));
     }
 
-    int node_count() const override { return elements_ + 1; }
-    std::vector<double> node_parameters(int node) const override { return {node * element_length_}; }
-
 private:
-    struct Located {
-        int element;
-        double xi;  // in [0, 1] along the element
-    };
-    Located locate(double x) const {
-        const int j = std::clamp(static_cast<int>(std::floor(x / element_length_)), 0, elements_ - 1);
-        return {j, x / element_length_ - j};
-    }
-    void assemble_constant_terms() {
-        mass_.setZero(coordinates(), coordinates());
-        const Mat8 Me = ancf::element_mass(section_, element_length_);
-        for (int j = 0; j < elements_; ++j) mass_.block<8, 8>(4 * j, 4 * j) += Me;
-    }
-
     Eigen::Vector2d from_ = Eigen::Vector2d::Zero(), tangent_ = Eigen::Vector2d::UnitX();
-    double length_ = 0.0, element_length_ = 0.0;
+    double element_length_ = 0.0;
     int elements_ = 0;
     ancf::Section section_;
-    Eigen::MatrixXd mass_;
 };
 
-std::unique_ptr<FlexibleBody> make_ancf_cable(const BodySpec& spec) { return std::make_unique<AncfCable>(spec); }
+std::unique_ptr<FlexibleBody> make_ancf_cable(const BodySpec& spec) {
+    if (spec.dimension == Dimension::Spatial) return ancf::make_spatial_cable(spec);
+    return std::make_unique<AncfCable>(spec);
+}
 
 }  // namespace
 }  // namespace mbd

@@ -1,0 +1,64 @@
+// What every ANCF body of this plugin shares: a straight reference line meshed into equal
+// elements, points named by their arc length x in [0, L] (the material parameter), a node at
+// each element end, a constant mass matrix, and a position linear in the coordinates (so the
+// gravity potential is -Q_g^T q). Header-only, shared by the types of this plugin.
+#pragma once
+
+#include "beam_keys.hpp"
+
+#include <mbd/sdk/body.hpp>
+#include <mbd/sdk/text.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace mbd::ancf {
+
+class MeshedBeam : public FlexibleBody {
+public:
+    bool constant_mass() const override { return true; }
+    void mass_matrix(const Eigen::VectorXd& /*q*/, Eigen::MatrixXd& M) const override { M = mass_; }
+    double gravity_potential(const Eigen::VectorXd& q, const Vec3& g) const override {
+        Eigen::VectorXd Q(coordinates());  // r is linear in q: the integral of g . r dm is Q_g^T q
+        gravity_forces(q, g, Q);
+        return -Q.dot(q);
+    }
+
+    int material_parameters() const override { return 1; }
+    void check_material_point(const double* xi) const override {
+        const double slack = 1e-12 * line_.length;
+        if (!(xi[0] >= -slack && xi[0] <= line_.length + slack))
+            throw InputError("", "the point at arc length " + format_number(xi[0]) + " lies outside the beam [0, " +
+                                     format_number(line_.length) + "]");
+    }
+    int node_count() const override { return line_.elements + 1; }
+    std::vector<double> node_parameters(int node) const override { return {node * line_.element_length()}; }
+
+protected:
+    explicit MeshedBeam(BeamLine line) : line_(std::move(line)) {}
+
+    struct Located {
+        int element;
+        double xi;  // in [0, 1] along the element
+    };
+    Located locate(double x) const {
+        const double l = line_.element_length();
+        const int j = std::clamp(static_cast<int>(std::floor(x / l)), 0, line_.elements - 1);
+        return {j, x / l - j};
+    }
+    // The mesh's mass matrix from one element's, each element's coordinates starting `stride` after
+    // the previous one's (the coordinates of a node).
+    template <class ElementMatrix>
+    void assemble_mass(const ElementMatrix& element, int stride) {
+        mass_.setZero(coordinates(), coordinates());
+        const int m = static_cast<int>(element.rows());
+        for (int j = 0; j < line_.elements; ++j) mass_.block(stride * j, stride * j, m, m) += element;
+    }
+
+    BeamLine line_;
+    Eigen::MatrixXd mass_;
+};
+
+}  // namespace mbd::ancf
