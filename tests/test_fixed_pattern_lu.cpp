@@ -4,8 +4,8 @@
 // whichever order it keeps must solve K x = b to round-off, refactored with new values too.
 // Oracles: the fill of the Cholesky factor in closed form (tridiagonal and arrow patterns), the
 // entries KLU itself gives AMD's order and K's own order, and residuals.
-#include <fixed_pattern_lu.hpp>
-#include <own_order_fill.hpp>
+#include <mbd/kit/fixed_pattern_lu.hpp>
+#include <mbd/kit/own_order_fill.hpp>
 
 #include <Eigen/SparseCore>
 

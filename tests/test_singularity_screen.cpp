@@ -12,7 +12,7 @@
 #include <mbd/kit/dense_gram.hpp>
 #include <mbd/kit/singularity.hpp>
 
-#include <rank_certificate.hpp>
+#include <mbd/kit/rank_certificate.hpp>
 
 #include <Eigen/SVD>
 

@@ -8,8 +8,8 @@
 #include <mbd/model_system.hpp>
 #include <mbd/kit/block_mass_inverse.hpp>
 
-#include <own_order_fill.hpp>
-#include <sparse_gram.hpp>
+#include <mbd/kit/own_order_fill.hpp>
+#include <mbd/kit/sparse_gram.hpp>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>

@@ -11,8 +11,8 @@
 #include <mbd/simulation.hpp>
 #include <mbd/kit/partition.hpp>
 #include <mbd/kit/velocity_transform.hpp>
-#include <coordinate_selector.hpp>
-#include <sparse_partition.hpp>
+#include <mbd/kit/coordinate_selector.hpp>
+#include <mbd/kit/sparse_partition.hpp>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

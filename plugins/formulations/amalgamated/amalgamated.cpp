@@ -38,12 +38,12 @@
 // accepted step (kit/include/mbd/kit/projection.hpp), or Baumgarte terms in gamma, or
 // none (the projection's S = J M^-1 J^T dense or sparse by size: projection.hpp,
 // sparse_metric.hpp). Reactions: lambda = mu (redundant rows get zero).
-#include <coordinate_selector.hpp>
-#include <rank_certificate.hpp>
-#include <partition_switch.hpp>
-#include <fixed_pattern_lu.hpp>
-#include <sparse_metric.hpp>
-#include <sparse_velocity_transform.hpp>
+#include <mbd/kit/coordinate_selector.hpp>
+#include <mbd/kit/rank_certificate.hpp>
+#include <mbd/kit/partition_switch.hpp>
+#include <mbd/kit/fixed_pattern_lu.hpp>
+#include <mbd/kit/sparse_metric.hpp>
+#include <mbd/kit/sparse_velocity_transform.hpp>
 
 #include <mbd/kit/non_finite_motion.hpp>
 #include <mbd/kit/coordinate_rates.hpp>

@@ -41,7 +41,7 @@
 #include <mbd/kit/partition.hpp>
 #include <mbd/kit/velocity_transform.hpp>
 
-#include <coordinate_selector.hpp>
+#include <mbd/kit/coordinate_selector.hpp>
 
 #include <Eigen/Dense>
 

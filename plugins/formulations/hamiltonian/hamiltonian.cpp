@@ -65,12 +65,12 @@
 #include <mbd/sdk/text.hpp>
 #include <mbd/kit/velocity_transform.hpp>
 
-#include <coordinate_selector.hpp>
-#include <partition_switch.hpp>
-#include <jdot_transpose.hpp>
-#include <rank_certificate.hpp>
-#include <sparse_gram.hpp>
-#include <sparse_velocity_transform.hpp>
+#include <mbd/kit/coordinate_selector.hpp>
+#include <mbd/kit/partition_switch.hpp>
+#include <mbd/kit/jdot_transpose.hpp>
+#include <mbd/kit/rank_certificate.hpp>
+#include <mbd/kit/sparse_gram.hpp>
+#include <mbd/kit/sparse_velocity_transform.hpp>
 
 #include <mbd/kit/block_mass_inverse.hpp>
 
