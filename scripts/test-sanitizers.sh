@@ -11,14 +11,21 @@
 # leak checker then reports); its tests run in scripts/test.sh's build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/timing.sh
 bash scripts/install-deps.sh  # clang and libclang-rt-dev among them
 cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
   -DCMAKE_CXX_COMPILER=clang++ -DMBD_SANITIZE=ON -DMBD_FUZZ=ON -DMBD_BUILD_BENCH=OFF ${MBD_CMAKE_ARGS:-}
+timing_start
 cmake --build build-sanitize -j2
+timing_report "test-sanitizers.sh: the build took"
 cd build-sanitize
 # intercept_tls_get_addr=0: clang 14's LeakSanitizer tracks the dynamic TLS of dlopened libraries
 # through __tls_get_addr and, with Debian 12's glibc, records a bogus block that crashes its tracer
 # at exit ("Tracer caught signal 11", seen on `mbd statics`); the leak check itself stays on
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:check_initialization_order=1:intercept_tls_get_addr=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
-ctest --output-on-failure -j2 --timeout 900
+timing_start
+status=0
+ctest --output-on-failure -j2 --timeout 900 || status=$?
+timing_report "test-sanitizers.sh: the test suite took"
+exit $status

@@ -2,12 +2,13 @@
 # Build mbd and run the whole test suite (the command CI runs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-start=$SECONDS
+source scripts/timing.sh
+timing_start
 bash scripts/build.sh
-echo "test.sh: dependencies and build took $((SECONDS - start)) s"
+timing_report "test.sh: dependencies and build took"
 cd build
-start=$SECONDS
+timing_start
 status=0
 ctest --output-on-failure -j2 --timeout 600 || status=$?
-echo "test.sh: the test suite took $((SECONDS - start)) s"
+timing_report "test.sh: the test suite took"
 exit $status
