@@ -201,6 +201,27 @@ function placeContacts(row) {
   contactDots.visible = shownContacts.length > 0;
 }
 
+// ---- flexible bodies (html_export.cpp json_flexible): a tube through the nodes, rebuilt at each
+// frame from the node positions (linear in time between keyframes, as the mass centres); with
+// two nodes a straight tube, with more a centripetal Catmull-Rom curve through every node.
+const flexibleTubes = (scene.flexible || []).map((f) => {
+  const mesh = new THREE.Mesh(new THREE.BufferGeometry(), material(f.color));
+  mesh.name = f.name;
+  mesh.frustumCulled = false;
+  world.add(mesh);
+  return { body: f, mesh, nodes: f.nodes.map(() => new THREE.Vector3()) };
+});
+function placeFlexible(row, f) {
+  const r2 = Math.min(row + 1, nKeyframes - 1);
+  const lerp = (c) => (c < 0 ? 0 : value(row, c) + f * (value(r2, c) - value(row, c)));
+  flexibleTubes.forEach((tube) => {
+    tube.body.nodes.forEach((c, i) => tube.nodes[i].set(lerp(c[0]), lerp(c[1]), lerp(c[2])));
+    const curve = new THREE.CatmullRomCurve3(tube.nodes, false, 'centripetal');
+    tube.mesh.geometry.dispose();
+    tube.mesh.geometry = new THREE.TubeGeometry(curve, 8 * Math.max(tube.nodes.length - 1, 1), tube.body.radius, 10, false);
+  });
+}
+
 const pa = new THREE.Vector3(), pb = new THREE.Vector3(), d = new THREE.Vector3();
 let current = tStart;
 function apply(t) {
@@ -219,6 +240,7 @@ function apply(t) {
     connectorPoses[i].compose(pa, q, scale.set(c.radius, c.radius, Math.max(length, 1e-9)));
   });
   placeInstances();
+  placeFlexible(row, f);
   placeContacts(row);
   if (follow && lastMean) {  // the camera and its target move with the mechanism
     const now = meanPosition(bodies, new THREE.Vector3());
@@ -414,6 +436,16 @@ window.mbdViewer = {
   range: () => [tStart, tEnd],
   setSpeed(s) { speed = s; speedSelect.value = String(s); },
   bodyNames: () => scene.bodies.map((b) => b.name),
+  // a flexible body's tube as drawn now: the nodes it runs through (world), its radius and the
+  // bounding box of its vertices; null for no such body
+  flexibleTube(name) {
+    const tube = flexibleTubes.find((t) => t.body.name === name);
+    if (!tube) return null;
+    tube.mesh.geometry.computeBoundingBox();
+    const b = tube.mesh.geometry.boundingBox;
+    return { nodes: tube.nodes.map((p) => [p.x, p.y, p.z]), radius: tube.body.radius,
+             box: [[b.min.x, b.min.y, b.min.z], [b.max.x, b.max.y, b.max.z]] };
+  },
   // where the body's frame origin (its mass centre) is drawn, in CSS pixels of the canvas
   bodyScreenPosition(name) {
     const g = bodies.find((b) => b.name === name);

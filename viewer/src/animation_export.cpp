@@ -20,6 +20,7 @@ void export_animation(const Model& model, const MotionTable& table, const std::s
                       const AnimationOptions& options) {
     const AnimationFormat format = animation_format(path);
     match_pose_columns(model, table);  // before any file appears
+    if (format == AnimationFormat::Html) match_flexible_columns(model, table);  // the page draws them (.glb: not yet)
     OutputFile file(path);             // the output contract of every command (output_file.hpp)
     DocumentStream out(file);          // written as it is produced: no copy of a large export in memory
     if (format == AnimationFormat::Glb)

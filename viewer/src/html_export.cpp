@@ -11,6 +11,7 @@
 #include <mbd/visual_joint_markers.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -124,6 +125,24 @@ std::string json_shapes(const std::vector<ShapeInstance>& shapes) {
     return out + "]";
 }
 
+// Each flexible body as a tube through its nodes: its node columns (x, y, z; planar z -1), the
+// tube's radius (0.04 of the scene's length scale, as thick as the rigid links) and
+// its colour. The page rebuilds the tube from the nodes at every frame (viewer.js).
+std::string json_flexible(const std::vector<FlexibleNodeColumns>& flexible, double length_scale) {
+    std::string out = "[";
+    for (size_t k = 0; k < flexible.size(); ++k) {
+        out += std::string(k ? "," : "") + "{\"name\":" + json_string(flexible[k].name) + ",\"radius\":" +
+               json_number(0.04 * length_scale) + ",\"color\":[0.85,0.55,0.2],\"nodes\":[";
+        for (size_t n = 0; n < flexible[k].nodes.size(); ++n) {
+            const std::array<int, 3>& c = flexible[k].nodes[n];
+            out += std::string(n ? "," : "") + "[" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," +
+                   std::to_string(c[2]) + "]";
+        }
+        out += "]}";
+    }
+    return out + "]";
+}
+
 // Each joint's points on its bodies (body frame) and the derived shape that marks it, if any
 // ("marker": {"body", "shape"}): the page's API reports where both are drawn.
 std::string json_joints(const Model& model, const std::vector<JointMarkerShape>& markers) {
@@ -168,7 +187,8 @@ struct PageMotion {
     std::vector<ColumnLayout> columns;
 };
 
-PageMotion page_motion(const MotionTable& table, const std::vector<PoseColumns>& poses, double extent) {
+PageMotion page_motion(const MotionTable& table, const std::vector<PoseColumns>& poses,
+                       const std::vector<FlexibleNodeColumns>& flexible, double extent) {
     PageMotion motion;
     motion.columns.resize(table.columns.size());
     for (size_t k = 0; k < table.columns.size(); ++k) {
@@ -185,13 +205,17 @@ PageMotion page_motion(const MotionTable& table, const std::vector<PoseColumns>&
         motion.columns[column].pose = true;
         pose.push_back({column, tolerance});
     };
+    auto add_position = [&](int c) {
+        if (c >= 0) add(c, std::max(kPoseTolerance * (motion.columns[c].max - motion.columns[c].min), kExtentFloor * extent));
+    };
     for (const PoseColumns& p : poses) {
-        for (int c : {p.x, p.y, p.z})
-            if (c >= 0)
-                add(c, std::max(kPoseTolerance * (motion.columns[c].max - motion.columns[c].min), kExtentFloor * extent));
+        for (int c : {p.x, p.y, p.z}) add_position(c);
         add(p.angle, kAngleTolerance);
         for (int c : p.e) add(c, kEulerTolerance);
     }
+    for (const FlexibleNodeColumns& f : flexible)  // each node a point drawn like a mass centre
+        for (const std::array<int, 3>& node : f.nodes)
+            for (int c : node) add_position(c);
     motion.keyframes = keyframe_rows(table, pose);
     size_t offset = motion.keyframes.size() * sizeof(double);
     for (size_t k = 1; k < motion.columns.size(); ++k) {
@@ -260,9 +284,10 @@ std::string json_contacts(const Model& model, const MotionTable& table, const Pa
 
 void write_html(const Model& model, const MotionTable& table, const AnimationOptions& options, std::ostream& out) {
     const std::vector<PoseColumns> columns = match_pose_columns(model, table);
+    const std::vector<FlexibleNodeColumns> flexible = match_flexible_columns(model, table);
     std::vector<JointMarkerShape> markers;
     VisualScene scene = build_visual_scene(model, markers);
-    const Eigen::AlignedBox3d extent = motion_extent(model, table, columns);
+    const Eigen::AlignedBox3d extent = motion_extent(model, table, columns, flexible);
     fit_ground_grid(model, scene, extent);
     const SceneMeshes meshes = scene_meshes(scene);
     if (!options.plot_column.empty()) {
@@ -307,8 +332,8 @@ void write_html(const Model& model, const MotionTable& table, const AnimationOpt
              std::to_string(p.e[0]) + "," + std::to_string(p.e[1]) + "," + std::to_string(p.e[2]) + "," +
              std::to_string(p.e[3]) + "]}";
     }
-    const PageMotion motion = page_motion(table, columns, extent.diagonal().norm());
-    j += "],\"columns\":[";
+    const PageMotion motion = page_motion(table, columns, flexible, extent.diagonal().norm());
+    j += "],\"flexible\":" + json_flexible(flexible, scene.length_scale) + ",\"columns\":[";
     for (size_t k = 0; k < table.columns.size(); ++k) {
         const ColumnLayout& c = motion.columns[k];
         j += std::string(k ? "," : "") + "{\"name\":" + json_string(table.columns[k]) + ",\"pose\":" +

@@ -250,7 +250,10 @@ std::vector<PoseColumns> match_pose_columns(const Model& model, const MotionTabl
         const std::string& c = table.columns[k];
         const size_t dot = c.rfind('.');
         if (dot == std::string::npos || c.substr(dot) != ".x") continue;
-        if (model.body_index(c.substr(0, dot)) < 0 && c.substr(0, dot) != "ground")
+        const std::string owner = c.substr(0, dot);
+        const size_t node = owner.rfind(".node");  // a flexible body's node: match_flexible_columns
+        if (node != std::string::npos && model.flexible_body_index(owner.substr(0, node)) >= 0) continue;
+        if (model.body_index(owner) < 0 && owner != "ground")
             throw InputError(where, "column " + std::to_string(k + 1) + " " + quote(c) + " names no body of the scene " +
                                         scene + "; was the result made from another scene?");
     }
@@ -283,6 +286,36 @@ std::vector<PoseColumns> match_pose_columns(const Model& model, const MotionTabl
     return out;
 }
 
+std::vector<FlexibleNodeColumns> match_flexible_columns(const Model& model, const MotionTable& table) {
+    std::map<std::string, int> index;
+    for (size_t k = 0; k < table.columns.size(); ++k) index.emplace(table.columns[k], static_cast<int>(k));
+    const bool planar = model.dimension == Dimension::Planar;
+    std::vector<FlexibleNodeColumns> out;
+    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+        FlexibleNodeColumns body{f.name, {}};
+        for (int k = 0; k < f.body->node_count(); ++k) {
+            std::array<int, 3> node{-1, -1, -1};
+            for (int axis = 0; axis < (planar ? 2 : 3); ++axis) {
+                const std::string name = f.name + ".node" + std::to_string(k) + "." + "xyz"[axis];
+                const auto it = index.find(name);
+                if (it == index.end())
+                    throw InputError(table.source + ":1", "column " + quote(name) + " is missing; the scene " +
+                                                              quote(model.source) + " has flexible body " + quote(f.name) +
+                                                              " with " + std::to_string(f.body->node_count()) +
+                                                              " nodes; give the result CSV of this scene");
+                node[axis] = it->second;
+            }
+            body.nodes.push_back(node);
+        }
+        out.push_back(std::move(body));
+    }
+    return out;
+}
+
+Vec3 node_position(const MotionTable& table, const std::array<int, 3>& node, size_t row) {
+    return Vec3(table.at(row, node[0]), table.at(row, node[1]), node[2] >= 0 ? table.at(row, node[2]) : 0.0);
+}
+
 BodyPose body_pose(const MotionTable& table, const PoseColumns& c, size_t row) {
     BodyPose pose;
     pose.position = Vec3(table.at(row, c.x), table.at(row, c.y), c.z >= 0 ? table.at(row, c.z) : 0.0);
@@ -298,13 +331,17 @@ BodyPose body_pose(const MotionTable& table, const PoseColumns& c, size_t row) {
     return pose;
 }
 
-Eigen::AlignedBox3d motion_extent(const Model& model, const MotionTable& table, const std::vector<PoseColumns>& poses) {
+Eigen::AlignedBox3d motion_extent(const Model& model, const MotionTable& table, const std::vector<PoseColumns>& poses,
+                                  const std::vector<FlexibleNodeColumns>& flexible) {
     Eigen::AlignedBox3d box;
     box.extend(Vec3::Zero());
     for (const Body& b : model.bodies) box.extend(b.position);
-    for (size_t r = 0; r < table.rows(); ++r)
+    for (size_t r = 0; r < table.rows(); ++r) {
         for (const PoseColumns& c : poses)
             box.extend(Vec3(table.at(r, c.x), table.at(r, c.y), c.z >= 0 ? table.at(r, c.z) : 0.0));
+        for (const FlexibleNodeColumns& f : flexible)
+            for (const std::array<int, 3>& node : f.nodes) box.extend(node_position(table, node, r));
+    }
     return box;
 }
 

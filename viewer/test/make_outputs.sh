@@ -22,4 +22,15 @@ run whipple-bicycle scenes/reference/whipple-bicycle.yaml 3.0 0.01
 "$mbd" simulate "$src/scenes/examples/force-collision-contact.yaml" --integrator dopri5 --tol 1e-8 --t-end 1 \
   --output-step 0.01 -q --output "$out/collision.csv" --contacts "$out/collision-contacts.csv" \
   --animation "$out/collision.html"
+# an ANCF cable pendulum released horizontal: the tube the viewer draws through its nodes (flexible.mjs)
+cat > "$out/cable-pendulum.yaml" <<'SCENE'
+dimension: planar
+gravity: [0, -9.81]
+flexible_bodies:
+  - {name: rope, type: ancf_cable, from: [0, 0], to: [1, 0], elements: 4, modulus: 1.0e4, area: 1.0, second_moment: 1.0e-3, density: 1.0}
+joints:
+  - {name: pin, type: revolute, bodies: [ground, {body: rope, node: 0}]}
+SCENE
+"$mbd" simulate "$out/cable-pendulum.yaml" --t-end 1 --output-step 0.01 --tol 1e-8 -q \
+  --output "$out/cable-pendulum.csv" --animation "$out/cable-pendulum.html"
 ls "$out"

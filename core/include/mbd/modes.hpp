@@ -45,7 +45,8 @@ struct ModeAnalysis {
 
 // The ignorable directions are linear.cyclic; free velocities (a velocity direction whose
 // rates all lie in the span of the cyclic directions' states) are found with singular values
-// below free_tolerance * max|A| counting as zero; every other eigenvalue is one of C^T A C,
+// below free_tolerance * max|A's velocity columns| counting as zero (their own scale: a
+// flexible body's stiffness puts entries 1e9 times larger in the position columns); every other eigenvalue is one of C^T A C,
 // C the orthonormal complement of the two (A is block triangular in that basis).
 ModeAnalysis modes_of(const LinearModel& linear, double free_tolerance = 1e-8);
 

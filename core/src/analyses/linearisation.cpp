@@ -18,13 +18,44 @@ namespace mbd {
 
 namespace {
 
+// A flexible body's first velocity column: its coordinates follow the rigid bodies' in q and v
+// (model.hpp), so its offset in v is its offset in q less the rigid block's difference.
+int flexible_v_offset(const Model& model, const FlexibleBodyInstance& f) {
+    return f.offset - model.body_count() * (coordinates_per_body(model.dimension) - velocities_per_body(model.dimension));
+}
+
 std::string column_name(const Model& model, int column) {
     const bool planar = model.dimension == Dimension::Planar;
     const int per_body = velocities_per_body(model.dimension);
+    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+        const int k = column - flexible_v_offset(model, f);
+        if (k >= 0 && k < f.size) return f.name + "." + f.body->coordinate_name(k);
+    }
     static const char* planar_names[] = {"x", "y", "angle"};
     static const char* spatial_names[] = {"x", "y", "z", "rx", "ry", "rz"};  // rotations about body axes
     return model.bodies[column / per_body].name + "." +
            (planar ? planar_names[column % per_body] : spatial_names[column % per_body]);
+}
+
+// The flexible bodies' elastic forces Q_e (nv; zero in the rigid bodies' columns) at positions q.
+Eigen::VectorXd flexible_elastic_forces(const Model& model, const Eigen::VectorXd& q) {
+    Eigen::VectorXd Q = Eigen::VectorXd::Zero(model.nv());
+    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+        Eigen::VectorXd own(f.size);
+        f.body->elastic_forces(q.segment(f.offset, f.size), own);
+        Q.segment(flexible_v_offset(model, f), f.size) = own;
+    }
+    return Q;
+}
+
+// Their exact derivative dQ_e/dq (nv x nv, the bodies' own elastic_jacobian, sdk body.hpp).
+Eigen::MatrixXd flexible_elastic_jacobian(const Model& model, const Eigen::VectorXd& q) {
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(model.nv(), model.nv());
+    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+        const int o = flexible_v_offset(model, f);
+        f.body->elastic_jacobian(q.segment(f.offset, f.size), K.block(o, o, f.size, f.size));
+    }
+    return K;
 }
 
 // The reduced equations of motion of linearisation.hpp on a position partition (of the
@@ -61,19 +92,30 @@ public:
     // minimum-norm in lambda, so redundant constraints are accepted.
     Eigen::VectorXd accelerations(const State& s, const Eigen::VectorXd& u) {
         const int nv = system_.nv();
-        system_.constraints_with_velocity_rows(s, cv_, true);
-        const int m = static_cast<int>(cv_.J.rows());
         Eigen::VectorXd Q(nv);
         system_.generalized_forces(s, Q);
         if (u.size()) Q += actuator_forces_ * u;
-        Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nv + m, nv + m);
-        K.topLeftCorner(nv, nv) = Eigen::MatrixXd(system_.mass_matrix());
-        const Eigen::MatrixXd J(cv_.J);
-        K.topRightCorner(nv, m) = J.transpose();
-        K.bottomLeftCorner(m, nv) = J;
-        Eigen::VectorXd rhs(nv + m);
+        if (frozen_elastic_.size()) Q += frozen_elastic_ - flexible_elastic_forces(system_.model(), s.q);
+        const Eigen::MatrixXd K = saddle_point_matrix(s);
+        Eigen::VectorXd rhs(K.rows());
         rhs << Q, cv_.gamma;
         return Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(K).solve(rhs).head(nv);
+    }
+
+    // The accelerations' change per generalized force at s (each column of `forces` one force,
+    // the constraints' gamma left out): the linear part of accelerations() in Q.
+    Eigen::MatrixXd force_response(const State& s, const Eigen::MatrixXd& forces) {
+        const Eigen::MatrixXd K = saddle_point_matrix(s);
+        Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(K.rows(), forces.cols());
+        rhs.topRows(forces.rows()) = forces;
+        return Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(K).solve(rhs).topRows(forces.rows());
+    }
+
+    // While set, the rates take the flexible bodies' elastic forces as the reference's, whatever
+    // the positions (linearise adds their exact derivative instead of differencing them).
+    void freeze_elastic_forces(bool freeze) {
+        const bool flexible = !system_.model().flexible_bodies.empty();
+        frozen_elastic_ = freeze && flexible ? flexible_elastic_forces(system_.model(), reference_.q) : Eigen::VectorXd();
     }
 
     // (z', w') at (z, w, u): z' = (v - v0)_i, w' = (T vdot)_i (linearisation.hpp)
@@ -102,6 +144,19 @@ private:
         return s;
     }
 
+    // [M J^T; J 0] at s over every row (cv_ keeps the rows and gamma)
+    Eigen::MatrixXd saddle_point_matrix(const State& s) {
+        const int nv = system_.nv();
+        system_.constraints_with_velocity_rows(s, cv_, true);
+        const int m = static_cast<int>(cv_.J.rows());
+        Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nv + m, nv + m);
+        K.topLeftCorner(nv, nv) = Eigen::MatrixXd(system_.mass_matrix());
+        const Eigen::MatrixXd J(cv_.J);
+        K.topRightCorner(nv, m) = J.transpose();
+        K.bottomLeftCorner(m, nv) = J;
+        return K;
+    }
+
     ModelSystem& system_;
     const State& reference_;
     const CoordinatePartition& positions_;
@@ -110,6 +165,7 @@ private:
     ConstraintValues cv_;
     VelocityTransformWorkspace ws_;
     Eigen::MatrixXd J_;
+    Eigen::VectorXd frozen_elastic_;  // empty: the elastic forces at each state
     bool converged_ = true;
 };
 
@@ -255,6 +311,39 @@ void find_cyclic_directions(ReducedDynamics& dynamics, const LinearisationOption
     }
 }
 
+// A's columns by differences of the rates (sixth order), with the flexible bodies' elastic
+// forces held at the reference's: their stiffness is exact (add_elastic_stiffness), and
+// differencing it would leave the round-off of K q (stiff axial terms) in every column.
+void differenced_columns(ReducedDynamics& dynamics, const LinearisationOptions& options, const Eigen::VectorXd& z0,
+                         const Eigen::VectorXd& w0, const Eigen::VectorXd& u0, Eigen::MatrixXd& A) {
+    const int kz = static_cast<int>(z0.size()), kw = static_cast<int>(w0.size());
+    dynamics.freeze_elastic_forces(true);
+    for (int c = 0; c < kz; ++c) {
+        const Eigen::VectorXd e = Eigen::VectorXd::Unit(kz, c);
+        A.col(c) = central_difference([&](double d) { return dynamics.rates(z0 + d * e, w0, u0); }, options.step);
+    }
+    for (int c = 0; c < kw; ++c) {
+        const Eigen::VectorXd e = Eigen::VectorXd::Unit(kw, c);
+        const double hv = options.velocity_step * std::max(1.0, std::abs(w0[c]));
+        A.block(kz, kz + c, kw, 1) = central_difference(
+            [&](double d) { return Eigen::VectorXd(dynamics.rates(z0, w0 + d * e, u0).tail(kw)); }, hv);
+    }
+    dynamics.freeze_elastic_forces(false);
+}
+
+// The elastic forces' part of A: d(vdot)/dz = P (dQ_e/dq) (dq/dz), P the accelerations' response
+// to a force at the reference (the rest of d(P Q_e)/dz, with Q_e held, is in the differences);
+// dq/dz is the position map, and the reference axes are the identity at the reference.
+void add_elastic_stiffness(ReducedDynamics& dynamics, const Model& model, const State& reference, LinearModel& out,
+                           const std::vector<int>& velocity_columns) {
+    if (model.flexible_bodies.empty()) return;
+    const Eigen::Index kz = out.position_map.cols();
+    const Eigen::MatrixXd change = dynamics.force_response(
+        reference, flexible_elastic_jacobian(model, reference.q) * out.position_map);
+    for (size_t r = 0; r < velocity_columns.size(); ++r)
+        out.A.block(kz + static_cast<Eigen::Index>(r), 0, 1, kz) += change.row(velocity_columns[r]);
+}
+
 }  // namespace
 
 void require_freedom(ModelSystem& system, const State& state) {
@@ -320,16 +409,8 @@ LinearModel linearise(ModelSystem& system, const State& start, const std::vector
 
     const int n = kz + kw;
     out.A = Eigen::MatrixXd::Zero(n, n);
-    for (int c = 0; c < kz; ++c) {
-        const Eigen::VectorXd e = Eigen::VectorXd::Unit(kz, c);
-        out.A.col(c) = central_difference([&](double d) { return dynamics.rates(z0 + d * e, w0, u0); }, options.step);
-    }
-    for (int c = 0; c < kw; ++c) {
-        const Eigen::VectorXd e = Eigen::VectorXd::Unit(kw, c);
-        const double hv = options.velocity_step * std::max(1.0, std::abs(w0[c]));
-        out.A.block(kz, kz + c, kw, 1) = central_difference(
-            [&](double d) { return Eigen::VectorXd(dynamics.rates(z0, w0 + d * e, u0).tail(kw)); }, hv);
-    }
+    differenced_columns(dynamics, options, z0, w0, u0, out.A);
+    add_elastic_stiffness(dynamics, system.model(), reference, out, velocities.independent);
     // z' = (v - v0)_i is linear in w at the reference: the rows of the velocity map
     for (int r = 0; r < kz; ++r) out.A.block(r, kz, 1, kw) = out.velocity_map.row(positions.independent[r]);
     out.B = Eigen::MatrixXd::Zero(n, Qu.cols());

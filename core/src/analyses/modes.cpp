@@ -78,7 +78,6 @@ ModeAnalysis modes_of(const LinearModel& linear, double free_tolerance) {
     const int n = static_cast<int>(A.rows());
     const int kz = static_cast<int>(linear.coordinates.size());
     const int kw = n - kz;
-    const double scale = A.size() ? A.cwiseAbs().maxCoeff() : 0.0;
     out.ignorable = ignorable_directions(linear);
     Eigen::MatrixXd set_apart(n, linear.cyclic.cols());  // the states of the cyclic directions
     if (linear.cyclic.cols() > 0) {
@@ -86,10 +85,11 @@ ModeAnalysis modes_of(const LinearModel& linear, double free_tolerance) {
         states << linear.cyclic, linear.carried_velocities * linear.cyclic;
         set_apart = orthonormal_basis(states);
     }
-    // velocity directions whose every rate lies in S
+    // velocity directions whose every rate lies in S, against the velocity columns' own scale
     Eigen::MatrixXd changes = A.rightCols(kw);
+    const double velocity_scale = changes.size() ? changes.cwiseAbs().maxCoeff() : 0.0;
     changes -= set_apart * (set_apart.transpose() * changes);
-    const Eigen::MatrixXd free_velocities = null_space(changes, free_tolerance * std::max(scale, 1e-300));
+    const Eigen::MatrixXd free_velocities = null_space(changes, free_tolerance * std::max(velocity_scale, 1e-300));
     for (Eigen::Index c = 0; c < free_velocities.cols(); ++c) {
         out.modes.push_back(make_mode(0.0, false,
                                       (A.block(0, kz, kz, kw) * free_velocities.col(c)).cast<std::complex<double>>(),

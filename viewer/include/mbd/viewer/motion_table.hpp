@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <new>
@@ -65,6 +66,19 @@ struct PoseColumns {
 // column and the scene.
 std::vector<PoseColumns> match_pose_columns(const Model& model, const MotionTable& table);
 
+// Where each flexible body's nodes sit in the table (NAME.nodeK.x .y, spatial .z too: csv.hpp):
+// per node its x, y, z columns (planar: z -1). Drawn as a tube through the nodes.
+struct FlexibleNodeColumns {
+    std::string name;
+    std::vector<std::array<int, 3>> nodes;
+};
+
+// The same check as match_pose_columns for the flexible bodies' node columns.
+std::vector<FlexibleNodeColumns> match_flexible_columns(const Model& model, const MotionTable& table);
+
+// A node's position at a row.
+Vec3 node_position(const MotionTable& table, const std::array<int, 3>& node, size_t row);
+
 struct BodyPose {
     Vec3 position = Vec3::Zero();               // mass centre, world
     Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  // body to world
@@ -72,8 +86,10 @@ struct BodyPose {
 
 BodyPose body_pose(const MotionTable& table, const PoseColumns& columns, size_t row);
 
-// Every mass centre over every row, and the initial extent of the scene's points.
+// Every mass centre and flexible body's node over every row, and the initial extent of the
+// scene's points.
 Eigen::AlignedBox3d motion_extent(const Model& model, const MotionTable& table,
-                                  const std::vector<PoseColumns>& poses);
+                                  const std::vector<PoseColumns>& poses,
+                                  const std::vector<FlexibleNodeColumns>& flexible = {});
 
 }  // namespace mbd::viewer
