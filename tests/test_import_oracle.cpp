@@ -220,30 +220,6 @@ TEST(ImportOracle, HumanoidWithArmatureAgreesWithMuJoCo) {
     EXPECT_GT(effect, 1e-3);
 }
 
-// The augmented formulation on the humanoid with its rotors, started with joint velocities, at
-// the default linear algebra (sparse: 43 bodies). Its S = J M^-1 J^T is ill-conditioned by the
-// frame bodies (1e-12 of the model's mass): S = W W^T squares W's condition, so the sparse
-// factorization of S lost its small eigenvalues (relative residual 0.045, refused at t = 0); the
-// sparse path now solves such an S through the pseudo-inverse of W, as the dense path does.
-// Every coordinate of every body agrees with the embedding formulation's run (its recursive
-// path, no Gram matrix) to 1e-6 over 1 s.
-TEST(ImportOracle, HumanoidRunsUnderTheAugmentedFormulationAsUnderEmbedding) {
-    MjModelPtr m = compile(kHumanoid);
-    ASSERT_TRUE(m);
-    conservative_tree(m.get(), /*keep_armature=*/true);
-    const auto [qvel, options] = initial_velocities(m.get());
-    import::SourceTree tree = import::read_mjcf_model(m.get(), kHumanoid.string());
-    import::apply_joint_velocities(tree, options);
-    const Model model = load_scene_text(import::scene_yaml(import::build_scene(tree)), "humanoid.yaml", shared_registry());
-    const std::vector<Eigen::VectorXd> embedding = mbd_run(model, 1.0, 0.01, "embedding");
-    const std::vector<Eigen::VectorXd> augmented = mbd_run(model, 1.0, 0.01, "augmented");
-    ASSERT_EQ(augmented.size(), embedding.size());
-    double worst = 0.0;
-    for (size_t s = 0; s < embedding.size(); ++s) worst = std::max(worst, (augmented[s] - embedding[s]).cwiseAbs().maxCoeff());
-    std::printf("humanoid with rotors: augmented against embedding over 1 s: %.3g\n", worst);
-    EXPECT_LT(worst, 1e-6);
-}
-
 // A second real file from libmujoco-samples: the slider-crank demonstration, three unnamed hinges
 // (a crank with a coupler, and a lone crank) whose inertias MuJoCo computes from their capsules.
 // Its slider-crank actuators and sites have no mbd equivalent: the import lists them in its one

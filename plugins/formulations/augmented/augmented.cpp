@@ -27,9 +27,7 @@
 //           the ordering and symbolic analysis are done once in bind() on W's fixed
 //           pattern (every row of a joint touches every velocity column of that joint's
 //           bodies); structurally redundant rows are left out as on the dense path
-//           (below); an ill-conditioned or rank-deficient S is solved as on the dense path
-//           (W W^T squares the condition of W) where W fits densely, else damped
-//           (W W^T + delta I) and refined.
+//           (below); a rank-deficient S is damped (W W^T + delta I) and refined.
 // Velocity-level (nonholonomic) joint rows A v = b (a wheel's no-slip condition) are rows
 // of J with their own multipliers (the no-slip reactions), written as C = 0, J = A, C_t = -b,
 // gamma = db/dt - (dA/dt) v (System::constraints_with_velocity_rows): they enter the
@@ -126,11 +124,8 @@ private:
     Eigen::VectorXd Q_, vdot_, lambda_, b_, tmp_nv_, tmp_nv2_, tmp_nc_, r_nc_, dv_;
     ProjectionScratch projection_;
     DenseGram dense_;  // dense path: S formed by body blocks
-    // near rank-deficient S: the pseudo-inverse (dense; sparse up to kDenseSelectionEntries) or
-    // damped least squares (sparse, beyond)
+    // near rank-deficient S: the pseudo-inverse (dense) or damped least squares (sparse)
     bool rank_deficient_ = false;
-    bool dense_pseudo_inverse_ = false;  // the sparse path solved by dense_'s pseudo-inverse
-    bool dense_sized_ = false;
     // sparse path: S = W W^T on W's fixed pattern
     SparseGram sparse_gram_;
     // rank drop of J after an accepted step: a singular configuration (kit singularity.hpp)
@@ -265,7 +260,7 @@ void Augmented::redundant_rows_error(double t, const char* what) const {
 
 void Augmented::factor(double t, const char* what, bool robust) {
     const Eigen::SparseMatrix<double>& J = cv_.J;
-    rank_deficient_ = dense_pseudo_inverse_ = false;
+    rank_deficient_ = false;
     if (nc_ == 0) return;
     if (!sparse_) {
         // a decoupled (left-out) row: its multiplier is its (zero) right-hand side
@@ -294,17 +289,7 @@ void Augmented::factor(double t, const char* what, bool robust) {
         factored = sparse_gram_.factor(0.0);
     }
     if (!robust && factored) return;
-    // Ill-conditioned or rank deficient. Where W fits densely, the dense path's pseudo-inverse of
-    // W itself: S = W W^T squares W's condition, so bodies light beside their neighbours (an
-    // import's frame bodies, 1e-12 of the model's mass) leave S's small eigenvalues in round-off
-    // of its large entries, which no factorization of S recovers (docs/import.md).
-    if (static_cast<double>(nc_) * nv_ <= kDenseSelectionEntries) {
-        if (!dense_sized_) dense_.resize(nc_, nv_), dense_sized_ = true;  // once, on the first need
-        dense_.factor_pseudo_inverse(J, mass_inverse_, dropped_);
-        dense_pseudo_inverse_ = rank_deficient_ = true;
-        return;
-    }
-    // beyond: damped least squares (W W^T + delta I), refined and checked by the caller
+    // rank deficient: damped least squares (W W^T + delta I), refined and checked by the caller
     if (!sparse_gram_.factor(1e-12 * std::max(sparse_gram_.max_diagonal(), 1e-300))) redundant_rows_error(t, what);
     rank_deficient_ = true;
 }
@@ -312,9 +297,8 @@ void Augmented::factor(double t, const char* what, bool robust) {
 void Augmented::solve_S(Eigen::VectorXd& x) {
     if (nc_ == 0) return;
     for (int r : dropped_) x[r] = 0.0;
-    if (!sparse_ || dense_pseudo_inverse_) {
+    if (!sparse_) {
         dense_.solve(x);
-        for (int r : dropped_) x[r] = 0.0;
         return;
     }
     sparse_gram_.solve(x, rank_deficient_ ? 2 : 0);  // two refinements against the undamped S when damped
