@@ -199,13 +199,9 @@ TEST(ImportLoops, WeldHoldsLikeANestedBodyInMuJoCo) {
     block_body.angular_velocity = arm_body.angular_velocity;
     block_body.velocity = arm_body.angular_velocity.cross(block_body.position - scene.joints[0].point);
     const Model model = load_scene_text(import::scene_yaml(scene), "welded.yaml", shared_registry());
-    std::vector<std::vector<double>> xpos, xmat;
-    mujoco_samples(m.get(), {2.0}, 1e-4, 1.0, 0.01, [&](const mjData* d) {
-        xpos.emplace_back(d->xpos, d->xpos + 3 * m->nbody);
-        xmat.emplace_back(d->xmat, d->xmat + 9 * m->nbody);
-    });
+    const MujocoFrames mujoco = mujoco_frames(m.get(), {2.0}, 1e-4, 1.0, 0.01);
     int compared = 0;
-    const double worst = body_frame_difference(m.get(), scene, model, mbd_run(model, 1.0, 0.01), xpos, xmat, compared);
+    const double worst = body_frame_difference(m.get(), scene, model, mbd_run(model, 1.0, 0.01), mujoco.xpos, mujoco.xmat, compared);
     std::printf("weld against MuJoCo's nested body: %.3g over 1 s\n", worst);
     EXPECT_EQ(compared, 2);
     EXPECT_LT(worst, 1e-6);

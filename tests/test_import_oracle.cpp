@@ -20,9 +20,7 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
-#include <regex>
 
 namespace mbd::test {
 namespace {
@@ -31,6 +29,19 @@ namespace fs = std::filesystem;
 using import::ImportedScene;
 
 const fs::path kHumanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml";  // Debian libmujoco-samples
+const fs::path kSliderCrank = "/usr/share/mujoco/model/slider_crank/slider_crank.xml";
+// MuJoCo's RK4 steps at which h and h / 2 differ by less than 1e-9 (order 4 on hinges and slides)
+constexpr double kPandaUrdfStep = 2.5e-4, kDoublePendulumUrdfStep = 1.25e-4, kSliderCrankStep = 5e-4;
+
+// MuJoCo's index of the joint the import named `name`: by name, or an unnamed one as the scene
+// names it ("joint #N" in mjcf_reader.cpp, written joint__N); -1 when MuJoCo has none.
+int mujoco_joint(const mjModel* m, const std::string& name) {
+    const int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
+    const std::string unnamed = "joint__";  // "joint #N" as a scene name
+    if (j >= 0 || name.compare(0, unnamed.size(), unnamed) != 0) return j;
+    const int n = std::stoi(name.substr(unnamed.size()));
+    return n < m->njnt && !mj_id2name(m, mjOBJ_JOINT, n) ? n : -1;
+}
 
 // The comparison's settings on both sides: RK4, no contact, limit, equality, actuation,
 // friction loss or passive force; zero damping, stiffness and (unless kept) armature.
@@ -110,7 +121,7 @@ double trajectory_difference(const mjModel* m, const ImportedScene& scene, const
     EXPECT_EQ(q.size(), qpos.size());
     int compared = 0;
     for (const import::SceneJoint& joint : scene.joints) {
-        const int j = mj_name2id(m, mjOBJ_JOINT, joint.name.c_str());
+        const int j = mujoco_joint(m, joint.name);
         if (j < 0 && joint.name.size() > 10 && joint.name.substr(joint.name.size() - 10) == "_rotor_pin") continue;  // armature
         EXPECT_GE(j, 0) << joint.name;
         if (j < 0) continue;
@@ -209,23 +220,98 @@ TEST(ImportOracle, HumanoidWithArmatureAgreesWithMuJoCo) {
     EXPECT_GT(effect, 1e-3);
 }
 
-// A URDF arm from ../shared/models: mbd reads the file with urdfdom, MuJoCo with its own URDF
-// reader. MuJoCo reads a copy without <visual> and <collision> (its reader cannot resolve the
-// package:// meshes, which are missing on purpose); URDF inertias are explicit, so geometry
-// does not enter the dynamics.
-TEST(ImportOracle, Ur5UrdfAgreesWithMuJoCo) {
-    const fs::path urdf = shared_models() / "erd_ur5" / "ur5_robot.urdf";
-    const std::regex geometry("<visual>[\\s\\S]*?</visual>|<collision>[\\s\\S]*?</collision>");
-    const fs::path copy = scratch("import_ur5") / "ur5_robot.urdf";
-    std::ofstream(copy) << std::regex_replace(read_text(urdf), geometry, "");
-    MjModelPtr m = compile(copy);
+// A second real file from libmujoco-samples: the slider-crank demonstration, three unnamed hinges
+// (a crank with a coupler, and a lone crank) whose inertias MuJoCo computes from their capsules.
+// Its slider-crank actuators and sites have no mbd equivalent: the import lists them in its one
+// warning. Hinge k turns at (-1)^k (1 + 0.1 k) rad/s (initial_velocities); the joints' damping is
+// off on both sides (conservative_tree).
+TEST(ImportOracle, SliderCrankSampleAgreesWithMuJoCo) {
+    MjModelPtr m = compile(kSliderCrank);
     ASSERT_TRUE(m);
+    ASSERT_EQ(m->njnt, 3);
     conservative_tree(m.get());
     const auto [qvel, options] = initial_velocities(m.get());
-    const ImportedScene scene = import::import_model(urdf, options);
-    EXPECT_EQ(scene.joints.size(), 6u);
-    const Agreement a = agreement(m.get(), scene, qvel, 5e-4);
+    import::SourceTree tree = import::read_mjcf_model(m.get(), kSliderCrank.string());
+    import::apply_joint_velocities(tree, options);
+    const ImportedScene scene = import::build_scene(tree);
+    EXPECT_EQ(scene.joints.size(), 3u);
+    const std::string warning = import::unmapped_summary(scene.unmapped);
+    for (const char* left_out : {"actuators", "forward", "backward", "broken", "sites", "cranksite", "slidersite"})
+        EXPECT_NE(warning.find(left_out), std::string::npos) << left_out << " not in: " << warning;
+    const Agreement a = agreement(m.get(), scene, qvel, kSliderCrankStep);
+    std::printf("slider-crank (libmujoco-samples): MuJoCo RK4 h = %g against %g: %.3g; mbd against MuJoCo: %.3g\n",
+                kSliderCrankStep, kSliderCrankStep / 2, a.mujoco_self, a.mbd);
+    EXPECT_LT(a.mujoco_self, 1e-9);
+    EXPECT_LT(a.mbd, 1e-6);
+}
+
+// A URDF robot from ../shared/models: mbd reads the file with urdfdom, MuJoCo with its own URDF
+// reader a copy without <visual> and <collision> (urdf_without_geometry). The documented state:
+// initial_velocities of MuJoCo's joints, limits, damping and couplings off on both sides (mbd:
+// conservative_source_tree; MuJoCo: conservative_tree, its equality constraints, where its reader
+// makes a <mimic> one, disabled), the root link welded to the world as both readers weld it.
+// With `mujocos_inertias`, mbd imports MuJoCo's compiled model of the copy instead (read_mjcf_model):
+// the same bodies with MuJoCo's principal inertias (see PandaUrdfAgreesWithMuJoCo).
+Agreement urdf_agreement(const fs::path& urdf, const std::string& folder, double h, size_t joints,
+                         bool mujocos_inertias = false) {
+    const fs::path copy = urdf_without_geometry(urdf, folder);
+    MjModelPtr m = compile(copy);
+    if (!m) return {1.0, 1.0};
+    conservative_tree(m.get());
+    const auto [qvel, options] = initial_velocities(m.get());
+    import::SourceTree tree = mujocos_inertias ? import::read_mjcf_model(m.get(), copy.string()) : import::read_model_file(urdf);
+    conservative_source_tree(tree);
+    import::apply_joint_velocities(tree, options);
+    const ImportedScene scene = import::build_scene(tree);
+    EXPECT_EQ(scene.joints.size(), joints) << urdf;
+    return agreement(m.get(), scene, qvel, h);
+}
+
+TEST(ImportOracle, Ur5UrdfAgreesWithMuJoCo) {
+    const Agreement a = urdf_agreement(shared_models() / "erd_ur5" / "ur5_robot.urdf", "import_ur5", 5e-4, 6);
     std::printf("ur5 (URDF): MuJoCo RK4 h = 5e-4 against 2.5e-4: %.3g; mbd against MuJoCo: %.3g\n", a.mujoco_self, a.mbd);
+    EXPECT_LT(a.mujoco_self, 1e-9);
+    EXPECT_LT(a.mbd, 1e-6);
+}
+
+// example-robot-data's panda: 7 revolute joints, two prismatic fingers (the second a <mimic> of
+// the first, left out on both sides: the fingers slide freely, pushed by the arm's turning), the
+// fixed links panda_link8, panda_hand and panda_hand_tcp fused into panda_link7. Its inertias
+// have products of inertia, which MuJoCo's compiler turns into principal moments and axes
+// (mju_eig3) to about 5e-7: panda_link1's iyz 0.019169 comes back as 0.01916946 from MuJoCo's
+// body_inertia and body_iquat. That alone moves the joints by about 1e-5 over 1 s, so mbd's run
+// of the file (urdfdom, the file's exact tensors; DartAgreement.PandaUrdf* checks it against
+// DART to 1e-6) is held to 1e-4 of MuJoCo's, and mbd's run of MuJoCo's compiled model of the same
+// file (its bodies, joints and principal inertias) to 1e-6.
+TEST(ImportOracle, PandaUrdfAgreesWithMuJoCo) {
+    const fs::path urdf = shared_models() / "erd_panda" / "panda.urdf";
+    MjModelPtr m = compile(urdf_without_geometry(urdf, "import_erd_panda_inertia"));
+    ASSERT_TRUE(m);
+    const int link1 = mj_name2id(m.get(), mjOBJ_BODY, "panda_link1");
+    ASSERT_GE(link1, 0);
+    Mat3 axes;
+    mju_quat2Mat(axes.data(), m->body_iquat + 4 * link1);  // row-major into column-major: the transpose
+    const Mat3 mujoco = axes.transpose() * Vec3(m->body_inertia + 3 * link1).asDiagonal() * axes;
+    const double file_iyz = 0.019169;  // panda.urdf, panda_link1 <inertia iyz>
+    const double eig_error = std::abs(mujoco(1, 2) - file_iyz);
+    const Agreement file = urdf_agreement(urdf, "import_erd_panda", kPandaUrdfStep, 9);
+    const Agreement compiled = urdf_agreement(urdf, "import_erd_panda_compiled", kPandaUrdfStep, 9, /*mujocos_inertias=*/true);
+    std::printf("panda (URDF): MuJoCo RK4 h = %g against %g: %.3g; MuJoCo's panda_link1 iyz off the file's by %.3g; "
+                "mbd against MuJoCo: from the file %.3g, from MuJoCo's compiled model %.3g\n",
+                kPandaUrdfStep, kPandaUrdfStep / 2, file.mujoco_self, eig_error, file.mbd, compiled.mbd);
+    EXPECT_GT(eig_error, 1e-7);
+    EXPECT_LT(file.mujoco_self, 1e-9);
+    EXPECT_LT(file.mbd, 1e-4);
+    EXPECT_LT(compiled.mbd, 1e-6);
+}
+
+// example-robot-data's planar double pendulum: two revolute joints about x, off-diagonal
+// inertias, swinging under gravity; its limits (lower = upper = 0) and damping left out.
+TEST(ImportOracle, DoublePendulumUrdfAgreesWithMuJoCo) {
+    const Agreement a = urdf_agreement(shared_models() / "erd_double_pendulum" / "double_pendulum.urdf",
+                                       "import_erd_double_pendulum", kDoublePendulumUrdfStep, 2);
+    std::printf("double pendulum (URDF): MuJoCo RK4 h = %g against %g: %.3g; mbd against MuJoCo: %.3g\n",
+                kDoublePendulumUrdfStep, kDoublePendulumUrdfStep / 2, a.mujoco_self, a.mbd);
     EXPECT_LT(a.mujoco_self, 1e-9);
     EXPECT_LT(a.mbd, 1e-6);
 }

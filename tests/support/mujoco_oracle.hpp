@@ -14,6 +14,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <regex>
 
 namespace mbd::test {
 
@@ -23,6 +24,23 @@ inline std::filesystem::path shared_models() {
     if (!std::filesystem::is_directory(dir))
         ADD_FAILURE() << "the shared models folder " << dir << " is missing (it lies beside the repository)";
     return dir;
+}
+
+// A copy of a URDF without <visual> and <collision>, in the scratch folder `folder`, for the peers
+// (MuJoCo, DART) whose readers cannot resolve the package:// meshes, missing on purpose. URDF
+// inertias are explicit, so geometry does not enter the dynamics.
+inline std::filesystem::path urdf_without_geometry(const std::filesystem::path& urdf, const std::string& folder) {
+    const std::regex geometry("<visual>[\\s\\S]*?</visual>|<collision>[\\s\\S]*?</collision>");
+    return write_text(scratch(folder) / urdf.filename(), std::regex_replace(read_text(urdf), geometry, ""));
+}
+
+// The comparisons' mbd side of a source tree as the peers run it: no joint stops, springs or damping, no
+// couplings (URDF mimic, MJCF equality joint) and no loop constraints (the peers' are switched off).
+inline void conservative_source_tree(import::SourceTree& tree) {
+    for (import::SourceBody& body : tree.bodies)
+        for (import::SourceJoint& joint : body.joints) joint.limited = false, joint.damping = joint.stiffness = 0.0;
+    tree.couplings.clear();
+    tree.loops.clear();
 }
 
 using MjModelPtr = std::unique_ptr<mjModel, void (*)(mjModel*)>;
@@ -60,6 +78,20 @@ inline std::vector<std::vector<double>> mujoco_run(mjModel* m, const std::vector
                                                    double sample) {
     std::vector<std::vector<double>> out;
     mujoco_samples(m, qvel, h, t_end, sample, [&](const mjData* d) { out.emplace_back(d->qpos, d->qpos + m->nq); });
+    return out;
+}
+
+// The world frames of MuJoCo's bodies (xpos, xmat) every `sample` s to t_end (mujoco_samples).
+struct MujocoFrames {
+    std::vector<std::vector<double>> xpos, xmat;
+};
+
+inline MujocoFrames mujoco_frames(mjModel* m, const std::vector<double>& qvel, double h, double t_end, double sample) {
+    MujocoFrames out;
+    mujoco_samples(m, qvel, h, t_end, sample, [&](const mjData* d) {
+        out.xpos.emplace_back(d->xpos, d->xpos + 3 * m->nbody);
+        out.xmat.emplace_back(d->xmat, d->xmat + 9 * m->nbody);
+    });
     return out;
 }
 
