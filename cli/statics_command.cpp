@@ -65,6 +65,23 @@ void print_indeterminacy(const StaticIndeterminacy& in, const std::string& stabi
                     stability.c_str());
 }
 
+// Each flexible body's nodes at the equilibrium (its points at the nodes' material parameters).
+void print_flexible_nodes(const Model& model, const State& state) {
+    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+        std::printf("  %-16s (%s) nodes:\n", f.name.c_str(), f.type.c_str());
+        const Eigen::VectorXd q = state.q.segment(f.offset, f.size), v = Eigen::VectorXd::Zero(f.size);
+        for (int k = 0; k < f.body->node_count(); ++k) {
+            const std::vector<double> xi = f.body->node_parameters(k);
+            MaterialPoint p;
+            f.body->point(q, v, xi.data(), p);
+            if (model.dimension == Dimension::Planar)
+                std::printf("    node %-9d x = %14.8g  y = %14.8g\n", k, p.r.x(), p.r.y());
+            else
+                std::printf("    node %-9d R = [%.8g, %.8g, %.8g]\n", k, p.r.x(), p.r.y(), p.r.z());
+        }
+    }
+}
+
 void print_report(const std::string& scene, const Model& model, const StaticsReport& rep,
                   const std::vector<JointLimit>& limits) {
     const StaticsResult& r = rep.result;
@@ -86,6 +103,7 @@ void print_report(const std::string& scene, const Model& model, const StaticsRep
                         r.state.q[7 * b], r.state.q[7 * b + 1], r.state.q[7 * b + 2], r.state.q[7 * b + 3],
                         r.state.q[7 * b + 4], r.state.q[7 * b + 5], r.state.q[7 * b + 6]);
     }
+    print_flexible_nodes(model, r.state);
     const StaticIndeterminacy& in = rep.indeterminacy;
     if (in.any()) print_indeterminacy(in, r.stability);
     if (!rep.reactions.empty()) {
@@ -151,6 +169,10 @@ void add_statics_command(CLI::App& app, Commands& commands) {
         Registry registry;
         const Model model = load_scene_file(args->scene, registry);
         check_output_path(args->output, scene_files(args->scene, model), "--output");
+        if (!args->output.empty() && !model.flexible_bodies.empty())
+            throw InputError("--output", "flexible body '" + model.flexible_bodies.front().name +
+                                             "': a scene holds a flexible body in its undeformed configuration, so "
+                                             "the equilibrium cannot be written as one; the report lists its nodes");
         check_animation_output(args->animation, args->scene, model);
         StaticsOptions options;
         options.time = args->time;

@@ -38,6 +38,19 @@ Json statics_json(const Model& model, const StaticsReport& rep, const std::vecto
         }
     }
     o["bodies"] = std::move(bodies);
+    Json flexible = Json::object();  // each flexible body's node positions at the equilibrium
+    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+        const Eigen::VectorXd q = r.state.q.segment(f.offset, f.size), v = Eigen::VectorXd::Zero(f.size);
+        Json nodes = Json::array();
+        for (int k = 0; k < f.body->node_count(); ++k) {
+            const std::vector<double> xi = f.body->node_parameters(k);
+            MaterialPoint p;
+            f.body->point(q, v, xi.data(), p);
+            nodes.push_back(planar ? Json::array({p.r.x(), p.r.y()}) : Json::array({p.r.x(), p.r.y(), p.r.z()}));
+        }
+        flexible[f.name] = {{"nodes", std::move(nodes)}};
+    }
+    if (!model.flexible_bodies.empty()) o["flexible_bodies"] = std::move(flexible);
     Json reactions = Json::object();
     for (const JointLoad& load : rep.reactions) reactions[load.name] = load_json(load, planar);
     o["reactions"] = std::move(reactions);

@@ -49,8 +49,8 @@ struct FlexibleBodyInstance {
 
 // A joint's body slot on a flexible body: the joint sees the material frame at xi as a rigid
 // body (sdk body.hpp), and its `bodies[slot]` holds kGround, so the rigid-body paths skip the
-// slot; the chain rule J_f G adds it (constraint_system.cpp). Forces are not attached to
-// flexible bodies yet.
+// slot; the chain rule J_f G adds it (constraint_system.cpp). A force element's slot likewise:
+// its generalized force Q_f on the frame becomes G^T Q_f on the body (flexible_forces.cpp).
 struct FlexibleAttachment {
     int slot = 0;                  // index into the element's bodies
     int body = 0;                  // index into Model::flexible_bodies
@@ -83,6 +83,7 @@ struct ForceInstance {
     // square Jacobian workspace of Data is sized by the other elements (linear in N).
     bool constant_load = false;
     int load_joint = -1;  // Force::load_joint() as an index into Model::joints, -1 none
+    std::vector<FlexibleAttachment> flexible;  // its slots on flexible bodies (empty: rigid only)
 };
 
 // A driver prescribes the coordinate of a 1-DOF joint: s(q) - f(t) = 0.

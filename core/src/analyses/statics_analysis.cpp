@@ -89,6 +89,27 @@ void check_statics_options(const StaticsOptions& o) {
         throw InputError("max_iterations", "expected a positive number, got " + std::to_string(o.max_iterations));
 }
 
+// A joint at a flexible body (model.hpp FlexibleAttachment) has no limit row and no reaction
+// computed through the material frame yet: refused or reported as not computed (NaN).
+void check_flexible_limits(const Model& model, const std::vector<JointLimit>& limits) {
+    for (const JointLimit& l : limits)
+        if (l.joint >= 0 && l.joint < static_cast<int>(model.joints.size()) && !model.joints[l.joint].flexible.empty())
+            throw InputError(l.where.empty() ? model.joints[l.joint].where : l.where,
+                             "joint '" + model.joints[l.joint].name + "' is attached to flexible body '" +
+                                 model.flexible_bodies[model.joints[l.joint].flexible.front().body].name +
+                                 "', and the statics analysis does not limit such a joint's coordinate; limit a joint "
+                                 "between rigid bodies");
+}
+
+void mark_flexible_joints_not_computed(const Model& model, StaticsReport& report) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (size_t j = 0; j < model.joints.size() && j < report.reactions.size(); ++j) {
+        if (model.joints[j].flexible.empty()) continue;
+        report.reactions[j].force = report.reactions[j].torque = Vec3::Constant(nan);
+        if (j < report.coordinates.size()) report.coordinates[j] = nan;
+    }
+}
+
 }  // namespace
 
 StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions options, const std::string& solver) {
@@ -103,6 +124,7 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
     start.v.setZero(system.nv());
     system.assemble(start, true);
     if (options.limits.empty()) options.limits = scene_joint_limits(model);
+    check_flexible_limits(model, options.limits);
 
     StaticsSpec spec;
     spec.name = solver;
@@ -164,11 +186,17 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
         }
         report.coordinates.push_back(s);
     }
+    mark_flexible_joints_not_computed(model, report);
     return report;
 }
 
 void check_inverse_dynamics(const Model& model, const InverseOptions& options) {
     require_holonomic(model, "inverse dynamics", "simulate the motion (`mbd simulate`) instead");
+    if (!model.flexible_bodies.empty())
+        throw InputError(model.flexible_bodies.front().where,
+                         "flexible body '" + model.flexible_bodies.front().name +
+                             "': inverse dynamics prescribes the motion through the drivers, which do not reach a "
+                             "flexible body's coordinates; simulate the motion (`mbd simulate`) instead");
     if (options.actuators.empty() && scene_actuators(model).empty())
         throw InputError(model.source, "inverse dynamics needs actuators: add a top-level 'actuators:' list "
                                        "({name, joint, bounds, weight}; see docs/scene-format.md)");

@@ -1,6 +1,7 @@
 #include <mbd/model_system.hpp>
 
 #include "evaluation/coupled_force_jacobians.hpp"
+#include "evaluation/flexible_forces.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -130,7 +131,7 @@ Eigen::Ref<Eigen::VectorXd> ModelSystem::element_force(int f, double t) {
     const BodyList bodies = force_bodies_[f];
     auto element = data_.force_Q.head(velocities_per_body(model_->dimension) * bodies.size());
     element.setZero();
-    data_.poses.fill(bodies, t, data_.view);
+    data_.fill_view(bodies, force.flexible, data_.force_flexible[f], t);  // a flexible slot: its material frame
     if (load_slot_[f] >= 0)
         force.force->evaluate_at_load(data_.view, loads_[load_slot_[f]], element);
     else
@@ -142,8 +143,11 @@ void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
     const Model& m = *model_;
     Q.setZero(m.nv());
     data_.pose(state);
-    for (size_t f = 0; f < m.forces.size(); ++f)
-        scatter_vector(m, force_bodies_[f], element_force(static_cast<int>(f), state.t), Q);
+    for (size_t f = 0; f < m.forces.size(); ++f) {
+        const auto element = element_force(static_cast<int>(f), state.t);
+        scatter_vector(m, force_bodies_[f], element, Q);
+        add_flexible_slot_forces(m, m.forces[f].flexible, data_.force_flexible[f], element, Q);  // G^T Q_f
+    }
     // each flexible body's own forces: elastic, gravity and quadratic-velocity (sdk body.hpp)
     for (size_t k = 0; k < m.flexible_bodies.size(); ++k) {
         const FlexibleBodyInstance& f = m.flexible_bodies[k];
@@ -207,6 +211,7 @@ double ModelSystem::friction_power(const State& state) {
         const std::vector<int>& bodies = m.forces[f].bodies;
         for (size_t b = 0; b < bodies.size(); ++b)
             if (bodies[b] != kGround) power += element.segment(nvb * b, nvb).dot(state.v.segment(m.v_offset(bodies[b]), nvb));
+        power += flexible_slot_power(m, m.forces[f].flexible, data_.force_flexible[f], element, data_);
     }
     return power;
 }
@@ -253,8 +258,19 @@ void ModelSystem::force_jacobians(const State& state, Eigen::SparseMatrix<double
     const int nvb = velocities_per_body(m.dimension);
     std::vector<Eigen::Triplet<double>> tq, tv;
     data_.pose(state);
-    for (const ForceInstance& f : m.forces) {
+    for (size_t index = 0; index < m.forces.size(); ++index) {
+        const ForceInstance& f = m.forces[index];
         if (f.constant_load) continue;  // zero Jacobians
+        if (!f.flexible.empty()) {  // G^T Q_f differenced over the element's columns (flexible_forces.hpp)
+            add_flexible_force_jacobians(m, f, state, [&](const State& s, Eigen::VectorXd& Q) {
+                Q.setZero(m.nv());
+                data_.pose(s);
+                const auto element = element_force(static_cast<int>(index), s.t);
+                scatter_vector(m, f.bodies, element, Q);
+                add_flexible_slot_forces(m, f.flexible, data_.force_flexible[index], element, Q);
+            }, tq, tv);
+            continue;
+        }
         if (const ForceCouplings* couplings = force_couplings(f)) {  // sparse, one coupling at a time
             add_coupled_force_jacobians(m, f, *couplings, state, data_.poses, data_.view, tq, tv);
             continue;
@@ -307,11 +323,11 @@ double ModelSystem::kinetic_energy(const State& state) const {
 double ModelSystem::potential_energy(const State& state) {
     double V = 0.0;
     data_.pose(state);
-    for (const ForceInstance& f : model_->forces) {
-        data_.poses.fill(f.bodies, state.t, data_.view);
-        V += f.force->potential_energy(data_.view);
-    }
     const Model& m = *model_;
+    for (size_t f = 0; f < m.forces.size(); ++f) {
+        data_.fill_view(force_bodies_[f], m.forces[f].flexible, data_.force_flexible[f], state.t);
+        V += m.forces[f].force->potential_energy(data_.view);
+    }
     for (size_t k = 0; k < m.flexible_bodies.size(); ++k) {
         const FlexibleBody& body = *m.flexible_bodies[k].body;
         V += body.strain_energy(data_.flexible_q[k]) + body.gravity_potential(data_.flexible_q[k], m.gravity);

@@ -407,7 +407,7 @@ void Loader::load_joint(const Param& node, int index) {
         bodies.fail(what + ": 'bodies' must list two body names [a, b] (a third for a carrier; up to four for a coordinate_coupling), got " +
                     (bodies.is_list() ? std::to_string(bodies.items.size()) + " items" : std::string("no list")));
     for (const auto& item : bodies.items)
-        joint.bodies.push_back(joint_body(item, what, static_cast<int>(joint.bodies.size()), joint));
+        joint.bodies.push_back(element_body(item, what, static_cast<int>(joint.bodies.size()), joint.flexible));
     auto on_flexible = [&](size_t slot) {
         for (const FlexibleAttachment& a : joint.flexible)
             if (a.slot == static_cast<int>(slot)) return true;
@@ -433,8 +433,7 @@ void Loader::load_joint(const Param& node, int index) {
     spec.name = joint.name;
     spec.type = joint.type;
     spec.dimension = model_.dimension;
-    for (int b : joint.bodies) spec.bodies.push_back(body_info(b));
-    for (const FlexibleAttachment& a : joint.flexible) spec.bodies[a.slot] = flexible_body_info(a);
+    spec.bodies = element_body_infos(joint.bodies, joint.flexible);
     if (!find(node, "point"))  // at the first body's point: a flexible slot's material point counts
         for (size_t k = 0; k < joint.bodies.size(); ++k)
             if (!spec.bodies[k].ground) {

@@ -51,8 +51,10 @@ void Loader::add_gravity() {
 }
 
 // `body: NAME` or `bodies: [a, b, ...]` of a force element: named bodies, each once, not the
-// ground alone.
-std::vector<int> Loader::force_bodies(const Param& node, const std::string& what) const {
+// ground alone; a point of a flexible body, {body: NAME, node: K} or {body: NAME, at: xi}, is
+// a slot on its material frame (added to `flexible`).
+std::vector<int> Loader::force_bodies(const Param& node, const std::string& what,
+                                      std::vector<FlexibleAttachment>& flexible) const {
     std::vector<int> indices;
     const Param* body = find(node, "body");
     const Param* bodies = find(node, "bodies");
@@ -60,18 +62,23 @@ std::vector<int> Loader::force_bodies(const Param& node, const std::string& what
     if (!body && !bodies)
         throw InputError(where(node), what + " needs 'body: NAME' (one body) or 'bodies: [a, b]' (two bodies)");
     if (body) {
-        indices.push_back(body_index(*body, what));
+        indices.push_back(element_body(*body, what, 0, flexible));
     } else {
         if (!bodies->is_list() || bodies->items.empty())
             bodies->fail(what + ": 'bodies' must be a list of body names [a, b]");
-        for (const auto& item : bodies->items) indices.push_back(body_index(item, what));
+        for (const auto& item : bodies->items)
+            indices.push_back(element_body(item, what, static_cast<int>(indices.size()), flexible));
     }
     const Param& body_list = body ? *body : *bodies;
-    if (indices.size() == 1 && indices[0] == kGround)
+    if (indices.size() == 1 && indices[0] == kGround && flexible.empty())
         body_list.fail(what + ": a force on the ground alone has no effect; apply it to a moving body");
+    auto rigid = [&](size_t slot) {
+        return std::none_of(flexible.begin(), flexible.end(),
+                            [&](const FlexibleAttachment& a) { return a.slot == static_cast<int>(slot); });
+    };
     for (size_t a = 0; a < indices.size(); ++a)
         for (size_t b = a + 1; b < indices.size(); ++b)
-            if (indices[a] == indices[b])
+            if (indices[a] == indices[b] && rigid(a) && rigid(b))
                 body_list.fail(what + ": a body appears twice in 'bodies'; a force connects different bodies");
     return indices;
 }
@@ -117,8 +124,16 @@ std::vector<Marker> Loader::force_markers(const Param& node, const std::string& 
         // a joint-like frame in world at t = 0: markers coincide at the point
         params.mark_read("axis");
         if (!planar) params.mark_read("x_axis");
-        const WorldFrame frame = joint_frame(node, what, force.type, force.bodies, false);
-        for (int b : force.bodies) markers.push_back(marker_from_world(b, frame.origin, frame.axes));
+        WorldFrame frame = joint_frame(node, what, force.type, force.bodies, false);
+        const std::vector<BodyInfo> infos = element_body_infos(force.bodies, force.flexible);
+        if (!point)  // at the first body's point, as joints: a flexible slot's material point counts
+            for (const BodyInfo& b : infos)
+                if (!b.ground) {
+                    frame.origin = b.position;
+                    break;
+                }
+        for (const BodyInfo& b : infos)
+            markers.push_back(marker_in_frame(b.position, b.orientation, b.angle, frame.origin, frame.axes));
     } else {
         // default: each body's mass centre, body-aligned axes
         for (size_t k = 0; k < force.bodies.size(); ++k) markers.emplace_back();
@@ -143,7 +158,7 @@ void Loader::load_force(const Param& node, int index) {
                   std::string(model_.dimension == Dimension::Spatial ? ", gz" : "") + "]' instead");
     require_unique_name(model_.forces, force.name, node, "force");
 
-    force.bodies = force_bodies(node, what);
+    force.bodies = force_bodies(node, what, force.flexible);
 
     Params params(what, &node);
     for (const auto& k : {"name", "type", "body", "bodies", "point", "points"}) params.mark_read(k);
@@ -164,7 +179,7 @@ void Loader::load_force(const Param& node, int index) {
 // across a revolute joint). Joints that do not describe their relative motion are not judged;
 // a stop between bodies that no joint connects is left alone.
 void Loader::check_stop_coordinate(const Param& node, const std::string& what, const ForceInstance& force) const {
-    if (force.type != "joint_stop" || force.bodies.size() != 2) return;
+    if (force.type != "joint_stop" || force.bodies.size() != 2 || !force.flexible.empty()) return;
     const Param* key = find(node, "coordinate");
     const bool travel = key && key->text == "travel";
     std::vector<int> mine = force.bodies;
@@ -205,6 +220,10 @@ int Loader::reaction_load_joint(const Param& node, const std::string& what, cons
         if (key) key->fail(message);
         node.fail(message);
     };
+    if (!force.flexible.empty())
+        fail(what + ": 'load_joint' on a force at flexible body " +
+             quote(model_.flexible_bodies[force.flexible.front().body].name) +
+             " is not mapped (a joint's reaction at a flexible body is not computed); give a fixed load instead");
     int index = -1;
     for (int k = 0; k < static_cast<int>(model_.joints.size()); ++k)
         if (model_.joints[k].name == name) index = k;

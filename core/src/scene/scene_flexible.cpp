@@ -1,6 +1,6 @@
 // The scene's flexible bodies (`flexible_bodies:`, docs/scene-format.md): each a body plugin
-// (sdk body.hpp) made from its keys, its coordinates after the rigid bodies'; and the joints
-// attached at their points, {body: NAME, node: K} or {body: NAME, at: xi} in a joint's `bodies`.
+// (sdk body.hpp) made from its keys, its coordinates after the rigid bodies'; and the joints and
+// forces attached at their points, {body: NAME, node: K} or {body: NAME, at: xi} in a joint's `bodies`.
 #include "scene/scene_loader.hpp"
 
 #include <mbd/sdk/text.hpp>
@@ -45,11 +45,12 @@ std::vector<std::string> Loader::flexible_body_names() const {
     return names;
 }
 
-int Loader::joint_body(const Param& item, const std::string& what, int slot, JointInstance& joint) const {
+int Loader::element_body(const Param& item, const std::string& what, int slot,
+                         std::vector<FlexibleAttachment>& flexible) const {
     const bool on_flexible = item.is_map() || (item.is_scalar() && model_.flexible_body_index(item.text) >= 0);
     if (!on_flexible) return body_index(item, what);
     if (!item.is_map())
-        item.fail(what + ": " + quote(item.text) + " is a flexible body; attach the joint at one of its points: {body: " +
+        item.fail(what + ": " + quote(item.text) + " is a flexible body; attach it at one of its points: {body: " +
                   item.text + ", node: K} (its node K, from 0) or {body: " + item.text +
                   ", at: xi} (its material parameter, the ancf_cable's arc length)");
     check_keys(item, what + " (a point of a flexible body)", {"body", "node", "at"});
@@ -86,8 +87,16 @@ int Loader::joint_body(const Param& item, const std::string& what, int slot, Joi
             at->fail(what + ": flexible body " + quote(body.name) + " (" + body.where + "): " + outside.message());
         }
     }
-    joint.flexible.push_back(std::move(attachment));
+    flexible.push_back(std::move(attachment));
     return kGround;
+}
+
+std::vector<BodyInfo> Loader::element_body_infos(const std::vector<int>& bodies,
+                                                 const std::vector<FlexibleAttachment>& flexible) const {
+    std::vector<BodyInfo> infos;
+    for (int b : bodies) infos.push_back(body_info(b));
+    for (const FlexibleAttachment& a : flexible) infos[a.slot] = flexible_body_info(a);
+    return infos;
 }
 
 BodyInfo Loader::flexible_body_info(const FlexibleAttachment& at) const {

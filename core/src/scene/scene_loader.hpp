@@ -215,7 +215,7 @@ private:
         spec.name = force.name;
         spec.type = force.type;
         spec.dimension = model_.dimension;
-        for (int b : force.bodies) spec.bodies.push_back(body_info(b));
+        spec.bodies = element_body_infos(force.bodies, force.flexible);
         spec.markers = force.markers;
         spec.gravity = model_.gravity;
         spec.params = params;
@@ -273,10 +273,10 @@ private:
     // scene_flexible.cpp: `flexible_bodies:` and joints at their points
     void load_flexible_body(const Param& node, int index);
     std::vector<std::string> flexible_body_names() const;
-    // One item of a joint's `bodies`: a rigid body's name or ground (its index), or a point of a
-    // flexible body, {body: NAME, node: K} or {body: NAME, at: xi}, added to joint.flexible at
-    // this slot (kGround returned: the slot is not a rigid body).
-    int joint_body(const Param& item, const std::string& what, int slot, JointInstance& joint) const;
+    // One item of a joint's or force's `bodies`: a rigid body's name or ground (its index), or a
+    // point of a flexible body, {body: NAME, node: K} or {body: NAME, at: xi}, added to
+    // `flexible` at this slot (kGround returned: the slot is not a rigid body).
+    int element_body(const Param& item, const std::string& what, int slot, std::vector<FlexibleAttachment>& flexible) const;
     // The material frame at an attachment in the initial configuration, as a body (ground = false).
     BodyInfo flexible_body_info(const FlexibleAttachment& at) const;
     // Refuses a joint at a flexible body that is driven or has velocity-level rows (not mapped yet).
@@ -285,7 +285,10 @@ private:
     Vec4 body_orientation(const Param& orientation, const std::string& what) const;
     void load_joint(const Param& node, int index);
     void load_force(const Param& node, int index);
-    std::vector<int> force_bodies(const Param& node, const std::string& what) const;
+    std::vector<int> force_bodies(const Param& node, const std::string& what, std::vector<FlexibleAttachment>& flexible) const;
+    // The markers' frames at t = 0: each slot's body, a flexible slot's material frame.
+    std::vector<BodyInfo> element_body_infos(const std::vector<int>& bodies,
+                                             const std::vector<FlexibleAttachment>& flexible) const;
     std::vector<Marker> force_markers(const Param& node, const std::string& what, const ForceInstance& force,
                                       Params& params) const;
     void load_driver(const Param& node, int index);

@@ -27,6 +27,8 @@ double IncrementGeometry::distance(const Eigen::VectorXd& a, const Eigen::Vector
             d2 += angle * angle;
         }
     }
+    const int rigid = nb * coordinates_per_body(dim);  // the flexible coordinates after them
+    d2 += (a.tail(a.size() - rigid) - b.tail(b.size() - rigid)).squaredNorm();
     return std::sqrt(d2);
 }
 

@@ -24,7 +24,8 @@ struct IncrementGeometry {
     int nb = 0, vpb = 3;
     double length = 1.0;
 
-    bool rotation(int i) const { return dim == Dimension::Planar ? i % 3 == 2 : i % 6 >= 3; }
+    // (the flexible coordinates after the rigid ones are positions and slopes, not rotations)
+    bool rotation(int i) const { return i < nb * vpb && (dim == Dimension::Planar ? i % 3 == 2 : i % 6 >= 3); }
     // max over components of |x_i| / (pi/2 for rotations, L for translations)
     double scaled_size(const Eigen::VectorXd& x) const;
     // Distance between two configurations in the metric of the increments (m, rad).

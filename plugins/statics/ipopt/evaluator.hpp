@@ -1,7 +1,11 @@
 // Shared machinery of the statics and inverse-dynamics plugins: evaluation of a
-// System at a configuration q(x) = q0 (+) x, joint coordinates, body-block
-// sparsity patterns, and coloured finite differences of J^T lambda (the
-// constraint curvature term) over a distance-2 colouring of the body graph.
+// System at a configuration q(x) = q0 (+) x, joint coordinates, block sparsity
+// patterns, and coloured finite differences of J^T lambda (the constraint
+// curvature term) over a distance-2 colouring of the block graph.
+//
+// A block is a group of velocity columns: each rigid body's (b * vpb, vpb), then, when the
+// system has flexible bodies (sdk body.hpp), one block holding all their coordinates
+// (System::flexible_coordinates(), after the rigid ones), coupled with every other block.
 #pragma once
 
 #include <mbd/kit/statics.hpp>
@@ -86,9 +90,9 @@ class Evaluator {
 public:
     Evaluator(System& system, double t, const std::vector<int>& coordinate_joints)
         : sys(system), dim(system.dimension()), nb(system.body_count()), vpb(velocities_per_body(system.dimension())),
-          nv(system.nv()), mc(system.constraint_rows(true)), t_(t), poses_(system.dimension(), system.body_count()),
-          coordinate_joints_(coordinate_joints) {
-        // bodies of every constraint row (joints, then drivers), then of every coordinate row
+          nv(system.nv()), mc(system.constraint_rows(true)), nf(system.flexible_coordinates()), nblocks(nb + (nf > 0)),
+          t_(t), poses_(system.dimension(), system.body_count()), coordinate_joints_(coordinate_joints) {
+        // blocks of every constraint row (joints, then drivers), then of every coordinate row
         for (int j = 0; j < sys.joint_count(); ++j) {
             const JointInfo& info = sys.joint(j);
             for (int r = 0; r < info.rows; ++r) row_bodies.push_back(real_bodies(info.bodies));
@@ -96,10 +100,17 @@ public:
         for (int d = 0; d < sys.driver_count(); ++d) row_bodies.push_back(real_bodies(sys.joint(sys.driver(d).joint).bodies));
         if (static_cast<int>(row_bodies.size()) != mc) throw std::logic_error("constraint row count mismatch");
         for (int j : coordinate_joints_) coordinate_bodies.push_back(real_bodies(sys.joint(j).bodies));
+        if (nf > 0) add_flexible_rows();
 
-        // body graph: bodies sharing a joint or a force (gravity couples nothing)
-        std::vector<std::set<int>> adj(nb);
-        for (int b = 0; b < nb; ++b) adj[b].insert(b);
+        // block graph: bodies sharing a joint or a force (gravity couples nothing); the
+        // flexible block with every block
+        std::vector<std::set<int>> adj(nblocks);
+        for (int b = 0; b < nblocks; ++b) adj[b].insert(b);
+        if (nf > 0)
+            for (int b = 0; b < nb; ++b) {
+                adj[b].insert(nb);
+                adj[nb].insert(b);
+            }
         auto connect = [&](const std::vector<int>& bodies) {
             for (int a : bodies)
                 for (int b : bodies)
@@ -108,12 +119,12 @@ public:
         for (int j = 0; j < sys.joint_count(); ++j) connect(sys.joint(j).bodies);
         for (int f = 0; f < sys.force_count(); ++f)
             if (sys.force(f).type != "gravity") connect(sys.force(f).bodies);
-        adjacency.resize(nb);
-        for (int b = 0; b < nb; ++b) adjacency[b].assign(adj[b].begin(), adj[b].end());
+        adjacency.resize(nblocks);
+        for (int b = 0; b < nblocks; ++b) adjacency[b].assign(adj[b].begin(), adj[b].end());
         // distance-2 greedy colouring
-        color.assign(nb, -1);
+        color.assign(nblocks, -1);
         colors = 0;
-        for (int a = 0; a < nb; ++a) {
+        for (int a = 0; a < nblocks; ++a) {
             std::set<int> used;
             for (int b : adjacency[a])
                 for (int c : adjacency[b])
@@ -123,23 +134,37 @@ public:
             color[a] = c;
             colors = std::max(colors, c + 1);
         }
-        blocks.resize(nb);
-        for (int a = 0; a < nb; ++a) blocks[a].assign(adjacency[a].size(), Eigen::MatrixXd::Zero(vpb, vpb));
+        blocks.resize(nblocks);
+        for (int a = 0; a < nblocks; ++a) {
+            blocks[a].clear();
+            for (int b : adjacency[a]) blocks[a].push_back(Eigen::MatrixXd::Zero(size(a), size(b)));
+        }
         T.assign(nb, Mat3::Identity());
     }
 
     System& sys;
     const Dimension dim;
     const int nb, vpb, nv, mc;
-    std::vector<std::vector<int>> row_bodies;        // per constraint row
+    const int nf, nblocks;  // flexible coordinates; blocks (the rigid bodies, then one flexible block if nf > 0)
+    std::vector<std::vector<int>> row_bodies;        // per constraint row: its blocks
     std::vector<std::vector<int>> coordinate_bodies; // per coordinate joint
-    std::vector<std::vector<int>> adjacency;         // per body, sorted, including itself
+    std::vector<std::vector<int>> adjacency;         // per block, sorted, including itself
     std::vector<int> color;
     int colors = 0;
-    std::vector<std::vector<Eigen::MatrixXd>> blocks;  // blocks[a][k]: rows of body a, columns of adjacency[a][k]
+    std::vector<std::vector<Eigen::MatrixXd>> blocks;  // blocks[a][k]: rows of block a, columns of adjacency[a][k]
     std::vector<Mat3> T;                              // right Jacobians (spatial), identity planar
 
     double time() const { return t_; }
+    // block a's first velocity column and its column count
+    int offset(int a) const { return a < nb ? a * vpb : nb * vpb; }
+    int size(int a) const { return a < nb ? vpb : nf; }
+    int block_of(int column) const { return column < nb * vpb ? column / vpb : nb; }
+    // the columns of a list of blocks, laid end to end
+    int width(const std::vector<int>& list) const {
+        int w = 0;
+        for (int a : list) w += size(a);
+        return w;
+    }
     int block_index(int a, int b) const {
         const auto& n = adjacency[a];
         auto it = std::lower_bound(n.begin(), n.end(), b);
@@ -153,9 +178,9 @@ public:
         if (dim == Dimension::Spatial)
             for (int b = 0; b < nb; ++b) T[b] = right_jacobian(x.segment<3>(6 * b + 3));
     }
-    // row-vector (1 x vpb) times T_b, in place
+    // row-vector (1 x size(body)) times T_b, in place (a rotation increment's right Jacobian)
     void times_T(int body, double* row) const {
-        if (dim == Dimension::Planar) return;
+        if (dim == Dimension::Planar || body >= nb) return;
         Eigen::Map<Eigen::Matrix<double, 1, 3>> w(row + 3);
         const Eigen::Matrix<double, 1, 3> r = w * T[body];
         w = r;
@@ -210,6 +235,7 @@ public:
     // blocks += scale * dQ/dq at q (v = 0): exact Jacobians from the force elements;
     // gravity is skipped (constant generalized force on centroidal bodies).
     void add_force_jacobian(const Eigen::VectorXd& q, double scale) {
+        if (nf > 0) return add_system_force_jacobian(q, scale);
         poses_.update(q);
         for (int f = 0; f < sys.force_count(); ++f) {
             const ForceInfo& info = sys.force(f);
@@ -253,6 +279,20 @@ public:
         }
     }
 
+    // blocks += scale * dQ/dq at q from the System's own Jacobians, which map the forces on
+    // flexible bodies and hold their elastic stiffness (sdk body.hpp).
+    void add_system_force_jacobian(const Eigen::VectorXd& q, double scale) {
+        Eigen::SparseMatrix<double> dq, dv;
+        sys.force_jacobians(state(q), dq, dv);
+        for (int col = 0; col < dq.outerSize(); ++col)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(dq, col); it; ++it) {
+                const int a = block_of(static_cast<int>(it.row())), b = block_of(col);
+                const int k = block_index(a, b);
+                if (k < 0) throw std::logic_error("a force couples blocks the statics graph does not");
+                blocks[a][k](it.row() - offset(a), col - offset(b)) += scale * it.value();
+            }
+    }
+
     // blocks += scale * d(J^T lambda + J_s^T nu)/dq at q, by coloured central differences.
     void add_constraint_curvature(const Eigen::VectorXd& q, const Eigen::VectorXd& lambda, const Eigen::VectorXd& nu,
                                   double scale) {
@@ -260,17 +300,22 @@ public:
             return;
         const double h = 1e-6;
         for (int c = 0; c < colors; ++c) {
-            for (int d = 0; d < vpb; ++d) {
+            int widest = 0;  // column d of every block of colour c at once
+            for (int b = 0; b < nblocks; ++b)
+                if (color[b] == c) widest = std::max(widest, size(b));
+            for (int d = 0; d < widest; ++d) {
                 Eigen::VectorXd dx = Eigen::VectorXd::Zero(nv);
-                for (int b = 0; b < nb; ++b)
-                    if (color[b] == c) dx[b * vpb + d] = h;
+                for (int b = 0; b < nblocks; ++b)
+                    if (color[b] == c && d < size(b)) dx[offset(b) + d] = h;
                 Eigen::VectorXd qp = q, qm = q;
                 sys.advance_positions(qp, dx);
                 sys.advance_positions(qm, -dx);
                 const Eigen::VectorXd diff = (jt_product(qp, lambda, nu) - jt_product(qm, lambda, nu)) / (2 * h);
-                for (int r = 0; r < nb; ++r)
-                    for (size_t k = 0; k < adjacency[r].size(); ++k)
-                        if (color[adjacency[r][k]] == c) blocks[r][k].col(d) += scale * diff.segment(r * vpb, vpb);
+                for (int r = 0; r < nblocks; ++r)
+                    for (size_t k = 0; k < adjacency[r].size(); ++k) {
+                        const int b = adjacency[r][k];
+                        if (color[b] == c && d < size(b)) blocks[r][k].col(d) += scale * diff.segment(offset(r), size(r));
+                    }
             }
         }
     }
@@ -278,18 +323,21 @@ public:
     // Dense matrix of the blocks (v coordinates).
     Eigen::MatrixXd dense_blocks() const {
         Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nv, nv);
-        for (int a = 0; a < nb; ++a)
-            for (size_t k = 0; k < adjacency[a].size(); ++k)
-                K.block(a * vpb, adjacency[a][k] * vpb, vpb, vpb) = blocks[a][k];
+        for (int a = 0; a < nblocks; ++a)
+            for (size_t k = 0; k < adjacency[a].size(); ++k) {
+                const int b = adjacency[a][k];
+                K.block(offset(a), offset(b), size(a), size(b)) = blocks[a][k];
+            }
         return K;
     }
     Eigen::SparseMatrix<double> sparse_blocks() const {
         std::vector<Eigen::Triplet<double>> t;
-        for (int a = 0; a < nb; ++a)
-            for (size_t k = 0; k < adjacency[a].size(); ++k)
-                for (int i = 0; i < vpb; ++i)
-                    for (int j = 0; j < vpb; ++j)
-                        t.emplace_back(a * vpb + i, adjacency[a][k] * vpb + j, blocks[a][k](i, j));
+        for (int a = 0; a < nblocks; ++a)
+            for (size_t k = 0; k < adjacency[a].size(); ++k) {
+                const int b = adjacency[a][k];
+                for (int i = 0; i < size(a); ++i)
+                    for (int j = 0; j < size(b); ++j) t.emplace_back(offset(a) + i, offset(b) + j, blocks[a][k](i, j));
+            }
         Eigen::SparseMatrix<double> K(nv, nv);
         K.setFromTriplets(t.begin(), t.end());
         return K;
@@ -298,6 +346,20 @@ public:
     ConstraintValues& constraint_values() { return cv_; }
 
 private:
+    // The flexible block joins each constraint row that reaches a flexible coordinate (a
+    // joint at a flexible body: its rows' pattern holds every column of that body).
+    void add_flexible_rows() {
+        if (mc == 0) return;
+        sys.constraints(state(sys.initial_state().q), cv_, true);
+        const Eigen::SparseMatrix<double, Eigen::RowMajor> J = cv_.J;
+        for (int r = 0; r < mc; ++r)
+            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(J, r); it; ++it)
+                if (it.col() >= nb * vpb) {
+                    row_bodies[r].push_back(nb);
+                    break;
+                }
+    }
+
     static std::vector<int> real_bodies(const std::vector<int>& bodies) {
         std::vector<int> out;
         for (int b : bodies)

@@ -27,15 +27,16 @@ public:
         }
         ++e_;
     }
-    // A row over the velocity columns of `bodies` (velocities_per_body vpb each) with
-    // values sign * row: in matrix row `fixed`, or, transposed, in column `fixed` at
-    // rows offset + those velocity indices.
-    void put_body_row(const std::vector<int>& bodies, int vpb, const std::vector<double>& row, double sign,
-                      Index fixed, bool transposed = false, Index offset = 0) {
-        for (size_t p = 0; p < bodies.size(); ++p)
-            for (int c = 0; c < vpb; ++c) {
-                const Index v = bodies[p] * vpb + c;
-                const double value = filling() ? sign * row[p * vpb + c] : 0.0;
+    // A row over the velocity columns of the blocks `bodies` (Evaluator::offset, size), laid
+    // end to end in `row`, with values sign * row: in matrix row `fixed`, or, transposed, in
+    // column `fixed` at rows offset + those velocity indices.
+    void put_body_row(const Evaluator& ev, const std::vector<int>& bodies, const std::vector<double>& row,
+                      double sign, Index fixed, bool transposed = false, Index offset = 0) {
+        size_t at = 0;
+        for (int b : bodies)
+            for (int c = 0; c < ev.size(b); ++c, ++at) {
+                const Index v = ev.offset(b) + c;
+                const double value = filling() ? sign * row[at] : 0.0;
                 if (transposed) put(offset + v, fixed, value);
                 else put(fixed, v, value);
             }
@@ -55,19 +56,18 @@ StaticsNLP::StaticsNLP(Evaluator& ev, const Eigen::VectorXd& q0, const std::vect
                        bool potential, bool exact_hessian, const Eigen::VectorXd& tail0,
                        const Eigen::VectorXd& x_bound)
     : ev_(ev), q0_(q0), limits_(limits), potential_(potential), exact_(exact_hessian && potential), nv_(ev.nv),
-      mc_(ev.mc), nl_(static_cast<int>(limits.size())), vpb_(ev.vpb), lambda0_(tail0), x_bound_(x_bound) {
+      mc_(ev.mc), nl_(static_cast<int>(limits.size())), lambda0_(tail0), x_bound_(x_bound) {
     n_ = potential_ ? nv_ : nv_ + mc_ + 2 * nl_;
     m_ = potential_ ? mc_ + nl_ : mc_ + nv_ + nl_;
     off_s_ = potential_ ? mc_ : mc_ + nv_;
-    for (const auto& rb : ev_.row_bodies) ncj_ += static_cast<int>(rb.size()) * vpb_;
-    for (const auto& cb : ev_.coordinate_bodies) nsj_ += static_cast<int>(cb.size()) * vpb_;
-    for (int a = 0; a < ev_.nb; ++a) {
-        nblock_ += static_cast<int>(ev_.adjacency[a].size()) * vpb_ * vpb_;
+    for (const auto& rb : ev_.row_bodies) ncj_ += ev_.width(rb);
+    for (const auto& cb : ev_.coordinate_bodies) nsj_ += ev_.width(cb);
+    for (int a = 0; a < ev_.nblocks; ++a)
         for (int b : ev_.adjacency[a]) {
-            if (b < a) nh_ += vpb_ * vpb_;
-            if (b == a) nh_ += vpb_ * (vpb_ + 1) / 2;
+            nblock_ += ev_.size(a) * ev_.size(b);
+            if (b < a) nh_ += ev_.size(a) * ev_.size(b);
+            if (b == a) nh_ += ev_.size(a) * (ev_.size(a) + 1) / 2;
         }
-    }
 }
 
 bool StaticsNLP::get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) {
@@ -130,20 +130,19 @@ bool StaticsNLP::eval_grad_f(Index n, const Number* x, bool new_x, Number* grad)
         update(x, new_x);
         for (Index i = 0; i < n; ++i) grad[i] = 0.0;
         if (potential_) {
-            for (int b = 0; b < ev_.nb; ++b) {
-                Eigen::Matrix<double, 6, 1> row;
-                for (int c = 0; c < vpb_; ++c) row[c] = -Q_[b * vpb_ + c];
+            for (int b = 0; b < ev_.nblocks; ++b) {
+                Eigen::VectorXd row = -Q_.segment(ev_.offset(b), ev_.size(b));
                 ev_.times_T(b, row.data());
-                for (int c = 0; c < vpb_; ++c) grad[b * vpb_ + c] = row[c];
+                for (int c = 0; c < ev_.size(b); ++c) grad[ev_.offset(b) + c] = row[c];
             }
             return;
         }
         for (int k = 0; k < nl_; ++k) {
             const double w = x[nv_ + mc_ + k] - x[nv_ + mc_ + nl_ + k];
             const std::vector<double> row = coordinate_row(k);
-            const auto& bodies = ev_.coordinate_bodies[k];
-            for (size_t p = 0; p < bodies.size(); ++p)
-                for (int c = 0; c < vpb_; ++c) grad[bodies[p] * vpb_ + c] += w * row[p * vpb_ + c];
+            size_t at = 0;
+            for (int b : ev_.coordinate_bodies[k])
+                for (int c = 0; c < ev_.size(b); ++c) grad[ev_.offset(b) + c] += w * row[at++];
             grad[nv_ + mc_ + k] = s_[k].value - limits_[k].lo;
             grad[nv_ + mc_ + nl_ + k] = limits_[k].hi - s_[k].value;
         }
@@ -172,7 +171,7 @@ bool StaticsNLP::eval_jac_g(Index, const Number* x, bool new_x, Index, Index nel
         const std::vector<double> none;
         // C rows: J T
         for (int r = 0; r < mc_; ++r)
-            out.put_body_row(ev_.row_bodies[r], vpb_, fill ? constraint_row(r) : none, 1.0, r);
+            out.put_body_row(ev_, ev_.row_bodies[r], fill ? constraint_row(r) : none, 1.0, r);
         if (!potential_) {
             // R rows, x columns: (dQ/dq - d(J^T lambda + J_s^T nu)/dq) T
             if (fill) {
@@ -180,27 +179,28 @@ bool StaticsNLP::eval_jac_g(Index, const Number* x, bool new_x, Index, Index nel
                 ev_.add_force_jacobian(q_, 1.0);
                 ev_.add_constraint_curvature(q_, lambda_of(x), nu_of(x), -1.0);
             }
-            for (int a = 0; a < ev_.nb; ++a)
+            for (int a = 0; a < ev_.nblocks; ++a)
                 for (size_t k = 0; k < ev_.adjacency[a].size(); ++k) {
                     const int b = ev_.adjacency[a][k];
                     Eigen::MatrixXd B;
                     if (fill) B = right_T(ev_.blocks[a][k], b);
-                    for (int i = 0; i < vpb_; ++i)
-                        for (int j = 0; j < vpb_; ++j) out.put(mc_ + a * vpb_ + i, b * vpb_ + j, fill ? B(i, j) : 0.0);
+                    for (int i = 0; i < ev_.size(a); ++i)
+                        for (int j = 0; j < ev_.size(b); ++j)
+                            out.put(mc_ + ev_.offset(a) + i, ev_.offset(b) + j, fill ? B(i, j) : 0.0);
                 }
             // R rows, lambda columns: -J^T
             for (int r = 0; r < mc_; ++r)
-                out.put_body_row(ev_.row_bodies[r], vpb_, fill ? raw_constraint_row(r) : none, -1.0, nv_ + r, true,
+                out.put_body_row(ev_, ev_.row_bodies[r], fill ? raw_constraint_row(r) : none, -1.0, nv_ + r, true,
                                  mc_);
             // R rows, mu columns: +J_s^T (mu_lo), -J_s^T (mu_hi)
             for (int side = 0; side < 2; ++side)
                 for (int k = 0; k < nl_; ++k)
-                    out.put_body_row(ev_.coordinate_bodies[k], vpb_, fill ? raw_coordinate_row(k) : none,
+                    out.put_body_row(ev_, ev_.coordinate_bodies[k], fill ? raw_coordinate_row(k) : none,
                                      side == 0 ? 1.0 : -1.0, nv_ + mc_ + side * nl_ + k, true, mc_);
         }
         // limit rows: J_s T
         for (int k = 0; k < nl_; ++k)
-            out.put_body_row(ev_.coordinate_bodies[k], vpb_, fill ? coordinate_row(k) : none, 1.0, off_s_ + k);
+            out.put_body_row(ev_, ev_.coordinate_bodies[k], fill ? coordinate_row(k) : none, 1.0, off_s_ + k);
         if (out.count() != nele) throw std::logic_error("Jacobian size mismatch");
     });
 }
@@ -219,7 +219,7 @@ bool StaticsNLP::eval_h(Index, const Number* x, bool new_x, Number obj_factor, I
             Eigen::VectorXd nu = Eigen::Map<const Eigen::VectorXd>(lambda + mc_, nl_);
             ev_.add_constraint_curvature(q_, lam, nu, 1.0);
         }
-        for (int a = 0; a < ev_.nb; ++a)
+        for (int a = 0; a < ev_.nblocks; ++a)
             for (size_t k = 0; k < ev_.adjacency[a].size(); ++k) {
                 const int b = ev_.adjacency[a][k];
                 if (b > a) continue;
@@ -229,10 +229,10 @@ bool StaticsNLP::eval_h(Index, const Number* x, bool new_x, Number obj_factor, I
                     const Eigen::MatrixXd Hba = left_T(right_T(ev_.blocks[b][ev_.block_index(b, a)], a), b);
                     S = 0.5 * (Hab + Hba.transpose());
                 }
-                for (int i = 0; i < vpb_; ++i)
-                    for (int j = 0; j < vpb_; ++j) {
+                for (int i = 0; i < ev_.size(a); ++i)
+                    for (int j = 0; j < ev_.size(b); ++j) {
                         if (b == a && j > i) continue;
-                        out.put(a * vpb_ + i, b * vpb_ + j, fill ? S(i, j) : 0.0);
+                        out.put(ev_.offset(a) + i, ev_.offset(b) + j, fill ? S(i, j) : 0.0);
                     }
             }
         if (out.count() != nele) throw std::logic_error("Hessian size mismatch");
@@ -281,13 +281,23 @@ Eigen::VectorXd StaticsNLP::residual_vector(const Number* x) const {
     return R;
 }
 
+// Where column `column` lands in a row laid over the blocks `bodies` end to end; -1 outside them.
+int StaticsNLP::row_position(const std::vector<int>& bodies, int column) const {
+    const int b = ev_.block_of(column);
+    int at = 0;
+    for (int a : bodies) {
+        if (a == b) return at + column - ev_.offset(b);
+        at += ev_.size(a);
+    }
+    return -1;
+}
+
 std::vector<double> StaticsNLP::raw_constraint_row(int r) const {
     const auto& bodies = ev_.row_bodies[r];
-    std::vector<double> row(bodies.size() * vpb_, 0.0);
+    std::vector<double> row(ev_.width(bodies), 0.0);
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(Jrow_, r); it; ++it) {
-        const int b = static_cast<int>(it.col()) / vpb_;
-        auto pos = std::find(bodies.begin(), bodies.end(), b);
-        if (pos != bodies.end()) row[(pos - bodies.begin()) * vpb_ + it.col() % vpb_] = it.value();
+        const int at = row_position(bodies, static_cast<int>(it.col()));
+        if (at >= 0) row[at] = it.value();
     }
     return row;
 }
@@ -298,10 +308,10 @@ std::vector<double> StaticsNLP::constraint_row(int r) const {
 
 std::vector<double> StaticsNLP::raw_coordinate_row(int k) const {
     const auto& bodies = ev_.coordinate_bodies[k];
-    std::vector<double> row(bodies.size() * vpb_, 0.0);
+    std::vector<double> row(ev_.width(bodies), 0.0);
     for (const auto& e : s_[k].grad) {
-        auto pos = std::find(bodies.begin(), bodies.end(), e.first / vpb_);
-        if (pos != bodies.end()) row[(pos - bodies.begin()) * vpb_ + e.first % vpb_] += e.second;
+        const int at = row_position(bodies, e.first);
+        if (at >= 0) row[at] += e.second;
     }
     return row;
 }
@@ -311,19 +321,23 @@ std::vector<double> StaticsNLP::coordinate_row(int k) const {
 }
 
 std::vector<double> StaticsNLP::times_T(const std::vector<int>& bodies, std::vector<double> row) const {
-    for (size_t p = 0; p < bodies.size(); ++p) ev_.times_T(bodies[p], row.data() + p * vpb_);
+    size_t at = 0;
+    for (int b : bodies) {
+        ev_.times_T(b, row.data() + at);
+        at += ev_.size(b);
+    }
     return row;
 }
 
 Eigen::MatrixXd StaticsNLP::right_T(const Eigen::MatrixXd& B, int body) const {
-    if (ev_.dim == Dimension::Planar) return B;
+    if (ev_.dim == Dimension::Planar || body >= ev_.nb) return B;
     Eigen::MatrixXd out = B;
     out.rightCols<3>() = B.rightCols<3>() * ev_.T[body];
     return out;
 }
 
 Eigen::MatrixXd StaticsNLP::left_T(const Eigen::MatrixXd& B, int body) const {
-    if (ev_.dim == Dimension::Planar) return B;
+    if (ev_.dim == Dimension::Planar || body >= ev_.nb) return B;
     Eigen::MatrixXd out = B;
     out.bottomRows<3>() = ev_.T[body].transpose() * B.bottomRows<3>();
     return out;

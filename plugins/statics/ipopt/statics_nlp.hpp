@@ -79,6 +79,7 @@ private:
     std::vector<double> raw_coordinate_row(int k) const;
     std::vector<double> coordinate_row(int k) const;
     std::vector<double> times_T(const std::vector<int>& bodies, std::vector<double> row) const;
+    int row_position(const std::vector<int>& bodies, int column) const;
     Eigen::MatrixXd right_T(const Eigen::MatrixXd& B, int body) const;
     Eigen::MatrixXd left_T(const Eigen::MatrixXd& B, int body) const;
 
@@ -86,7 +87,7 @@ private:
     Eigen::VectorXd q0_;
     std::vector<JointLimit> limits_;
     bool potential_, exact_;
-    int nv_, mc_, nl_, vpb_;
+    int nv_, mc_, nl_;
     Eigen::VectorXd lambda0_, x_bound_;
     int n_ = 0, m_ = 0, off_s_ = 0, ncj_ = 0, nsj_ = 0, nblock_ = 0, nh_ = 0;
     // cache at the current x
