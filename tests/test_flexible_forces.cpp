@@ -132,7 +132,7 @@ TEST(FlexibleForces, ASpringBetweenTheCableAndAFreeBodyConservesMomentumAndEnerg
         for (int axis = 0; axis < 2; ++axis) {
             rope.body->gravity_forces(s.q.segment(rope.offset, rope.size), axis == 0 ? Vec3::UnitX() : Vec3::UnitY(),
                                       field);
-            p[axis] += field.dot(s.v.segment(rope.offset, rope.size));
+            p[axis] += field.dot(s.v.segment(rope.v_offset, rope.size));
         }
         return p;
     };

@@ -42,7 +42,10 @@ struct FlexibleBodyInstance {
     std::string name;
     std::string type;
     std::shared_ptr<const FlexibleBody> body;
-    int offset = 0;  // its first coordinate in q, and its first velocity in v (v = qdot)
+    // its first coordinate in q and its first velocity in v (v = qdot for its own coordinates);
+    // the two differ in spatial scenes, whose rigid bodies have 7 coordinates and 6 velocities
+    int offset = 0;
+    int v_offset = 0;
     int size = 0;    // n, its coordinate count
     std::string where;
 };

@@ -18,17 +18,11 @@ namespace mbd {
 
 namespace {
 
-// A flexible body's first velocity column: its coordinates follow the rigid bodies' in q and v
-// (model.hpp), so its offset in v is its offset in q less the rigid block's difference.
-int flexible_v_offset(const Model& model, const FlexibleBodyInstance& f) {
-    return f.offset - model.body_count() * (coordinates_per_body(model.dimension) - velocities_per_body(model.dimension));
-}
-
 std::string column_name(const Model& model, int column) {
     const bool planar = model.dimension == Dimension::Planar;
     const int per_body = velocities_per_body(model.dimension);
     for (const FlexibleBodyInstance& f : model.flexible_bodies) {
-        const int k = column - flexible_v_offset(model, f);
+        const int k = column - f.v_offset;
         if (k >= 0 && k < f.size) return f.name + "." + f.body->coordinate_name(k);
     }
     static const char* planar_names[] = {"x", "y", "angle"};
@@ -43,7 +37,7 @@ Eigen::VectorXd flexible_elastic_forces(const Model& model, const Eigen::VectorX
     for (const FlexibleBodyInstance& f : model.flexible_bodies) {
         Eigen::VectorXd own(f.size);
         f.body->elastic_forces(q.segment(f.offset, f.size), own);
-        Q.segment(flexible_v_offset(model, f), f.size) = own;
+        Q.segment(f.v_offset, f.size) = own;
     }
     return Q;
 }
@@ -52,7 +46,7 @@ Eigen::VectorXd flexible_elastic_forces(const Model& model, const Eigen::VectorX
 Eigen::MatrixXd flexible_elastic_jacobian(const Model& model, const Eigen::VectorXd& q) {
     Eigen::MatrixXd K = Eigen::MatrixXd::Zero(model.nv(), model.nv());
     for (const FlexibleBodyInstance& f : model.flexible_bodies) {
-        const int o = flexible_v_offset(model, f);
+        const int o = f.v_offset;
         f.body->elastic_jacobian(q.segment(f.offset, f.size), K.block(o, o, f.size, f.size));
     }
     return K;

@@ -133,7 +133,7 @@ ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers, boo
                 for (int c = 0; c < nvb; ++c) entries.emplace_back(e.row, model.v_offset(body) + c, 0.0);
         for (const FlexibleAttachment& a : *e.flexible) {
             const FlexibleBodyInstance& f = model.flexible_bodies[a.body];
-            for (int c = 0; c < f.size; ++c) entries.emplace_back(e.row, f.offset + c, 0.0);
+            for (int c = 0; c < f.size; ++c) entries.emplace_back(e.row, f.v_offset + c, 0.0);
         }
     }
     pattern_.resize(rows_, model.nv());

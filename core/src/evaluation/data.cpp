@@ -81,7 +81,7 @@ void Data::pose_flexible(const State& state) {
     const std::vector<FlexibleBodyInstance>& bodies = model_->flexible_bodies;
     for (size_t k = 0; k < bodies.size(); ++k) {
         flexible_q[k] = state.q.segment(bodies[k].offset, bodies[k].size);
-        flexible_v[k] = state.v.segment(bodies[k].offset, bodies[k].size);
+        flexible_v[k] = state.v.segment(bodies[k].v_offset, bodies[k].size);
     }
 }
 

@@ -11,7 +11,7 @@ void add_flexible_slot_forces(const Model& m, const std::vector<FlexibleAttachme
     const int nvb = velocities_per_body(m.dimension);
     for (size_t a = 0; a < attachments.size(); ++a) {
         const FlexibleBodyInstance& body = m.flexible_bodies[attachments[a].body];
-        Q.segment(body.offset, body.size).noalias() +=
+        Q.segment(body.v_offset, body.size).noalias() +=
             slots[a].frame.jacobian.transpose() * local.segment(nvb * attachments[a].slot, nvb);
     }
 }
@@ -38,7 +38,7 @@ std::vector<int> element_velocity_columns(const Model& m, const ForceInstance& f
         if (std::find(seen.begin(), seen.end(), a.body) != seen.end()) continue;
         seen.push_back(a.body);
         const FlexibleBodyInstance& body = m.flexible_bodies[a.body];
-        for (int c = 0; c < body.size; ++c) columns.push_back(body.offset + c);
+        for (int c = 0; c < body.size; ++c) columns.push_back(body.v_offset + c);
     }
     return columns;
 }

@@ -72,7 +72,7 @@ ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
         f.body->mass_matrix(f.body->initial_coordinates(), M);
         for (int i = 0; i < f.size; ++i)
             for (int c = 0; c < f.size; ++c)
-                if (M(i, c) != 0.0) t.emplace_back(f.offset + i, f.offset + c, M(i, c));
+                if (M(i, c) != 0.0) t.emplace_back(f.v_offset + i, f.v_offset + c, M(i, c));
         widest = std::max(widest, f.size);
     }
     flexible_Q_.setZero(widest);
@@ -152,7 +152,7 @@ void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
     for (size_t k = 0; k < m.flexible_bodies.size(); ++k) {
         const FlexibleBodyInstance& f = m.flexible_bodies[k];
         auto own = flexible_Q_.head(f.size);
-        auto target = Q.segment(f.offset, f.size);
+        auto target = Q.segment(f.v_offset, f.size);
         f.body->elastic_forces(data_.flexible_q[k], own);
         target += own;
         if (!m.gravity.isZero(0.0)) {
@@ -308,7 +308,7 @@ void ModelSystem::force_jacobians(const State& state, Eigen::SparseMatrix<double
         f.body->elastic_jacobian(data_.flexible_q[k], K);
         for (int i = 0; i < f.size; ++i)
             for (int c = 0; c < f.size; ++c)
-                if (K(i, c) != 0.0) tq.emplace_back(f.offset + i, f.offset + c, K(i, c));
+                if (K(i, c) != 0.0) tq.emplace_back(f.v_offset + i, f.v_offset + c, K(i, c));
     }
     dQ_dq.resize(m.nv(), m.nv());
     dQ_dv.resize(m.nv(), m.nv());

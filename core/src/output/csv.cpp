@@ -47,7 +47,7 @@ void append_flexible_nodes(const Model& model, const State& state, std::vector<d
     const int dimensions = model.dimension == Dimension::Planar ? 2 : 3;
     MaterialPoint point;
     for (const FlexibleBodyInstance& f : model.flexible_bodies) {
-        const Eigen::VectorXd q = state.q.segment(f.offset, f.size), v = state.v.segment(f.offset, f.size);
+        const Eigen::VectorXd q = state.q.segment(f.offset, f.size), v = state.v.segment(f.v_offset, f.size);
         for (int k = 0; k < f.body->node_count(); ++k) {
             const std::vector<double> xi = f.body->node_parameters(k);
             f.body->point(q, v, xi.data(), point);

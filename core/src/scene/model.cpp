@@ -16,6 +16,7 @@ std::string Model::body_name(int index) const {
 void Model::add_flexible_body(FlexibleBodyInstance body) {
     body.size = body.body->coordinates();
     body.offset = body_count() * coordinates_per_body(dimension) + flexible_coordinates_;
+    body.v_offset = body_count() * velocities_per_body(dimension) + flexible_coordinates_;
     flexible_coordinates_ += body.size;
     flexible_bodies.push_back(std::move(body));
 }
