@@ -8,8 +8,11 @@
 // on shape i's, so the element conserves the momentum and angular momentum of the bodies it
 // touches. It declares no events: the set of contacts changes between evaluations, and the
 // force's onset is smooth enough (F_n = k delta^n with n > 1 has a continuous first derivative
-// at delta = 0) for the adaptive integrators to find their steps. It reports its contacts
+// at delta = 0) for the adaptive integrators to find their steps. The exception are the pairs
+// whose material asks for impacts (`impact:`): each is an event, its gap, at whose closing the
+// core applies Newton's impulse (collision_impacts.hpp). It reports its contacts
 // (mbd/sdk/contact_report.hpp) for `mbd simulate --contacts` and the viewer.
+#include "collision_impacts.hpp"
 #include "collision_world.hpp"
 
 #include <mbd/sdk/contact_report.hpp>
@@ -50,6 +53,17 @@ public:
             joined.insert({std::min(a, b), std::max(a, b)});
         }
         filter_ = PairFilter(shapes_, std::move(joined));
+        impacts_ = ImpactPairs(shapes_, filter_);
+    }
+
+    // --- events: the pairs with Newton's impact law (collision_impacts.hpp)
+    int event_count() const override { return impacts_.count(); }
+    std::string event_name(int event) const override { return impacts_.name(event); }
+    void event_values(const BodyStates& bodies, Eigen::Ref<Eigen::VectorXd> g) const override {
+        impacts_.values(bodies, g);
+    }
+    EventImpact event_impact(int event, const BodyStates& bodies, Eigen::Ref<Eigen::VectorXd> G) const override {
+        return impacts_.impact(event, bodies, G);
     }
 
     void evaluate(const BodyStates& bodies, Eigen::Ref<Eigen::VectorXd> Q) const override {
@@ -217,6 +231,7 @@ private:
     std::vector<Shape> shapes_;
     int ground_body_ = -1;  // the ground's position in the element's bodies (-1: it has no shapes)
     PairFilter filter_;
+    ImpactPairs impacts_;
     // the evaluation workspaces (collision_world.hpp): not part of the element's value
     mutable std::mutex pool_mutex_;
     mutable std::vector<std::unique_ptr<World>> pool_;
