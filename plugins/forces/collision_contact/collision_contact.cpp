@@ -91,12 +91,14 @@ public:
             add_contact_load(bodies, c, Q.segment<6>(0), Q.segment<6>(6));
     }
 
-    // The same contacts and loads as evaluate(), each split into its normal and friction parts.
+    // The same contacts and loads as evaluate(), each split into its normal and friction parts, with
+    // the rolling resistance's torque.
     std::vector<ContactReport> contacts(const BodyStates& bodies) const override {
         Borrowed world(*this);
         std::vector<ContactReport> reports;
         for (const Contact& c : world->detect(bodies)) {
-            const Vec3 F = load(c, bodies).force;
+            const Load l = load(c, bodies);
+            const Vec3& F = l.force;
             ContactReport r;
             r.body_i = shapes_[c.shape_i].body;
             r.body_j = shapes_[c.shape_j].body;
@@ -105,6 +107,7 @@ public:
             r.depth = c.depth;
             r.normal_force = F.dot(c.normal);
             r.friction_force = F - r.normal_force * c.normal;
+            r.rolling_torque = l.torque;
             reports.push_back(r);
         }
         return reports;
