@@ -76,7 +76,7 @@ TEST(ContactOutput, BoxAtRestReportsItsFourCornersCarryingItsWeight) {
         "    collision:\n      - shape: box\n        size: [0.4, 0.2, 0.1]\n"
         "        material: {stiffness: 1e8, exponent: 1.5, damping: 6e9, static_friction: 0.5, "
         "stiction_velocity: 1e-4}\n", 3.0);
-    ASSERT_EQ(run.contacts.header.size(), 14u);
+    ASSERT_EQ(run.contacts.header.size(), 17u);  // ... friction_x..z, rolling_x..z
     const auto rows = rows_at(run.contacts, 3.0);
     ASSERT_EQ(rows.size(), 4u);
     const Pose box = last_pose(run.motion, "box");
@@ -95,6 +95,7 @@ TEST(ContactOutput, BoxAtRestReportsItsFourCornersCarryingItsWeight) {
         EXPECT_NEAR(force.z(), m * kG / 4, 1e-6 * m * kG) << "the level box's corners share its weight equally";
         EXPECT_NEAR(std::pow(depth, n) * k, force.z(), 1e-9 * m * kG) << "the normal law at the reported depth";
         EXPECT_LT(column3(c, 11).norm(), 1e-8 * m * kG) << "at rest: no friction";
+        EXPECT_EQ(column3(c, 14).norm(), 0.0) << "no rolling resistance between flat faces";
         // which corner: the one the point lies over
         int found = -1;
         for (int corner = 0; corner < 8; ++corner) {

@@ -33,6 +33,7 @@ std::vector<ContactReport> ContactProbe::contacts(const State& state) const {
                 std::swap(r.body_i, r.body_j);
                 r.normal = -r.normal;  // the normal force on the new j is the same along the new normal
                 r.friction_force = -r.friction_force;
+                r.rolling_torque = -r.rolling_torque;
             }
             all.push_back(r);
         }
@@ -46,7 +47,7 @@ std::vector<ContactReport> ContactProbe::contacts_at_row(const double* row) cons
 
 std::vector<std::string> contact_columns() {
     return {"t", "body_i", "body_j", "x", "y", "z", "nx", "ny", "nz", "depth", "normal_force", "friction_x",
-            "friction_y", "friction_z"};
+            "friction_y", "friction_z", "rolling_x", "rolling_y", "rolling_z"};
 }
 
 namespace {
@@ -67,7 +68,7 @@ public:
             const double i = c.body_i, j = c.body_j;  // kGround is -1, as the table says
             table_->row({values[0], i, j, c.point.x(), c.point.y(), c.point.z(), c.normal.x(), c.normal.y(),
                          c.normal.z(), c.depth, c.normal_force, c.friction_force.x(), c.friction_force.y(),
-                         c.friction_force.z()});
+                         c.friction_force.z(), c.rolling_torque.x(), c.rolling_torque.y(), c.rolling_torque.z()});
         }
     }
     void end() override { table_->end(); }

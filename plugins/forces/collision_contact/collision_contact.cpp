@@ -8,8 +8,11 @@
 // on shape i's, so the element conserves the momentum and angular momentum of the bodies it
 // touches. It declares no events: the set of contacts changes between evaluations, and the
 // force's onset is smooth enough (F_n = k delta^n with n > 1 has a continuous first derivative
-// at delta = 0) for the adaptive integrators to find their steps. It reports its contacts
+// at delta = 0) for the adaptive integrators to find their steps. The exception are the pairs
+// whose material asks for impacts (`impact:`): each is an event, its gap, at whose closing the
+// core applies Newton's impulse (collision_impacts.hpp). It reports its contacts
 // (mbd/sdk/contact_report.hpp) for `mbd simulate --contacts` and the viewer.
+#include "collision_impacts.hpp"
 #include "collision_world.hpp"
 
 #include <mbd/sdk/contact_report.hpp>
@@ -50,6 +53,17 @@ public:
             joined.insert({std::min(a, b), std::max(a, b)});
         }
         filter_ = PairFilter(shapes_, std::move(joined));
+        impacts_ = ImpactPairs(shapes_, filter_);
+    }
+
+    // --- events: the pairs with Newton's impact law (collision_impacts.hpp)
+    int event_count() const override { return impacts_.count(); }
+    std::string event_name(int event) const override { return impacts_.name(event); }
+    void event_values(const BodyStates& bodies, Eigen::Ref<Eigen::VectorXd> g) const override {
+        impacts_.values(bodies, g);
+    }
+    EventImpact event_impact(int event, const BodyStates& bodies, Eigen::Ref<Eigen::VectorXd> G) const override {
+        return impacts_.impact(event, bodies, G);
     }
 
     void evaluate(const BodyStates& bodies, Eigen::Ref<Eigen::VectorXd> Q) const override {
@@ -77,12 +91,14 @@ public:
             add_contact_load(bodies, c, Q.segment<6>(0), Q.segment<6>(6));
     }
 
-    // The same contacts and loads as evaluate(), each split into its normal and friction parts.
+    // The same contacts and loads as evaluate(), each split into its normal and friction parts, with
+    // the rolling resistance's torque.
     std::vector<ContactReport> contacts(const BodyStates& bodies) const override {
         Borrowed world(*this);
         std::vector<ContactReport> reports;
         for (const Contact& c : world->detect(bodies)) {
-            const Vec3 F = load(c, bodies).force;
+            const Load l = load(c, bodies);
+            const Vec3& F = l.force;
             ContactReport r;
             r.body_i = shapes_[c.shape_i].body;
             r.body_j = shapes_[c.shape_j].body;
@@ -91,6 +107,7 @@ public:
             r.depth = c.depth;
             r.normal_force = F.dot(c.normal);
             r.friction_force = F - r.normal_force * c.normal;
+            r.rolling_torque = l.torque;
             reports.push_back(r);
         }
         return reports;
@@ -217,6 +234,7 @@ private:
     std::vector<Shape> shapes_;
     int ground_body_ = -1;  // the ground's position in the element's bodies (-1: it has no shapes)
     PairFilter filter_;
+    ImpactPairs impacts_;
     // the evaluation workspaces (collision_world.hpp): not part of the element's value
     mutable std::mutex pool_mutex_;
     mutable std::vector<std::unique_ptr<World>> pool_;

@@ -35,7 +35,33 @@ void refuse_unread(const Params& params, const Param& node, const std::string& o
                                  "'; a material takes stiffness and exponent (or young_modulus and poisson_ratio), damping or "
                                  "restitution with "
                                  "impact_velocity and restitution_model, static_friction, kinetic_friction, "
-                                 "stiction_velocity, rolling_resistance");
+                                 "stiction_velocity, rolling_resistance, impact");
+}
+
+// `impact: {restitution: e, rest_velocity: v}` (Newton's law at an event-located touch-down).
+ImpactLaw read_impact(const Param& node) {
+    if (!node.is_map())
+        node.fail("'impact' must be a map: {restitution: e, rest_velocity: v} (Newton's law at touch-down)");
+    for (const auto& field : node.fields)
+        if (field.first != "restitution" && field.first != "rest_velocity")
+            field.second.fail("unknown key 'impact." + field.first + "'; 'impact' takes restitution and rest_velocity");
+    ImpactLaw law;
+    law.given = true;
+    const auto e = node.fields.find("restitution");
+    if (e == node.fields.end())
+        node.fail("'impact' needs 'restitution' e (0 <= e <= 1): the normal velocity after a touch-down is -e "
+                  "times its value before");
+    law.restitution = e->second.as_number("restitution");
+    if (!(law.restitution >= 0.0 && law.restitution <= 1.0))
+        e->second.fail("'impact.restitution' must lie in [0, 1] (0: plastic, 1: elastic), got " + e->second.text);
+    const auto v = node.fields.find("rest_velocity");
+    if (v != node.fields.end()) {
+        law.rest_velocity = v->second.as_number("rest_velocity");
+        if (!(law.rest_velocity > 0.0))
+            v->second.fail("'impact.rest_velocity' must be positive (m/s: the rebound speed below which the contact "
+                           "comes to rest), got " + v->second.text);
+    }
+    return law;
 }
 
 // young_modulus E (> 0) and poisson_ratio nu (0 <= nu < 0.5); the damping keys read by the
@@ -91,6 +117,7 @@ Material read_material(const Param& node, const std::string& owner, bool ground)
         m.friction = contact::read_friction(spec);
         m.stiction_given = spec.params.has("stiction_velocity");
         m.rolling_resistance = force_support::non_negative_or(spec, "rolling_resistance", 0.0);
+        if (spec.params.has("impact")) m.impact = read_impact(spec.params.at("impact"));
         refuse_unread(spec.params, node, owner);
         return 0;
     });

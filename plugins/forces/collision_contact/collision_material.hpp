@@ -22,7 +22,10 @@
 //    (the default 1e-6 m/s when neither gives one);
 //  - rolling resistance: the smaller of the two `rolling_resistance` coefficients mu_r (0 when a
 //    material gives none), acting with the pair's effective radius R* = 1 / (1/R_i + 1/R_j)
-//    (rolling_torque below; none between two flat faces).
+//    (rolling_torque below; none between two flat faces);
+//  - impacts (`impact: {restitution: e, rest_velocity: v}`, the ImpactLaw below): the pair is
+//    rigid at touch-down when either material gives one, with the smaller restitution and the
+//    larger rest velocity of those given (collision_impacts.hpp).
 #pragma once
 
 #include <mbd/sdk/contact.hpp>
@@ -30,6 +33,15 @@
 #include <string>
 
 namespace mbd::collision {
+
+// Newton's impact law of a material (`impact:`): the contact closes by an event-located impulse
+// giving the normal relative velocity -e times its value before; a rebound slower than
+// rest_velocity ends at rest, and the compliant law then holds the contact.
+struct ImpactLaw {
+    bool given = false;
+    double restitution = 0.0;     // e in [0, 1]
+    double rest_velocity = 1e-3;  // m/s, > 0
+};
 
 struct Material {
     bool rigid = false;           // a ground material without a normal law
@@ -42,6 +54,7 @@ struct Material {
     friction::CoulombLaw friction;
     bool stiction_given = false;  // the stiction velocity was given (not the default)
     double rolling_resistance = 0.0;  // mu_r (dimensionless), 0: none
+    ImpactLaw impact;
 };
 
 // The material under `node` (a map of the law's keys); `owner` names the shape in messages.

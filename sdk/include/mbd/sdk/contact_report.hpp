@@ -20,6 +20,7 @@ struct ContactReport {
     double depth = 0.0;            // penetration, > 0
     double normal_force = 0.0;     // along `normal`, on body j (> 0 pushes the bodies apart)
     Vec3 friction_force = Vec3::Zero();  // tangential (normal . friction_force = 0), on body j
+    Vec3 rolling_torque = Vec3::Zero();  // the rolling resistance's torque on body j, world (zero without)
 };
 
 class MBD_SDK_API ContactReporter {
