@@ -22,7 +22,7 @@
 
 // The element plugins' ABI (joint, force, body). Bumped whenever a type in the SDK headers
 // changes layout or meaning. The formulation kit has its own (kit plugin.hpp, MBD_KIT_ABI_VERSION).
-#define MBD_ABI_VERSION 12
+#define MBD_ABI_VERSION 11
 
 namespace mbd {
 
