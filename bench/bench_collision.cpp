@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "augmented_rhs.hpp"
 #include "bench_stats.hpp"
 
 namespace {
@@ -37,19 +38,6 @@ std::string grid_scene(int count, double spacing, double height) {
           << "    collision:\n      - {shape: sphere, radius: 0.05, material: {stiffness: 1e6, restitution: 0.5, "
              "impact_velocity: 1, static_friction: 0.5, kinetic_friction: 0.4, stiction_velocity: 1e-3}}\n";
     return s.str();
-}
-
-double rhs_seconds(mbd::Registry& registry, mbd::ModelSystem& system, const mbd::State& state) {
-    mbd::Param node;
-    node.kind = mbd::Param::Kind::Map;
-    mbd::FormulationSpec spec{"augmented", "augmented", mbd::Params("formulation 'augmented'", &node)};
-    auto f = registry.create_formulation(spec, "bench");
-    mbd::FormulationOptions options;
-    options.sparse_threshold = 30;  // as mbd simulate
-    f->bind(system, options);
-    Eigen::VectorXd y, ydot;
-    f->to_ode(state, y);
-    return median_seconds_per_call([&] { f->rhs(0.0, y, ydot); }, thread_cpu_clock());
 }
 
 struct Timing {
@@ -70,7 +58,7 @@ Timing time_scene(mbd::Registry& registry, const std::string& yaml) {
     mbd::ModelSystem system(model);
     mbd::State state = system.initial_state();
     Timing t;
-    if (!std::getenv("BENCH_COLLISION_ELEMENT_ONLY")) t.rhs = rhs_seconds(registry, system, state);
+    if (!std::getenv("BENCH_COLLISION_ELEMENT_ONLY")) t.rhs = augmented_rhs_seconds(registry, system, state);
     t.jacobian = jacobian_seconds(system, state);
     // the element alone, on the bodies' initial states
     const mbd::ForceInstance* contact = nullptr;

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "augmented_rhs.hpp"
 #include "bench_stats.hpp"
 
 namespace {
@@ -65,16 +66,7 @@ double rhs_seconds(mbd::Registry& registry, const mbd::Model& model) {
     mbd::State state = system.initial_state();
     system.assemble(state, true);
     system.consistent_velocities(state, true);
-    mbd::Param node;
-    node.kind = mbd::Param::Kind::Map;
-    mbd::FormulationSpec spec{"augmented", "augmented", mbd::Params("formulation 'augmented'", &node)};
-    auto f = registry.create_formulation(spec, "bench");
-    mbd::FormulationOptions options;
-    options.sparse_threshold = 30;  // as mbd simulate
-    f->bind(system, options);
-    Eigen::VectorXd y, ydot;
-    f->to_ode(state, y);
-    return median_seconds_per_call([&] { f->rhs(0.0, y, ydot); }, thread_cpu_clock());
+    return augmented_rhs_seconds(registry, system, state);
 }
 
 struct Run {

@@ -7,6 +7,7 @@
 // energy between a cable and a free rigid body joined by a spring, and the Euler-Bernoulli tip
 // deflection P L^3 / (3 EI) of a cantilever under a small tip load (equilibrium by the test's
 // own Newton iteration on the engine's forces and constraints).
+#include "support/input_files.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/model_system.hpp>
@@ -225,12 +226,7 @@ TEST(FlexibleForces, ACantileverUnderASmallTipLoadDeflectsByPL3Over3EI) {
 
 // The message of the InputError the scene raises.
 std::string refusal(const std::string& text) {
-    try {
-        test::scene(text, "cable.yaml");
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "no error";
+    return test::input_error_of([&] { test::scene(text, "cable.yaml"); });
 }
 
 TEST(FlexibleForces, BadPointsAreRefusedNamingTheForceAndTheBody) {

@@ -4,6 +4,8 @@
 // deforms nothing), conservation of energy (no dissipation anywhere), the joints' constraint
 // violation, the mesh's node positions at t = 0 from the scene's end points, and refusals of bad
 // input naming the body and its file:line.
+#include "support/input_files.hpp"
+#include "support/sampled_run.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/model_system.hpp>
@@ -35,39 +37,10 @@ std::string scene_text(const std::string& flexible, const std::string& rest = ""
            flexible + rest;
 }
 
-// The run's rows with their energies (diagnostics on), one callback per output sample.
-struct Trace {
-    std::vector<std::string> columns;
-    std::vector<std::vector<double>> rows;
-    int column(const std::string& name) const {
-        const auto it = std::find(columns.begin(), columns.end(), name);
-        return it == columns.end() ? -1 : static_cast<int>(it - columns.begin());
-    }
-    double energy(size_t row) const {
-        return rows[row][column("kinetic_energy")] + rows[row][column("potential_energy")];
-    }
-    double largest_energy_change() const {
-        double worst = 0.0;
-        for (size_t r = 0; r < rows.size(); ++r) worst = std::max(worst, std::abs(energy(r) - energy(0)));
-        return worst;
-    }
-    double largest(const std::string& name) const {
-        double worst = 0.0;
-        for (const auto& row : rows) worst = std::max(worst, std::abs(row[column(name)]));
-        return worst;
-    }
-};
+using Trace = test::SampledRun;
 
 Trace run(const Model& model, double t_end, double tolerance, const std::string& formulation = "augmented") {
-    SimulationSettings settings = test::adaptive_run(formulation, "dopri5", tolerance, t_end, t_end / 50);
-    settings.diagnostics = true;
-    Trace trace;
-    const SimulationResult result = simulate(model, test::shared_registry(), settings, [&](const SimulationSample& s) {
-        trace.rows.push_back(*s.row);
-        return true;
-    });
-    trace.columns = result.columns;
-    return trace;
+    return test::run_sampled(model, test::adaptive_run(formulation, "dopri5", tolerance, t_end, t_end / 50));
 }
 
 TEST(FlexibleScene, AFreeCableFallsAsAPointUnderGravityAndKeepsItsEnergy) {
@@ -170,12 +143,7 @@ TEST(FlexibleScene, TheCsvHasEachNodesPositionAndVelocityUnderItsBodysName) {
 
 // The message of the InputError the scene raises.
 std::string refusal(const std::string& text) {
-    try {
-        test::scene(text, "cable.yaml");
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "no error";
+    return test::input_error_of([&] { test::scene(text, "cable.yaml"); });
 }
 
 TEST(FlexibleScene, BadInputNamesTheBodyAndTheLine) {

@@ -60,26 +60,19 @@ public:
     }
 
     double strain_energy(const Eigen::VectorXd& q) const override {
-        double U = 0.0;
-        for (int j = 0; j < elements_; ++j)
-            U += ancf::element_strain_energy(section_, element_length_, q.segment<8>(4 * j), nullptr, nullptr);
-        return U;
+        return mesh_strain_energy<8>(q, 4, element_energy());
     }
     void elastic_forces(const Eigen::VectorXd& q, Eigen::Ref<Eigen::VectorXd> Q) const override {
-        Q.setZero();
-        Vec8 gradient;
-        for (int j = 0; j < elements_; ++j) {
-            ancf::element_strain_energy(section_, element_length_, q.segment<8>(4 * j), &gradient, nullptr);
-            Q.segment<8>(4 * j) -= gradient;
-        }
+        mesh_elastic_forces<8>(q, 4, element_energy(), Q);
     }
     void elastic_jacobian(const Eigen::VectorXd& q, Eigen::Ref<Eigen::MatrixXd> dQ_dq) const override {
-        dQ_dq.setZero();
-        Mat8 hessian;
-        for (int j = 0; j < elements_; ++j) {
-            ancf::element_strain_energy(section_, element_length_, q.segment<8>(4 * j), nullptr, &hessian);
-            dQ_dq.block<8, 8>(4 * j, 4 * j) -= hessian;
-        }
+        mesh_elastic_jacobian<8>(q, 4, element_energy(), dQ_dq);
+    }
+    // one element's strain energy with its gradient and Hessian when asked (the element's file)
+    auto element_energy() const {
+        return [this](const ElementVector<8>& qe, ElementVector<8>* gradient, ElementMatrix<8>* hessian) {
+            return ancf::element_strain_energy(section_, element_length_, qe, gradient, hessian);
+        };
     }
 
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {

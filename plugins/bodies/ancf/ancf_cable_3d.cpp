@@ -106,26 +106,19 @@ public:
     }
 
     double strain_energy(const Eigen::VectorXd& q) const override {
-        double U = 0.0;
-        for (int j = 0; j < elements_; ++j)
-            U += spatial::element_strain_energy(section_, element_length_, q.segment<12>(6 * j), nullptr, nullptr);
-        return U;
+        return mesh_strain_energy<12>(q, 6, element_energy());
     }
     void elastic_forces(const Eigen::VectorXd& q, Eigen::Ref<Eigen::VectorXd> Q) const override {
-        Q.setZero();
-        Vec12 gradient;
-        for (int j = 0; j < elements_; ++j) {
-            spatial::element_strain_energy(section_, element_length_, q.segment<12>(6 * j), &gradient, nullptr);
-            Q.segment<12>(6 * j) -= gradient;
-        }
+        mesh_elastic_forces<12>(q, 6, element_energy(), Q);
     }
     void elastic_jacobian(const Eigen::VectorXd& q, Eigen::Ref<Eigen::MatrixXd> dQ_dq) const override {
-        dQ_dq.setZero();
-        Mat12 hessian;
-        for (int j = 0; j < elements_; ++j) {
-            spatial::element_strain_energy(section_, element_length_, q.segment<12>(6 * j), nullptr, &hessian);
-            dQ_dq.block<12, 12>(6 * j, 6 * j) -= hessian;
-        }
+        mesh_elastic_jacobian<12>(q, 6, element_energy(), dQ_dq);
+    }
+    // one element's strain energy with its gradient and Hessian when asked (the element's file)
+    auto element_energy() const {
+        return [this](const ElementVector<12>& qe, ElementVector<12>* gradient, ElementMatrix<12>* hessian) {
+            return spatial::element_strain_energy(section_, element_length_, qe, gradient, hessian);
+        };
     }
 
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {

@@ -1,5 +1,7 @@
 #include "ancf_cable_3d_element.hpp"
 
+#include "shared/nodal_vectors.hpp"
+
 namespace mbd::ancf::spatial {
 
 namespace {
@@ -11,27 +13,9 @@ using beam::shape;
 // axial energy (eps^2: degree 8) are integrated exactly; the curvature term is rational.
 const beam::GaussRule kGauss = beam::gauss_rule(5);
 
-// sum_k c[k] e_k: a combination of the element's nodal 3-vectors
-Eigen::Vector3d combine(const Eigen::Vector4d& c, const Vec12& e) {
-    Eigen::Vector3d r = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 4; ++k) r += c[k] * e.segment<3>(3 * k);
-    return r;
-}
-
-// d/de of a^T X where a = sum_k c[k] e_k and X a fixed 3-vector: blocks c[k] X.
-Vec12 spread(const Eigen::Vector4d& c, const Eigen::Vector3d& X) {
-    Vec12 out;
-    for (int k = 0; k < 4; ++k) out.segment<3>(3 * k) = c[k] * X;
-    return out;
-}
-
-// Blocks c1[k] c2[m] I (the Hessian of a . b for a = sum c1[k] e_k, b = sum c2[m] e_m, one order).
-Mat12 spread2(const Eigen::Vector4d& c1, const Eigen::Vector4d& c2) {
-    Mat12 out;
-    for (int k = 0; k < 4; ++k)
-        for (int m = 0; m < 4; ++m) out.block<3, 3>(3 * k, 3 * m) = c1[k] * c2[m] * Eigen::Matrix3d::Identity();
-    return out;
-}
+Eigen::Vector3d combine(const Eigen::Vector4d& c, const Vec12& e) { return beam::combine<3>(c, e); }
+Vec12 spread(const Eigen::Vector4d& c, const Eigen::Vector3d& X) { return beam::spread<3>(c, X); }
+Mat12 spread2(const Eigen::Vector4d& c1, const Eigen::Vector4d& c2) { return beam::spread2<3>(c1, c2); }
 
 // EA eps^2 / 2 at one point, eps = (r'.r' - 1) / 2, with its gradient and Hessian added (weight w)
 double add_axial(const Shape& f, double EA, double w, const Vec12& e, Vec12* gradient, Mat12* hessian) {

@@ -1,5 +1,7 @@
 #include "ancf_cable_element.hpp"
 
+#include "shared/nodal_vectors.hpp"
+
 #include <cmath>
 
 namespace mbd::ancf {
@@ -10,26 +12,10 @@ namespace {
 // axial energy (eps^2: degree 8) are integrated exactly; the curvature term is rational.
 const beam::GaussRule kGauss = beam::gauss_rule(5);
 
-// sum_k c[k] e_k: a 2-vector combination of the element's nodal 2-vectors
-Eigen::Vector2d combine(const Eigen::Vector4d& c, const Vec8& e) {
-    Eigen::Vector2d r = Eigen::Vector2d::Zero();
-    for (int k = 0; k < 4; ++k) r += c[k] * e.segment<2>(2 * k);
-    return r;
-}
-
-// d/de of a^T X where a = sum_k c[k] e_k and X a fixed 2-vector: blocks c[k] X.
-Vec8 spread(const Eigen::Vector4d& c, const Eigen::Vector2d& X) {
-    Vec8 out;
-    for (int k = 0; k < 4; ++k) out.segment<2>(2 * k) = c[k] * X;
-    return out;
-}
-
-// Blocks c1[k] c2[m] B for a fixed 2x2 matrix B (Hessians of bilinear forms in e).
+Eigen::Vector2d combine(const Eigen::Vector4d& c, const Vec8& e) { return beam::combine<2>(c, e); }
+Vec8 spread(const Eigen::Vector4d& c, const Eigen::Vector2d& X) { return beam::spread<2>(c, X); }
 Mat8 spread2(const Eigen::Vector4d& c1, const Eigen::Vector4d& c2, const Eigen::Matrix2d& B) {
-    Mat8 out;
-    for (int k = 0; k < 4; ++k)
-        for (int m = 0; m < 4; ++m) out.block<2, 2>(2 * k, 2 * m) = c1[k] * c2[m] * B;
-    return out;
+    return beam::spread2<2>(c1, c2, B);
 }
 
 }  // namespace

@@ -57,6 +57,39 @@ protected:
         for (int j = 0; j < line_.elements; ++j) mass_.block(stride * j, stride * j, m, m) += element;
     }
 
+    // The mesh's strain energy, elastic forces (-dU/dq) and their Jacobian from one element's
+    // energy(q_e, gradient or nullptr, Hessian or nullptr), each element's N coordinates starting
+    // `stride` after the previous one's.
+    template <int N>
+    using ElementVector = Eigen::Matrix<double, N, 1>;
+    template <int N>
+    using ElementMatrix = Eigen::Matrix<double, N, N>;
+    template <int N, class Energy>
+    double mesh_strain_energy(const Eigen::VectorXd& q, int stride, const Energy& energy) const {
+        double U = 0.0;
+        for (int j = 0; j < line_.elements; ++j) U += energy(q.segment<N>(stride * j), nullptr, nullptr);
+        return U;
+    }
+    template <int N, class Energy>
+    void mesh_elastic_forces(const Eigen::VectorXd& q, int stride, const Energy& energy, Eigen::Ref<Eigen::VectorXd> Q) const {
+        Q.setZero();
+        ElementVector<N> gradient;
+        for (int j = 0; j < line_.elements; ++j) {
+            energy(q.segment<N>(stride * j), &gradient, nullptr);
+            Q.segment<N>(stride * j) -= gradient;
+        }
+    }
+    template <int N, class Energy>
+    void mesh_elastic_jacobian(const Eigen::VectorXd& q, int stride, const Energy& energy,
+                               Eigen::Ref<Eigen::MatrixXd> dQ_dq) const {
+        dQ_dq.setZero();
+        ElementMatrix<N> hessian;
+        for (int j = 0; j < line_.elements; ++j) {
+            energy(q.segment<N>(stride * j), nullptr, &hessian);
+            dQ_dq.block<N, N>(stride * j, stride * j) -= hessian;
+        }
+    }
+
     BeamLine line_;
     Eigen::MatrixXd mass_;
 };
