@@ -58,6 +58,12 @@ public:
         for (int j = 0; j < line_.elements; ++j) Q.segment<12>(6 * j) += Qe;
     }
 
+    // one element's strain energy with its gradient and Hessian when asked (the element's file)
+    auto element_energy() const {
+        return [this](const ElementVector<12>& qe, ElementVector<12>* gradient, ElementMatrix<12>* hessian) {
+            return ancf::shear::element_strain_energy(section_, l_, qe, gradient, hessian);
+        };
+    }
     double strain_energy(const Eigen::VectorXd& q) const override {
         return mesh_strain_energy<12>(q, 6, element_energy());
     }
@@ -66,12 +72,6 @@ public:
     }
     void elastic_jacobian(const Eigen::VectorXd& q, Eigen::Ref<Eigen::MatrixXd> dQ_dq) const override {
         mesh_elastic_jacobian<12>(q, 6, element_energy(), dQ_dq);
-    }
-    // one element's strain energy with its gradient and Hessian when asked (the element's file)
-    auto element_energy() const {
-        return [this](const ElementVector<12>& qe, ElementVector<12>* gradient, ElementMatrix<12>* hessian) {
-            return ancf::shear::element_strain_energy(section_, l_, qe, gradient, hessian);
-        };
     }
 
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {

@@ -59,6 +59,12 @@ public:
             Q.segment<8>(4 * j) += ancf::element_gravity(section_, element_length_, g.head<2>());
     }
 
+    // one element's strain energy with its gradient and Hessian when asked (the element's file)
+    auto element_energy() const {
+        return [this](const ElementVector<8>& qe, ElementVector<8>* gradient, ElementMatrix<8>* hessian) {
+            return ancf::element_strain_energy(section_, element_length_, qe, gradient, hessian);
+        };
+    }
     double strain_energy(const Eigen::VectorXd& q) const override {
         return mesh_strain_energy<8>(q, 4, element_energy());
     }
@@ -67,12 +73,6 @@ public:
     }
     void elastic_jacobian(const Eigen::VectorXd& q, Eigen::Ref<Eigen::MatrixXd> dQ_dq) const override {
         mesh_elastic_jacobian<8>(q, 4, element_energy(), dQ_dq);
-    }
-    // one element's strain energy with its gradient and Hessian when asked (the element's file)
-    auto element_energy() const {
-        return [this](const ElementVector<8>& qe, ElementVector<8>* gradient, ElementMatrix<8>* hessian) {
-            return ancf::element_strain_energy(section_, element_length_, qe, gradient, hessian);
-        };
     }
 
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {
