@@ -22,9 +22,9 @@ using ancf::shear::kDirector;
 using ancf::shear::Mat12;
 using ancf::shear::Vec12;
 
-class AncfBeam final : public ancf::MeshedBeam {
+class AncfBeam final : public ancf::MeshedBeamOf<AncfBeam, 12, 6> {
 public:
-    explicit AncfBeam(const BodySpec& spec) : MeshedBeam(read_line(spec)) {
+    explicit AncfBeam(const BodySpec& spec) : MeshedBeamOf(read_line(spec)) {
         const Params& p = spec.params;
         const double E = positive(p, "modulus"), G = positive(p, "shear_modulus");
         const double A = positive(p, "area"), I = positive(p, "second_moment"), rho = positive(p, "density");
@@ -58,20 +58,9 @@ public:
         for (int j = 0; j < line_.elements; ++j) Q.segment<12>(6 * j) += Qe;
     }
 
-    // one element's strain energy with its gradient and Hessian when asked (the element's file)
-    auto element_energy() const {
-        return [this](const ElementVector<12>& qe, ElementVector<12>* gradient, ElementMatrix<12>* hessian) {
-            return ancf::shear::element_strain_energy(section_, l_, qe, gradient, hessian);
-        };
-    }
-    double strain_energy(const Eigen::VectorXd& q) const override {
-        return mesh_strain_energy<12>(q, 6, element_energy());
-    }
-    void elastic_forces(const Eigen::VectorXd& q, Eigen::Ref<Eigen::VectorXd> Q) const override {
-        mesh_elastic_forces<12>(q, 6, element_energy(), Q);
-    }
-    void elastic_jacobian(const Eigen::VectorXd& q, Eigen::Ref<Eigen::MatrixXd> dQ_dq) const override {
-        mesh_elastic_jacobian<12>(q, 6, element_energy(), dQ_dq);
+    // one element's strain energy, with its gradient and Hessian when asked (MeshedBeamOf assembles them)
+    double element_energy(const Vec12& qe, Vec12* gradient, Mat12* hessian) const {
+        return ancf::shear::element_strain_energy(section_, l_, qe, gradient, hessian);
     }
 
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {

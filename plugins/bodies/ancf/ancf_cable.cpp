@@ -22,9 +22,9 @@ using ancf::Vec8;
 
 using ancf::positive;
 
-class AncfCable final : public ancf::MeshedBeam {
+class AncfCable final : public ancf::MeshedBeamOf<AncfCable, 8, 4> {
 public:
-    explicit AncfCable(const BodySpec& spec) : MeshedBeam(ancf::read_beam_line(spec.params, 2)) {
+    explicit AncfCable(const BodySpec& spec) : MeshedBeamOf(ancf::read_beam_line(spec.params, 2)) {
         const Params& p = spec.params;
         from_ = line_.from;
         tangent_ = line_.tangent;
@@ -59,20 +59,9 @@ public:
             Q.segment<8>(4 * j) += ancf::element_gravity(section_, element_length_, g.head<2>());
     }
 
-    // one element's strain energy with its gradient and Hessian when asked (the element's file)
-    auto element_energy() const {
-        return [this](const ElementVector<8>& qe, ElementVector<8>* gradient, ElementMatrix<8>* hessian) {
-            return ancf::element_strain_energy(section_, element_length_, qe, gradient, hessian);
-        };
-    }
-    double strain_energy(const Eigen::VectorXd& q) const override {
-        return mesh_strain_energy<8>(q, 4, element_energy());
-    }
-    void elastic_forces(const Eigen::VectorXd& q, Eigen::Ref<Eigen::VectorXd> Q) const override {
-        mesh_elastic_forces<8>(q, 4, element_energy(), Q);
-    }
-    void elastic_jacobian(const Eigen::VectorXd& q, Eigen::Ref<Eigen::MatrixXd> dQ_dq) const override {
-        mesh_elastic_jacobian<8>(q, 4, element_energy(), dQ_dq);
+    // one element's strain energy, with its gradient and Hessian when asked (MeshedBeamOf assembles them)
+    double element_energy(const Vec8& qe, Vec8* gradient, Mat8* hessian) const {
+        return ancf::element_strain_energy(section_, element_length_, qe, gradient, hessian);
     }
 
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {

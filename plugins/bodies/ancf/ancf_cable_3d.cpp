@@ -72,9 +72,9 @@ struct TangentFrame {
     }
 };
 
-class SpatialCable final : public MeshedBeam {
+class SpatialCable final : public MeshedBeamOf<SpatialCable, 12, 6> {
 public:
-    explicit SpatialCable(const BodySpec& spec) : MeshedBeam(read_beam_line(spec.params, 3)) {
+    explicit SpatialCable(const BodySpec& spec) : MeshedBeamOf(read_beam_line(spec.params, 3)) {
         const Params& p = spec.params;
         from_ = line_.from;
         tangent_ = line_.tangent;
@@ -105,20 +105,9 @@ public:
         for (int j = 0; j < elements_; ++j) Q.segment<12>(6 * j) += spatial::element_gravity(section_, element_length_, g);
     }
 
-    // one element's strain energy with its gradient and Hessian when asked (the element's file)
-    auto element_energy() const {
-        return [this](const ElementVector<12>& qe, ElementVector<12>* gradient, ElementMatrix<12>* hessian) {
-            return spatial::element_strain_energy(section_, element_length_, qe, gradient, hessian);
-        };
-    }
-    double strain_energy(const Eigen::VectorXd& q) const override {
-        return mesh_strain_energy<12>(q, 6, element_energy());
-    }
-    void elastic_forces(const Eigen::VectorXd& q, Eigen::Ref<Eigen::VectorXd> Q) const override {
-        mesh_elastic_forces<12>(q, 6, element_energy(), Q);
-    }
-    void elastic_jacobian(const Eigen::VectorXd& q, Eigen::Ref<Eigen::MatrixXd> dQ_dq) const override {
-        mesh_elastic_jacobian<12>(q, 6, element_energy(), dQ_dq);
+    // one element's strain energy, with its gradient and Hessian when asked (MeshedBeamOf assembles them)
+    double element_energy(const Vec12& qe, Vec12* gradient, Mat12* hessian) const {
+        return spatial::element_strain_energy(section_, element_length_, qe, gradient, hessian);
     }
 
     void point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const double* xi, MaterialPoint& out) const override {

@@ -94,4 +94,29 @@ protected:
     Eigen::MatrixXd mass_;
 };
 
+// A MeshedBeam of N-coordinate elements, each starting `Stride` after the previous one, whose
+// strain energy, elastic forces and stiffness are assembled from Derived's
+// element_energy(q_e, gradient or nullptr, Hessian or nullptr).
+template <class Derived, int N, int Stride>
+class MeshedBeamOf : public MeshedBeam {
+public:
+    double strain_energy(const Eigen::VectorXd& q) const override { return mesh_strain_energy<N>(q, Stride, energy()); }
+    void elastic_forces(const Eigen::VectorXd& q, Eigen::Ref<Eigen::VectorXd> Q) const override {
+        mesh_elastic_forces<N>(q, Stride, energy(), Q);
+    }
+    void elastic_jacobian(const Eigen::VectorXd& q, Eigen::Ref<Eigen::MatrixXd> dQ_dq) const override {
+        mesh_elastic_jacobian<N>(q, Stride, energy(), dQ_dq);
+    }
+
+protected:
+    using MeshedBeam::MeshedBeam;
+
+private:
+    auto energy() const {
+        return [this](const ElementVector<N>& qe, ElementVector<N>* gradient, ElementMatrix<N>* hessian) {
+            return static_cast<const Derived*>(this)->element_energy(qe, gradient, hessian);
+        };
+    }
+};
+
 }  // namespace mbd::ancf
