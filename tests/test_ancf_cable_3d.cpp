@@ -155,31 +155,7 @@ TEST(AncfCable3d, ElasticForcesAndStiffnessAreTheEnergysDerivatives) {
         Keys keys;
         keys.axial_points = axial_points;
         auto c = make_cable(keys);
-        const FlexibleBody& body = *c->body;
-        const int n = body.coordinates();
-        const Eigen::VectorXd q = perturbed(body, 0.08, 5);
-        Eigen::VectorXd Q(n), Qp(n), Qm(n);
-        Eigen::MatrixXd dQ(n, n);
-        body.elastic_forces(q, Q);
-        body.elastic_jacobian(q, dQ);
-        EXPECT_LT((dQ - dQ.transpose()).norm(), 1e-12 * dQ.norm()) << "a Hessian is symmetric";
-        const double h = 1e-6;
-        double force_error = 0.0, stiffness_error = 0.0;
-        for (int k = 0; k < n; ++k) {
-            Eigen::VectorXd qp = q, qm = q;
-            qp[k] += h, qm[k] -= h;
-            force_error = std::max(force_error,
-                                   std::abs(-(body.strain_energy(qp) - body.strain_energy(qm)) / (2 * h) - Q[k]));
-            body.elastic_forces(qp, Qp);
-            body.elastic_forces(qm, Qm);
-            stiffness_error = std::max(stiffness_error, ((Qp - Qm) / (2 * h) - dQ.col(k)).norm());
-        }
-        std::printf("finite differences: force %.2e of %.2e, stiffness %.2e of %.2e\n", force_error, Q.norm(),
-                    stiffness_error, dQ.norm());
-        // central differences: error h^2 times the third derivative, about 1e-12 relative here,
-        // plus round-off U eps / h ~ 1e-10 relative
-        EXPECT_LT(force_error, 1e-7 * Q.norm());
-        EXPECT_LT(stiffness_error, 1e-7 * dQ.norm());
+        test::expect_elastic_derivatives(*c->body, perturbed(*c->body, 0.08, 5));
     }
 }
 

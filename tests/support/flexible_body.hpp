@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -90,6 +92,32 @@ inline void expect_frame_derivatives(const FlexibleBody& body, const Eigen::Vect
     EXPECT_LT((pt.rdot - pt.jacobian * v).norm(), 1e-12 * (1 + pt.rdot.norm()));
     EXPECT_LT((pt.r.head<2>() - f.planar.R).norm(), 1e-14 * (1 + pt.r.norm()));
     EXPECT_LT((pt.rdot.head<2>() - f.planar.Rdot).norm(), 1e-12 * (1 + pt.rdot.norm()));
+}
+
+// A body's elastic forces are -dU/dq and its stiffness their Jacobian (symmetric, a Hessian),
+// checked at q by central differences: error h^2 times the third derivative (about 1e-12
+// relative here) plus round-off U eps / h (about 1e-10 relative), so 1e-7 of each norm.
+inline void expect_elastic_derivatives(const FlexibleBody& body, const Eigen::VectorXd& q) {
+    const int n = body.coordinates();
+    Eigen::VectorXd Q(n), Qp(n), Qm(n);
+    Eigen::MatrixXd dQ(n, n);
+    body.elastic_forces(q, Q);
+    body.elastic_jacobian(q, dQ);
+    EXPECT_LT((dQ - dQ.transpose()).norm(), 1e-12 * dQ.norm()) << "a Hessian is symmetric";
+    const double h = 1e-6;
+    double force_error = 0.0, stiffness_error = 0.0;
+    for (int k = 0; k < n; ++k) {
+        Eigen::VectorXd qp = q, qm = q;
+        qp[k] += h, qm[k] -= h;
+        force_error = std::max(force_error, std::abs(-(body.strain_energy(qp) - body.strain_energy(qm)) / (2 * h) - Q[k]));
+        body.elastic_forces(qp, Qp);
+        body.elastic_forces(qm, Qm);
+        stiffness_error = std::max(stiffness_error, ((Qp - Qm) / (2 * h) - dQ.col(k)).norm());
+    }
+    std::printf("finite differences: force %.2e of %.2e, stiffness %.2e of %.2e\n", force_error, Q.norm(),
+                stiffness_error, dQ.norm());
+    EXPECT_LT(force_error, 1e-7 * Q.norm());
+    EXPECT_LT(stiffness_error, 1e-7 * dQ.norm());
 }
 
 }  // namespace mbd::test
