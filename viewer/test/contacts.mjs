@@ -12,7 +12,7 @@
 // Usage: node contacts.mjs OUT_DIR SCREENSHOT_DIR   (OUT_DIR from make_outputs.sh)
 import { mkdirSync } from 'node:fs';
 import { join, resolve } from 'node:path';
-import { check, launch, openViewer, project, readCsv, tally } from './support.mjs';
+import { check, finishPage, launch, openViewer, project, readCsv, report } from './support.mjs';
 
 const [outDir, shotDir] = process.argv.slice(2).map((p) => resolve(p));
 const table = readCsv(join(outDir, 'collision-contacts.csv'));
@@ -67,13 +67,8 @@ try {
     });
   }
   check(withContacts >= 5, `${withContacts} of 7 times show contacts`);
-  await page.evaluate(() => window.mbdViewer.seek(1.0));
-  await new Promise((r) => setTimeout(r, 100));
-  await page.screenshot({ path: join(shotDir, 'viewer-contacts.png') });
-  check(errors.length === 0, `no console error${errors.length ? ': ' + errors.join(' | ') : ''}`);
-  await page.close();
+  await finishPage(page, errors, 1.0, join(shotDir, 'viewer-contacts.png'));
 } finally {
   await browser.close();
 }
-console.log(`${tally.checks - tally.failures} passed, ${tally.failures} failed`);
-process.exit(tally.failures ? 1 : 0);
+report();

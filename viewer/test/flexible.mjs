@@ -9,7 +9,7 @@
 // Usage: node flexible.mjs OUT_DIR SCREENSHOT_DIR   (OUT_DIR from make_outputs.sh)
 import { mkdirSync } from 'node:fs';
 import { join, resolve } from 'node:path';
-import { check, launch, openViewer, readCsv, tally } from './support.mjs';
+import { check, finishPage, launch, openViewer, readCsv, report } from './support.mjs';
 
 const [outDir, shotDir] = process.argv.slice(2).map((p) => resolve(p));
 const table = readCsv(join(outDir, 'cable-pendulum.csv'));
@@ -39,13 +39,8 @@ try {
   }
   check(worst <= 1, `every node drawn where the CSV has it, within the page's tolerance (worst ${worst.toFixed(3)} of it)`);
   check(enclosed === table.rows.length, `${enclosed} of ${table.rows.length} rows: the tube holds every node and is 2 r thick across the plane`);
-  await page.evaluate((t) => window.mbdViewer.seek(t), table.rows[Math.floor(table.rows.length / 2)][0]);
-  await new Promise((r) => setTimeout(r, 100));
-  await page.screenshot({ path: join(shotDir, 'viewer-flexible.png') });
-  check(errors.length === 0, `no console error${errors.length ? ': ' + errors.join(' | ') : ''}`);
-  await page.close();
+  await finishPage(page, errors, table.rows[Math.floor(table.rows.length / 2)][0], join(shotDir, 'viewer-flexible.png'));
 } finally {
   await browser.close();
 }
-console.log(`${tally.checks - tally.failures} passed, ${tally.failures} failed`);
-process.exit(tally.failures ? 1 : 0);
+report();

@@ -42,3 +42,19 @@ export async function openViewer(browser, file) {
   await page.waitForFunction(() => window.mbdViewer !== undefined, { timeout: 20000 });
   return { page, errors };
 }
+
+// A page's last look: seek to time t, save its picture at shotPath, check that the page logged no
+// console error, and close it.
+export async function finishPage(page, errors, t, shotPath) {
+  await page.evaluate((time) => window.mbdViewer.seek(time), t);
+  await new Promise((r) => setTimeout(r, 100));
+  await page.screenshot({ path: shotPath });
+  check(errors.length === 0, `no console error${errors.length ? ': ' + errors.join(' | ') : ''}`);
+  await page.close();
+}
+
+// The tally as the test's last line, and its exit status.
+export function report() {
+  console.log(`${tally.checks - tally.failures} passed, ${tally.failures} failed`);
+  process.exit(tally.failures ? 1 : 0);
+}
