@@ -1,5 +1,6 @@
 #include "ancf_cable_3d_element.hpp"
 
+#include "cable_strain_energy.hpp"
 #include "shared/nodal_vectors.hpp"
 
 namespace mbd::ancf::spatial {
@@ -16,16 +17,6 @@ const beam::GaussRule kGauss = beam::gauss_rule(5);
 Eigen::Vector3d combine(const Eigen::Vector4d& c, const Vec12& e) { return beam::combine<3>(c, e); }
 Vec12 spread(const Eigen::Vector4d& c, const Eigen::Vector3d& X) { return beam::spread<3>(c, X); }
 Mat12 spread2(const Eigen::Vector4d& c1, const Eigen::Vector4d& c2) { return beam::spread2<3>(c1, c2); }
-
-// EA eps^2 / 2 at one point, eps = (r'.r' - 1) / 2, with its gradient and Hessian added (weight w)
-double add_axial(const Shape& f, double EA, double w, const Vec12& e, Vec12* gradient, Mat12* hessian) {
-    const Eigen::Vector3d a = combine(f.ds, e);  // r'
-    const double eps = 0.5 * (a.dot(a) - 1.0);
-    const Vec12 d_eps = spread(f.ds, a);
-    if (gradient) *gradient += (w * EA * eps) * d_eps;
-    if (hessian) *hessian += (w * EA) * (d_eps * d_eps.transpose() + eps * spread2(f.ds, f.ds));
-    return w * 0.5 * EA * eps * eps;
-}
 
 // EI kappa^2 / 2 at one point, as phi(g, h, d) = EI (h / g^2 - d^2 / g^3) / 2 with g = a.a,
 // h = b.b, d = a.b (a = r', b = r''), differentiated through g, h and d.
@@ -69,15 +60,7 @@ Vec12 element_gravity(const Section& section, double l, const Eigen::Vector3d& g
 }
 
 double element_strain_energy(const Section& section, double l, const Vec12& e, Vec12* gradient, Mat12* hessian) {
-    if (gradient) gradient->setZero();
-    if (hessian) hessian->setZero();
-    double U = 0.0;
-    const beam::GaussRule axial = beam::gauss_rule(section.axial_points);
-    for (int p = 0; p < axial.n; ++p)
-        U += add_axial(shape(axial.xi[p], l), section.EA, axial.w[p] * l, e, gradient, hessian);
-    for (int p = 0; p < kGauss.n; ++p)
-        U += add_bending(shape(kGauss.xi[p], l), section.EI, kGauss.w[p] * l, e, gradient, hessian);
-    return U;
+    return cable_strain_energy<3>(section.EA, section.EI, section.axial_points, l, e, gradient, hessian, add_bending);
 }
 
 }  // namespace mbd::ancf::spatial

@@ -1,5 +1,6 @@
 #include "ancf_cable_element.hpp"
 
+#include "cable_strain_energy.hpp"
 #include "shared/nodal_vectors.hpp"
 
 #include <cmath>
@@ -44,17 +45,6 @@ Eigen::Matrix2d cross_matrix() {
     return P;
 }
 
-// EA eps^2 / 2 at one point, eps = (r'.r' - 1) / 2, with its gradient and Hessian added (weight w)
-double add_axial(const Shape& f, double EA, double w, const Vec8& e, Vec8* gradient, Mat8* hessian) {
-    const Eigen::Vector2d a = combine(f.ds, e);  // r'
-    const double eps = 0.5 * (a.dot(a) - 1.0);
-    const Vec8 d_eps = spread(f.ds, a);
-    if (gradient) *gradient += (w * EA * eps) * d_eps;
-    if (hessian)
-        *hessian += (w * EA) * (d_eps * d_eps.transpose() + eps * spread2(f.ds, f.ds, Eigen::Matrix2d::Identity()));
-    return w * 0.5 * EA * eps * eps;
-}
-
 // EI kappa^2 / 2 at one point, kappa^2 = c^2 / g^3 with c = r' x r'', g = r'.r'
 double add_bending(const Shape& f, double EI, double w, const Vec8& e, Vec8* gradient, Mat8* hessian) {
     const Eigen::Matrix2d P = cross_matrix();
@@ -79,15 +69,7 @@ double add_bending(const Shape& f, double EI, double w, const Vec8& e, Vec8* gra
 }  // namespace
 
 double element_strain_energy(const Section& section, double l, const Vec8& e, Vec8* gradient, Mat8* hessian) {
-    if (gradient) gradient->setZero();
-    if (hessian) hessian->setZero();
-    double U = 0.0;
-    const beam::GaussRule axial = beam::gauss_rule(section.axial_points);
-    for (int p = 0; p < axial.n; ++p)
-        U += add_axial(shape(axial.xi[p], l), section.EA, axial.w[p] * l, e, gradient, hessian);
-    for (int p = 0; p < kGauss.n; ++p)
-        U += add_bending(shape(kGauss.xi[p], l), section.EI, kGauss.w[p] * l, e, gradient, hessian);
-    return U;
+    return cable_strain_energy<2>(section.EA, section.EI, section.axial_points, l, e, gradient, hessian, add_bending);
 }
 
 }  // namespace mbd::ancf
