@@ -3,6 +3,7 @@
 
 #include <mbd/app/scene_loader.hpp>
 #include <mbd/import/import.hpp>
+#include <mbd/import/model_format.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/output_times.hpp>
 #include <mbd/viewer/animation_export.hpp>
