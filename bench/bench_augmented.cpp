@@ -4,6 +4,7 @@
 // time of one rhs evaluation and the fitted log-log slope (time ~ N^slope).
 //   bench_augmented [max_bodies=10000] [max_dense=1000]
 // Results and the chosen dense/sparse threshold: docs/benchmarks.md.
+#include <mbd/app/scene_sections.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
@@ -40,6 +41,7 @@ std::string chain_scene(int n) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    mbd::declare_application_scene_sections();  // scenes/bench keep their `bench:`
     const int max_bodies = argc > 1 ? std::atoi(argv[1]) : 10000;
     const int max_dense = argc > 2 ? std::atoi(argv[2]) : 1000;
     const std::vector<int> sizes{10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000};

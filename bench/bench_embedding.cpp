@@ -5,6 +5,7 @@
 // spherical). Reports the median time of one rhs evaluation and the fitted log-log slopes
 // (time ~ N^slope). Results: docs/benchmarks.md, section "Embedding".
 //   bench_embedding [max_links=10000] [max_dense=200] [min_links=10]
+#include <mbd/app/scene_sections.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
@@ -80,6 +81,7 @@ double time_rhs(mbd::Registry& registry, const mbd::Model& model, const std::str
 }  // namespace
 
 int main(int argc, char** argv) {
+    mbd::declare_application_scene_sections();  // scenes/bench keep their `bench:`
     const int max_links = argc > 1 ? std::atoi(argv[1]) : 10000;
     const int max_dense = argc > 2 ? std::atoi(argv[2]) : 200;
     const int min_links = argc > 3 ? std::atoi(argv[3]) : 10;

@@ -5,6 +5,7 @@
 // (docs/benchmarks.md).
 //   bench_rhs SCENE.yaml... [--formulations a,b,...]
 // A formulation may carry one key: NAME:KEY=VALUE (e.g. embedding:path=dense).
+#include <mbd/app/scene_sections.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
@@ -28,6 +29,7 @@ double rhs_seconds(mbd::Formulation& f, const Eigen::VectorXd& y) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    mbd::declare_application_scene_sections();  // scenes/bench keep their `bench:`
     std::vector<std::string> scenes, formulations = {"augmented", "embedding", "amalgamated", "hamiltonian"};
     for (int k = 1; k < argc; ++k) {
         if (std::strcmp(argv[k], "--formulations") == 0 && k + 1 < argc) {

@@ -10,6 +10,7 @@
 // an advance_to call's (pieces - whole) / pieces. CPU time of the calling thread (the runs are
 // interleaved, round by round, so that a load on the machine falls on all three alike).
 //   bench_simulator [scene=scenes/bench/chain-5.yaml] [integrator=dopri5] [t_end=2] [pieces=1000]
+#include <mbd/app/scene_sections.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
@@ -61,6 +62,7 @@ Run median(std::vector<Run> runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    mbd::declare_application_scene_sections();  // scenes/bench keep their `bench:`
     const std::string path = argc > 1 ? argv[1] : "scenes/bench/chain-5.yaml";
     mbd::SimulationSettings settings;
     settings.integrator = argc > 2 ? argv[2] : "dopri5";

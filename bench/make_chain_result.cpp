@@ -3,6 +3,7 @@
 // link i at angle theta_i(t) = a sin(w t + i / 25) with the mass centres following from the
 // joints), so the file has the size and the column layout of a real result.
 // Usage: mbd_bench_make_chain_result SCENE OUT.csv [ROWS]
+#include <mbd/app/scene_sections.hpp>
 #include <mbd/csv.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
@@ -12,6 +13,7 @@
 #include <string>
 
 int main(int argc, char** argv) {
+    mbd::declare_application_scene_sections();  // scenes/bench keep their `bench:`
     if (argc < 3) {
         std::fprintf(stderr, "usage: %s SCENE OUT.csv [ROWS]\n", argv[0]);
         return 2;

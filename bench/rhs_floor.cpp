@@ -8,6 +8,7 @@
 // at the same state, and both accelerations are compared first: a floor that computed
 // something else would not be one.
 //   rhs_floor [scenes/bench/chain-5.yaml]
+#include <mbd/app/scene_sections.hpp>
 #include <mbd/model_system.hpp>
 #include <mbd/registry.hpp>
 #include <mbd/scene.hpp>
@@ -97,6 +98,7 @@ private:
 }  // namespace
 
 int main(int argc, char** argv) {
+    mbd::declare_application_scene_sections();  // scenes/bench keep their `bench:`
     const std::string path = argc > 1 ? argv[1] : "scenes/bench/chain-5.yaml";
     try {
         mbd::Registry registry;

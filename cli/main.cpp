@@ -8,6 +8,7 @@
 // followed by where the rows of an unfinished output file are (output_file.hpp).
 #include "commands.hpp"
 
+#include <mbd/app/scene_sections.hpp>
 #include <mbd/interrupt.hpp>
 #include <mbd/kinematics.hpp>
 #include <mbd/output_file.hpp>
@@ -51,6 +52,7 @@ int main(int argc, char** argv) {
                                           std::to_string(MBD_ABI_VERSION) + ", formulation kit ABI " +
                                           std::to_string(MBD_KIT_ABI_VERSION) + ")");
 
+    mbd::declare_application_scene_sections();  // `bench:` and `expect:` (app scene_sections.hpp)
     mbd::cli::Commands actions;
     mbd::cli::add_commands(app, actions);
 

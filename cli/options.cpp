@@ -1,7 +1,9 @@
 // Checked numbers and input files of the subcommands (see options.hpp).
 #include "options.hpp"
 
+#include <mbd/app/scene_loader.hpp>
 #include <mbd/import/import.hpp>
+#include <mbd/import/model_format.hpp>
 #include <mbd/output_file.hpp>
 #include <mbd/output_times.hpp>
 #include <mbd/viewer/animation_export.hpp>
@@ -72,6 +74,11 @@ CLI::App* add_scene_subcommand(CLI::App& app, const std::string& name, const std
 Model load_scene_file(const std::string& scene, Registry& registry) {
     return import::load_scene_or_model(scene, registry,
                                        [](const std::string& warning) { std::cerr << "mbd: warning: " << warning << '\n'; });
+}
+
+Scene read_scene_file(const std::string& scene, Registry& registry) {
+    if (import::detect_format(scene) == import::ModelFormat::Scene) return read_scene(scene, registry);
+    return scene_of(load_scene_file(scene, registry));
 }
 
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model) {

@@ -3,6 +3,7 @@
 // run reads, which an output must never overwrite (mbd/output_file.hpp).
 #pragma once
 
+#include <mbd/scene.hpp>
 #include <mbd/integrator.hpp>  // kSmallestTolerance
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
@@ -46,6 +47,9 @@ std::pair<std::shared_ptr<Arguments>, CLI::App*> scene_subcommand(CLI::App& app,
 // The scene a subcommand reads: an mbd scene, or a model file (MJCF, URDF) imported, the format
 // known from the file's content (docs/import.md); what an import leaves out is warned of on stderr.
 Model load_scene_file(const std::string& scene, Registry& registry);
+// The same as a Scene: an mbd scene with its application sections and its document as read
+// (`mbd statics --output` rewrites it); a model file's has none.
+Scene read_scene_file(const std::string& scene, Registry& registry);
 
 // The scene file and every `base:` file it inherits from.
 std::vector<std::filesystem::path> scene_files(const std::string& scene, const Model& model);

@@ -33,16 +33,17 @@ namespace {
 // A scene as it is; a model file (MJCF, URDF, SDF) imported as `mbd import` does, with the
 // outcome it declares none of: `expect: {outcome: pass}` and its defaults (constraint violation
 // below 1e-6 over 1 s; docs/import.md). `warn` receives what the import left out.
-Model load_case(const std::filesystem::path& file, Registry& registry, const std::function<void(const std::string&)>& warn) {
-    if (import::detect_format(file) == import::ModelFormat::Scene) return load_scene(file, registry);
+Scene load_case(const std::filesystem::path& file, Registry& registry, const std::function<void(const std::string&)>& warn) {
+    if (import::detect_format(file) == import::ModelFormat::Scene) return read_scene(file, registry);
     const import::ImportedScene scene = import::import_model(file);
     const std::string missing = import::unmapped_summary(scene.unmapped);
     if (!missing.empty() && warn) warn(file.string() + ": not imported: " + missing);
-    return load_scene_text(import::scene_yaml(scene) + "expect: {outcome: pass}\n", file.string() + " (imported)", registry);
+    return read_scene_text(import::scene_yaml(scene) + std::string(kExpectSection) + ": {outcome: pass}\n",
+                           file.string() + " (imported)", registry);
 }
 
 // The children load their case quietly: the parent warned once when it read it.
-Model load_case_quietly(const std::filesystem::path& file, Registry& registry) { return load_case(file, registry, {}); }
+Scene load_case_quietly(const std::filesystem::path& file, Registry& registry) { return load_case(file, registry, {}); }
 
 struct StabilityArguments {
     std::vector<std::string> scenes;
@@ -87,14 +88,14 @@ namespace {
 // Every scene read first, as the matrix's cases: bad input stops before any run, and the
 // --markdown file must not be one of the inputs.
 std::vector<StabilityCase> read_cases(const std::vector<std::string>& scenes, const std::string& markdown) {
-    std::vector<Model> models;
+    std::vector<Scene> models;
     std::vector<std::filesystem::path> inputs;
     for (const std::string& scene : scenes) {
         Registry r;
         models.push_back(load_case(scene, r, [](const std::string& warning) {
             std::cerr << "mbd: warning: " << warning << '\n';
         }));
-        for (const auto& file : scene_files(scene, models.back())) inputs.push_back(file);
+        for (const auto& file : scene_files(scene, models.back().model)) inputs.push_back(file);
     }
     check_output_path(markdown, inputs, "--markdown");
     std::vector<StabilityCase> cases;

@@ -167,7 +167,8 @@ void add_statics_command(CLI::App& app, Commands& commands) {
 
     commands[sub] = [args = args] {
         Registry registry;
-        const Model model = load_scene_file(args->scene, registry);
+        const Scene scene = read_scene_file(args->scene, registry);
+        const Model& model = scene.model;
         check_output_path(args->output, scene_files(args->scene, model), "--output");
         if (!args->output.empty() && !model.flexible_bodies.empty())
             throw InputError("--output", "flexible body '" + model.flexible_bodies.front().name +
@@ -193,7 +194,7 @@ void add_statics_command(CLI::App& app, Commands& commands) {
         }
         if (!args->output.empty()) {
             OutputFile file(args->output);
-            file.replace(equilibrium_scene(model, rep.result.state));
+            file.replace(equilibrium_scene(scene, rep.result.state));
             file.commit();
             if (!args->json) std::cout << "\nwrote the equilibrium scene to " << args->output << '\n';
         }

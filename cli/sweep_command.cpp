@@ -6,6 +6,7 @@
 #include "options.hpp"
 
 #include <mbd/app/input_fingerprint.hpp>
+#include <mbd/app/scene_loader.hpp>
 #include <mbd/app/study.hpp>
 #include <mbd/app/study_design.hpp>
 #include <mbd/app/sweep_mpi.hpp>
@@ -89,7 +90,7 @@ int run_sweep(const SweepArguments& a, const MpiRole& role) {
     Registry registry;
     // the study's scene may be a model file (MJCF, URDF, SDF), imported with its one warning
     const Study study = read_study(a.study, registry, [](const std::filesystem::path& file, Registry& r) {
-        return load_scene_file(file.string(), r);
+        return read_scene_file(file.string(), r);
     });
     const CaseDesign design(study);  // each case made when it runs: no table of the cases
     if (role.launched && a.threads != 1)
@@ -151,7 +152,7 @@ void add_sweep_command(CLI::App& app, Commands& commands) {
             std::optional<CaseDesign> design;
             try {
                 study = read_study(args->study, registry, [](const std::filesystem::path& file, Registry& r) {
-                    return import::load_scene_or_model(file, r, {});  // rank 0 warns
+                    return scene_of(import::load_scene_or_model(file, r, {}));  // rank 0 warns
                 });
                 design.emplace(*study);
             } catch (const InputError&) {

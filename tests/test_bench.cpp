@@ -20,14 +20,14 @@ namespace {
 const std::string kPendulum = "bench/a01-pendulum.yaml";
 
 BenchSpec short_pendulum_spec() {
-    BenchSpec spec = load_bench_spec(test::load(kPendulum));
+    BenchSpec spec = load_bench_spec(read_scene(test::scene_path(kPendulum), test::shared_registry()));
     spec.t_end = 2.0;
     spec.output_step = 0.25;
     return spec;
 }
 
 TEST(Bench, SpecOfThePendulumScene) {
-    const BenchSpec spec = load_bench_spec(test::load(kPendulum));
+    const BenchSpec spec = load_bench_spec(read_scene(test::scene_path(kPendulum), test::shared_registry()));
     EXPECT_EQ(spec.reference.kind, "closed_form");
     EXPECT_EQ(spec.reference.name, "pendulum_a01");
     ASSERT_EQ(spec.measure.bodies.size(), 1u);
@@ -154,7 +154,7 @@ TEST(Bench, GridAsAGeometricSequence) {
         "  runs:\n    - {integrator: dopri5, tolerances: {from: 1.0e-4, to: 1.0e-8, per_decade: 2}}\n"
         "    - {integrator: rk4, steps: {from: 1.0e-2, to: 1.0e-3, ratio: 1.5}}\n");
     Registry& registry = test::shared_registry();
-    const BenchSpec spec = load_bench_spec(load_scene(scene, registry));
+    const BenchSpec spec = load_bench_spec(read_scene(scene, registry));
     ASSERT_EQ(spec.runs.size(), 2u);
     const std::vector<double>& tol = spec.runs[0].tolerances;
     ASSERT_EQ(tol.size(), 9u);
@@ -180,7 +180,7 @@ TEST(Bench, BadGridsAreRefusedByKey) {
         const std::string scene =
             pendulum_bench_scene(dir, std::string("  runs:\n    - {integrator: dopri5, tolerances: ") + grid + "}\n");
         try {
-            load_bench_spec(load_scene(scene, registry));
+            load_bench_spec(read_scene(scene, registry));
             ADD_FAILURE() << grid << " was accepted";
         } catch (const InputError& e) {
             EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
@@ -201,7 +201,8 @@ TEST(Bench, EveryBenchSceneGridIsFine) {
     };
     for (const auto& entry : std::filesystem::directory_iterator(test::scene_path("bench"))) {
         if (entry.path().extension() != ".yaml") continue;
-        const BenchSpec spec = load_bench_spec(test::load("bench/" + entry.path().filename().string()));
+        const BenchSpec spec =
+            load_bench_spec(read_scene(test::scene_path("bench/" + entry.path().filename().string()), test::shared_registry()));
         for (const BenchSeries& s : spec.runs) {
             check(spec.name + " " + s.formulation + " + " + s.integrator + " tolerances", s.tolerances, std::sqrt(10.0));
             check(spec.name + " " + s.formulation + " + " + s.integrator + " steps", s.steps, 1.5);
@@ -220,8 +221,9 @@ TEST(Bench, EveryBenchSceneRunsItsAutomaticChoice) {
     int scenes = 0;
     for (const auto& entry : std::filesystem::directory_iterator(test::scene_path("bench"))) {
         if (entry.path().extension() != ".yaml") continue;
-        const Model model = test::load("bench/" + entry.path().filename().string());
-        const BenchSpec spec = load_bench_spec(model);
+        const Scene scene = read_scene(test::scene_path("bench/" + entry.path().filename().string()), test::shared_registry());
+        const Model& model = scene.model;
+        const BenchSpec spec = load_bench_spec(scene);
         const MethodChoice automatic = automatic_method(model, spec.t_end);
         bool found = false;
         for (const BenchSeries& s : spec.runs)

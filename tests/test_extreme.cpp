@@ -38,7 +38,7 @@ TEST(Extreme, AtLeastThirtyCasesEachWithADeclaredOutcome) {
     EXPECT_GE(scenes.size(), 30u);
     for (const auto& s : scenes) {
         SCOPED_TRACE(s);
-        const Model model = load_scene(s, shared_registry());
+        const Scene model = read_scene(s, shared_registry());
         const Expectation e = read_expectation(model);
         EXPECT_TRUE(e.pass || !e.kinds.empty());
         EXPECT_GT(e.quick_t_end, 0.0);
@@ -50,13 +50,13 @@ constexpr double kRunawayFactor = 5.0;
 TEST(Extreme, EveryCaseEndsInADeclaredOutcome) {
     for (const auto& s : extreme_scenes()) {
         SCOPED_TRACE(s);
-        const Model model = load_scene(s, shared_registry());
+        const Scene model = read_scene(s, shared_registry());
         Expectation e = read_expectation(model);
         // the scene's budget is the stability matrix's (mbd stability); here it only guards against
         // a runaway run, so a loaded machine (ctest -j2, the sanitizer build) is given 5 times as long
         e.budget *= kRunawayFactor;
         const auto t0 = std::chrono::steady_clock::now();
-        const CellOutcome o = run_case(model, shared_registry(), e, e.formulation, e.integrator, e.quick_t_end);
+        const CellOutcome o = run_case(model.model, shared_registry(), e, e.formulation, e.integrator, e.quick_t_end);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         EXPECT_TRUE(outcome_matches(e, o)) << e.formulation << " + " << e.integrator << ": " << o.cell() << " "
                                            << o.message;
@@ -70,35 +70,35 @@ TEST(Extreme, DeadCentreIsASingularConfiguration) {
     // J (joints + drivers) drops at t = 0.5 s; the shared rank test (kit singularity.hpp)
     // reports it instead of a silent pass through an arbitrary branch: after each step of the
     // explicit integrators, and when generalized_alpha's Newton iteration fails there
-    const Model model = load_scene(scene_path("extreme/slider-crank-dead-centre.yaml").string(), shared_registry());
+    const Scene model = read_scene(scene_path("extreme/slider-crank-dead-centre.yaml").string(), shared_registry());
     const Expectation e = read_expectation(model);
     for (const auto& [formulation, integrator] : {std::pair{"augmented", "dopri5"}, std::pair{"embedding", "dopri5"},
                                                   std::pair{"augmented", "generalized_alpha"}}) {
         SCOPED_TRACE(std::string(formulation) + " + " + integrator);
-        const CellOutcome o = run_case(model, shared_registry(), e, formulation, integrator, e.quick_t_end);
+        const CellOutcome o = run_case(model.model, shared_registry(), e, formulation, integrator, e.quick_t_end);
         EXPECT_EQ(o.kind, "singular_constraints") << o.cell() << " " << o.message;
         EXPECT_NE(o.message.find("lost rank"), std::string::npos) << o.message;
         EXPECT_NE(o.message.find("dead centre"), std::string::npos) << o.message;
         EXPECT_NEAR(o.time, 0.5, 0.05) << o.message;
     }
     // redundancy present from the start (Bricard) is not a singularity
-    const Model bricard = load_scene(scene_path("extreme/bricard-dynamics.yaml").string(), shared_registry());
+    const Scene bricard = read_scene(scene_path("extreme/bricard-dynamics.yaml").string(), shared_registry());
     const Expectation eb = read_expectation(bricard);
-    const CellOutcome ob = run_case(bricard, shared_registry(), eb, "augmented", "dopri5", eb.quick_t_end);
+    const CellOutcome ob = run_case(bricard.model, shared_registry(), eb, "augmented", "dopri5", eb.quick_t_end);
     EXPECT_EQ(ob.kind, "pass") << ob.cell() << " " << ob.message;
 }
 
 TEST(Extreme, ExpectKeyIsValidated) {
     const std::string base = "dimension: planar\nbodies:\n  - {name: b, mass: 1, inertia: 1, position: [0, 0]}\n";
-    const Model none = load_scene_text(base, "none", shared_registry());
+    const Scene none = read_scene_text(base, "none", shared_registry());
     EXPECT_THROW(read_expectation(none), InputError);
-    const Model bad_kind =
-        load_scene_text(base + "expect: {outcome: failure, kind: exploded}\n", "bad", shared_registry());
+    const Scene bad_kind =
+        read_scene_text(base + "expect: {outcome: failure, kind: exploded}\n", "bad", shared_registry());
     EXPECT_THROW(read_expectation(bad_kind), InputError);
-    const Model bad_body = load_scene_text(
+    const Scene bad_body = read_scene_text(
         base + "expect: {outcome: pass, measure: oscillator, oscillator: {body: nobody}}\n", "bad", shared_registry());
     EXPECT_THROW(read_expectation(bad_body), InputError);
-    const Model ok = load_scene_text(
+    const Scene ok = read_scene_text(
         base + "expect: {outcome: failure, kind: [assembly_failure, budget_exceeded], integrator: cvode}\n", "ok",
         shared_registry());
     const Expectation e = read_expectation(ok);
@@ -107,11 +107,11 @@ TEST(Extreme, ExpectKeyIsValidated) {
     EXPECT_EQ(e.integrator, "cvode");
     // the final measure compares at t_end, so a shorter quick run cannot use it
     const std::string final_key = "measure: final, final: {bodies: [b], positions: [[0, 0]]}";
-    EXPECT_THROW(read_expectation(load_scene_text(base + "expect: {outcome: pass, " + final_key +
+    EXPECT_THROW(read_expectation(read_scene_text(base + "expect: {outcome: pass, " + final_key +
                                                       ", t_end: 2, quick_t_end: 1}\n",
                                                   "bad", shared_registry())),
                  InputError);
-    EXPECT_THROW(read_expectation(load_scene_text(
+    EXPECT_THROW(read_expectation(read_scene_text(
                      base + "expect: {outcome: pass, measure: final, final: {bodies: [b], positions: []}}\n", "bad",
                      shared_registry())),
                  InputError);
@@ -128,9 +128,9 @@ TEST(Extreme, FinalMeasureSeesAWrongReference) {
             "base: ../bench/car-axis.yaml\nexpect: {outcome: pass, measure: final, bound: 1.0e-6, final: {bodies: "
             "[left, right], positions: [[" + std::string(x_left) + ", 4.969894602303324e-1], [1.041742524885400, 3.739110272652214e-1]]}, integrator: cvode, t_end: 3, "
             "tolerance: 1.0e-10, output_step: 0.01}\n";
-        const Model model = load_scene_text(yaml, label, shared_registry());
+        const Scene model = read_scene_text(yaml, label, shared_registry());
         const Expectation e = read_expectation(model);
-        return run_case(model, shared_registry(), e, "augmented", "cvode");
+        return run_case(model.model, shared_registry(), e, "augmented", "cvode");
     };
     const CellOutcome exact = run(0.0), moved = run(1e-4);
     EXPECT_EQ(exact.kind, "pass") << exact.cell();

@@ -18,6 +18,7 @@
 #include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
 #include <mbd/kit/formulation.hpp>
+#include <mbd/kit/index3_problem.hpp>
 
 #include <gtest/gtest.h>
 
@@ -391,7 +392,10 @@ namespace {
 // the augmented (KKT) system [M J^T; J 0][vdot; lambda] = [Q; gamma], dense.
 class TestFormulation : public mbd::Formulation {
 public:
-    void bind(mbd::System& system, const mbd::FormulationOptions&) override { system_ = &system; }
+    void bind(mbd::System& system, const mbd::FormulationOptions&) override {
+        system_ = &system;
+        index3_.bind(system);
+    }
     int ode_size() const override { return system_->nq() + system_->nv(); }
     void to_ode(const mbd::State& state, VectorXd& y) override {
         y.resize(ode_size());
@@ -418,7 +422,7 @@ public:
         VectorXd lambda;
         solve(state, vdot, lambda);
     }
-    bool supports_index3() const override { return true; }
+    mbd::Index3Problem* index3_problem() override { return &index3_; }
 
 private:
     void solve(const mbd::State& s, VectorXd& vdot, VectorXd& lambda) const {
@@ -440,6 +444,7 @@ private:
         lambda = x.tail(nc);
     }
     mbd::System* system_ = nullptr;
+    mbd::SystemIndex3Problem index3_{*this};
 };
 
 struct Loaded {
@@ -472,7 +477,7 @@ TEST(GeneralizedAlpha, RefusesProblemsWithoutAnIndex3Formulation) {
         run("generalized_alpha", s, problem, 0.0, y0, {1.0});
         FAIL() << "no InputError";
     } catch (const mbd::InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("generalized_alpha needs a formulation that supports index-3 (augmented)"),
+        EXPECT_NE(std::string(e.what()).find("generalized_alpha needs the formulation's index-3 problem"),
                   std::string::npos)
             << e.what();
     }

@@ -507,13 +507,14 @@ TEST(StaticsEquilibriumScene, WrittenFromTheModelNotTheFile) {
     const std::filesystem::path dir = mbd::test::scratch("equilibrium-scene");
     std::ofstream(dir / "base.yaml") << pendulum(-0.5, 0.4, 3.0);
     std::ofstream(dir / "derived.yaml") << "base: base.yaml\nname: derived\n";
-    const mbd::Model model = mbd::load_scene(dir / "derived.yaml", shared_registry());
+    const mbd::Scene read = mbd::read_scene(dir / "derived.yaml", shared_registry());
+    const mbd::Model& model = read.model;
     std::ofstream(dir / "derived.yaml") << "this is no longer a scene: [\n";
     std::filesystem::remove(dir / "base.yaml");
 
     mbd::State at = model.initial_state();
     at.q << 0.4 * std::cos(-1.0), 0.4 * std::sin(-1.0), -1.0;  // the rod turned about the pin at the origin
-    const std::string text = mbd::equilibrium_scene(model, at);
+    const std::string text = mbd::equilibrium_scene(read, at);
     EXPECT_EQ(text.find("base:"), std::string::npos) << text;
     const mbd::Model again = scene(text, "equilibrium.yaml");
     EXPECT_EQ(again.name, "derived");

@@ -427,8 +427,8 @@ void time_peer_point(const std::string& exe, const BenchSpec& spec, const BenchP
 
 BenchSceneResult run_bench_scene(const std::string& scene_file, Registry& registry, const BenchOptions& options,
                                  const std::function<void(const std::string&)>& log) {
-    const Model model = load_scene(scene_file, registry);
-    return run_bench(model, load_bench_spec(model), registry, options, log);
+    const Scene scene = read_scene(scene_file, registry);
+    return run_bench(scene.model, load_bench_spec(scene), registry, options, log);
 }
 
 BenchSceneResult run_bench(const Model& model, const BenchSpec& bench_spec, Registry& registry, const BenchOptions& options,

@@ -184,9 +184,10 @@ void read_peers(const Param& p, BenchSpec& spec) {
 
 }  // namespace
 
-BenchSpec load_bench_spec(const Model& model) {
-    // the scene's `bench:` key as the loader read it (inherited through `base:` like every key)
-    const Param* b = model.document ? field(*model.document, "bench") : nullptr;
+BenchSpec load_bench_spec(const Scene& scene) {
+    // the scene's `bench:` section as the loader read it (inherited through `base:` like every key)
+    const Model& model = scene.model;
+    const Param* b = scene.section(kBenchSection);
     if (!b) throw InputError(model.source, "the scene has no 'bench:' key (docs/scene-format.md, Benchmarks)");
     BenchSpec spec;
     spec.scene = model.source;

@@ -143,9 +143,10 @@ private:
 
 }  // namespace
 
-std::string equilibrium_scene(const Model& model, const State& state) {
-    if (!model.document) throw std::logic_error("equilibrium_scene: the model holds no scene document");
-    YAML::Node root = yaml_of(*model.document);
+std::string equilibrium_scene(const Scene& scene, const State& state) {
+    const Model& model = scene.model;
+    if (!scene.document) throw std::logic_error("equilibrium_scene: the scene holds no document");
+    YAML::Node root = yaml_of(*scene.document);
     place_bodies(root["bodies"], model, state);
     const FrameMover mover(model, state);
     if (YAML::Node joints = root["joints"])

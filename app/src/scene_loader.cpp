@@ -5,8 +5,15 @@
 
 namespace mbd {
 
-Model load_with(const SceneLoader& load, const std::filesystem::path& file, Registry& registry) {
-    return load ? load(file, registry) : load_scene(file, registry);
+Scene load_with(const SceneLoader& load, const std::filesystem::path& file, Registry& registry) {
+    return load ? load(file, registry) : read_scene(file, registry);
+}
+
+Scene scene_of(Model model) {
+    Scene scene;
+    scene.document = model.document;
+    scene.model = std::move(model);
+    return scene;
 }
 
 }  // namespace mbd

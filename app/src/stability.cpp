@@ -95,9 +95,11 @@ void read_final_positions(const Param& m, const Model& model, Expectation& e) {
 
 }  // namespace
 
-Expectation read_expectation(const Model& model) {
-    if (!model.expect_node) throw InputError(model.source, "the scene has no 'expect:' key (declared outcome)");
-    const Param& node = *model.expect_node;
+Expectation read_expectation(const Scene& scene) {
+    const Model& model = scene.model;
+    const Param* section = scene.section(kExpectSection);
+    if (!section) throw InputError(model.source, "the scene has no 'expect:' key (declared outcome)");
+    const Param& node = *section;
     if (!node.is_map()) node.fail("'expect' must be a map: {outcome: pass | failure, ...}");
     Expectation e;
     const Param* outcome = field(node, "outcome");

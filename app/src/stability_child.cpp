@@ -55,8 +55,8 @@ void write_all(int fd, const std::string& text) {
     };
     try {
         Registry registry;
-        const Model model = load_with(load, scene, registry);
-        c = run_case(model, registry, read_expectation(model), formulation, integrator, t_end, report);
+        const Scene loaded = load_with(load, scene, registry);
+        c = run_case(loaded.model, registry, read_expectation(loaded), formulation, integrator, t_end, report);
     } catch (const std::exception& x) {
         c.kind = "error";
         c.message = x.what();

@@ -364,7 +364,7 @@ Study read_study(const std::filesystem::path& file, Registry& registry, const Sc
     const Param& scene = required(root, "scene", "study");
     s.scene = word(scene, "scene");
     if (s.scene.is_relative()) s.scene = file.parent_path() / s.scene;
-    s.model = std::make_shared<const Model>(load_with(load, s.scene, registry));
+    s.model = std::make_shared<const Model>(load_with(load, s.scene, registry).model);
     s.analysis = read_analysis(required(root, "analysis", "study"));
     check_analysis(required(root, "analysis", "study"), s.analysis, *s.model, registry);
     s.design = read_design(required(root, "design", "study"));

@@ -1,6 +1,8 @@
 // The extension module mbd._mbd (docs/python.md), and the helpers its files share.
 #include "bindings.hpp"
 
+#include <mbd/app/scene_sections.hpp>
+
 #include <pythread.h>
 
 #include <chrono>
@@ -48,6 +50,7 @@ PYBIND11_MODULE(_mbd, m) {
     m.doc() = "The engine of mbd (multibody dynamics); import mbd, the package around it.";
     m.attr("version") = MBD_VERSION;
     mp::main_thread_id = py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>();
+    mbd::declare_application_scene_sections();  // a scene with `bench:` or `expect:` loads here as in mbd
     mp::bind_errors(m);
     mp::bind_plugins(m);
     mp::bind_model(m);

@@ -1,7 +1,8 @@
 // Time integrators, shared by all formulations (book Secs. 6.11-6.12 and the
 // multibody literature). They see a formulation only through OdeProblem: its
 // size, y' = f(t, y), the projection hook after accepted steps and whether it
-// redefined y, and, for the implicit index-3 integrator, the DAE behind y.
+// redefined y, and, for the implicit index-3 integrator, the DAE behind y (the
+// formulation's Index3Problem).
 #pragma once
 
 #include <mbd/kit/formulation.hpp>
@@ -53,12 +54,10 @@ public:
     // rest not on them: the energy friction dissipated) that an implicit integrator leaves out
     // of its error control (cvode), integrating them on the steps the motion needs.
     virtual int quadrature_count() const { return 0; }
-    // The index-3 DAE M vdot + J^T lambda = Q, C(q, t) = 0 behind y, for integrators that
-    // solve it directly (generalized_alpha): its System, or null when y has none; and the
-    // conversions between y and the System's state.
-    virtual System* index3_system() { return nullptr; }
-    virtual void state_from_y(double /*t*/, const Eigen::VectorXd& /*y*/, State& /*state*/) {}
-    virtual void y_from_state(const State& /*state*/, Eigen::VectorXd& /*y*/) {}
+    // The index-3 DAE M vdot + J^T lambda = Q, C(q, t) = 0 behind y as the formulation
+    // provides it (kit index3_problem.hpp), for integrators that solve it (generalized_alpha);
+    // null when y has none.
+    virtual Index3Problem* index3_problem() { return nullptr; }
 
     // --- events (docs/integrators.md "Events"): functions g(t, y), each >= 0 on its open
     // side; a sign change is an event (a stop closing or opening). An integrator that
@@ -91,7 +90,8 @@ public:
 // and every smooth one differs by a rounding unit.
 class FormulationProblem : public OdeProblem {
 public:
-    FormulationProblem(Formulation& formulation, System& system) : formulation_(formulation), system_(system) {}
+    // `system`: the System the formulation is bound to (its index-3 problem works on it)
+    FormulationProblem(Formulation& formulation, System& /*system*/) : formulation_(formulation) {}
     int size() const override { return formulation_.ode_size(); }
     void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot) override {
         formulation_.rhs(t == step_end_ ? std::nextafter(t, -HUGE_VAL) : t, y, ydot);
@@ -99,9 +99,7 @@ public:
     bool project(double t, Eigen::VectorXd& y) override { return formulation_.project(t, y); }
     bool state_redefined() override { return formulation_.state_redefined(); }
     bool may_redefine_state() const override { return formulation_.may_redefine_state(); }
-    System* index3_system() override { return formulation_.supports_index3() ? &system_ : nullptr; }
-    void state_from_y(double t, const Eigen::VectorXd& y, State& state) override { formulation_.from_ode(t, y, state); }
-    void y_from_state(const State& state, Eigen::VectorXd& y) override { formulation_.to_ode(state, y); }
+    Index3Problem* index3_problem() override { return formulation_.index3_problem(); }
     // increasing times
     void set_breakpoints(std::vector<double> times) { breakpoints_ = std::move(times); }
     double next_breakpoint(double t) const override {
@@ -112,7 +110,6 @@ public:
 
 private:
     Formulation& formulation_;
-    System& system_;
     std::vector<double> breakpoints_;
     double step_end_ = std::nan("");
 };
@@ -138,8 +135,8 @@ struct IntegratorDescription {
     int order;            // order of accuracy; for a variable-order method its highest (cvode's BDF: 5)
     bool adaptive;        // chooses its own steps for a tolerance; otherwise fixed steps of a given size
     bool locates_events;  // locates the problem's events (OdeProblem::event_count) and ends a step on each
-    // Integrates the index-3 form (positions, velocities and multipliers together), which
-    // only formulations with supports_index3() have; checked before the formulation binds.
+    // Integrates the index-3 form (positions, velocities and multipliers together): the
+    // formulation's Index3Problem (Formulation::index3_problem), checked before it binds.
     bool needs_index3;
     bool stiff;           // implicit: its steps are not bounded by the problem's fastest damping
     Automatic automatic;

@@ -125,13 +125,10 @@ public:
     std::shared_ptr<const Param> formulation_node;  // the `formulation:` node (name or map)
     FormulationOptions formulation_options;         // its shared keys, read (formulation_setup.hpp)
     std::string formulation_where;
-    // The whole scene as read (every `base:` merged in, each node with its file:line): the
-    // application layer reads its own keys (`bench:`) from it and writes results in the
-    // scene's own terms (the equilibrium scene of `mbd statics --output`) without reading
-    // the file again.
+    // The physics of the scene as read (every `base:` merged in, each node with its file:line;
+    // without the application sections, which Scene keeps): the inputs and breakpoints are
+    // found in it, and a parameter study changes it and loads it again.
     std::shared_ptr<const Param> document;
-    // The scene's `expect:` node (extreme cases: declared outcome), raw; read by app/src/stability.cpp.
-    std::shared_ptr<const Param> expect_node;
 
     int body_count() const { return static_cast<int>(bodies.size()); }
     int nq() const { return body_count() * coordinates_per_body(dimension) + flexible_coordinates_; }

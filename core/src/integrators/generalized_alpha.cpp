@@ -12,7 +12,11 @@
 // with alpha_m = (2 rho - 1)/(rho + 1), alpha_f = rho/(rho + 1),
 // gamma = 1/2 + alpha_f - alpha_m, beta = (gamma + 1/2)^2 / 4 (rho = rho_infinity).
 //
-// (+) is System::advance_positions: planar bodies add the increment; spatial
+// The equations come from the formulation as its index-3 problem (kit index3_problem.hpp:
+// the residuals, the iteration matrix below and the projection after a step); this file is
+// the method: the discretisation, the scaling, the linear algebra and the Newton iteration.
+//
+// (+) is Index3Problem::advance_positions (System::advance_positions): planar bodies add the increment; spatial
 // bodies add the translation and rotate the Euler parameters by the body-axis
 // rotation vector through the exponential map. Because v = (Rdot, wbar) lives in
 // the Lie algebra of R^3 x SO(3), this is the Lie-group generalized-alpha method
@@ -44,8 +48,7 @@
 #include "common.hpp"
 
 #include <mbd/kit/formulation.hpp>
-#include <mbd/kit/singularity.hpp>
-#include <mbd/kit/system.hpp>
+#include <mbd/kit/index3_problem.hpp>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseLU>
@@ -71,9 +74,9 @@ public:
     const Eigen::VectorXd& state() const override { return y_; }
 
 private:
-    // Takes the system, sizes the work vectors, and sets the regularisation and the
-    // method's coefficients.
-    void prepare(System& system);
+    // Takes the formulation's index-3 problem, sizes the work vectors, and sets the
+    // regularisation and the method's coefficients.
+    void prepare(Index3Problem& dae);
     // One step from t to t + h: Newton on (vdot_{n+1}, lambda_{n+1}) with the kept iteration
     // matrix, else (none, or it converges slowly) with one factored at every iteration; then
     // the update.
@@ -84,16 +87,15 @@ private:
     bool newton(double t, double h, IntegratorStats& stats, bool keep);
     // q, v and a at t_next from the current iterate x_ of vdot_{n+1}.
     void update_kinematics(double h, double t_next);
-    // Build the iteration matrix at `state_` and factor it.
+    // The problem's iteration matrix at the evaluated state (with the geometric stiffness at
+    // lambda_ when asked, dense path only), regularised, and factored.
     void factor(double beta_p, double gamma_p, IntegratorStats& stats, bool geometric = false);
-    // Geometric stiffness d(J^T lambda)/dq by forward differences (dense path only).
-    void geometric_stiffness();
     // Solve the factored system for rhs_ into sol_.
     void solve();
     // Initial accelerations and multipliers: [M J^T; J 0] [vdot; lambda] = [Q; gamma].
     void initial_accelerations(double t, IntegratorStats& stats);
     // A Newton iteration that does not converge: a singular configuration when J lost rank
-    // since the start (the singularity monitor's message, naming the rows), else the cause.
+    // since the start (the problem's message, naming the rows), else the cause.
     [[noreturn]] void newton_failure(double t, const std::string& cause);
 
     IntegratorSettings settings_;
@@ -102,7 +104,7 @@ private:
     double t_ = 0.0;
     Eigen::VectorXd y_;  // the state at t_ as the problem's y
     FixedStepGrid grid_;
-    System* system_ = nullptr;
+    Index3Problem* dae_ = nullptr;
     const Eigen::SparseMatrix<double>* mass_ = nullptr;
     int nv_ = 0, nc_ = 0;
     double regularization_ = 0.0;
@@ -110,84 +112,32 @@ private:
     double newton_tol_ = 0.0;
 
     State state_;
-    ConstraintValues cv_;
-    Eigen::SparseMatrix<double> dQ_dq_, dQ_dv_;
-    Eigen::VectorXd Q_, r_, rhs_, sol_;
+    Eigen::VectorXd r_, rhs_, sol_;
     Eigen::VectorXd q_n_, v_n_, vdot_n_, a_n_, lambda_n_;
     Eigen::VectorXd x_, lambda_, a_next_, increment_;
-    Eigen::MatrixXd dense_, geometric_;
-    ConstraintValues cv_fd_;
-    State state_fd_;
-    Eigen::VectorXd jt_lambda_, jt_lambda_fd_, unit_;
+    Eigen::MatrixXd dense_;
     Eigen::PartialPivLU<Eigen::MatrixXd> dense_lu_;
-    std::vector<Eigen::Triplet<double>> triplets_;
+    Index3Problem::Triplets triplets_;
     Eigen::SparseMatrix<double> sparse_;
     Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> sparse_lu_;
     std::vector<int> analysed_outer_, analysed_inner_;  // the pattern sparse_lu_ was ordered for
     bool use_dense_ = true;
-    SingularityMonitor singularity_;  // rank of J at the start, asked again when Newton fails
     // the kept iteration matrix (the last one factored in a step): whether there is one, and
     // the beta' it was built with
     bool factored_ = false;
     double factored_beta_p_ = 0.0;
 };
 
-void GeneralizedAlpha::geometric_stiffness() {
-    jt_lambda_.noalias() = cv_.J.transpose() * lambda_;
-    const double eps = 1e-7 * std::max(1.0, state_.q.lpNorm<Eigen::Infinity>());
-    for (int j = 0; j < nv_; ++j) {
-        state_fd_.t = state_.t;
-        state_fd_.q = state_.q;
-        state_fd_.v = state_.v;
-        unit_.setZero();
-        unit_[j] = eps;
-        system_->advance_positions(state_fd_.q, unit_);
-        system_->constraints(state_fd_, cv_fd_, true);
-        jt_lambda_fd_.noalias() = cv_fd_.J.transpose() * lambda_;
-        geometric_.col(j) = (jt_lambda_fd_ - jt_lambda_) / eps;
-    }
-}
-
 void GeneralizedAlpha::factor(double beta_p, double gamma_p, IntegratorStats& stats, bool geometric) {
-    const Eigen::SparseMatrix<double>& M = system_->mass_matrix();
-    system_->force_jacobians(state_, dQ_dq_, dQ_dv_);
+    triplets_.clear();
+    dae_->iteration_matrix(beta_p, gamma_p, geometric && nc_ > 0 && use_dense_ ? &lambda_ : nullptr, triplets_);
     ++stats.jacobian_evaluations;
-    const Eigen::SparseMatrix<double>& J = cv_.J;
     if (use_dense_) {
         dense_.setZero();
-        auto add = [&](const Eigen::SparseMatrix<double>& A, double s) {
-            for (int k = 0; k < A.outerSize(); ++k)
-                for (Eigen::SparseMatrix<double>::InnerIterator it(A, k); it; ++it) dense_(it.row(), it.col()) += s * it.value();
-        };
-        add(M, 1.0);
-        if (gamma_p != 0.0) add(dQ_dv_, -gamma_p);
-        if (beta_p != 0.0) add(dQ_dq_, -beta_p);
-        for (int k = 0; k < J.outerSize(); ++k)
-            for (Eigen::SparseMatrix<double>::InnerIterator it(J, k); it; ++it) {
-                dense_(nv_ + it.row(), it.col()) += it.value();
-                dense_(it.col(), nv_ + it.row()) += it.value();
-            }
-        if (geometric && nc_ > 0) {
-            geometric_stiffness();
-            dense_.topLeftCorner(nv_, nv_) += beta_p * geometric_;
-        }
+        for (const Eigen::Triplet<double>& t : triplets_) dense_(t.row(), t.col()) += t.value();
         for (int i = 0; i < nc_; ++i) dense_(nv_ + i, nv_ + i) = -regularization_;
         dense_lu_.compute(dense_);
     } else {
-        triplets_.clear();
-        auto add = [&](const Eigen::SparseMatrix<double>& A, double s) {
-            for (int k = 0; k < A.outerSize(); ++k)
-                for (Eigen::SparseMatrix<double>::InnerIterator it(A, k); it; ++it)
-                    triplets_.emplace_back(it.row(), it.col(), s * it.value());
-        };
-        add(M, 1.0);
-        if (gamma_p != 0.0) add(dQ_dv_, -gamma_p);
-        if (beta_p != 0.0) add(dQ_dq_, -beta_p);
-        for (int k = 0; k < J.outerSize(); ++k)
-            for (Eigen::SparseMatrix<double>::InnerIterator it(J, k); it; ++it) {
-                triplets_.emplace_back(nv_ + it.row(), it.col(), it.value());
-                triplets_.emplace_back(it.col(), nv_ + it.row(), it.value());
-            }
         for (int i = 0; i < nc_; ++i) triplets_.emplace_back(nv_ + i, nv_ + i, -regularization_);
         sparse_.resize(nv_ + nc_, nv_ + nc_);
         sparse_.setFromTriplets(triplets_.begin(), triplets_.end());
@@ -215,12 +165,13 @@ void GeneralizedAlpha::solve() {
 }
 
 void GeneralizedAlpha::newton_failure(double t, const std::string& cause) {
-    if (nc_ > 0 && cv_.J.rows() == nc_) singularity_.check(*system_, t, cv_.J);  // throws on a lost rank
+    const ConstraintValues& cv = dae_->constraint_values();
+    if (nc_ > 0 && cv.J.rows() == nc_) dae_->check_rank(t);  // throws on a lost rank
     std::string where;
-    if (nc_ > 0 && cv_.C.size() == nc_) {
+    if (nc_ > 0 && cv.C.size() == nc_) {
         Eigen::Index worst = 0;
-        const double c = cv_.C.cwiseAbs().maxCoeff(&worst);
-        where = "; worst constraint row: " + system_->describe_row(static_cast<int>(worst)) +
+        const double c = cv.C.cwiseAbs().maxCoeff(&worst);
+        where = "; worst constraint row: " + dae_->describe_row(static_cast<int>(worst)) +
                 ", |C| = " + format_time(c);
     }
     throw DynamicsError(t, "generalized_alpha: Newton iteration did not converge at t = " + format_time(t) + " (" +
@@ -229,15 +180,13 @@ void GeneralizedAlpha::newton_failure(double t, const std::string& cause) {
 
 void GeneralizedAlpha::initial_accelerations(double t, IntegratorStats& stats) {
     state_.t = t;
-    system_->generalized_forces(state_, Q_);
-    system_->constraints(state_, cv_, true);
+    dae_->evaluate(state_);
     ++stats.rhs_evaluations;
-    singularity_.reset();
-    if (nc_ > 0) singularity_.check(*system_, t, cv_.J);  // the reference rank
+    dae_->set_reference_rank(t);
     factor(0.0, 0.0, stats);  // [M J^T; J 0]
     factored_ = false;        // not an iteration matrix
-    rhs_.head(nv_) = Q_;
-    rhs_.tail(nc_) = cv_.gamma;
+    rhs_.head(nv_) = dae_->forces();
+    rhs_.tail(nc_) = dae_->constraint_values().gamma;
     solve();
     if (!sol_.allFinite())
         throw DynamicsError(t, "generalized_alpha: the initial accelerations cannot be solved at t = " +
@@ -246,10 +195,10 @@ void GeneralizedAlpha::initial_accelerations(double t, IntegratorStats& stats) {
     lambda_n_ = sol_.tail(nc_);
 }
 
-void GeneralizedAlpha::prepare(System& system) {
-    system_ = &system;
-    nv_ = system.nv();
-    nc_ = system.constraint_rows(true);
+void GeneralizedAlpha::prepare(Index3Problem& dae) {
+    dae_ = &dae;
+    nv_ = dae.velocity_count();
+    nc_ = dae.constraint_count();
     const int n = nv_ + nc_;
     use_dense_ = n <= kDenseLimit;
     factored_ = false;
@@ -257,13 +206,8 @@ void GeneralizedAlpha::prepare(System& system) {
     analysed_inner_.clear();
     if (use_dense_) {
         dense_.resize(n, n);
-        geometric_.resize(nv_, nv_);
-        jt_lambda_.resize(nv_);
-        jt_lambda_fd_.resize(nv_);
-        unit_.resize(nv_);
         dense_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
     }
-    Q_.resize(nv_);
     r_.resize(nv_);
     rhs_.resize(n);
     sol_.resize(n);
@@ -272,7 +216,7 @@ void GeneralizedAlpha::prepare(System& system) {
     increment_.resize(nv_);
 
     // regularisation of the zero block: keeps consistent redundant constraints solvable
-    mass_ = &system.mass_matrix();
+    mass_ = &dae.mass_matrix();
     const Eigen::SparseMatrix<double>& M = *mass_;
     double m_max = 0.0;
     for (int k = 0; k < M.outerSize(); ++k)
@@ -293,7 +237,7 @@ void GeneralizedAlpha::update_kinematics(double h, double t_next) {
     state_.v = v_n_ + (h * (1.0 - gamma_)) * a_n_ + (h * gamma_) * a_next_;
     increment_ = h * v_n_ + (h * h * (0.5 - beta_)) * a_n_ + (h * h * beta_) * a_next_;
     state_.q = q_n_;
-    system_->advance_positions(state_.q, increment_);
+    dae_->advance_positions(state_.q, increment_);
     state_.t = t_next;
 }
 
@@ -308,12 +252,11 @@ void GeneralizedAlpha::step(double t, double h, IntegratorStats& stats) {
     lambda_n_ = lambda_;
     q_n_ = state_.q;
     v_n_ = state_.v;
-    system_->normalize(q_n_);
+    dae_->project_positions(q_n_);
     state_.q = q_n_;
 }
 
 bool GeneralizedAlpha::newton(double t, double h, IntegratorStats& stats, bool keep) {
-    const Eigen::SparseMatrix<double>& M = *mass_;
     const double t_next = t + h;
     const double beta_p = h * h * beta_ * (1.0 - alpha_f_) / (1.0 - alpha_m_);
     const double gamma_p = h * gamma_ * (1.0 - alpha_f_) / (1.0 - alpha_m_);
@@ -324,15 +267,13 @@ bool GeneralizedAlpha::newton(double t, double h, IntegratorStats& stats, bool k
     double first = 0.0, previous = 0.0;
     for (int it = 0; it < kMaxNewton; ++it) {
         update_kinematics(h, t_next);
-        system_->generalized_forces(state_, Q_);
-        system_->constraints(state_, cv_, true);
+        dae_->evaluate(state_);
         ++stats.rhs_evaluations;
         ++stats.newton_iterations;
-        r_.noalias() = M * x_;
-        r_ -= Q_;
-        if (nc_ > 0) r_.noalias() += cv_.J.transpose() * lambda_;
+        dae_->residual(x_, lambda_, r_);
+        const Eigen::VectorXd& C = dae_->constraint_values().C;
         rhs_.head(nv_) = -r_;
-        if (nc_ > 0) rhs_.tail(nc_) = -cv_.C / beta_p;
+        if (nc_ > 0) rhs_.tail(nc_) = -C / beta_p;
         if (!rhs_.allFinite()) {
             if (keep) return false;
             newton_failure(t_next, "the residual became non-finite");
@@ -352,7 +293,7 @@ bool GeneralizedAlpha::newton(double t, double h, IntegratorStats& stats, bool k
         const double correction = sol_.head(nv_).lpNorm<Eigen::Infinity>();
         const double dq = beta_p * correction;   // the correction's size in q_{n+1}
         const double dv = gamma_p * correction;  // and in v_{n+1} (gamma' / beta' ~ 2 / h times dq)
-        const double c = nc_ > 0 ? cv_.C.lpNorm<Eigen::Infinity>() : 0.0;
+        const double c = nc_ > 0 ? C.lpNorm<Eigen::Infinity>() : 0.0;
         const double scale = std::max(1.0, q_n_.lpNorm<Eigen::Infinity>());
         const double v_scale = std::max(1.0, v_n_.lpNorm<Eigen::Infinity>());
         if (it == 0) first = dq;
@@ -375,14 +316,16 @@ bool GeneralizedAlpha::newton(double t, double h, IntegratorStats& stats, bool k
 
 void GeneralizedAlpha::begin(OdeProblem& problem, double t0, const Eigen::VectorXd& y0, double /*t_end*/,
                              IntegratorStats& stats) {
-    System* system = problem.index3_system();
-    if (!system)
-        throw InputError(name(), "generalized_alpha needs a formulation that supports index-3 (augmented)");
+    Index3Problem* dae = problem.index3_problem();
+    if (!dae)
+        throw InputError(name(), "generalized_alpha needs the formulation's index-3 problem (Index3Problem: "
+                                 "M vdot + J^T lambda = Q, C(q, t) = 0), which this problem's formulation does not "
+                                 "provide; use one that does (augmented)");
     require_fixed_step(name(), settings_);
-    prepare(*system);
+    prepare(*dae);
     problem_ = &problem;
     stats_ = &stats;
-    problem.state_from_y(t0, y0, state_);
+    dae->state_from_y(t0, y0, state_);
     state_.t = t0;
     q_n_ = state_.q;
     v_n_ = state_.v;
@@ -407,7 +350,7 @@ bool GeneralizedAlpha::step(double t_stop, StepOutputs* /*outputs: the steps end
     state_.t = t_;
     state_.q = q_n_;
     state_.v = v_n_;
-    problem_->y_from_state(state_, y_);
+    dae_->y_from_state(state_, y_);
     return true;
 }
 

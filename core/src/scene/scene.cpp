@@ -9,6 +9,8 @@
 
 #include <mbd/formulation_setup.hpp>
 
+#include <mutex>
+
 namespace mbd {
 namespace scene_detail {
 
@@ -110,6 +112,38 @@ void index_key_lines(const YAML::Node& node, const Param& p, KeyLines& lines) {
 
 // ---------------------------------------------------------------- top level
 
+void Loader::check_top_level_keys() {
+    std::vector<std::string> accepted = {"name",   "dimension", "gravity",     "ground",   "bodies", "flexible_bodies",
+                                         "joints", "forces",    "drivers",     "formulation", "actuators"};
+    const size_t physics = accepted.size();
+    for (const SceneSection& section : sections_)
+        if (std::find(accepted.begin(), accepted.end(), section.key) == accepted.end()) accepted.push_back(section.key);
+    for (const auto& kv : root_.fields) {
+        if (std::find(accepted.begin(), accepted.end(), kv.first) != accepted.end()) continue;
+        // a misspelt application key: say whose it is
+        std::string whose;
+        const std::string best = nearest_name(kv.first, accepted);
+        for (const SceneSection& section : sections_)
+            if (section.key == best && !section.reader.empty()) whose = "('" + best + "' is read by " + section.reader + ")";
+        unknown_key(root_, kv.first, "scene", accepted, whose);
+    }
+    // the physics alone for the Model (a parameter study loads it again without the application)
+    Param physics_document = root_;
+    for (size_t k = physics; k < accepted.size(); ++k) physics_document.fields.erase(accepted[k]);
+    model_.document = std::make_shared<const Param>(std::move(physics_document));
+}
+
+Scene Loader::take_scene() {
+    Scene scene;
+    for (const SceneSection& section : sections_) {
+        const auto it = root_.fields.find(section.key);
+        if (it != root_.fields.end()) scene.sections.emplace(section.key, it->second);
+    }
+    scene.document = std::make_shared<const Param>(std::move(root_));
+    scene.model = std::move(model_);
+    return scene;
+}
+
 void Loader::build() {
     name_indexes_.clear();  // a fresh model: no names indexed
     if (root_.is_scalar() && root_.text.empty())
@@ -117,14 +151,9 @@ void Loader::build() {
     if (!root_.is_map())
         root_.fail("a scene must be a map of keys (name, dimension, gravity, bodies, joints, forces, drivers)");
 
-    check_keys(root_, "scene",
-               {"name", "dimension", "gravity", "ground", "bodies", "flexible_bodies", "joints", "forces", "drivers",
-                "formulation", "actuators", "bench", "expect"});  // bench: read by `mbd bench` (app/src/bench.cpp) from Model::document;
-                                      // expect: stored raw for `mbd stability` (app/src/stability.cpp)
-
+    check_top_level_keys();
     model_.source = file_;
     model_.base_files = base_files_;
-    model_.document = std::make_shared<const Param>(root_);
     if (const Param* name = find(root_, "name")) {
         if (!name->is_scalar()) name->fail("scene: 'name' must be a single line of text");
         model_.name = name->text;
@@ -143,7 +172,6 @@ void Loader::build() {
 
     if (const Param* g = find(root_, "gravity")) model_.gravity = space_vector(*g, "gravity", "scene");
     if (const Param* f = find(root_, "formulation")) load_formulation(*f);
-    if (const Param* e = find(root_, "expect")) model_.expect_node = std::make_shared<Param>(*e);
 
     const bool flexible = find(root_, "flexible_bodies") != nullptr;
     if (!find(root_, "bodies") && !flexible)
@@ -454,13 +482,46 @@ void Loader::load_joint(const Param& node, int index) {
 }
 }  // namespace scene_detail
 
-Model load_scene_text(const std::string& yaml, const std::string& label, Registry& registry) {
-    scene_detail::Loader loader(label, registry);
+Scene read_scene_text(const std::string& yaml, const std::string& label, Registry& registry,
+                      const std::vector<SceneSection>& sections) {
+    scene_detail::Loader loader(label, registry, sections);
     return loader.load(yaml);
 }
 
+Scene read_scene(const std::filesystem::path& file, Registry& registry, const std::vector<SceneSection>& sections) {
+    return read_scene_text(detail::read_scene_file(file), file.string(), registry, sections);
+}
+
+Model load_scene_text(const std::string& yaml, const std::string& label, Registry& registry) {
+    return read_scene_text(yaml, label, registry).model;
+}
+
 Model load_scene(const std::filesystem::path& file, Registry& registry) {
-    return load_scene_text(detail::read_scene_file(file), file.string(), registry);
+    return read_scene(file, registry).model;
+}
+
+namespace {
+std::mutex sections_mutex;
+std::vector<SceneSection>& sections_declared() {
+    static std::vector<SceneSection> declared;
+    return declared;
+}
+}  // namespace
+
+void declare_scene_sections(const std::vector<SceneSection>& sections) {
+    const std::lock_guard<std::mutex> lock(sections_mutex);
+    std::vector<SceneSection>& declared = sections_declared();
+    for (const SceneSection& section : sections) {
+        const auto same = std::find_if(declared.begin(), declared.end(),
+                                       [&](const SceneSection& d) { return d.key == section.key; });
+        if (same != declared.end()) *same = section;
+        else declared.push_back(section);
+    }
+}
+
+std::vector<SceneSection> declared_scene_sections() {
+    const std::lock_guard<std::mutex> lock(sections_mutex);
+    return sections_declared();
 }
 
 }  // namespace mbd

@@ -69,16 +69,18 @@ private:
 
 class Loader {
 public:
-    Loader(std::string file, Registry& registry) : file_(std::move(file)), registry_(registry) {}
+    // `sections`: the application's top-level keys accepted beside the physics' (SceneSection)
+    Loader(std::string file, Registry& registry, std::vector<SceneSection> sections = {})
+        : file_(std::move(file)), registry_(registry), sections_(std::move(sections)) {}
 
-    Model load(const std::string& text) {
+    Scene load(const std::string& text) {
         detail::SceneTreeReader reader;
         const YAML::Node root = reader.parse(text, file_);
         root_ = reader.with_base(reader.convert(root, file_), file_);
         base_files_ = reader.base_files();
         index_key_lines(root, root_, key_lines_);
         build();
-        return std::move(model_);
+        return take_scene();
     }
     // A scene already read into a Param tree (`base:` merged): its keys' lines are the
     // lines of their values.
@@ -268,6 +270,10 @@ private:
 
     // --- the sections
     void build();
+    // The top-level keys: the physics' and the declared application sections', each other one
+    // refused at its file:line; the Model's document without the application sections.
+    void check_top_level_keys();
+    Scene take_scene();
     void load_formulation(const Param& node);
     void load_body(const Param& node, int index);
     // scene_flexible.cpp: `flexible_bodies:` and joints at their points
@@ -352,6 +358,7 @@ private:
     std::string file_;
     std::vector<std::string> base_files_;  // the `base:` files read
     Registry& registry_;
+    std::vector<SceneSection> sections_;
     Param root_;
     KeyLines key_lines_;
     Model model_;

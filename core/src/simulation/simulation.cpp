@@ -240,9 +240,11 @@ PreparedRun prepare_run(const Model& model, Registry& registry, const Simulation
     run.integration = run_integration(model, settings, method.integrator);
     run.integrator = make_integrator(method.integrator, run.integration);
     const Integrator& integrator = *run.integrator;
-    if (integrator.needs_index3() && !run.formulation->supports_index3())
-        throw InputError(integrator.name(), integrator.name() + " needs a formulation that supports index-3 (augmented); '" +
-                                                name + "' has none");
+    if (integrator.needs_index3() && !run.formulation->index3_problem())
+        throw InputError(integrator.name(), integrator.name() +
+                                                " needs the formulation's index-3 problem (M vdot + J^T lambda = Q, "
+                                                "C(q, t) = 0), which formulation '" +
+                                                name + "' does not provide; use --formulation augmented");
     require_velocity_rows_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
     require_reaction_loads_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
     require_flexible_bodies_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());

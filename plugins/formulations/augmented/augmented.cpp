@@ -40,6 +40,7 @@
 #include <mbd/kit/block_mass_inverse.hpp>
 #include <mbd/kit/dense_gram.hpp>
 #include <mbd/kit/formulation.hpp>
+#include <mbd/kit/index3_problem.hpp>
 #include <mbd/kit/ode_state.hpp>
 #include <mbd/kit/projection.hpp>
 #include <mbd/kit/reaction_loads.hpp>
@@ -70,7 +71,8 @@ public:
     Augmented& operator=(const Augmented&) = delete;
 
     MBD_FORMULATION_CALLS;
-    bool supports_index3() const override { return true; }
+    // its equations as the index-3 DAE (kit index3_problem.hpp), for generalized_alpha
+    Index3Problem* index3_problem() override { return &index3_; }
     bool supports_velocity_constraints() const override { return true; }
     bool supports_reaction_loads() const override { return true; }
     // flexible bodies: their constant mass block is factored once (kit block_mass_inverse.hpp),
@@ -110,6 +112,7 @@ private:
     void check_finite(double t, const Eigen::VectorXd& x, const char* what) const;
 
     System* system_ = nullptr;
+    SystemIndex3Problem index3_{*this};  // bound with the formulation
     FormulationOptions options_;
     bool sparse_ = false;
     bool planar_ = true;
@@ -151,6 +154,7 @@ private:
 
 void Augmented::bind(System& system, const FormulationOptions& options) {
     system_ = &system;
+    index3_.bind(system);
     options_ = options;
     singularity_.tolerance = options.singularity_tolerance;
 

@@ -11,6 +11,7 @@
 #include <mbd/method_choice.hpp>
 #include <mbd/model.hpp>
 #include <mbd/registry.hpp>
+#include <mbd/scene.hpp>
 #include <mbd/simulation.hpp>
 
 #include <Eigen/Core>
@@ -64,9 +65,12 @@ struct BenchSpec {
     std::vector<BenchPeerSeries> peers;
 };
 
-// Reads the `bench:` key of the scene the model was loaded from (Model::document). Throws
-// InputError (file:line) when it is missing or malformed.
-BenchSpec load_bench_spec(const Model& model);
+// The scene section a benchmark reads (scene_sections.hpp).
+inline constexpr const char* kBenchSection = "bench";
+
+// Reads the scene's `bench:` section (Scene::sections). Throws InputError (file:line) when it
+// is missing or malformed.
+BenchSpec load_bench_spec(const Scene& scene);
 
 // Positions of the measured points at the output times: one row per time, 3 columns per point.
 struct Trajectory {

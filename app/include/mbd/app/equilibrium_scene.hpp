@@ -3,14 +3,15 @@
 #pragma once
 
 #include <mbd/model.hpp>
+#include <mbd/scene.hpp>
 
 #include <string>
 
 namespace mbd {
 
-// The scene the model was loaded from (Model::document, `base:` files merged in) with every
-// body's position/orientation replaced by `state`, its velocities removed (rest), and the
+// The scene as read (Scene::document, `base:` files merged in, application sections kept) with
+// every body's position/orientation replaced by `state`, its velocities removed (rest), and the
 // joint (and world-frame force) points and axes moved with the bodies.
-std::string equilibrium_scene(const Model& model, const State& state);
+std::string equilibrium_scene(const Scene& scene, const State& state);
 
 }  // namespace mbd

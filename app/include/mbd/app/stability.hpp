@@ -45,8 +45,12 @@ struct Expectation {
     std::vector<Vec3> final_positions;
 };
 
-// Throws InputError when the model has no (or a malformed) `expect:` key.
-Expectation read_expectation(const Model& model);
+// The scene section a stability case reads (scene_sections.hpp).
+inline constexpr const char* kExpectSection = "expect";
+
+// The scene's `expect:` section (Scene::sections). Throws InputError when the scene has none, or
+// a malformed one.
+Expectation read_expectation(const Scene& scene);
 
 struct CellOutcome {
     std::string kind;        // "pass", "inaccurate", a failure kind, "not_applicable", "crashed", "error"

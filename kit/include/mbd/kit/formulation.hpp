@@ -6,8 +6,8 @@
 // coordinates; Hamiltonian: coordinates and momenta), maps it to and from the
 // engine's State, and may pull y back onto the constraint manifold after each
 // accepted step (coordinate projection). Formulations that can be integrated
-// as an index-3 DAE by an implicit integrator say so; such an integrator then
-// works on the System's M, Q, C and J directly.
+// as an index-3 DAE by an implicit integrator provide that DAE as a named problem
+// (index3_problem(), kit index3_problem.hpp), through which such an integrator works.
 #pragma once
 
 #include <mbd/kit/formulation_options.hpp>
@@ -22,6 +22,8 @@
 #include <string>
 
 namespace mbd {
+
+class Index3Problem;  // kit index3_problem.hpp
 
 // A run that cannot go on (singular saddle point, Newton failure in a
 // projection, ...). `time` is when it happened; the message names the cause
@@ -86,9 +88,12 @@ public:
     // naming the force element.
     virtual bool supports_reaction_loads() const { return false; }
 
-    // True if an implicit integrator may solve this formulation's index-3 DAE
-    // M vdot + J^T lambda = Q, C(q, t) = 0 on the System directly.
-    virtual bool supports_index3() const { return false; }
+    // The formulation's index-3 problem (kit index3_problem.hpp: M vdot + J^T lambda = Q,
+    // C(q, t) = 0 with its residuals, iteration matrix and projection), which an implicit
+    // integrator of the index-3 DAE (generalized_alpha) solves; null when the formulation has
+    // none (the default), and the host then refuses that integrator naming the formulation.
+    // Asked before bind() only for whether there is one; usable after bind().
+    virtual Index3Problem* index3_problem() { return nullptr; }
     // True if the formulation takes flexible bodies (System::flexible_coordinates(), sdk
     // body.hpp): a general constant mass matrix block after the rigid bodies' blocks. The core
     // refuses a scene with flexible bodies, naming the body, for a formulation that does not.
