@@ -1,6 +1,5 @@
 #include "support/test_support.hpp"
 
-#include <mbd/app/scene_sections.hpp>
 
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
@@ -25,11 +24,6 @@ Registry& shared_registry() {
     static Registry registry({build_plugin_dir()});
     return registry;
 }
-
-namespace {
-// every test program loads scenes as the mbd command does: with its `bench:` and `expect:`
-[[maybe_unused]] const bool application_sections_declared = (declare_application_scene_sections(), true);
-}  // namespace
 
 namespace {
 std::string slurp(const std::filesystem::path& p) {

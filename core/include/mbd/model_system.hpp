@@ -91,6 +91,11 @@ private:
     const ConstraintSystem joints_and_velocity_rows_;
     Data data_;
     Eigen::VectorXd flexible_Q_;  // one flexible body's force (the widest), workspace
+    // the constant-load elements' summed Q (the core's gravity: m g at every mass centre),
+    // evaluated at the first generalized_forces and added as one vector after it
+    std::vector<int> varying_forces_;  // the other elements, in scene order
+    Eigen::VectorXd constant_Q_;
+    bool constant_Q_ready_ = false;
     std::vector<int> reaction_loaded_;  // force indices with a load_joint, in scene order
     std::vector<int> load_slot_;        // per force: its index in loads_, -1 none
     Eigen::VectorXd loads_;             // their loads N (set_reaction_loads)

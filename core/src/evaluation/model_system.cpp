@@ -46,6 +46,7 @@ ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
         load_slot_.push_back(f.load_joint >= 0 ? static_cast<int>(reaction_loaded_.size()) : -1);
         if (f.load_joint >= 0) reaction_loaded_.push_back(index);
         if (f.force->is_friction()) friction_.push_back(index);
+        if (!(f.constant_load && f.load_joint < 0 && f.flexible.empty())) varying_forces_.push_back(index);
     }
     loads_.setZero(static_cast<int>(reaction_loaded_.size()));
 
@@ -141,12 +142,20 @@ Eigen::Ref<Eigen::VectorXd> ModelSystem::element_force(int f, double t) {
 
 void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
     const Model& m = *model_;
-    Q.setZero(m.nv());
     data_.pose(state);
-    for (size_t f = 0; f < m.forces.size(); ++f) {
-        const auto element = element_force(static_cast<int>(f), state.t);
+    if (!constant_Q_ready_) {  // the constant-load elements once (model.hpp ForceInstance::constant_load)
+        constant_Q_.setZero(m.nv());
+        for (size_t f = 0; f < m.forces.size(); ++f)
+            if (!std::binary_search(varying_forces_.begin(), varying_forces_.end(), static_cast<int>(f)))
+                scatter_vector(m, force_bodies_[f], element_force(static_cast<int>(f), state.t), constant_Q_);
+        constant_Q_ready_ = true;
+    }
+    Q = constant_Q_;
+    for (const int f : varying_forces_) {
+        const auto element = element_force(f, state.t);
         scatter_vector(m, force_bodies_[f], element, Q);
-        add_flexible_slot_forces(m, m.forces[f].flexible, data_.force_flexible[f], element, Q);  // G^T Q_f
+        if (!m.forces[f].flexible.empty())
+            add_flexible_slot_forces(m, m.forces[f].flexible, data_.force_flexible[f], element, Q);  // G^T Q_f
     }
     // each flexible body's own forces: elastic, gravity and quadratic-velocity (sdk body.hpp)
     for (size_t k = 0; k < m.flexible_bodies.size(); ++k) {
