@@ -204,31 +204,42 @@ inline Vec3 body_position(const Model& model, const Eigen::VectorXd& q, int scen
     return q.segment<3>(7 * model.body_index(scene.bodies[scene_body].name));
 }
 
-// How far mbd's joint `joint` (MuJoCo's joint j) lies from MuJoCo's coordinates in sample s: a hinge's
-// angle from the relative rotation of its two mbd bodies (zero at qpos0), a slide's travel from the
-// child's mass centre in the parent's axes (it moves along the axis there), a ball's rotation angle
+// How far mbd's one-freedom joint `joint` moved from state q0 to q: a hinge's angle from the
+// relative rotation of its two bodies about its axis, a slide's travel from the child's mass
+// centre in the parent's axes (it moves along the axis there).
+inline double scene_joint_travel(const import::SceneJoint& joint, bool slide, const import::ImportedScene& scene,
+                                 const Model& model, const Eigen::VectorXd& q0, const Eigen::VectorXd& q) {
+    const Mat3 parent0 = body_rotation(model, q0, joint.parent, scene), parent = body_rotation(model, q, joint.parent, scene);
+    const Vec3 axis = parent0.transpose() * joint.axis;
+    if (slide) {
+        const Vec3 at0 = parent0.transpose() * (body_position(model, q0, joint.child, scene) - body_position(model, q0, joint.parent, scene));
+        const Vec3 at = parent.transpose() * (body_position(model, q, joint.child, scene) - body_position(model, q, joint.parent, scene));
+        return axis.dot(at - at0);
+    }
+    const Mat3 rel0 = parent0.transpose() * body_rotation(model, q0, joint.child, scene);
+    const Mat3 relative = parent.transpose() * body_rotation(model, q, joint.child, scene);
+    const Vec4 e = euler_parameters_from_rotation(relative * rel0.transpose());
+    return 2.0 * std::atan2(e.tail<3>().dot(axis), e[0]);
+}
+
+// How far mbd's joint `joint` (MuJoCo's joint j) lies from MuJoCo's coordinates in sample s: a
+// hinge's angle or a slide's travel (scene_joint_travel, zero at qpos0), a ball's rotation angle
 // between MuJoCo's quaternion and the relative rotation of the bodies.
 inline double joint_gap(const mjModel* m, int j, const import::SceneJoint& joint, const import::ImportedScene& scene, const Model& model,
                  const Eigen::VectorXd& q0, const Eigen::VectorXd& q, const std::vector<double>& qpos) {
     const int adr = m->jnt_qposadr[j];
-    const Mat3 parent0 = body_rotation(model, q0, joint.parent, scene), parent = body_rotation(model, q, joint.parent, scene);
-    const Mat3 rel0 = parent0.transpose() * body_rotation(model, q0, joint.child, scene);
-    const Vec3 axis = parent0.transpose() * joint.axis;
-    if (m->jnt_type[j] == mjJNT_SLIDE) {
-        const Vec3 at0 = parent0.transpose() * (body_position(model, q0, joint.child, scene) - body_position(model, q0, joint.parent, scene));
-        const Vec3 at = parent.transpose() * (body_position(model, q, joint.child, scene) - body_position(model, q, joint.parent, scene));
-        return std::abs(axis.dot(at - at0) - (qpos[adr] - m->qpos0[adr]));
-    }
-    const Mat3 relative = parent.transpose() * body_rotation(model, q, joint.child, scene);
+    if (m->jnt_type[j] == mjJNT_SLIDE)
+        return std::abs(scene_joint_travel(joint, true, scene, model, q0, q) - (qpos[adr] - m->qpos0[adr]));
     if (m->jnt_type[j] == mjJNT_BALL) {  // MuJoCo: child axes = parent axes * body_quat * qpos (unit at qpos0)
+        const Mat3 parent0 = body_rotation(model, q0, joint.parent, scene), parent = body_rotation(model, q, joint.parent, scene);
+        const Mat3 rel0 = parent0.transpose() * body_rotation(model, q0, joint.child, scene);
+        const Mat3 relative = parent.transpose() * body_rotation(model, q, joint.child, scene);
         const Vec4 mj(qpos[adr], -qpos[adr + 1], -qpos[adr + 2], -qpos[adr + 3]);
         const Vec4 mismatch = quaternion_product(mj, euler_parameters_from_rotation(rel0.transpose() * relative));
         return 2.0 * std::asin(std::min(1.0, mismatch.tail<3>().norm()));
     }
     EXPECT_EQ(m->jnt_type[j], mjJNT_HINGE) << joint.name;
-    const Vec4 e = euler_parameters_from_rotation(relative * rel0.transpose());
-    const double angle = 2.0 * std::atan2(e.tail<3>().dot(axis), e[0]);
-    return std::abs(wrap_angle(angle - (qpos[adr] - m->qpos0[adr])));
+    return std::abs(wrap_angle(scene_joint_travel(joint, false, scene, model, q0, q) - (qpos[adr] - m->qpos0[adr])));
 }
 
 // A joint of the scene that stands for an MJCF equality constraint (scene_builder.cpp add_loop).
