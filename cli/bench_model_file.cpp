@@ -97,7 +97,10 @@ ModelFileBench model_file_bench(const std::filesystem::path& file, Registry& reg
     const import::ModelFormat format = import::detect_format(file);
     if (format == import::ModelFormat::Mjcf || format == import::ModelFormat::Urdf)
         spec.peers.push_back({"mujoco", "rk4", {}, decades(1e-2, 1e-5, 2)});
-    if (format == import::ModelFormat::Urdf) spec.peers.push_back({"dart", "euler", {}, decades(1e-2, 1e-5, 2)});
+    if (format == import::ModelFormat::Urdf) {  // DART's World (first order) and its dynamics under RK4
+        spec.peers.push_back({"dart", "euler", {}, decades(1e-2, 1e-5, 2)});
+        spec.peers.push_back({"dart", "rk4", {}, decades(1e-2, 1e-5, 2)});
+    }
     return out;
 }
 

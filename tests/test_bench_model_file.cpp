@@ -60,23 +60,29 @@ std::map<std::string, Series> bench_peers(const std::string& name, const std::st
         EXPECT_EQ(row["status"], "ok") << engine << " " << row.dump();
         if (row["status"] != "ok") continue;
         if (engine == "mbd") mbd_best = std::min(mbd_best, row["error"].get<double>());
-        else peers[engine].steps.push_back(row["step"]), peers[engine].errors.push_back(row["error"]);
+        else {  // by engine and integrator: "mujoco rk4", "dart euler", "dart rk4"
+            Series& series = peers[engine + " " + row["integrator"].get<std::string>()];
+            series.steps.push_back(row["step"]), series.errors.push_back(row["error"]);
+        }
     }
     return peers;
 }
 
-// MuJoCo's RK4 reaches mbd's reference (same bodies, inertias, velocities); DART's
-// semi-implicit Euler converges to it at order 1 (sqrt(10) per half decade of step).
+// MuJoCo's RK4 and RK4 over DART's forward dynamics reach mbd's reference (same bodies,
+// inertias, velocities) at fourth order; DART's World (semi-implicit Euler) converges to it at
+// order 1 (sqrt(10) per half decade of step).
 void expect_peers_converge_to_mbd(std::map<std::string, Series>& peers) {
-    ASSERT_EQ(peers["mujoco"].errors.size(), 7u);  // steps 1e-2 to 1e-5, two per decade
-    ASSERT_EQ(peers["dart"].errors.size(), 7u);
-    const auto& mj = peers["mujoco"].errors;
-    EXPECT_LT(*std::min_element(mj.begin(), mj.end()), 1e-8);
-    EXPECT_GT(mj[0] / mj[1], 30.0);  // fourth order: 100 per half decade of step
-    const auto& dart = peers["dart"].errors;
+    for (const char* fourth_order : {"mujoco rk4", "dart rk4"}) {
+        const auto& e = peers[fourth_order].errors;
+        ASSERT_EQ(e.size(), 7u) << fourth_order;  // steps 1e-2 to 1e-5, two per decade
+        EXPECT_LT(*std::min_element(e.begin(), e.end()), 1e-8) << fourth_order;
+        EXPECT_GT(e[0] / e[1], 30.0) << fourth_order;  // fourth order: 100 per half decade of step
+    }
+    ASSERT_EQ(peers["dart euler"].errors.size(), 7u);
+    const auto& dart = peers["dart euler"].errors;
     for (size_t k = 3; k + 1 < dart.size(); ++k) {
-        EXPECT_GT(dart[k] / dart[k + 1], 2.5) << "step " << peers["dart"].steps[k];
-        EXPECT_LT(dart[k] / dart[k + 1], 4.0) << "step " << peers["dart"].steps[k];
+        EXPECT_GT(dart[k] / dart[k + 1], 2.5) << "step " << peers["dart euler"].steps[k];
+        EXPECT_LT(dart[k] / dart[k + 1], 4.0) << "step " << peers["dart euler"].steps[k];
     }
     EXPECT_LT(dart.back(), 1e-5);
 }

@@ -1,8 +1,11 @@
 // DART peer of the work-precision benchmark (bench/peers/peer_common.hpp): a URDF model file read
-// by DART's own URDF reader (dart::utils::DartLoader, Debian libdart-utils-urdf-dev) and stepped
-// by its World, whose only integrator is semi-implicit Euler (first order: velocities, then
-// positions with the new velocities) at the given step, shortened so that the output step is a
-// whole number of steps. Gravity is DART's default, 9.81 along -z, the URDF convention. The
+// by DART's own URDF reader (dart::utils::DartLoader, Debian libdart-utils-urdf-dev) and either
+// stepped by its World (`euler`), whose only integrator is semi-implicit Euler (first order:
+// velocities, then positions with the new velocities), or (`rk4`) DART's forward dynamics
+// (Skeleton::computeForwardDynamics, its articulated-body algorithm, with the joints' springs and
+// dampers) integrated by classical RK4 in the joint positions and velocities, as
+// tests/test_dart_agreement.cpp does; either at the given step, shortened so that the output step
+// is a whole number of steps. Gravity is DART's default, 9.81 along -z, the URDF convention. The
 // reader gets the file without its <visual> and <collision> elements: the dynamics uses the
 // explicit <inertial> only, and DART refuses a model whose meshes it cannot resolve (package://
 // paths of robots shipped without their meshes). No collision detection runs (no shapes). Where
@@ -65,6 +68,23 @@ bool set_velocities(const PeerArgs& a, dart::dynamics::Skeleton& robot) {
     return true;
 }
 
+// One classical RK4 step of DART's forward dynamics in y = (q, v).
+void rk4_step(dart::dynamics::Skeleton& robot, double h, Eigen::VectorXd& y) {
+    const Eigen::Index n = static_cast<Eigen::Index>(robot.getNumDofs());
+    auto rate = [&](const Eigen::VectorXd& x) {
+        robot.setPositions(x.head(n));
+        robot.setVelocities(x.tail(n));
+        robot.computeForwardDynamics();
+        Eigen::VectorXd xdot(2 * n);
+        xdot << x.tail(n), robot.getAccelerations();
+        return xdot;
+    };
+    const Eigen::VectorXd k1 = rate(y), k2 = rate(y + 0.5 * h * k1), k3 = rate(y + 0.5 * h * k2), k4 = rate(y + h * k3);
+    y += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+    robot.setPositions(y.head(n));  // the state reached, for the bodies' mass centres
+    robot.setVelocities(y.tail(n));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -73,8 +93,10 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "dart peer: reads URDF model files only, not '%s'\n", a.model.c_str());
         return 2;
     }
-    if (a.tolerance || (!a.integrator.empty() && a.integrator != "euler" && a.integrator != "default")) {
-        std::fprintf(stderr, "dart peer: only DART's semi-implicit Euler at fixed steps (euler, step VALUE)\n");
+    const bool rk4 = a.integrator == "rk4";
+    if (a.tolerance || (!a.integrator.empty() && !rk4 && a.integrator != "euler" && a.integrator != "default")) {
+        std::fprintf(stderr, "dart peer: fixed steps only, of DART's semi-implicit Euler (euler) or of RK4 over DART's "
+                             "forward dynamics (rk4), step VALUE\n");
         return 2;
     }
     const dart::dynamics::SkeletonPtr robot = read_urdf(a.model);
@@ -93,12 +115,15 @@ int main(int argc, char** argv) {
     world->setGravity(Eigen::Vector3d(0, 0, -9.81));
     world->setTimeStep(h);
     world->addSkeleton(robot);
+    robot->setGravity(Eigen::Vector3d(0, 0, -9.81));  // the World gives it its own; the rk4 path does not step the World
+    Eigen::VectorXd y(2 * robot->getNumDofs());
+    y << robot->getPositions(), robot->getVelocities();
     const std::vector<double> times = peer_output_times(a);
     std::vector<std::vector<double>> rows;
     long steps = 0;
     const std::clock_t start = std::clock();
     for (double t : times) {
-        for (const long target = std::lround(t / h); steps < target; ++steps) world->step();
+        for (const long target = std::lround(t / h); steps < target; ++steps) rk4 ? rk4_step(*robot, h, y) : world->step();
         std::vector<double> row{t};
         for (dart::dynamics::BodyNode* b : bodies) {
             const Eigen::Vector3d c = b->getCOM();

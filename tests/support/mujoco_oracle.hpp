@@ -5,6 +5,7 @@
 
 #include "support/test_support.hpp"
 
+#include <mbd/import/import.hpp>
 #include <mbd/import/imported_scene.hpp>
 #include <mbd/import/mjcf_compile.hpp>
 
@@ -147,6 +148,141 @@ inline double body_frame_difference(const mjModel* m, const import::ImportedScen
         }
         ++compared;
     }
+    return worst;
+}
+
+// MuJoCo's index of the joint the import named `name`: by name, or an unnamed one as the scene
+// names it ("joint #N" in mjcf_reader.cpp, written joint__N); -1 when MuJoCo has none.
+inline int mujoco_joint(const mjModel* m, const std::string& name) {
+    const int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
+    const std::string unnamed = "joint__";  // "joint #N" as a scene name
+    if (j >= 0 || name.compare(0, unnamed.size(), unnamed) != 0) return j;
+    const int n = std::stoi(name.substr(unnamed.size()));
+    return n < m->njnt && !mj_id2name(m, mjOBJ_JOINT, n) ? n : -1;
+}
+
+// The comparison's settings on both sides: RK4, no contact, limit, equality, actuation,
+// friction loss or passive force; zero damping, stiffness and (unless kept) armature.
+inline void conservative_tree(mjModel* m, bool keep_armature = false) {
+    m->opt.integrator = mjINT_RK4;
+    m->opt.disableflags |= mjDSBL_CONTACT | mjDSBL_LIMIT | mjDSBL_EQUALITY | mjDSBL_ACTUATION |
+                           mjDSBL_FRICTIONLOSS | mjDSBL_PASSIVE;
+    for (int k = 0; k < m->nv; ++k) {
+        m->dof_damping[k] = m->dof_frictionloss[k] = 0.0;
+        if (!keep_armature) m->dof_armature[k] = 0.0;
+    }
+    for (int j = 0; j < m->njnt; ++j) m->jnt_stiffness[j] = 0.0, m->jnt_limited[j] = 0;  // no stops imported either
+}
+
+// The documented initial velocities: hinge number k (MuJoCo's joint order, from 0) turns at
+// (-1)^k (1 + 0.1 k) rad/s; a free joint moves its origin at (0.3, -0.2, 1.0) m/s and turns at
+// (0.5, -0.4, 0.8) rad/s in its body axes. Returned as qvel and as the import's options.
+inline std::pair<std::vector<double>, import::ImportOptions> initial_velocities(const mjModel* m) {
+    std::vector<double> qvel(m->nv, 0.0);
+    import::ImportOptions options;
+    int hinge = 0;
+    for (int j = 0; j < m->njnt; ++j) {
+        const int d = m->jnt_dofadr[j];
+        std::vector<double> v;
+        if (m->jnt_type[j] == mjJNT_FREE) v = {0.3, -0.2, 1.0, 0.5, -0.4, 0.8};
+        if (m->jnt_type[j] == mjJNT_HINGE) v = {(hinge % 2 ? -1.0 : 1.0) * (1.0 + 0.1 * hinge)}, ++hinge;
+        for (size_t k = 0; k < v.size(); ++k) qvel[d + k] = v[k];
+        const char* name = mj_id2name(m, mjOBJ_JOINT, j);  // an unnamed one as the import names it
+        if (!v.empty()) options.joint_velocities[name ? std::string(name) : "joint #" + std::to_string(j)] = v;
+    }
+    return {qvel, options};
+}
+
+inline Mat3 body_rotation(const Model& model, const Eigen::VectorXd& q, int scene_body, const import::ImportedScene& scene) {
+    if (scene_body < 0) return Mat3::Identity();
+    const int b = model.body_index(scene.bodies[scene_body].name);
+    return rotation_from_euler_parameters(q.segment<4>(7 * b + 3));
+}
+
+inline Vec3 body_position(const Model& model, const Eigen::VectorXd& q, int scene_body, const import::ImportedScene& scene) {
+    if (scene_body < 0) return Vec3::Zero();
+    return q.segment<3>(7 * model.body_index(scene.bodies[scene_body].name));
+}
+
+// How far mbd's one-freedom joint `joint` moved from state q0 to q: a hinge's angle from the
+// relative rotation of its two bodies about its axis, a slide's travel from the child's mass
+// centre in the parent's axes (it moves along the axis there).
+inline double scene_joint_travel(const import::SceneJoint& joint, bool slide, const import::ImportedScene& scene,
+                                 const Model& model, const Eigen::VectorXd& q0, const Eigen::VectorXd& q) {
+    const Mat3 parent0 = body_rotation(model, q0, joint.parent, scene), parent = body_rotation(model, q, joint.parent, scene);
+    const Vec3 axis = parent0.transpose() * joint.axis;
+    if (slide) {
+        const Vec3 at0 = parent0.transpose() * (body_position(model, q0, joint.child, scene) - body_position(model, q0, joint.parent, scene));
+        const Vec3 at = parent.transpose() * (body_position(model, q, joint.child, scene) - body_position(model, q, joint.parent, scene));
+        return axis.dot(at - at0);
+    }
+    const Mat3 rel0 = parent0.transpose() * body_rotation(model, q0, joint.child, scene);
+    const Mat3 relative = parent.transpose() * body_rotation(model, q, joint.child, scene);
+    const Vec4 e = euler_parameters_from_rotation(relative * rel0.transpose());
+    return 2.0 * std::atan2(e.tail<3>().dot(axis), e[0]);
+}
+
+// How far mbd's joint `joint` (MuJoCo's joint j) lies from MuJoCo's coordinates in sample s: a
+// hinge's angle or a slide's travel (scene_joint_travel, zero at qpos0), a ball's rotation angle
+// between MuJoCo's quaternion and the relative rotation of the bodies.
+inline double joint_gap(const mjModel* m, int j, const import::SceneJoint& joint, const import::ImportedScene& scene, const Model& model,
+                 const Eigen::VectorXd& q0, const Eigen::VectorXd& q, const std::vector<double>& qpos) {
+    const int adr = m->jnt_qposadr[j];
+    if (m->jnt_type[j] == mjJNT_SLIDE)
+        return std::abs(scene_joint_travel(joint, true, scene, model, q0, q) - (qpos[adr] - m->qpos0[adr]));
+    if (m->jnt_type[j] == mjJNT_BALL) {  // MuJoCo: child axes = parent axes * body_quat * qpos (unit at qpos0)
+        const Mat3 parent0 = body_rotation(model, q0, joint.parent, scene), parent = body_rotation(model, q, joint.parent, scene);
+        const Mat3 rel0 = parent0.transpose() * body_rotation(model, q0, joint.child, scene);
+        const Mat3 relative = parent.transpose() * body_rotation(model, q, joint.child, scene);
+        const Vec4 mj(qpos[adr], -qpos[adr + 1], -qpos[adr + 2], -qpos[adr + 3]);
+        const Vec4 mismatch = quaternion_product(mj, euler_parameters_from_rotation(rel0.transpose() * relative));
+        return 2.0 * std::asin(std::min(1.0, mismatch.tail<3>().norm()));
+    }
+    EXPECT_EQ(m->jnt_type[j], mjJNT_HINGE) << joint.name;
+    return std::abs(wrap_angle(scene_joint_travel(joint, false, scene, model, q0, q) - (qpos[adr] - m->qpos0[adr])));
+}
+
+// A joint of the scene that stands for an MJCF equality constraint (scene_builder.cpp add_loop).
+inline bool closes_a_loop(const import::SceneJoint& joint) {
+    return joint.comment.find("(closes a loop)") != std::string::npos;
+}
+
+// The largest difference between mbd and MuJoCo over the samples: every hinge, slide and ball
+// (joint_gap) and a free root's origin and orientation (rotation angle of MuJoCo's quaternion to mbd's).
+inline double trajectory_difference(const mjModel* m, const import::ImportedScene& scene, const Model& model,
+                             const std::vector<Eigen::VectorXd>& q, const std::vector<std::vector<double>>& qpos) {
+    double worst = 0.0;
+    EXPECT_EQ(q.size(), qpos.size());
+    int compared = 0;
+    for (const import::SceneJoint& joint : scene.joints) {
+        if (closes_a_loop(joint)) continue;  // an equality constraint: MuJoCo has no joint for it
+        const int j = mujoco_joint(m, joint.name);
+        if (j < 0 && joint.name.size() > 10 && joint.name.substr(joint.name.size() - 10) == "_rotor_pin") continue;  // armature
+        EXPECT_GE(j, 0) << joint.name;
+        if (j < 0) continue;
+        for (size_t s = 0; s < q.size() && s < qpos.size(); ++s)
+            worst = std::max(worst, joint_gap(m, j, joint, scene, model, q[0], q[s], qpos[s]));
+        ++compared;
+    }
+    for (int j = 0; j < m->njnt; ++j) {
+        if (m->jnt_type[j] != mjJNT_FREE) continue;
+        const int body = m->jnt_bodyid[j], adr = m->jnt_qposadr[j];
+        const int sb = scene.body_of_source[body - 1];
+        const int b = model.body_index(scene.bodies[sb].name);
+        // the body frame's origin in mbd: its mass centre plus the offset it had at t = 0
+        const Mat3 A0 = rotation_from_euler_parameters(q[0].segment<4>(7 * b + 3));
+        const Vec3 offset = A0.transpose() * (Vec3(qpos[0][adr], qpos[0][adr + 1], qpos[0][adr + 2]) - q[0].segment<3>(7 * b));
+        for (size_t s = 0; s < q.size() && s < qpos.size(); ++s) {
+            const Vec4 e = q[s].segment<4>(7 * b + 3);
+            const Vec3 origin = q[s].segment<3>(7 * b) + rotation_from_euler_parameters(e) * offset;
+            worst = std::max(worst, (origin - Vec3(qpos[s][adr], qpos[s][adr + 1], qpos[s][adr + 2])).cwiseAbs().maxCoeff());
+            const Vec4 mj(qpos[s][adr + 3], qpos[s][adr + 4], qpos[s][adr + 5], qpos[s][adr + 6]);
+            const Vec4 mismatch = quaternion_product(Vec4(mj[0], -mj[1], -mj[2], -mj[3]), e.normalized());
+            worst = std::max(worst, 2.0 * std::asin(std::min(1.0, mismatch.tail<3>().norm())));
+        }
+        ++compared;
+    }
+    EXPECT_EQ(compared, m->njnt) << "every MuJoCo joint compared";
     return worst;
 }
 

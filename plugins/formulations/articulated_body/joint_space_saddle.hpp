@@ -61,14 +61,22 @@ public:
             if (skip_[r]) Wt_.col(r).setZero();
         if (!robust_) {
             S_.noalias() = Wt_.transpose() * Wt_;
+            // a row of W that is rounding noise beside the others (a loop's out-of-plane row
+            // when its hinges are parallel, ~1e-17) would be scaled up to a unit row by the
+            // equilibration, a pivot that looks healthy and a correction that amplifies the
+            // row's rounding-level residual by 1e17: such a row is dependent, as for the
+            // robust path's threshold (1e-10 of the largest row)
+            const double largest = S_.diagonal().maxCoeff();
+            bool negligible_row = false;
             for (int r = 0; r < S_.rows(); ++r) {
                 const double d = skip_[r] ? 1.0 : S_(r, r);
+                negligible_row = negligible_row || (!skip_[r] && !(d > 1e-20 * largest));
                 scale_[r] = d > 0.0 ? 1.0 / std::sqrt(d) : 0.0;
                 if (skip_[r]) S_(r, r) = 1.0;
             }
             S_ = scale_.asDiagonal() * S_ * scale_.asDiagonal();
             llt_S_.compute(S_);
-            if (llt_S_.info() == Eigen::Success && scale_.minCoeff() > 0.0) {
+            if (llt_S_.info() == Eigen::Success && scale_.minCoeff() > 0.0 && !negligible_row) {
                 // the least squared diagonal entry of the factor of the unit-diagonal S: the
                 // squared sine of the least angle between a row of W and the rows before it
                 least_relative_pivot_ = llt_S_.matrixLLT().diagonal().cwiseAbs2().minCoeff();
