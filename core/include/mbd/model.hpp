@@ -81,10 +81,9 @@ struct ForceInstance {
     std::vector<Marker> markers;
     std::shared_ptr<const Force> force;
     std::string where;
-    // Q depends on neither t, q nor v (the core's gravity element: m g at every mass centre), so
-    // its Jacobians are zero and never evaluated, and ModelSystem evaluates it once. Such an
-    // element may span every body: the square Jacobian workspace of Data is sized by the other
-    // elements (linear in N).
+    // Q depends on neither q nor v (the core's gravity element: m g at every mass centre), so
+    // its Jacobians are zero and never evaluated. Such an element may span every body: the
+    // square Jacobian workspace of Data is sized by the other elements (linear in N).
     bool constant_load = false;
     int load_joint = -1;  // Force::load_joint() as an index into Model::joints, -1 none
     std::vector<FlexibleAttachment> flexible;  // its slots on flexible bodies (empty: rigid only)

@@ -91,8 +91,9 @@ private:
     const ConstraintSystem joints_and_velocity_rows_;
     Data data_;
     Eigen::VectorXd flexible_Q_;  // one flexible body's force (the widest), workspace
-    // the constant-load elements' summed Q (the core's gravity: m g at every mass centre),
-    // evaluated at the first generalized_forces and added as one vector after it
+    // the constant-load elements' summed Q (model.hpp ForceInstance::constant_load: the core's
+    // gravity, m g at every mass centre, independent of t, q and v), evaluated at the first
+    // generalized_forces and added as one vector after it
     std::vector<int> varying_forces_;  // the other elements, in scene order
     Eigen::VectorXd constant_Q_;
     bool constant_Q_ready_ = false;
