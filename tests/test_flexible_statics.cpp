@@ -165,6 +165,24 @@ TEST(FlexibleStatics, MbdStaticsGivesTheSmallLoadLimit) {
     EXPECT_NEAR(-r.state.q[o + 1], alpha / 3, 1e-4 * alpha / 3);  // P L^3 / (3 EI)
 }
 
+// The same elastica by `mbd statics`' own solver (the Ipopt plugin through run_statics, as the
+// command runs it): the dead tip load is conservative (potential -F . r_tip), so the potential is
+// minimised with the exact Hessian, from the straight beam in one solve per load.
+TEST(FlexibleStatics, MbdStaticsFollowsTheElasticaUnderLargeTipLoads) {
+    const int elements = 16, tip = 4 * elements;
+    for (const double alpha : {1.0, 3.0, 10.0}) {
+        const Model model = test::scene(cantilever(elements, alpha));
+        const StaticsResult r = solve(model);
+        EXPECT_EQ(r.objective, "potential");
+        const int o = model.flexible_bodies.front().offset + tip;
+        const Tip oracle = elastica_tip(alpha);
+        const double error = std::hypot(r.state.q[o] - oracle.x, r.state.q[o + 1] - oracle.y);
+        std::printf("statics, P L^2/EI = %g: tip (%.8f, %.8f), oracle (%.8f, %.8f), error %.3g; %d iterations\n",
+                    alpha, r.state.q[o], r.state.q[o + 1], oracle.x, oracle.y, error, r.iterations);
+        EXPECT_LT(error, 1e-4 * -oracle.y) << alpha;
+    }
+}
+
 // ---------------------------------------------------------------- the catenary
 
 // The catenary parameter a of a chain of length L over a span S: L = 2 a sinh(S / (2a)), by
