@@ -101,7 +101,9 @@ TEST(FlexibleForces, ADeadLoadAtAMaterialPointHasThePotentialMinusFDotRp) {
         worst = std::max(worst, std::abs((load_potential(plus) - load_potential(minus)) / (2 * h) + Q[i]));
     }
     std::printf("dead load at x = %g: largest |dV/dq + Q| %.3g N\n", x, worst);
-    EXPECT_LT(worst, 1e-8 * F.norm());
+    // the differences carry the round-off of the cable's strain energy (about 10 J here, 1e-15
+    // of it over h = 1e-6 is 1e-8 N); a wrong point or sign errs by the load itself
+    EXPECT_LT(worst, 1e-7 * F.norm());
 }
 
 // The cable and a free bob joined by a spring from the cable's tip, no gravity.
