@@ -124,9 +124,8 @@ StaticsResult solve(const Model& model) {
 
 // The elastica at P L^2 / EI up to 10, the engine's ANCF model solved by the test's own Newton
 // iteration on its forces, stiffness and constraints, the load raised in steps from the straight
-// beam (each step starting from the last equilibrium). `mbd statics` (Ipopt) is shown on the small
-// load below and on the catenary; under large point loads its virtual-work objective does not
-// converge in 500 iterations (docs/statics.md "Flexible bodies").
+// beam (each step starting from the last equilibrium): an independent solver of the same model,
+// beside `mbd statics` (Ipopt) below.
 TEST(FlexibleStatics, ACantileverUnderATipLoadFollowsTheElastica) {
     const int elements = 16;
     const int tip = 4 * elements;  // the last node's position in the beam's coordinates
