@@ -8,6 +8,8 @@
 
 #include <mbd/sdk/body.hpp>
 #include <mbd/sdk/rotation.hpp>
+#include <mbd/kit/formulation.hpp>
+#include <mbd/model_system.hpp>
 #include <mbd/simulation.hpp>
 
 #include <Eigen/Geometry>
@@ -498,6 +500,33 @@ TEST(AncfCable3dScene, ARigidBallHungFromThePinnedCableKeepsTheEnergyAndTheJoint
     EXPECT_LT(apart, 1e-9);
     EXPECT_LT(pin, 1e-9);
     EXPECT_LT(lowest, -0.5) << "the ball swings down";
+}
+
+// The frame at a joint's node is undefined where the tangent lies along `normal` (default z for a
+// beam along x): the run stops with an error naming the body, its line and the time, not the
+// plugin's bare DomainError.
+TEST(AncfCable3dScene, ATangentAlongTheNormalStopsTheRunNamingTheBodyAndTheTime) {
+    const Model model = test::scene(spatial_cable("[1, 0, 0]", 2) +
+                                        "joints:\n  - {name: pin, type: spherical, bodies: [ground, {body: rope, node: 0}], "
+                                        "point: [0, 0, 0]}\n",
+                                    "cable.yaml");
+    ModelSystem system(model);
+    State state = system.initial_state();
+    state.t = 0.25;
+    const int o = model.flexible_bodies.front().offset;
+    state.q.segment<3>(o + 3) = Eigen::Vector3d(0, 0, 1);  // node 0's slope r' turned onto z
+    ConstraintValues cv;
+    try {
+        system.constraints(state, cv, true);
+        ADD_FAILURE() << "no error";
+    } catch (const DynamicsError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("flexible body 'rope'"), std::string::npos) << m;
+        EXPECT_NE(m.find("cable.yaml:4"), std::string::npos) << m;
+        EXPECT_NE(m.find("t = 0.25"), std::string::npos) << m;
+        EXPECT_NE(m.find("parallel to its reference direction 'normal'"), std::string::npos) << m;
+        EXPECT_EQ(e.time(), 0.25);
+    }
 }
 
 }  // namespace

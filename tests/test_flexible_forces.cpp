@@ -67,6 +67,45 @@ TEST(FlexibleForces, APointForceAtAMaterialPointActsThroughTheHermiteShapes) {
     }
 }
 
+// A dead load at a material point is conservative: its potential is -F . r_P with r_P = S(x) q
+// (the Hermite shapes above), and its gradient by central differences in every coordinate is
+// minus its generalized force, at a bent and stretched state of the cable.
+TEST(FlexibleForces, ADeadLoadAtAMaterialPointHasThePotentialMinusFDotRp) {
+    const Vec2 F(0.3, -2.0);
+    const double x = 0.6;
+    const Model unloaded = test::scene(kCable);
+    const Model model = test::scene(kCable + "forces:\n  - {name: push, type: point_force, body: {body: rope, at: 0.6}, "
+                                             "force: [0.3, -2]}\n");
+    ModelSystem system(model), unloaded_system(unloaded);
+    ASSERT_TRUE(system.conservative());
+    State state = system.initial_state();
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<double> spread(-0.05, 0.05);
+    for (int i = 0; i < state.q.size(); ++i) state.q[i] += spread(rng);
+    auto load_potential = [&](const State& s) { return system.potential_energy(s) - unloaded_system.potential_energy(s); };
+    const int o = model.flexible_bodies.front().offset;
+    const Eigen::VectorXd shapes_F = hermite_force(x, F);  // S(x)^T F
+    EXPECT_NEAR(load_potential(state), -shapes_F.dot(state.q.segment(o, shapes_F.size())), 1e-13);
+    Eigen::VectorXd Q, Q_unloaded;
+    system.generalized_forces(state, Q);
+    unloaded_system.generalized_forces(state, Q_unloaded);
+    Q -= Q_unloaded;
+    const double h = 1e-6;
+    double worst = 0.0;
+    for (int i = 0; i < system.nv(); ++i) {
+        State plus = state, minus = state;
+        Eigen::VectorXd dv = Eigen::VectorXd::Zero(system.nv());
+        dv[i] = h;
+        system.advance_positions(plus.q, dv);
+        system.advance_positions(minus.q, -dv);
+        worst = std::max(worst, std::abs((load_potential(plus) - load_potential(minus)) / (2 * h) + Q[i]));
+    }
+    std::printf("dead load at x = %g: largest |dV/dq + Q| %.3g N\n", x, worst);
+    // the differences carry the round-off of the cable's strain energy (about 10 J here, 1e-15
+    // of it over h = 1e-6 is 1e-8 N); a wrong point or sign errs by the load itself
+    EXPECT_LT(worst, 1e-7 * F.norm());
+}
+
 // The cable and a free bob joined by a spring from the cable's tip, no gravity.
 std::string spring_scene(double damping) {
     return kCable + "bodies:\n  - {name: bob, mass: 0.5, inertia: 1.0e-3, position: [1.4, 0.1], velocity: [0.5, 2.0]}\n"

@@ -119,6 +119,36 @@ TEST(FlexibleScene, ARigidBobPinnedToTheCablesFreeEndKeepsEnergyAndItsJoint) {
     EXPECT_LT(lowest, -0.8);
 }
 
+// The reaction on the cable at a joint whose second body is the cable's material frame
+// (`mbd simulate --reactions`), against the bob's own law of motion: the hinge pushes the bob
+// with minus that reaction, so m a_bob = m g - F_tip (its acceleration by central differences of
+// its velocity, output every 0.5 ms; the hinge at the bob's centre gives no moment). The pin's
+// reaction column is there too.
+TEST(FlexibleScene, TheReactionOnTheCableAtAHingeIsWhatMovesTheBob) {
+    const double m = 0.5, h = 5e-4;
+    const std::string rest =
+        "bodies:\n  - {name: bob, mass: 0.5, inertia: 1.0e-3, position: [1, 0]}\n"
+        "joints:\n  - {name: pin, type: revolute, bodies: [ground, {body: rope, node: 0}]}\n"
+        "  - {name: tip, type: revolute, bodies: [bob, {body: rope, at: 1.0}]}\n";
+    const Model model = test::scene(scene_text(cable("rope", 4), rest));
+    SimulationSettings settings = test::adaptive_run("augmented", "dopri5", 1e-10, 0.2, h);
+    settings.reactions = true;
+    const Trace trace = test::run_sampled(model, settings);
+    ASSERT_GE(trace.column("pin.fx"), 0);
+    double worst = 0.0, largest = 0.0;
+    for (size_t k = 1; k + 1 < trace.rows.size(); ++k) {
+        const double ax = (trace.at(k + 1, "bob.vx") - trace.at(k - 1, "bob.vx")) / (2 * h);
+        const double ay = (trace.at(k + 1, "bob.vy") - trace.at(k - 1, "bob.vy")) / (2 * h);
+        const double fx = trace.at(k, "tip.fx"), fy = trace.at(k, "tip.fy");
+        worst = std::max(worst, std::hypot(m * ax + fx, m * ay + m * kG + fy));
+        largest = std::max(largest, std::hypot(fx, fy));
+        EXPECT_NEAR(trace.at(k, "tip.tz"), 0.0, 1e-9);
+    }
+    std::printf("hinge on the cable: largest |m a - m g + F_tip| %.3g N of |F_tip| up to %.3g N\n", worst, largest);
+    EXPECT_GT(largest, 0.5 * m * kG);  // the hinge carries a good part of the bob's weight
+    EXPECT_LT(worst, 1e-2 * largest);   // the differences' error (axial vibration at ~150 rad/s)
+}
+
 TEST(FlexibleScene, TheCsvHasEachNodesPositionAndVelocityUnderItsBodysName) {
     const Model model = test::scene(scene_text(cable("rope", 3, 0.9), kPin));
     const auto csv = test::scratch("flexible_csv") / "cable.csv";

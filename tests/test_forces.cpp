@@ -472,6 +472,52 @@ TEST(ConservativeForces, DampingOrActuationIsNotConservative) {
     EXPECT_NEAR(rf->potential_energy(s0.view()), 0.0, 1e-15);
 }
 
+// A constant force in world axes is a dead load: V = -F . r_P with r_P = R + A u_bar_P, written
+// here from the body's pose; its gradient is -Q by central differences (the moment arm's change
+// included). A follower force (frame: body) or a time-varying one has no potential.
+TEST(ConservativeForces, ADeadPointLoadIsMinusTheGradientOfMinusFDotRp) {
+    std::mt19937 rng(41);
+    for (int trial = 0; trial < 3; ++trial) {
+        TwoBodies tb = random_planar_pair(rng);
+        States planar;
+        planar.planar.push_back(tb.s.planar[0]);
+        const Vec3 u(0.3, -0.2, 0.0);
+        auto h = make_spec("point_force", Dimension::Planar, map({{"force", nums({4.0, -7.0})}}));
+        h->spec.bodies = {tb.infos[0]};
+        h->spec.markers = {marker(u)};
+        auto f = registry().create_force(h->spec, "test");
+        EXPECT_LT(conservative_error(*f, planar), 1e-9) << trial;
+        const PlanarBody& b = planar.planar[0];
+        const Vec2 rP = b.R + planar_rotation(b.theta) * u.head<2>();
+        EXPECT_NEAR(f->potential_energy(planar.view()), -(4.0 * rP.x() - 7.0 * rP.y()), 1e-12);
+
+        TwoBodies sb = random_spatial_pair(rng, random_rotation(rng), random_rotation(rng));
+        States spatial;
+        spatial.spatial.push_back(sb.s.spatial[0]);
+        const Vec3 us(0.2, 0.1, -0.35), F(5.0, -2.0, 3.0);
+        auto hs = make_spec("point_force", Dimension::Spatial,
+                            map({{"force", list({num(5.0), map({{"type", word("constant")}, {"value", num(-2.0)}}), num(3.0)})}}));
+        hs->spec.bodies = {sb.infos[0]};
+        hs->spec.markers = {marker(us)};
+        auto fs = registry().create_force(hs->spec, "test");
+        EXPECT_LT(conservative_error(*fs, spatial), 1e-9) << trial;
+        const SpatialBody& c = spatial.spatial[0];
+        EXPECT_NEAR(fs->potential_energy(spatial.view()), -F.dot(c.R + c.A * us), 1e-12);
+    }
+    States s;
+    s.planar.push_back(planar_body(Vec2(1, 1), 0.4, Vec2::Zero(), 0));
+    const std::vector<BodyInfo> body = {planar_info("b", 1, Vec2(1, 1), 0.4)};
+    auto follower = make_spec("point_force", Dimension::Planar, map({{"force", nums({1.0, 2.0})}, {"frame", word("body")}}));
+    auto varying = make_spec("point_force", Dimension::Planar,
+                             map({{"force", list({num(0), map({{"type", word("linear")}, {"initial", num(1)}, {"rate", num(2)}})})}}));
+    for (auto* spec : {follower.get(), varying.get()}) {
+        spec->spec.bodies = body;
+        auto f = registry().create_force(spec->spec, "test");
+        EXPECT_FALSE(f->is_conservative());
+        EXPECT_EQ(f->potential_energy(s.view()), 0.0);
+    }
+}
+
 // Damping oracle: at a configuration where the spring is undeformed, a damper
 // with coefficient c gives the same generalized force as the time derivative,
 // along the motion, of a spring with stiffness c (the terms that multiply the

@@ -51,6 +51,11 @@ public:
     // (Joint::has_gamma_velocity_transpose); other rows add nothing
     void gamma_velocity_transpose(const State& state, Data& data, const Eigen::VectorXd& mu, Eigen::VectorXd& out) const;
 
+    // Joint j's slot `slot` on a flexible body (System::joint_material_frame): the material frame's
+    // pose and the joint's Jacobian over its velocities at `state`; false for a rigid slot.
+    bool material_frame(size_t j, int slot, const State& state, Data& data, Mat3& A, Vec3& R,
+                        Eigen::MatrixXd& J_frame) const;
+
 private:
     // joint j evaluated at the posed state into data.joint_rows[j]
     const ConstraintEval& evaluate_joint(size_t j, const State& state, Data& data) const;

@@ -29,6 +29,10 @@ public:
     const BodyInfo& body(int index) const override { return bodies_.at(index); }
     Vec3 gravity() const override { return model_->gravity; }
     int flexible_coordinates() const override { return model_->flexible_coordinates(); }
+    bool joint_material_frame(const State& state, int joint, int slot, Mat3& A, Vec3& R,
+                              Eigen::MatrixXd& J_frame) override {
+        return joints_only_.material_frame(static_cast<size_t>(joint), slot, state, data_, A, R, J_frame);
+    }
     int joint_count() const override { return static_cast<int>(joints_.size()); }
     const JointInfo& joint(int index) const override { return joints_.at(index); }
     int driver_count() const override { return static_cast<int>(drivers_.size()); }

@@ -13,6 +13,11 @@
 // the same way, Q_c = -A^T mu (their multipliers mu follow the drivers' in lambda), and
 // count in the joint's reaction when lambda has them.
 //
+// A joint at a flexible body holds, in that body's slot, the material frame at the joint
+// (System::joint_material_frame): its reaction is -J_frame^T lambda on the frame's velocities,
+// a force at the frame's origin and a moment, moved to the joint point the same way (the
+// mapped rows J_frame G would spread it over the body's coordinates instead).
+//
 // A driver's row (s(q) - f(t) = 0) adds the actuator effort; it is reported
 // separately (driver_reactions) so that a joint's reaction is what its bearing carries
 // and the driver's is what the motor supplies.
@@ -33,6 +38,7 @@ namespace mbd {
 // The reaction of one joint (or driver) on one of its bodies, at the joint point.
 struct BodyReaction {
     int body = -1;                       // body index (the ground is never listed)
+    bool material_frame = false;         // a flexible body's material frame (body stays -1)
     Vec3 force = Vec3::Zero();           // world axes (planar: z = 0)
     Vec3 torque = Vec3::Zero();          // world axes, about the joint point (planar: only z)
     Vec3 force_joint = Vec3::Zero();     // the same in the joint frame (this body's marker axes)
@@ -41,6 +47,8 @@ struct BodyReaction {
     // The generalized constraint force on the body's velocity rows (Eq. 6.146):
     // planar (Fx, Fy, M_z) at the mass centre; spatial (F world, M body axes).
     Eigen::Matrix<double, 6, 1> generalized = Eigen::Matrix<double, 6, 1>::Zero();
+    // Whether a reaction is carried here: a rigid body or a flexible body's material frame.
+    bool carried() const { return body >= 0 || material_frame; }
 };
 
 struct JointReaction {
@@ -85,10 +93,25 @@ struct RowRange {
 };
 
 // Reactions on the bodies of one element from its row ranges of J and lambda.
+// The reaction on a flexible body's material frame at joint `joint`'s slot k from the joint's
+// rows [first, first + rows) of lambda (Eq. 6.146 on the frame's velocities); false for a
+// rigid slot (or the ground).
+inline bool material_frame_reaction(System& system, const State& state, int joint, int k, int first,
+                                    const Eigen::VectorXd& lambda, Mat3& A, Vec3& R,
+                                    Eigen::Matrix<double, 6, 1>& g) {
+    Eigen::MatrixXd J_frame;
+    if (joint < 0 || !system.joint_material_frame(state, joint, k, A, R, J_frame)) return false;
+    g.setZero();
+    g.head(J_frame.cols()) = -J_frame.transpose() * lambda.segment(first, J_frame.rows());
+    return true;
+}
+
+// joint_index: the joint whose rows the first range holds, for its slots on flexible bodies
+// (-1: a driver's row, which does not reach them).
 inline JointReaction element_reaction(System& system, const State& state,
                                       const Eigen::SparseMatrix<double, Eigen::RowMajor>& J,
                                       const Eigen::VectorXd& lambda, const JointInfo& joint,
-                                      std::initializer_list<RowRange> ranges) {
+                                      std::initializer_list<RowRange> ranges, int joint_index = -1) {
     const bool planar = system.dimension() == Dimension::Planar;
     const int nvb = velocities_per_body(system.dimension());
     JointReaction out;
@@ -99,26 +122,31 @@ inline JointReaction element_reaction(System& system, const State& state,
         const int body = joint.bodies[k];
         r.body = body;
         const Marker& marker = joint.markers.at(k);
-        if (body < 0) {
-            r.point = marker.u_bar;  // the ground frame is the world
-            if (planar) r.point.z() = 0.0;
-            continue;
-        }
-        // generalized constraint force -J_k^T lambda_k on this body's columns (Eq. 6.146)
         Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-        const int c0 = body * nvb;
-        for (const RowRange& range : ranges) {
-            for (int row = range.first; row < range.first + range.count; ++row) {
-                for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(J, row); it; ++it) {
-                    const int c = static_cast<int>(it.col());
-                    if (c >= c0 && c < c0 + nvb) g[c - c0] -= it.value() * lambda[row];
-                }
-            }
-        }
-        r.generalized = g;
         Mat3 A;
         Vec3 R;
-        body_pose(system, state, body, A, R);
+        if (body < 0) {
+            r.material_frame = material_frame_reaction(system, state, joint_index, static_cast<int>(k),
+                                                       ranges.begin()->first, lambda, A, R, g);
+            if (!r.material_frame) {
+                r.point = marker.u_bar;  // the ground frame is the world
+                if (planar) r.point.z() = 0.0;
+                continue;
+            }
+        } else {
+            // generalized constraint force -J_k^T lambda_k on this body's columns (Eq. 6.146)
+            const int c0 = body * nvb;
+            for (const RowRange& range : ranges) {
+                for (int row = range.first; row < range.first + range.count; ++row) {
+                    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(J, row); it; ++it) {
+                        const int c = static_cast<int>(it.col());
+                        if (c >= c0 && c < c0 + nvb) g[c - c0] -= it.value() * lambda[row];
+                    }
+                }
+            }
+            body_pose(system, state, body, A, R);
+        }
+        r.generalized = g;
         Vec3 u_bar = marker.u_bar;
         if (planar) u_bar.z() = 0.0;
         const Vec3 u = A * u_bar;  // u_P = A u_bar_P
@@ -181,12 +209,34 @@ inline std::vector<JointReaction> joint_reactions(System& system, const State& s
         const reactions_detail::RowRange velocity{first_velocity_row + info.velocity_row_offset,
                                                   velocity_rows ? info.velocity_rows : 0};
         JointReaction r =
-            reactions_detail::element_reaction(system, state, J, lambda, info, {{info.first_row, info.rows}, velocity});
+            reactions_detail::element_reaction(system, state, J, lambda, info, {{info.first_row, info.rows}, velocity}, j);
         r.name = info.name;
         r.element = j;
         out.push_back(std::move(r));
     }
     return out;
+}
+
+// The reaction on the joint's second body at its joint point (world axes), or, when that body is
+// the ground, minus the reactions on the others moved to its point (a joint's constraint forces
+// are self-equilibrated): what `mbd statics` and `mbd simulate --reactions` report.
+inline void second_body_load(const JointReaction& r, Vec3& force, Vec3& torque) {
+    force.setZero();
+    torque.setZero();
+    if (r.on.size() >= 2 && r.on[1].carried()) {
+        force = r.on[1].force;
+        torque = r.on[1].torque;
+    } else if (r.on.size() >= 2) {
+        const Vec3 P = r.on[1].point;
+        for (const BodyReaction& b : r.on) {
+            if (!b.carried()) continue;
+            force -= b.force;
+            torque -= b.torque + (b.point - P).cross(b.force);
+        }
+    } else if (!r.on.empty()) {
+        force = r.on[0].force;
+        torque = r.on[0].torque;
+    }
 }
 
 // The actuator effort of every driver on the bodies of its joint (empty when lambda

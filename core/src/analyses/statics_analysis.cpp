@@ -47,21 +47,7 @@ bool coordinate_is_angle(const Joint& joint) {
 JointLoad load_of(const JointReaction& r) {
     JointLoad out;
     out.name = r.name;
-    if (r.on.size() >= 2 && r.on[1].body >= 0) {
-        out.force = r.on[1].force;
-        out.torque = r.on[1].torque;
-    } else if (r.on.size() >= 2) {
-        // the second body is the ground: minus the reaction on the others, moved to its point
-        const Vec3 P = r.on[1].point;
-        for (const BodyReaction& b : r.on) {
-            if (b.body < 0) continue;
-            out.force -= b.force;
-            out.torque -= b.torque + (b.point - P).cross(b.force);
-        }
-    } else if (!r.on.empty()) {
-        out.force = r.on[0].force;
-        out.torque = r.on[0].torque;
-    }
+    second_body_load(r, out.force, out.torque);
     return out;
 }
 
@@ -89,8 +75,9 @@ void check_statics_options(const StaticsOptions& o) {
         throw InputError("max_iterations", "expected a positive number, got " + std::to_string(o.max_iterations));
 }
 
-// A joint at a flexible body (model.hpp FlexibleAttachment) has no limit row and no reaction
-// computed through the material frame yet: refused or reported as not computed (NaN).
+// A joint at a flexible body (model.hpp FlexibleAttachment) has no limit row and no coordinate
+// computed through the material frame yet: refused or reported as not computed (NaN). Its
+// reaction is computed (mbd/reactions.hpp, the material frame's).
 void check_flexible_limits(const Model& model, const std::vector<JointLimit>& limits) {
     for (const JointLimit& l : limits)
         if (l.joint >= 0 && l.joint < static_cast<int>(model.joints.size()) && !model.joints[l.joint].flexible.empty())
@@ -101,13 +88,9 @@ void check_flexible_limits(const Model& model, const std::vector<JointLimit>& li
                                  "between rigid bodies");
 }
 
-void mark_flexible_joints_not_computed(const Model& model, StaticsReport& report) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    for (size_t j = 0; j < model.joints.size() && j < report.reactions.size(); ++j) {
-        if (model.joints[j].flexible.empty()) continue;
-        report.reactions[j].force = report.reactions[j].torque = Vec3::Constant(nan);
-        if (j < report.coordinates.size()) report.coordinates[j] = nan;
-    }
+void mark_flexible_coordinates_not_computed(const Model& model, StaticsReport& report) {
+    for (size_t j = 0; j < model.joints.size() && j < report.coordinates.size(); ++j)
+        if (!model.joints[j].flexible.empty()) report.coordinates[j] = std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace
@@ -186,7 +169,7 @@ StaticsReport run_statics(const Model& model, Registry& registry, StaticsOptions
         }
         report.coordinates.push_back(s);
     }
-    mark_flexible_joints_not_computed(model, report);
+    mark_flexible_coordinates_not_computed(model, report);
     return report;
 }
 

@@ -338,6 +338,30 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
     return e;
 }
 
+bool ConstraintSystem::material_frame(size_t j, int slot, const State& state, Data& data, Mat3& A, Vec3& R,
+                                      Eigen::MatrixXd& J_frame) const {
+    const std::vector<FlexibleAttachment>& flexible = *flexible_[j];
+    for (size_t a = 0; a < flexible.size(); ++a) {
+        if (flexible[a].slot != slot) continue;
+        data.pose(state);
+        const ConstraintEval& e = evaluate_joint(j, state, data);
+        const int nvb = velocities_per_body(model_->dimension);
+        J_frame = e.J.middleCols(nvb * slot, nvb);  // evaluate_joint leaves the frame's block in place
+        const MaterialFrame& frame = data.joint_flexible[j][a].frame;
+        A.setIdentity();
+        R.setZero();
+        if (model_->dimension == Dimension::Planar) {
+            A.topLeftCorner<2, 2>() = frame.planar.A;
+            R.head<2>() = frame.planar.R;
+        } else {
+            A = frame.spatial.A;
+            R = frame.spatial.R;
+        }
+        return true;
+    }
+    return false;
+}
+
 void ConstraintSystem::throw_if_state_finite(size_t j, const ConstraintEval& e, const State& state) const {
     if (!state.q.allFinite() || !state.v.allFinite()) return;
     // a driver whose motion has grown out of range is the cause (the recursive formulations put

@@ -2,6 +2,10 @@
 
 #include "evaluation/coupled_force_jacobians.hpp"
 
+#include <mbd/kit/formulation.hpp>
+#include <mbd/sdk/domain_error.hpp>
+#include <mbd/sdk/text.hpp>
+
 #include <algorithm>
 
 namespace mbd {
@@ -92,7 +96,16 @@ void Data::fill_view(BodyList bodies, const std::vector<FlexibleAttachment>& att
     for (size_t a = 0; a < attachments.size(); ++a) {
         const FlexibleAttachment& at = attachments[a];
         MaterialFrame& frame = slots[a].frame;
-        model_->flexible_bodies[at.body].body->frame(flexible_q[at.body], flexible_v[at.body], at.xi.data(), frame);
+        const FlexibleBodyInstance& body = model_->flexible_bodies[at.body];
+        try {
+            body.body->frame(flexible_q[at.body], flexible_v[at.body], at.xi.data(), frame);
+        } catch (const DomainError& outside) {
+            // the body's plugin says where its material frame ceased to exist: name the body and the time
+            throw DynamicsError(t, "flexible body '" + body.name + "' (type " + body.type +
+                                       (body.where.empty() ? "" : ", " + body.where) +
+                                       "): its material frame at a joint or force point is undefined at t = " +
+                                       format_time(t) + ": " + outside.what());
+        }
         if (planar)
             view.planar_bodies[at.slot] = &frame.planar;
         else

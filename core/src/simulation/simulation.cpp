@@ -158,20 +158,8 @@ std::vector<double> output_times_after_start(const SimulationSettings& settings)
 void append_reactions(System& system, const State& state, const Eigen::VectorXd& lambda, std::vector<double>& row) {
     const bool planar = system.dimension() == Dimension::Planar;
     for (const JointReaction& r : joint_reactions(system, state, lambda)) {
-        Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-        if (r.on.size() >= 2 && r.on[1].body >= 0) {
-            force = r.on[1].force;
-            torque = r.on[1].torque;
-        } else if (r.on.size() >= 2) {
-            // the second body is the ground: action and reaction (the joint's
-            // constraint forces are self-equilibrated), moved to its point
-            const Vec3 P = r.on[1].point;
-            for (const BodyReaction& b : r.on) {
-                if (b.body < 0) continue;
-                force -= b.force;
-                torque -= b.torque + (b.point - P).cross(b.force);
-            }
-        }
+        Vec3 force, torque;
+        second_body_load(r, force, torque);
         if (planar) {
             row.insert(row.end(), {force.x(), force.y(), torque.z()});
         } else {
@@ -248,14 +236,6 @@ PreparedRun prepare_run(const Model& model, Registry& registry, const Simulation
     require_velocity_rows_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
     require_reaction_loads_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
     require_flexible_bodies_handled(model, *run.formulation, name, integrator.needs_index3(), integrator.name());
-    // a slot on a flexible body holds the ground for the rigid paths, so reactions.hpp would
-    // read its reaction as the ground's (zero): refused until the frame's reaction is reported
-    if (settings.reactions)
-        for (const JointInstance& j : model.joints)
-            if (!j.flexible.empty())
-                throw InputError(j.where, "joint '" + j.name + "' is attached to flexible body '" +
-                                              model.flexible_bodies[j.flexible.front().body].name +
-                                              "', whose reactions are not reported yet; run without --reactions");
     return run;
 }
 

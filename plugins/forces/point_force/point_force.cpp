@@ -4,8 +4,12 @@
 // Keys: force: a list of 2 (planar) or 3 (spatial) components, each a number or a
 // time function; frame: world (default) or body (components in body axes, turning with
 // the body). The point is the marker the core builds from 'point' (body frame); without
-// a marker, the mass centre. Not conservative; exact Jacobians (non-zero for frame: body
-// and for the moment of a world-fixed force as the body turns).
+// a marker, the mass centre. Exact Jacobians (non-zero for frame: body and for the moment
+// of a world-fixed force as the body turns).
+// Conservative when the force is constant and given in the world frame (a dead load): its
+// potential is V = -F . r_P(q), whose gradient is -J_P^T F = -Q for any body the point moves
+// with (rigid, or a material point of a flexible body). A force in body axes (a follower
+// force) or one that varies in time is not conservative and has no potential here.
 #include <mbd/sdk/force_support.hpp>
 #include <mbd/sdk/plugin.hpp>
 #include <mbd/sdk/plugin_keys.hpp>
@@ -36,6 +40,15 @@ public:
             components_.push_back(make_time_function(
                 f.items[k], "force '" + spec.name + "' force[" + std::to_string(k) + "]"));
         body_frame_ = body_frame(spec);
+        dead_load_ = !body_frame_ && all_constant(f);
+    }
+
+    bool is_conservative() const override { return dead_load_; }
+    double potential_energy(const BodyStates& b) const override {
+        if (!dead_load_) return 0.0;
+        const Vec3 F = load(b.t);
+        if (!b.planar_bodies.empty()) return -F.head<2>().dot(b.planar(0).point(u_.head<2>()));
+        return -F.dot(b.spatial(0).point(u_));
     }
 
     // the applied force F(t), world or body components
@@ -57,8 +70,17 @@ public:
     }
 
 private:
+    // True when every component is a bare number or {type: constant}.
+    static bool all_constant(const Param& components) {
+        for (const Param& c : components.items)
+            if (!c.is_scalar() && !(c.is_map() && c.fields.count("type") && c.fields.at("type").text == "constant"))
+                return false;
+        return true;
+    }
+
     Vec3 u_;
     bool body_frame_ = false;
+    bool dead_load_ = false;  // constant and in world axes: conservative
     TimeComponents components_;
 };
 

@@ -74,6 +74,15 @@ public:
     // velocities are their coordinates' rates); formulations that take them
     // (Formulation::supports_flexible_bodies) see their blocks in mass_matrix().
     virtual int flexible_coordinates() const { return 0; }
+    // A joint's slot on a flexible body, the material frame seen as a rigid body (sdk body.hpp):
+    // its pose at `state` (rotation A and origin R, world axes; planar: embedded) and the joint's
+    // own rows' Jacobian over the frame's velocities (J_frame: the joint's rows x
+    // velocities_per_body; planar (dR, dtheta), spatial (dR, dpi_bar)), from which
+    // mbd/reactions.hpp takes the reaction on that slot. False for a rigid body or the ground.
+    virtual bool joint_material_frame(const State& /*state*/, int /*joint*/, int /*slot*/, Mat3& /*A*/,
+                                      Vec3& /*R*/, Eigen::MatrixXd& /*J_frame*/) {
+        return false;
+    }
     int nq() const { return body_count() * coordinates_per_body(dimension()) + flexible_coordinates(); }
     int nv() const { return body_count() * velocities_per_body(dimension()) + flexible_coordinates(); }
     virtual Vec3 gravity() const = 0;
