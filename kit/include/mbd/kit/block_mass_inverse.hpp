@@ -88,8 +88,9 @@ public:
             const Eigen::LLT<Eigen::MatrixXd> llt(inverse);
             if (mass.info() != Eigen::Success || llt.info() != Eigen::Success || !inverse.allFinite())
                 throw DynamicsError(t, "the mass matrix of flexible body '" + b.name +
-                                           "' is not positive definite at this state (its deformation is "
-                                           "beyond what its modes describe; try smaller loads or more modes)");
+                                           "' is not positive definite at this state (with geometric stiffening, "
+                                           "a deflection beyond the range of its second-order terms; docs/plugin-sdk.md "
+                                           "\"ffrf_body\")");
             flexible_inverse_.block(o, o, b.size, b.size) = inverse;
             flexible_factor_.block(o, o, b.size, b.size) = llt.matrixL();
         }
