@@ -208,15 +208,6 @@ TEST(FlexibleScene, BadInputNamesTheBodyAndTheLine) {
     const std::string clash = refusal(scene_text(cable("rope", 2)) +
                                       "bodies:\n  - {name: rope, mass: 1, inertia: 1}\n");
     EXPECT_NE(clash.find("rope"), std::string::npos) << clash;
-
-    // a body type whose mass matrix varies with its coordinates (the floating frame) is refused
-    // by name until the engine takes such bodies (docs/scene-format.md says so)
-    const std::string varying = refusal(scene_text(
-        "  - {name: blade, type: ffrf_body, from: [0, 0], to: [1, 0], elements: 4, modes: 2,\n"
-        "     modulus: 1.0e4, area: 1.0, second_moment: 1.0e-3, density: 1.0}\n"));
-    EXPECT_NE(varying.find("'blade'"), std::string::npos) << varying;
-    EXPECT_NE(varying.find("varies with its coordinates"), std::string::npos) << varying;
-    EXPECT_NE(varying.find("cable.yaml:4"), std::string::npos) << varying;
 }
 
 TEST(FlexibleScene, FormulationsThatDoNotTakeFlexibleBodiesRefuseNamingTheBody) {

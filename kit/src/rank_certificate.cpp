@@ -8,7 +8,9 @@ namespace mbd {
 
 void RankCertificate::bind(System& system, SingularityMonitor& monitor) {
     monitor.certificate = nullptr;
-    rows_ = monitor.active(system) ? system.constraint_rows(true) : 0;
+    // G's block pattern covers the rigid bodies' columns only (sparse_gram.hpp): a scene with
+    // flexible bodies gets no certificate, and the monitor does its QR
+    rows_ = monitor.active(system) && system.flexible_coordinates() == 0 ? system.constraint_rows(true) : 0;
     if (rows_ == 0) return;
     monitor.certificate = this;
     reuse_above_ = 2.0 * 10.0 * monitor.tolerance;  // twice what the monitor needs to skip its QR

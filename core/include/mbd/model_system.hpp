@@ -8,6 +8,7 @@
 #include <mbd/kinematics.hpp>
 #include <mbd/model.hpp>
 #include <mbd/kit/system.hpp>
+#include <mbd/kit/varying_mass.hpp>
 
 #include <functional>
 #include <memory>
@@ -15,7 +16,7 @@
 
 namespace mbd {
 
-class ModelSystem final : public System {
+class ModelSystem final : public System, public VaryingMass {
 public:
     explicit ModelSystem(const Model& model, KinematicsOptions kinematics = {});
     ModelSystem(Model&&, KinematicsOptions = {}) = delete;  // it keeps a reference: no temporaries
@@ -52,6 +53,9 @@ public:
     void force_jacobians(const State& state, Eigen::SparseMatrix<double>& dQ_dq,
                          Eigen::SparseMatrix<double>& dQ_dv) override;
     double kinetic_energy(const State& state) const override;
+    // the flexible bodies whose mass matrix varies (kit varying_mass.hpp)
+    const std::vector<Block>& varying_mass_blocks() const override { return varying_blocks_; }
+    void update_mass_matrix(const Eigen::VectorXd& q) override;
     double potential_energy(const State& state) override;
     bool conservative() const override;
 
@@ -78,6 +82,10 @@ public:
 private:
     // element f's Q into data_.force_Q (its body blocks), at its reaction load if it has one
     Eigen::Ref<Eigen::VectorXd> element_force(int f, double t);
+    // d Q_v / dq and d Q_v / dv of a flexible body whose mass varies, by central differences
+    void quadratic_velocity_differences(const FlexibleBodyInstance& f, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                        std::vector<Eigen::Triplet<double>>& tq,
+                                        std::vector<Eigen::Triplet<double>>& tv) const;
     void force_differences(const ForceInstance& f, const State& state, Eigen::Ref<Eigen::MatrixXd> dQ_dq,
                            Eigen::Ref<Eigen::MatrixXd> dQ_dv);
 
@@ -89,6 +97,8 @@ private:
     std::vector<ForceInfo> forces_;
     ElementBodies force_bodies_;  // each force's bodies, read in order by generalized_forces (element_bodies.hpp)
     Eigen::SparseMatrix<double> mass_;
+    std::vector<Block> varying_blocks_;  // their blocks in mass_ (stored dense, every entry)
+    std::vector<int> varying_bodies_;    // their indices in Model::flexible_bodies
     const ConstraintSystem with_drivers_;
     const ConstraintSystem joints_only_;
     const ConstraintSystem with_drivers_and_velocity_rows_;

@@ -143,6 +143,7 @@ private:
         const int nv = system_.nv();
         system_.constraints_with_velocity_rows(s, cv_, true);
         const int m = static_cast<int>(cv_.J.rows());
+        system_.update_mass_matrix(s.q);  // a flexible body's mass that varies, at s (kit varying_mass.hpp)
         Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nv + m, nv + m);
         K.topLeftCorner(nv, nv) = Eigen::MatrixXd(system_.mass_matrix());
         const Eigen::MatrixXd J(cv_.J);

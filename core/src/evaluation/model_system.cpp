@@ -66,14 +66,18 @@ ModelSystem::ModelSystem(const Model& model, KinematicsOptions kinematics)
                     if (b.inertia(i, c) != 0.0) t.emplace_back(o + 3 + i, o + 3 + c, b.inertia(i, c));
         }
     }
-    // each flexible body's constant mass matrix (the scene refuses one whose mass varies)
+    // each flexible body's mass matrix at its initial coordinates; one that varies keeps every
+    // entry of its block (update_mass_matrix rewrites them in place)
     int widest = 0;
-    for (const FlexibleBodyInstance& f : model.flexible_bodies) {
+    for (size_t k = 0; k < model.flexible_bodies.size(); ++k) {
+        const FlexibleBodyInstance& f = model.flexible_bodies[k];
         Eigen::MatrixXd M;
         f.body->mass_matrix(f.body->initial_coordinates(), M);
+        const bool varies = !f.body->constant_mass();
+        if (varies) varying_blocks_.push_back({f.v_offset, f.size, f.name}), varying_bodies_.push_back(static_cast<int>(k));
         for (int i = 0; i < f.size; ++i)
             for (int c = 0; c < f.size; ++c)
-                if (M(i, c) != 0.0) t.emplace_back(f.v_offset + i, f.v_offset + c, M(i, c));
+                if (varies || M(i, c) != 0.0) t.emplace_back(f.v_offset + i, f.v_offset + c, M(i, c));
         widest = std::max(widest, f.size);
     }
     flexible_Q_.setZero(widest);
@@ -309,8 +313,9 @@ void ModelSystem::force_jacobians(const State& state, Eigen::SparseMatrix<double
                     if (d(i, j) != 0.0) tv.emplace_back(o + i, o + j, d(i, j));
         }
     }
-    // the flexible bodies' elastic stiffness (exact; gravity is constant, and the scene takes
-    // only bodies of constant mass, whose quadratic-velocity forces are zero)
+    // the flexible bodies' elastic stiffness (exact; gravity is constant), and for a body whose
+    // mass varies the derivatives of its quadratic-velocity forces (central differences; zero
+    // for constant mass)
     for (size_t k = 0; k < m.flexible_bodies.size(); ++k) {
         const FlexibleBodyInstance& f = m.flexible_bodies[k];
         Eigen::MatrixXd K(f.size, f.size);
@@ -318,6 +323,7 @@ void ModelSystem::force_jacobians(const State& state, Eigen::SparseMatrix<double
         for (int i = 0; i < f.size; ++i)
             for (int c = 0; c < f.size; ++c)
                 if (K(i, c) != 0.0) tq.emplace_back(f.v_offset + i, f.v_offset + c, K(i, c));
+        if (!f.body->constant_mass()) quadratic_velocity_differences(f, data_.flexible_q[k], data_.flexible_v[k], tq, tv);
     }
     dQ_dq.resize(m.nv(), m.nv());
     dQ_dv.resize(m.nv(), m.nv());
@@ -325,8 +331,47 @@ void ModelSystem::force_jacobians(const State& state, Eigen::SparseMatrix<double
     dQ_dv.setFromTriplets(tv.begin(), tv.end());
 }
 
+void ModelSystem::quadratic_velocity_differences(const FlexibleBodyInstance& f, const Eigen::VectorXd& q,
+                                                 const Eigen::VectorXd& v, std::vector<Eigen::Triplet<double>>& tq,
+                                                 std::vector<Eigen::Triplet<double>>& tv) const {
+    Eigen::VectorXd plus(f.size), minus(f.size);
+    for (int side = 0; side < 2; ++side)  // 0: d/dq, 1: d/dv
+        for (int c = 0; c < f.size; ++c) {
+            Eigen::VectorXd qp = q, vp = v, qm = q, vm = v;
+            const double x = side ? v[c] : q[c], h = 1e-6 * std::max(1.0, std::abs(x));
+            (side ? vp : qp)[c] += h;
+            (side ? vm : qm)[c] -= h;
+            f.body->quadratic_velocity_forces(qp, vp, plus);
+            f.body->quadratic_velocity_forces(qm, vm, minus);
+            for (int i = 0; i < f.size; ++i) {
+                const double d = (plus[i] - minus[i]) / (2 * h);
+                if (d != 0.0) (side ? tv : tq).emplace_back(f.v_offset + i, f.v_offset + c, d);
+            }
+        }
+}
+
+void ModelSystem::update_mass_matrix(const Eigen::VectorXd& q) {
+    Eigen::MatrixXd M;
+    for (size_t k = 0; k < varying_bodies_.size(); ++k) {
+        const FlexibleBodyInstance& f = model_->flexible_bodies[varying_bodies_[k]];
+        f.body->mass_matrix(q.segment(f.offset, f.size), M);
+        for (int c = 0; c < f.size; ++c)  // the block's entries are stored (constructor): no insertion
+            for (int i = 0; i < f.size; ++i) mass_.coeffRef(f.v_offset + i, f.v_offset + c) = M(i, c);
+    }
+}
+
+// 1/2 v^T M(q) v: mass_ for the rigid and constant blocks, each varying block at state.q
 double ModelSystem::kinetic_energy(const State& state) const {
-    return 0.5 * state.v.dot(mass_ * state.v);
+    double T = 0.5 * state.v.dot(mass_ * state.v);
+    Eigen::MatrixXd M;
+    for (size_t k = 0; k < varying_bodies_.size(); ++k) {
+        const FlexibleBodyInstance& f = model_->flexible_bodies[varying_bodies_[k]];
+        const Eigen::VectorXd v = state.v.segment(f.v_offset, f.size);
+        const Eigen::MatrixXd stored(mass_.block(f.v_offset, f.v_offset, f.size, f.size));
+        f.body->mass_matrix(state.q.segment(f.offset, f.size), M);
+        T += 0.5 * v.dot((M - stored) * v);
+    }
+    return T;
 }
 
 double ModelSystem::potential_energy(const State& state) {

@@ -9,6 +9,13 @@
 
 namespace mbd {
 
+namespace {
+// A body whose mass matrix varies (a floating frame with modes, ffrf_body) has coordinates that are
+// not its nodes' positions: they are written too. ANCF bodies' coordinates are their nodes'
+// positions and slopes, which the node columns already give.
+bool has_coordinate_columns(const FlexibleBodyInstance& f) { return !f.body->constant_mass(); }
+}  // namespace
+
 std::vector<std::string> motion_columns(const Model& model) {
     std::vector<std::string> columns{"t"};
     const bool planar = model.dimension == Dimension::Planar;
@@ -37,6 +44,12 @@ std::vector<std::string> motion_columns(const Model& model) {
                        : std::vector<const char*>{".x", ".y", ".z", ".vx", ".vy", ".vz"};
             for (const char* s : parts) columns.push_back(n + s);
         }
+    // a floating-frame body's own coordinates (its frame and modes), then their rates
+    for (const FlexibleBodyInstance& f : model.flexible_bodies)
+        if (has_coordinate_columns(f)) {
+            for (int k = 0; k < f.size; ++k) columns.push_back(f.name + "." + f.body->coordinate_name(k));
+            for (int k = 0; k < f.size; ++k) columns.push_back(f.name + "." + f.body->coordinate_name(k) + "_rate");
+        }
     return columns;
 }
 
@@ -55,6 +68,11 @@ void append_flexible_nodes(const Model& model, const State& state, std::vector<d
             for (int c = 0; c < dimensions; ++c) values.push_back(point.rdot[c]);
         }
     }
+    for (const FlexibleBodyInstance& f : model.flexible_bodies)
+        if (has_coordinate_columns(f)) {
+            for (int k = 0; k < f.size; ++k) values.push_back(state.q[f.offset + k]);
+            for (int k = 0; k < f.size; ++k) values.push_back(state.v[f.v_offset + k]);
+        }
 }
 
 }  // namespace

@@ -32,10 +32,6 @@ void Loader::load_flexible_body(const Param& node, int index) {
     body.body = create_checked(spec.params, node, what, "body", body.type,
                                [&] { return registry_.create_body(spec, at); });
     if (!body.body) type.fail(what + ": the plugin for type " + quote(body.type) + " created no body");
-    if (!body.body->constant_mass())
-        type.fail(what + ": body type " + quote(body.type) +
-                  " has a mass matrix that varies with its coordinates, which the engine does not take yet (only "
-                  "constant mass matrices, as ANCF's)");
     model_.add_flexible_body(std::move(body));
 }
 

@@ -64,7 +64,7 @@ bool flag(const Params& p, const std::string& key) {
 ModalModel modes_from_file(const Params& p) {
     std::filesystem::path path = p.string("mode_file");
     if (path.is_relative()) path = std::filesystem::path(p.at("mode_file").file).parent_path() / path;
-    return ffrf::read_mode_file(path.string(), p.owner());
+    return ffrf::read_mode_file(path.string(), p.owner(), p.at("mode_file").location());
 }
 
 // The modes of a cantilever meshed between `from` and `to`; sets the frame's pose.

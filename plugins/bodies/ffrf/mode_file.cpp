@@ -16,10 +16,12 @@ namespace {
 // The file's meaningful lines (comments and blanks skipped), each with its line number.
 class Lines {
 public:
-    Lines(const std::string& path, const std::string& owner) : path_(path), owner_(owner), in_(path) {
+    // `where`: the file:line of the key that names the file (where a missing file is reported)
+    Lines(const std::string& path, const std::string& owner, const std::string& where)
+        : path_(path), owner_(owner), in_(path) {
         if (!in_)
-            throw InputError(path, owner + ": cannot open the mode file (give 'mode_file' relative to the scene "
-                                           "file's folder, or an absolute path)");
+            throw InputError(where, owner + ": cannot open the mode file '" + path +
+                                        "' (give 'mode_file' relative to the scene file's folder, or an absolute path)");
     }
     // The next line's words; `what` says what was expected, for the message at the end of file.
     std::vector<std::string> next(const std::string& what) {
@@ -94,8 +96,8 @@ std::vector<Node> read_nodes(Lines& lines) {
 
 }  // namespace
 
-ModalModel read_mode_file(const std::string& path, const std::string& owner) {
-    Lines lines(path, owner);
+ModalModel read_mode_file(const std::string& path, const std::string& owner, const std::string& where) {
+    Lines lines(path, owner, where);
     const std::vector<Node> nodes = read_nodes(lines);
     std::vector<double> modal_mass, modal_stiffness;
     std::vector<Eigen::MatrixXd> shapes;  // per mode: 3 x nodes (ux, uy, rotation)

@@ -19,7 +19,8 @@
 
 namespace mbd::ffrf {
 
-// Throws InputError at file:line naming `owner` (the body) for a missing or malformed file.
-ModalModel read_mode_file(const std::string& path, const std::string& owner);
+// Throws InputError naming `owner` (the body): at the mode file's file:line for a malformed file,
+// at `where` (the scene's file:line of the key that names it) for a file that cannot be opened.
+ModalModel read_mode_file(const std::string& path, const std::string& owner, const std::string& where);
 
 }  // namespace mbd::ffrf

@@ -75,8 +75,8 @@ public:
     Index3Problem* index3_problem() override { return &index3_; }
     bool supports_velocity_constraints() const override { return true; }
     bool supports_reaction_loads() const override { return true; }
-    // flexible bodies: their constant mass block is factored once (kit block_mass_inverse.hpp),
-    // and S = J M^-1 J^T is formed densely (kit dense_gram.hpp)
+    // flexible bodies: a constant mass block is factored once, one that varies at each state
+    // (kit block_mass_inverse.hpp), and S = J M^-1 J^T is formed densely (kit dense_gram.hpp)
     bool supports_flexible_bodies() const override { return true; }
     bool may_redefine_state() const override { return false; }  // y = [q; v] whatever rows are kept
     OptionGroups options_used() const override {
@@ -120,6 +120,14 @@ private:
 
     // per body: M^-1 block and its lower Cholesky factor Lm (M^-1 = Lm Lm^T)
     BlockMassInverse mass_inverse_;
+    // flexible bodies whose mass varies (null: none): their blocks re-evaluated and re-factored
+    // at each state (refresh_mass), the constant ones kept as bound
+    VaryingMass* varying_mass_ = nullptr;
+    void refresh_mass(double t, const Eigen::VectorXd& q) {
+        if (!varying_mass_) return;
+        varying_mass_->update_mass_matrix(q);
+        mass_inverse_.refresh(*system_, varying_mass_->varying_mass_blocks(), t);
+    }
 
     // scratch (allocated in bind)
     State state_;
@@ -169,6 +177,8 @@ void Augmented::bind(System& system, const FormulationOptions& options) {
     if (system.flexible_coordinates() > 0) sparse_ = false;  // the sparse S is formed by rigid body blocks only
 
     // M^-1 per body and its Cholesky factor (M is constant: book Eqs. 6.61-6.63)
+    varying_mass_ = varying_mass(system);
+    if (varying_mass_) varying_mass_->update_mass_matrix(system.initial_state().q);
     mass_inverse_.bind(system, "augmented formulation");
     reaction_loads_.bind(system);
     singularity_.metric_distortion = mass_inverse_.distortion();
@@ -371,6 +381,7 @@ bool Augmented::reselect_dropped_rows(double t) {
 
 void Augmented::solve_dynamics(double t) {
     System& sys = *system_;
+    refresh_mass(t, state_.q);
     sys.constraints_with_velocity_rows(state_, cv_, true);
     if (!redundancy_checked_) find_structural_redundancy(t);
     reaction_loads_.clear();  // Q_0: the reaction-loaded elements at N = 0
@@ -496,6 +507,7 @@ bool Augmented::project(double t, Eigen::VectorXd& y) {
     // with this formulation's factorization of S = J M^-1 J^T (fast first, then robust)
     projection_.q0 = y.head(nq_);
     projection_.v0 = y.tail(nv_);
+    refresh_mass(t, state_.q);  // the metric at the step's positions
     const bool ok = project_onto_constraints(
         sys, t, projection_, options_.projection_tolerance, state_, cv_,
         [&](bool robust) { factor(t, "projection", robust); }, [&](Eigen::VectorXd& x) { solve_S(x); },

@@ -10,7 +10,9 @@
 
 #include <mbd/sdk/body_state.hpp>
 #include <mbd/sdk/params.hpp>
+#include <mbd/kit/formulation.hpp>
 #include <mbd/kit/system.hpp>
+#include <mbd/kit/varying_mass.hpp>
 
 #include <Eigen/Dense>
 
@@ -72,6 +74,28 @@ public:
         }
         distortion_ = bodies + flexible > 0 ? std::sqrt(largest / least) : 1.0;
     }
+    // Re-inverts and re-factors the blocks of the flexible bodies whose mass matrix varies
+    // (kit varying_mass.hpp), from system.mass_matrix() as last updated; the flexible block is
+    // block-diagonal by body, and so are its inverse and factor, so the others stay as bound.
+    // Throws DynamicsError when such a block is not positive definite there.
+    void refresh(const System& system, const std::vector<VaryingMass::Block>& blocks, double t) {
+        const Eigen::SparseMatrix<double>& M = system.mass_matrix();
+        for (const VaryingMass::Block& b : blocks) {
+            const int o = b.offset - flexible_offset_;
+            const Eigen::LLT<Eigen::MatrixXd> mass(Eigen::MatrixXd(M.block(b.offset, b.offset, b.size, b.size)));
+            Eigen::MatrixXd inverse = mass.solve(Eigen::MatrixXd::Identity(b.size, b.size));
+            inverse = 0.5 * (inverse + inverse.transpose()).eval();
+            const Eigen::LLT<Eigen::MatrixXd> llt(inverse);
+            if (mass.info() != Eigen::Success || llt.info() != Eigen::Success || !inverse.allFinite())
+                throw DynamicsError(t, "the mass matrix of flexible body '" + b.name +
+                                           "' is not positive definite at this state (with geometric stiffening, "
+                                           "a deflection beyond the range of its second-order terms; docs/plugin-sdk.md "
+                                           "\"ffrf_body\")");
+            flexible_inverse_.block(o, o, b.size, b.size) = inverse;
+            flexible_factor_.block(o, o, b.size, b.size) = llt.matrixL();
+        }
+    }
+
     // sqrt(cond M): the most that the kinetic-energy metric stretches one direction of
     // velocity space against another
     double distortion() const { return distortion_; }
