@@ -359,8 +359,10 @@ TEST(ImportLoops, FourBarByConnectAgreesWithMuJoCoStiffened) {
 // plantar loops as four exact ball joints. Started at qpos0 (where MuJoCo's compiler closes the
 // loops) with the free pelvis and the six hip joints moving at the documented rates
 // (initial_velocities) and every joint inside a loop at rest, so that the start satisfies the
-// loops at position and velocity level. Over 0.2 s: the stiffened runs need h = 5e-5 (RK4 of
-// order 2 on the free root; h against h / 2 about 4e-9).
+// loops at position and velocity level. Over 0.2 s, not 1 s: beyond 0.2 s MuJoCo's stiffened runs
+// leave the order-2 regime in tc (over 1 s the gaps at tc = 4e-4, 2e-4, 1e-4 fall by 4.20, 2.48 and
+// extrapolate to 3.3e-5; at 2e-4, 1e-4, 5e-5 with h = 2.5e-5 by 2.49, 3.22, to 4.2e-6, 27.5 s of
+// CPU; mbd at tol 1e-11 against 1e-13 9e-12, embedding against augmented 1.8e-10: docs/import.md).
 TEST(ImportLoops, CassieLoopsAgreeWithMuJoCoStiffened) {
     const fs::path cassie = shared_models() / "cassie" / "cassie.xml";
     MjModelPtr m = compile(cassie);

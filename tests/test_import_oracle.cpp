@@ -1,6 +1,7 @@
 // Issue 37, the import layer against MuJoCo: a model file imported into mbd (import/) moves as
 // MuJoCo's own simulation of the same file does. MuJoCo runs RK4 at two steps (their difference
-// shows its own error below 1e-9: order 4 on hinges, order 2 on a free root); mbd runs the embedding formulation (recursive path) with
+// shows its own error below 1e-9: order 4 on hinges, order 2 on a free root; for cassie three steps
+// and their Richardson extrapolation, mujoco_extrapolated); mbd runs the embedding formulation (recursive path) with
 // dop853 at tol 1e-11. Joint angles are compared in every hinge, the free root by its origin's
 // position and its orientation, at every 0.01 s over 1 s, to 1e-6.
 //
@@ -19,6 +20,7 @@
 #include <mujoco/mujoco.h>
 
 #include <cmath>
+#include <tuple>
 #include <cstdio>
 #include <memory>
 
@@ -204,18 +206,32 @@ TEST(ImportOracle, DoublePendulumUrdfAgreesWithMuJoCo) {
 // and run them from qpos0 with the documented velocities (initial_velocities). Equality
 // constraints are off on both sides (conservative_tree; the import's couplings and loops left out:
 // the panda's finger coupling, cassie's four `connect` loops, which MuJoCo keeps soft).
-Agreement menagerie_agreement(const fs::path& file, double h, size_t joints, double t_end = 1.0) {
-    MjModelPtr m = compile(file);
-    if (!m) return {1.0, 1.0};
-    conservative_tree(m.get());
-    const auto [qvel, options] = initial_velocities(m.get());
-    import::SourceTree tree = import::read_mjcf_model(m.get(), file.string());
+struct MenagerieModel {
+    MjModelPtr m{nullptr, mj_deleteModel};
+    std::vector<double> qvel;
+    ImportedScene scene;
+};
+
+MenagerieModel menagerie_model(const fs::path& file, size_t joints) {
+    MenagerieModel out;
+    out.m = compile(file);
+    if (!out.m) return out;
+    conservative_tree(out.m.get());
+    import::ImportOptions options;
+    std::tie(out.qvel, options) = initial_velocities(out.m.get());
+    import::SourceTree tree = import::read_mjcf_model(out.m.get(), file.string());
     import::apply_joint_velocities(tree, options);
     tree.couplings.clear();
     tree.loops.clear();
-    const ImportedScene scene = import::build_scene(tree);
-    EXPECT_EQ(scene.joints.size(), joints) << file;
-    return agreement(m.get(), scene, qvel, h, t_end);
+    out.scene = import::build_scene(tree);
+    EXPECT_EQ(out.scene.joints.size(), joints) << file;
+    return out;
+}
+
+Agreement menagerie_agreement(const fs::path& file, double h, size_t joints) {
+    MenagerieModel c = menagerie_model(file, joints);
+    if (!c.m) return {1.0, 1.0};
+    return agreement(c.m.get(), c.scene, c.qvel, h);
 }
 
 // 7 hinges and the two fingers' slides (pushed out by the arm's turning: limits are off). RK4 is
@@ -235,16 +251,34 @@ TEST(ImportOracle, MenagerieUr5eAgreesWithMuJoCo) {
     EXPECT_LT(a.mbd, 1e-6);
 }
 
-// A free pelvis, 2 ball joints and 20 hinges, its loops open (above). MuJoCo's RK4 is of order 2
-// on the free root (the difference of h and h / 2 fell from 2.22e-9 at h = 1e-4 to 5.6e-10 at
-// 5e-5), so the error of the h / 2 run is a third of the difference. Over 0.5 s, not 1 s: at the
-// step 1 s needs (2e-5) the test took 17 s here, too long for the sanitizer build.
+// A free pelvis, 2 ball joints and 20 hinges, its loops open (above), over 1 s. MuJoCo's RK4 is of
+// order 2 on the free root, so a plain run would need h = 2e-5 for its error below 1e-9 (17 s
+// here); instead MuJoCo runs at h = 5e-4, h / 2, h / 4 and the oracle is the Richardson
+// extrapolation of the last two (mujoco_extrapolated): its order (the differences fall by 4.00 per
+// halving) and its own error (the two extrapolations differ by 8.7e-11; their difference fell by
+// 16 from h = 1e-3, so the remainder is of order 4 and the oracle's error about 6e-12) asserted.
+// mbd's own error: its run at tol 1e-11 against tol 1e-13 (2.3e-11 in the bodies' coordinates).
+constexpr double kCassieStep = 5e-4;
+
 TEST(ImportOracle, MenagerieCassieTreeAgreesWithMuJoCo) {
-    const Agreement a = menagerie_agreement(shared_models() / "cassie" / "cassie.xml", 5e-5, 22, 0.5);
-    std::printf("cassie (MJCF, loops open, 0.5 s): MuJoCo RK4 h = 5e-5 against 2.5e-5: %.3g; mbd against MuJoCo: %.3g\n",
-                a.mujoco_self, a.mbd);
-    EXPECT_LT(a.mujoco_self / 3, 1e-9);
-    EXPECT_LT(a.mbd, 1e-6);
+    MenagerieModel c = menagerie_model(shared_models() / "cassie" / "cassie.xml", 22);
+    ASSERT_TRUE(c.m);
+    const Model model = load_scene_text(import::scene_yaml(c.scene), "cassie.yaml", shared_registry());
+    const ExtrapolatedRun mujoco = mujoco_extrapolated(c.m.get(), c.qvel, kCassieStep, 1.0, 0.01);
+    const std::vector<Eigen::VectorXd> q = mbd_run(model, 1.0, 0.01), tight = mbd_run(model, 1.0, 0.01, "embedding", 1e-13);
+    double mbd_self = 0.0;
+    for (size_t s = 0; s < q.size() && s < tight.size(); ++s) mbd_self = std::max(mbd_self, (q[s] - tight[s]).cwiseAbs().maxCoeff());
+    const double gap = trajectory_difference(c.m.get(), c.scene, model, q, mujoco.qpos);
+    const double gap_tight = trajectory_difference(c.m.get(), c.scene, model, tight, mujoco.qpos);
+    std::printf("cassie (MJCF, loops open, 1 s): MuJoCo RK4 h = %g, h/2, h/4 differ by %.3g, %.3g (ratio %.2f); "
+                "extrapolations differ by %.3g; mbd tol 1e-11 against 1e-13: %.3g; mbd against MuJoCo extrapolated: %.3g "
+                "(tol 1e-13: %.3g)\n",
+                kCassieStep, mujoco.steps[0], mujoco.steps[1], mujoco.order_ratio(), mujoco.estimate, mbd_self, gap, gap_tight);
+    EXPECT_GT(mujoco.order_ratio(), 3.5);
+    EXPECT_LT(mujoco.order_ratio(), 4.5);
+    EXPECT_LT(mujoco.estimate, 1e-9);
+    EXPECT_LT(mbd_self, 1e-9);
+    EXPECT_LT(gap, 1e-6);
 }
 
 }  // namespace
