@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "support/convergence_order.hpp"
 #include "support/test_support.hpp"
 
 namespace {
@@ -93,12 +94,7 @@ TEST(Augmented, Rk4ConvergesAtFourthOrder) {
         s.output_step = 0.1;
         errors.push_back(pendulum_error(run(model, s)));
     }
-    for (size_t k = 1; k < errors.size(); ++k) {
-        const double order = std::log2(errors[k - 1] / errors[k]);
-        std::printf("RK4 pendulum: error %.3e -> %.3e, measured order %.3f\n", errors[k - 1], errors[k], order);
-        EXPECT_GT(order, 3.5);
-        EXPECT_LT(order, 4.5);
-    }
+    mbd::test::expect_order_under_halving(errors, 3.5, 4.5, "RK4 pendulum");
 }
 
 // --- Newton-Euler balance of every body: M vdot = Q_applied + sum of the joint (and

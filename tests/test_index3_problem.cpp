@@ -10,6 +10,7 @@
 // - generalized_alpha through the augmented formulation follows the pendulum's 1-DOF equation
 //   (a reference integrated on its own) at second order, holding the joint.
 #include "support/function_problem.hpp"
+#include "support/convergence_order.hpp"
 #include "support/test_support.hpp"
 
 #include <mbd/formulation_setup.hpp>
@@ -259,12 +260,7 @@ TEST(Index3Problem, GeneralizedAlphaThroughTheAugmentedFormulationFollowsThePend
         EXPECT_LT(joint, 1e-9);
         errors.push_back(error);
     }
-    for (size_t k = 1; k < errors.size(); ++k) {
-        const double order = std::log2(errors[k - 1] / errors[k]);
-        std::printf("order %.3f\n", order);
-        EXPECT_GT(order, 1.7);
-        EXPECT_LT(order, 2.3);
-    }
+    mbd::test::expect_order_under_halving(errors, 1.7, 2.3, "augmented + generalized_alpha pendulum");
 }
 
 }  // namespace

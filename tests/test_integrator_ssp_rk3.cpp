@@ -4,6 +4,7 @@
 //   the harmonic oscillator x'' = -w^2 x, x = cos wt: the error at T falls as h^3;
 //   the strong stability it is named for: on y' = -y with the largest step forward Euler keeps
 //     monotone (h = 1), the solution never grows and never turns negative.
+#include "support/convergence_order.hpp"
 #include "support/function_problem.hpp"
 
 #include <mbd/integrator.hpp>
@@ -40,12 +41,7 @@ TEST(SspRk3, OneStepIsTheCubicTaylorPolynomialOfTheExponential) {
 TEST(SspRk3, ThirdOrderOnTheHarmonicOscillator) {
     std::vector<double> errors;
     for (double h : {0.04, 0.02, 0.01, 0.005}) errors.push_back(mbd::test::oscillator_error("ssp_rk3", h));
-    for (size_t k = 1; k < errors.size(); ++k) {
-        const double order = std::log2(errors[k - 1] / errors[k]);
-        std::printf("SSP-RK3 oscillator: error %.3e -> %.3e, order %.3f\n", errors[k - 1], errors[k], order);
-        EXPECT_GT(order, 2.8);
-        EXPECT_LT(order, 3.2);
-    }
+    mbd::test::expect_order_under_halving(errors, 2.8, 3.2, "SSP-RK3 oscillator");
 }
 
 TEST(SspRk3, KeepsForwardEulersMonotoneDecayAtItsLargestStep) {

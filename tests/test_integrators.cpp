@@ -10,6 +10,7 @@
 //     index-3 DAE by generalized_alpha and compared with the 1-DOF pendulum
 //     equation J_O phi'' = -m g c sin(phi) written here.
 // No expected number comes from the engine's own output.
+#include "support/convergence_order.hpp"
 #include "support/function_problem.hpp"
 #include "support/test_support.hpp"
 
@@ -157,12 +158,7 @@ TEST(Rk4, FourthOrderOnTheHarmonicOscillator) {
                                   std::abs(r.y.back()[1] + kOmega * std::sin(kOmega * T)));
         errors.push_back(e);
     }
-    for (size_t k = 1; k < errors.size(); ++k) {
-        const double order = std::log2(errors[k - 1] / errors[k]);
-        std::printf("RK4 oscillator: error %.3e -> %.3e, order %.3f\n", errors[k - 1], errors[k], order);
-        EXPECT_GT(order, 3.5);
-        EXPECT_LT(order, 4.5);
-    }
+    mbd::test::expect_order_under_halving(errors, 3.5, 4.5, "RK4 oscillator");
 }
 
 TEST(Rk4, HitsOutputTimesThatAreNotMultiplesOfTheStep) {
@@ -631,12 +627,7 @@ TEST(GeneralizedAlpha, PendulumConvergesAtSecondOrderAndHoldsTheConstraint) {
         EXPECT_LT(c_max, 1e-9);  // Newton tolerance 1e-3 * settings.tolerance
         errors.push_back(err);
     }
-    for (size_t k = 1; k < errors.size(); ++k) {
-        const double order = std::log2(errors[k - 1] / errors[k]);
-        std::printf("generalized_alpha pendulum: order %.3f\n", order);
-        EXPECT_GT(order, 1.7);
-        EXPECT_LT(order, 2.3);
-    }
+    mbd::test::expect_order_under_halving(errors, 1.7, 2.3, "generalized_alpha pendulum");
 }
 
 // The Newton iteration converges in the velocities too, with the iteration matrix kept across

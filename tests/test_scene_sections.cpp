@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 namespace {
@@ -94,6 +95,18 @@ TEST(SceneSections, BenchAndStabilityReadTheirSectionsFromTheScene) {
     // the Model-returning entry point still loads both (the sections this process declared)
     EXPECT_EQ(mbd::load_scene(mbd::test::scene_path("bench/gyroscope.yaml"), registry).name, "gyroscope");
     EXPECT_GT(mbd::load_scene(mbd::test::scene_path("extreme/bricard-dynamics.yaml"), registry).body_count(), 0);
+}
+
+TEST(SceneSections, EveryTestProgramDeclaresTheApplicationsSections) {
+    // tests/support/application_sections.cpp declares them at start-up (an object library, so the
+    // linker keeps it): without it the default of read_scene_text would refuse `bench:`
+    std::vector<std::string> names;
+    for (const mbd::SceneSection& s : mbd::declared_scene_sections()) names.push_back(s.key);
+    EXPECT_NE(std::find(names.begin(), names.end(), mbd::kBenchSection), names.end());
+    EXPECT_NE(std::find(names.begin(), names.end(), mbd::kExpectSection), names.end());
+    const mbd::Scene scene = mbd::read_scene_text(kPendulum + "bench: {t_end: 1}\n", "scene.yaml",
+                                                  mbd::test::shared_registry());
+    EXPECT_NE(scene.section(mbd::kBenchSection), nullptr);
 }
 
 }  // namespace
