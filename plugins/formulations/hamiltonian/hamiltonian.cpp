@@ -163,7 +163,8 @@ private:
 
     // scratch, sized in bind() or by the first evaluation: rhs() and project() allocate nothing
     State state_, probe_, corrected_;
-    ConstraintValues cv_, cv_probe_, cv_corrected_;
+    ConstraintValues cv_, cv_corrected_;
+    Eigen::VectorXd gamma_probe_;  // jdot_times: gamma alone at v +- w
     Eigen::MatrixXd J_, J_corrected_, B_, MB_, Mbar_, JdT_;
     Eigen::VectorXd c_, vi_, gamma_prime_, Q_, q_, p_, zero_, Mx_, Bx_, pdot_, b_, mu_, jw_, jw_kept_, lambda_, Jl_;
     Eigen::LLT<Eigen::MatrixXd> llt_;                // of Mbar
@@ -361,11 +362,11 @@ void Hamiltonian::jdot_times(const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::
     probe_.t = state_.t;
     probe_.q = state_.q;
     probe_.v = state_.v + w;
-    system_->constraints(probe_, cv_probe_, true);
-    out = cv_probe_.gamma;
+    system_->constraint_gamma(probe_, gamma_probe_, true);  // gamma only: J and C_t are not read here
+    out = gamma_probe_;
     probe_.v = state_.v - w;
-    system_->constraints(probe_, cv_probe_, true);
-    out -= cv_probe_.gamma;
+    system_->constraint_gamma(probe_, gamma_probe_, true);
+    out -= gamma_probe_;
     out *= -0.25;
     if (!planar_) {
         // the Lie bracket of the body-axis angular-velocity fields: lambda = omega_v x omega_w
