@@ -20,11 +20,11 @@
 // Poincare form); the same expression holds with Q carrying the gyroscopic term.
 //
 // Bdot without second derivatives of the joints: from J B = 0 on the kept rows,
-// J_d Bdot_d = -(Jdot B), so Bdot^T M v = -(Jdot B)^T mu with mu = J_d^-T (M v)_d. Jdot w
-// (w = a column of B) follows exactly from gamma (quadratic in v; Cddot = J vdot - gamma) by
-// polarization:  Jdot w = -(gamma(q, v + w) - gamma(q, v - w)) / 4 + 1/2 J lambda(v, w),
-// where lambda(v, w) is zero except in the rotational components of spatial bodies,
-// omega_v x omega_w (the Lie bracket of the body-axis angular-velocity fields).
+// J_d Bdot_d = -(Jdot B), so Bdot^T M v = -(Jdot B)^T mu = -B^T (Jdot^T mu) with
+// mu = J_d^-T (M v)_d (zero on the rows left out). Jdot^T mu follows exactly from gamma
+// (quadratic in v; Cddot = J vdot - gamma): the joints' own (d gamma / d v)^T mu where they give
+// it, a coloured polarization of gamma otherwise, plus the Lie bracket of the body-axis
+// angular velocities of spatial bodies (kit jdot_transpose.hpp), on both paths.
 //
 // Sparse path (above the sparse threshold, coordinate_selector.hpp): B is never formed (it is
 // dense, n_v x k, in absolute coordinates; B^T M B is dense k x k on a chain). The velocities
@@ -34,8 +34,7 @@
 // dependent rows give mu = J_d^-T (M v)_d, the mu of Bdot^T M v above; it is solved through the
 // sparse S = J M^-1 J^T (sparse_gram.hpp): S mu = -C_t - J M^-1 E_i p, v = M^-1 (E_i p + J^T mu).
 // Then pdot = B^T (Q - Jdot^T mu) with B^T x = x_i - J_i^T J_d^-T x_d through a sparse LU of J_d
-// (sparse_velocity_transform.hpp) and Jdot^T mu by a coloured polarization of gamma
-// (jdot_transpose.hpp): a fixed number of constraint evaluations instead of 2k, O(n) per rhs.
+// (sparse_velocity_transform.hpp) and Jdot^T mu as above: O(n) per rhs.
 // With few freedoms (k <= kFewFreedoms) the velocities come instead from the k columns of B
 // and the k x k Mbar, each column one solve with J_d's LU, as on the dense path: S's condition
 // is J's squared, and where J itself loses rank (IFToMM A02's 40 four-bars at their dead
@@ -114,8 +113,6 @@ private:
     CoordinatePartition partition_at(const State& state);
     // vdot at a state for partition p (and Q_ there)
     void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot);
-    // Jdot w on all rows (polarization of gamma, see the header)
-    void jdot_times(const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::VectorXd& out);
     // the momenta p from the state's scaled momenta, and back (see the header)
     void momenta(const Eigen::VectorXd& y, Eigen::VectorXd& p) const {
         p = y.tail(momentum_scale_.size()).cwiseProduct(momentum_scale_);
@@ -151,7 +148,6 @@ private:
     NewtonSettings newton_;
 
     System* system_ = nullptr;
-    bool planar_ = true;
     int nq_ = 0, nv_ = 0, nc_ = 0;
     const Eigen::SparseMatrix<double>* M_ = nullptr;  // the System's M (block diagonal): M B in O(n_v k)
     MessageLog log_;  // FormulationOptions::log
@@ -164,11 +160,9 @@ private:
     // scratch, sized in bind() or by the first evaluation: rhs() and project() allocate nothing
     State state_, probe_, corrected_;
     ConstraintValues cv_, cv_corrected_;
-    Eigen::VectorXd gamma_probe_;  // jdot_times: gamma alone at v +- w
-    Eigen::MatrixXd J_, J_corrected_, B_, MB_, Mbar_, JdT_;
-    Eigen::VectorXd c_, vi_, gamma_prime_, Q_, q_, p_, zero_, Mx_, Bx_, pdot_, b_, mu_, jw_, jw_kept_, lambda_, Jl_;
+    Eigen::MatrixXd J_, J_corrected_, B_, MB_, Mbar_;
+    Eigen::VectorXd c_, vi_, gamma_prime_, Q_, q_, p_, zero_, Mx_, Bx_, pdot_, b_, mu_, mu_rows_;
     Eigen::LLT<Eigen::MatrixXd> llt_;                // of Mbar
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu_JdT_;    // of J_d^T (mu)
     VelocityTransformWorkspace transform_;
     CoordinateSelector selector_;     // dense or sparse by size (coordinate_selector.hpp)
     CoordinatePartition fresh_;
@@ -190,7 +184,6 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     log_choices_ = options.log_choices.value_or(false) && options.log.enabled();  // no text built for nobody
     newton_ = options.newton;
     singularity_.tolerance = options.singularity_tolerance;
-    planar_ = system.dimension() == Dimension::Planar;
     nq_ = system.nq();
     nv_ = system.nv();
     nc_ = system.constraint_rows(true);
@@ -209,12 +202,12 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     probe_.v.setZero(nv_);
     corrected_.q.setZero(nq_);
     corrected_.v.setZero(nv_);
-    lambda_.setZero(nv_);
     sparse_ = selector_.sparse();
+    jdot_.bind(system);
+    mu_rows_.setZero(nc_);
     if (sparse_) {
         mass_inverse_.bind(system, "hamiltonian formulation");
         if (nc_ > 0) gram_.analyze(system);
-        jdot_.bind(system);
         u_.setZero(nv_);
         w_.setZero(nv_);
         mu_.setZero(nc_);
@@ -295,9 +288,13 @@ void Hamiltonian::transform(double t, const Eigen::VectorXd& q) {
     J_ = cv_.J;
     if (!velocity_transform(J_, cv_.gamma, part_, B_, gamma_prime_, transform_))
         throw DynamicsError(t, "hamiltonian: the dependent sub-Jacobian J_d is singular");
-    const int k = static_cast<int>(part_.independent.size());
-    zero_.setZero(k);
-    dependent_velocities(J_, cv_.C_t, part_, zero_, c_, transform_);  // c = v for v_i = 0
+    // c = v for v_i = 0: c_d = -J_d^-1 C_t on the kept rows, with velocity_transform's LU of J_d
+    c_.setZero(nv_);
+    if (part_.rank > 0) {
+        gather(cv_.C_t, part_.rows, transform_.b);
+        transform_.x = transform_.lu.solve(transform_.b);
+        for (int i = 0; i < part_.rank; ++i) c_[part_.dependent[i]] = -transform_.x[i];
+    }
     factor_mbar(t);
 }
 
@@ -358,28 +355,6 @@ void Hamiltonian::kinematics(double t, const Eigen::VectorXd& y) {
     kinematics(t, q_, p_);
 }
 
-void Hamiltonian::jdot_times(const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::VectorXd& out) {
-    probe_.t = state_.t;
-    probe_.q = state_.q;
-    probe_.v = state_.v + w;
-    system_->constraint_gamma(probe_, gamma_probe_, true);  // gamma only: J and C_t are not read here
-    out = gamma_probe_;
-    probe_.v = state_.v - w;
-    system_->constraint_gamma(probe_, gamma_probe_, true);
-    out -= gamma_probe_;
-    out *= -0.25;
-    if (!planar_) {
-        // the Lie bracket of the body-axis angular-velocity fields: lambda = omega_v x omega_w
-        lambda_.setZero(nv_);
-        for (int b = 0; b < nv_ / 6; ++b) {
-            const Vec3 wv = state_.v.segment<3>(6 * b + 3), ww = w.segment<3>(6 * b + 3);
-            lambda_.segment<3>(6 * b + 3) = wv.cross(ww);
-        }
-        Jl_.noalias() = J_ * lambda_;
-        out += 0.5 * Jl_;
-    }
-}
-
 void Hamiltonian::to_ode(const State& state, Eigen::VectorXd& y) {
     if (!selected_) select(state, true);
     transform(state.t, state.q);
@@ -433,16 +408,18 @@ void Hamiltonian::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
     pdot_.noalias() = B_.transpose() * Q_;
     if (part_.rank > 0) {
         Mx_.noalias() = *M_ * state_.v;
-        gather(J_, part_.rows, part_.dependent, transform_.Jd);
-        JdT_ = transform_.Jd.transpose();
-        lu_JdT_.compute(JdT_);
         gather(Mx_, part_.dependent, b_);
-        mu_ = lu_JdT_.solve(b_);
-        for (int c = 0; c < k; ++c) {
-            jdot_times(B_.col(c), jw_);
-            gather(jw_, part_.rows, jw_kept_);
-            pdot_[c] -= mu_.dot(jw_kept_);
-        }
+        // mu = J_d^-T (M v)_d with transform()'s LU of J_d (P J_d = L U: J_d^-T = P^T L^-T U^-T),
+        // written out: Eigen's transposed solve allocates a temporary
+        const auto& LU = transform_.lu.matrixLU();
+        LU.triangularView<Eigen::Upper>().transpose().solveInPlace(b_);
+        LU.triangularView<Eigen::UnitLower>().transpose().solveInPlace(b_);
+        mu_.noalias() = transform_.lu.permutationP().transpose() * b_;
+        // -(Jdot B)^T mu = -B^T (Jdot^T mu), mu zero on the rows left out of the partition
+        mu_rows_.setZero();
+        for (size_t r = 0; r < part_.rows.size(); ++r) mu_rows_[part_.rows[r]] = mu_[static_cast<Eigen::Index>(r)];
+        jdot_.apply(*system_, state_, cv_.J, mu_rows_, jt_mu_);
+        pdot_.noalias() -= B_.transpose() * jt_mu_;
     }
     if (!pdot_.allFinite()) throw NonFiniteMotion(t, "non-finite momentum rates: the motion diverged");
     ydot.tail(k) = pdot_.cwiseQuotient(momentum_scale_);
