@@ -100,4 +100,22 @@ void JdotTranspose::apply(System& system, const State& state, const Eigen::Spars
     }
 }
 
+void JdotTranspose::times(System& system, const State& state, const Eigen::SparseMatrix<double>& J,
+                          const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::VectorXd& out) {
+    probe_.t = state.t;
+    probe_.q = state.q;
+    probe_.v = state.v + w;
+    system.constraint_gamma(probe_, gamma_plus_, true);
+    probe_.v = state.v - w;
+    system.constraint_gamma(probe_, gamma_minus_, true);
+    out = gamma_plus_ - gamma_minus_;
+    out *= -0.25;
+    if (planar_) return;
+    // the Lie bracket of the body-axis angular-velocity fields, Lambda(v) w = omega_v x omega_w
+    Jt_mu_.setZero(state.v.size());
+    for (int b = 0; b < static_cast<int>(state.v.size()) / 6; ++b)
+        Jt_mu_.segment<3>(6 * b + 3) = state.v.segment<3>(6 * b + 3).cross(w.segment<3>(6 * b + 3));
+    out.noalias() += 0.5 * (J * Jt_mu_);
+}
+
 }  // namespace mbd

@@ -146,7 +146,10 @@ Eigen::Ref<Eigen::VectorXd> ModelSystem::element_force(int f, double t) {
 
 void ModelSystem::generalized_forces(const State& state, Eigen::VectorXd& Q) {
     const Model& m = *model_;
-    data_.pose(state);
+    // the poses only for what reads them: a scene of constant loads alone (gravity on rigid
+    // bodies) adds its stored vector and the gyroscopic moments, which read v
+    if (!constant_Q_ready_ || !varying_forces_.empty() || !m.flexible_bodies.empty() || extra_force_)
+        data_.pose(state);
     if (!constant_Q_ready_) {  // the constant-load elements once (model.hpp ForceInstance::constant_load)
         constant_Q_.setZero(m.nv());
         for (size_t f = 0; f < m.forces.size(); ++f)

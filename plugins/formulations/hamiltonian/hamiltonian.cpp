@@ -113,8 +113,6 @@ private:
     CoordinatePartition partition_at(const State& state);
     // vdot at a state for partition p (and Q_ there)
     void solve_accelerations(double t, const CoordinatePartition& p, const State& state, Eigen::VectorXd& vdot);
-    // Jdot w on all rows (polarization of gamma, see the header)
-    void jdot_times(const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::VectorXd& out);
     // the momenta p from the state's scaled momenta, and back (see the header)
     void momenta(const Eigen::VectorXd& y, Eigen::VectorXd& p) const {
         p = y.tail(momentum_scale_.size()).cwiseProduct(momentum_scale_);
@@ -160,10 +158,10 @@ private:
     double last_rhs_t_ = -std::numeric_limits<double>::infinity();
 
     // scratch, sized in bind() or by the first evaluation: rhs() and project() allocate nothing
-    State state_, probe_, corrected_;
+    State state_, corrected_;
     ConstraintValues cv_, cv_corrected_;
     Eigen::MatrixXd J_, J_corrected_, B_, MB_, Mbar_;
-    Eigen::VectorXd c_, vi_, gamma_prime_, Q_, q_, p_, zero_, Mx_, Bx_, pdot_, b_, mu_, mu_rows_, gamma_probe_, jw_, lambda_, Jl_;
+    Eigen::VectorXd c_, vi_, gamma_prime_, Q_, q_, p_, zero_, Mx_, Bx_, pdot_, b_, mu_, mu_rows_, jw_;
     Eigen::LLT<Eigen::MatrixXd> llt_;                // of Mbar
     VelocityTransformWorkspace transform_;
     CoordinateSelector selector_;     // dense or sparse by size (coordinate_selector.hpp)
@@ -175,7 +173,6 @@ private:
     SparseVelocityTransform sparse_transform_;
     PartitionSwitch switch_;  // to a re-selected partition, keeping the one left
     JdotTranspose jdot_;
-    bool planar_ = true;
     bool probe_columns_ = false;  // dense path: Jdot B column by column (fewer probes than jdot_'s groups)
     std::vector<char> redundant_;  // per row: dropped by the partition
     Eigen::VectorXd u_, w_, jt_mu_, unit_, no_rates_, column_;
@@ -202,12 +199,8 @@ void Hamiltonian::bind(System& system, const FormulationOptions& options) {
     Mx_.setZero(nv_);
     v_before_.setZero(nv_);
     selector_.bind(nc_, nv_, options, fresh_);  // a re-selection allocates nothing (dense)
-    probe_.q.setZero(nq_);
-    probe_.v.setZero(nv_);
     corrected_.q.setZero(nq_);
     corrected_.v.setZero(nv_);
-    planar_ = system.dimension() == Dimension::Planar;
-    lambda_.setZero(nv_);
     sparse_ = selector_.sparse();
     jdot_.bind(system);
     mu_rows_.setZero(nc_);
@@ -363,28 +356,6 @@ void Hamiltonian::kinematics(double t, const Eigen::VectorXd& y) {
     kinematics(t, q_, p_);
 }
 
-void Hamiltonian::jdot_times(const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::VectorXd& out) {
-    probe_.t = state_.t;
-    probe_.q = state_.q;
-    probe_.v = state_.v + w;
-    system_->constraint_gamma(probe_, gamma_probe_, true);  // gamma alone: J and C_t are not read here
-    out = gamma_probe_;
-    probe_.v = state_.v - w;
-    system_->constraint_gamma(probe_, gamma_probe_, true);
-    out -= gamma_probe_;
-    out *= -0.25;
-    if (!planar_) {
-        // the Lie bracket of the body-axis angular-velocity fields: lambda = omega_v x omega_w
-        lambda_.setZero(nv_);
-        for (int b = 0; b < nv_ / 6; ++b) {
-            const Vec3 wv = state_.v.segment<3>(6 * b + 3), ww = w.segment<3>(6 * b + 3);
-            lambda_.segment<3>(6 * b + 3) = wv.cross(ww);
-        }
-        Jl_.noalias() = J_ * lambda_;
-        out += 0.5 * Jl_;
-    }
-}
-
 void Hamiltonian::to_ode(const State& state, Eigen::VectorXd& y) {
     if (!selected_) select(state, true);
     transform(state.t, state.q);
@@ -450,7 +421,7 @@ void Hamiltonian::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& ydot)
         for (size_t r = 0; r < part_.rows.size(); ++r) mu_rows_[part_.rows[r]] = mu_[static_cast<Eigen::Index>(r)];
         if (probe_columns_) {
             for (int c = 0; c < k; ++c) {
-                jdot_times(B_.col(c), jw_);
+                jdot_.times(*system_, state_, cv_.J, B_.col(c), jw_);
                 pdot_[c] -= mu_rows_.dot(jw_);
             }
         } else {

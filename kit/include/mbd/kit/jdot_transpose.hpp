@@ -43,6 +43,10 @@ public:
     // out = Jdot^T mu at state (t, q, v); J at that state (J does not depend on v)
     void apply(System& system, const State& state, const Eigen::SparseMatrix<double>& J, const Eigen::VectorXd& mu,
                Eigen::VectorXd& out);
+    // out = Jdot w on every row by one polarization (two gamma evaluations), for a few directions w:
+    // Jdot w = -(gamma(v + w) - gamma(v - w)) / 4 + J Lambda(v) w / 2 (see the top of this file)
+    void times(System& system, const State& state, const Eigen::SparseMatrix<double>& J,
+               const Eigen::Ref<const Eigen::VectorXd>& w, Eigen::VectorXd& out);
 
 private:
     int nvb_ = 3, colours_ = 0;
