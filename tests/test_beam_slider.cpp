@@ -1,0 +1,250 @@
+// The beam_slider joint (core evaluation/beam_slider.hpp, docs/scene-format.md): a collar's point
+// sliding without friction along the centre line of an ANCF body. Oracles:
+//   - central differences of the rows C (s* re-solved at each probe) for the Jacobian, and of C
+//     along a smooth motion for gamma (Cddot = J vdot - gamma), at a deformed, moving state
+//     whose collar point is on the curve and leaves it at a non-zero rate (planar and spatial);
+//   - the closed form s(t) = s0 + g sin(alpha) t^2 / 2 of a collar on a stiff inclined beam
+//     clamped at both ends;
+//   - conservation of energy under gravity, and of linear and angular momentum of a free beam and
+//     its collar (integrated over the beam's mass in the test);
+//   - the same mechanism with a rigid bar and a prismatic joint;
+//   - refusals of bad input naming the joint and file:line, and a collar that runs off the beam.
+#include "support/input_files.hpp"
+#include "support/sampled_run.hpp"
+#include "support/test_support.hpp"
+
+#include <mbd/model_system.hpp>
+#include <mbd/sdk/rotation.hpp>
+#include <mbd/sdk/text.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+
+namespace mbd {
+namespace {
+
+constexpr double kG = 9.81;
+constexpr double kPi = 3.14159265358979323846;
+
+// A cable `name` between two points (rho A = density, area 1).
+std::string cable(const std::string& name, const std::string& from, const std::string& to, int elements,
+                  double modulus, double second_moment, const std::string& extra = "") {
+    return "  - {name: " + name + ", type: ancf_cable, from: " + from + ", to: " + to +
+           ", elements: " + std::to_string(elements) + ", modulus: " + test::g17(modulus) +
+           ", area: 1.0, second_moment: " + test::g17(second_moment) + ", density: 1.0" + extra + "}\n";
+}
+
+// ---------------------------------------------------------------- rows against finite differences
+
+// A smooth motion of a slider scene (a cable `rail`, a rigid `collar`, the joint `sleeve`): the
+// cable's coordinates q_b(t) = q_0 + t v_0 + t^2 a_0 / 2, and the collar's point at the cable's
+// material point s(t) moved off the centre line by offsets(t) along the material frame's
+// normal(s) (the frame's y axis; spatial: its y and z axes), the collar turning at a prescribed
+// rate. Positions from the motion; the collar's translational velocity and acceleration by
+// fourth-order differences in t.
+class SliderMotion {
+public:
+    SliderMotion(const Model& model, Eigen::VectorXd q0, Eigen::VectorXd v0, Eigen::VectorXd a0)
+        : model_(model), q0_(std::move(q0)), v0_(std::move(v0)), a0_(std::move(a0)) {
+        const JointInstance& joint = model.joints.front();
+        u_bar_ = joint.markers[1].u_bar;
+        planar_ = model.dimension == Dimension::Planar;
+    }
+
+    State state(double t) const {
+        State s;
+        s.t = 0.0;
+        s.q = positions(t);
+        s.v = velocities(t);
+        return s;
+    }
+    Eigen::VectorXd accelerations(double t) const {
+        Eigen::VectorXd a = Eigen::VectorXd::Zero(model_.nv());
+        const Vec3 R2 = differenced(t, 2);
+        if (planar_) {
+            a.head<2>() = R2.head<2>();
+            a[2] = kTurn[2];
+        } else {
+            a.head<3>() = R2;
+            a.segment<3>(3) = kAxis * kTurn[2];
+        }
+        a.tail(model_.flexible_coordinates()) = a0_;
+        return a;
+    }
+
+private:
+    static constexpr double kSlide[3] = {0.37, 0.8, -0.6};   // s(t) = s0 + s1 t + s2 t^2 / 2
+    static constexpr double kOff[2][3] = {{0.0, 0.2, 0.5}, {0.0, -0.3, 0.4}};  // offsets(t), likewise
+    static constexpr double kTurn[3] = {0.3, 1.1, -0.7};     // the collar's turn angle, likewise
+    inline static const Vec3 kAxis = Vec3(0.36, 0.48, 0.8);  // the spatial collar's turning axis (unit)
+
+    static double quadratic(const double (&c)[3], double t) { return c[0] + c[1] * t + 0.5 * c[2] * t * t; }
+    Eigen::VectorXd beam(double t) const { return q0_ + t * v0_ + 0.5 * t * t * a0_; }
+
+    // the collar's mass centre at t: its point P on the offset material point, minus A u_bar
+    Vec3 centre(double t) const {
+        const FlexibleBody& body = *model_.flexible_bodies.front().body;
+        const Eigen::VectorXd q = beam(t), v = Eigen::VectorXd::Zero(q.size());
+        const double s = quadratic(kSlide, t);
+        MaterialFrame frame;
+        body.frame(q, v, &s, frame);
+        if (planar_) {
+            const Vec2 normal(-std::sin(frame.planar.theta), std::cos(frame.planar.theta));
+            const Vec2 P = frame.planar.R + quadratic(kOff[0], t) * normal;
+            const Vec2 R = P - planar_rotation(quadratic(kTurn, t)) * u_bar_.head<2>();
+            return Vec3(R.x(), R.y(), 0.0);
+        }
+        const Vec3 P = frame.spatial.R + quadratic(kOff[0], t) * frame.spatial.A.col(1) +
+                       quadratic(kOff[1], t) * frame.spatial.A.col(2);
+        return P - orientation(t) * u_bar_;
+    }
+    Mat3 orientation(double t) const {
+        return rotation_from_euler_parameters(euler_parameters_from_axis_angle(kAxis, quadratic(kTurn, t)));
+    }
+    // d^k/dt^k of the collar's centre, k = 1 or 2, by fourth-order central differences
+    Vec3 differenced(double t, int k) const {
+        const double h = 1e-3;
+        const Vec3 m2 = centre(t - 2 * h), m1 = centre(t - h), p1 = centre(t + h), p2 = centre(t + 2 * h);
+        if (k == 1) return (m2 - 8.0 * m1 + 8.0 * p1 - p2) / (12.0 * h);
+        return (-m2 + 16.0 * m1 - 30.0 * centre(t) + 16.0 * p1 - p2) / (12.0 * h * h);
+    }
+
+    Eigen::VectorXd positions(double t) const {
+        Eigen::VectorXd q(model_.nq());
+        const Vec3 R = centre(t);
+        if (planar_) {
+            q.head<2>() = R.head<2>();
+            q[2] = quadratic(kTurn, t);
+        } else {
+            q.head<3>() = R;
+            q.segment<4>(3) = euler_parameters_from_axis_angle(kAxis, quadratic(kTurn, t));
+        }
+        q.tail(model_.flexible_coordinates()) = beam(t);
+        return q;
+    }
+    Eigen::VectorXd velocities(double t) const {
+        Eigen::VectorXd v(model_.nv());
+        const Vec3 R1 = differenced(t, 1);
+        const double turn_rate = kTurn[1] + kTurn[2] * t;
+        if (planar_) {
+            v.head<2>() = R1.head<2>();
+            v[2] = turn_rate;
+        } else {
+            v.head<3>() = R1;
+            v.segment<3>(3) = kAxis * turn_rate;  // about a fixed axis: the same in body axes
+        }
+        v.tail(model_.flexible_coordinates()) = v0_ + t * a0_;
+        return v;
+    }
+
+    const Model& model_;
+    Eigen::VectorXd q0_, v0_, a0_;
+    Vec3 u_bar_ = Vec3::Zero();
+    bool planar_ = true;
+};
+
+// The scene's cable bent out of its straight line, moving and accelerating: smooth made-up
+// fields on every coordinate.
+struct CableMotion {
+    Eigen::VectorXd q0, v0, a0;
+};
+CableMotion bent_cable(const Model& model, int dimension) {
+    const FlexibleBodyInstance& f = model.flexible_bodies.front();
+    CableMotion m{f.body->initial_coordinates(), Eigen::VectorXd(f.size), Eigen::VectorXd(f.size)};
+    const int per_node = 2 * dimension;
+    for (int i = 0; i < f.size; ++i) {
+        const int node = i / per_node, component = i % per_node;
+        const double x = m.q0[node * per_node];  // the node's reference x (the cable starts on the x axis)
+        if (component == 1) m.q0[i] += 0.1 * std::sin(kPi * x);                 // y
+        if (component == dimension + 1) m.q0[i] += 0.1 * kPi * std::cos(kPi * x);  // y'
+        if (dimension == 3 && component == 2) m.q0[i] += 0.05 * std::sin(2 * kPi * x);
+        if (dimension == 3 && component == 5) m.q0[i] += 0.1 * kPi * std::cos(2 * kPi * x);
+        m.q0[i] += 0.01 * std::sin(1.7 * i + 0.2);
+        m.v0[i] = 0.4 * std::cos(0.9 * i + 0.5);
+        m.a0[i] = 0.6 * std::sin(1.1 * i + 1.3);
+    }
+    return m;
+}
+
+std::string format_vector(const Eigen::VectorXd& v) {
+    std::string text = "[";
+    for (int i = 0; i < v.size(); ++i) text += (i ? ", " : "") + format_number(v[i]);
+    return text + "]";
+}
+
+// C of the scene's rows at a state.
+Eigen::VectorXd rows_at(ModelSystem& system, const State& state) {
+    ConstraintValues cv;
+    system.constraints(state, cv, false);
+    return cv.C;
+}
+
+// Checks J against central differences of C over every velocity direction, and gamma against
+// J vdot - Cddot with Cddot by fourth-order differences of C along the motion.
+void expect_rows_match_differences(const Model& model, const SliderMotion& motion) {
+    ModelSystem system(model);
+    const State x = motion.state(0.0);
+    ConstraintValues cv;
+    system.constraints(x, cv, false);
+    const Eigen::MatrixXd J = cv.J;
+    const int rows = static_cast<int>(cv.C.size());
+
+    const double h = 1e-6;
+    double worst_J = 0.0;
+    for (int k = 0; k < model.nv(); ++k) {
+        State plus = x, minus = x;
+        Eigen::VectorXd dv = Eigen::VectorXd::Zero(model.nv());
+        dv[k] = h;
+        advance_positions(model, plus.q, dv);
+        advance_positions(model, minus.q, -dv);
+        const Eigen::VectorXd fd = (rows_at(system, plus) - rows_at(system, minus)) / (2 * h);
+        worst_J = std::max(worst_J, (fd - J.col(k)).cwiseAbs().maxCoeff());
+    }
+    const double J_scale = J.cwiseAbs().maxCoeff();
+
+    const double dt = 1e-3;
+    Eigen::VectorXd C[5];
+    for (int i = 0; i < 5; ++i) C[i] = rows_at(system, motion.state((i - 2) * dt));
+    const Eigen::VectorXd Cddot = (-C[0] + 16.0 * C[1] - 30.0 * C[2] + 16.0 * C[3] - C[4]) / (12.0 * dt * dt);
+    const Eigen::VectorXd J_vdot = J * motion.accelerations(0.0);
+    const Eigen::VectorXd expected = J_vdot - Cddot;
+    const double gamma_error = (cv.gamma - expected).cwiseAbs().maxCoeff();
+    const double gamma_scale = std::max(J_vdot.cwiseAbs().maxCoeff(), Cddot.cwiseAbs().maxCoeff());
+    const Eigen::VectorXd Cdot = J * x.v;
+    std::printf("%s: |C| %.2e, |Cdot| %.3g, J error %.2e of %.3g, gamma %s against %s (error %.2e of %.3g)\n",
+                to_string(model.dimension), cv.C.cwiseAbs().maxCoeff(), Cdot.cwiseAbs().maxCoeff(), worst_J, J_scale,
+                format_vector(cv.gamma).c_str(), format_vector(expected).c_str(), gamma_error, gamma_scale);
+    EXPECT_EQ(rows, model.dimension == Dimension::Planar ? 1 : 2);
+    EXPECT_LT(cv.C.cwiseAbs().maxCoeff(), 1e-12);  // the point is on the curve at t = 0
+    EXPECT_GT(Cdot.cwiseAbs().maxCoeff(), 0.1);     // and leaving it: every term of gamma is alive
+    EXPECT_LT(worst_J, 1e-7 * J_scale);
+    EXPECT_LT(gamma_error, 1e-6 * gamma_scale);
+}
+
+const std::string kCollarPlanar =
+    "bodies:\n  - {name: collar, mass: 0.2, inertia: 1.0e-3, position: [0.35, 0.08], angle: 0.2}\n"
+    "joints:\n  - {name: sleeve, type: beam_slider, bodies: [{body: rail, at: 0.37}, collar]}\n";
+
+TEST(BeamSlider, PlanarRowsMatchFiniteDifferencesAtADeformedMovingState) {
+    const Model model = test::scene("dimension: planar\nflexible_bodies:\n" +
+                                    cable("rail", "[0, 0]", "[1, 0]", 4, 1.0e4, 1.0e-3) + kCollarPlanar);
+    const CableMotion m = bent_cable(model, 2);
+    expect_rows_match_differences(model, SliderMotion(model, m.q0, m.v0, m.a0));
+}
+
+TEST(BeamSlider, SpatialRowsMatchFiniteDifferencesAtADeformedMovingState) {
+    const Model model = test::scene(
+        "dimension: spatial\nflexible_bodies:\n" + cable("rail", "[0, 0, 0]", "[1, 0, 0]", 4, 1.0e4, 1.0e-3) +
+        "bodies:\n  - {name: collar, mass: 0.2, inertia: [1.0e-3, 2.0e-3, 3.0e-3], position: [0.35, 0.08, -0.05]}\n"
+        "joints:\n  - {name: sleeve, type: beam_slider, bodies: [{body: rail, at: 0.37}, collar]}\n");
+    const CableMotion m = bent_cable(model, 3);
+    expect_rows_match_differences(model, SliderMotion(model, m.q0, m.v0, m.a0));
+}
+
+}  // namespace
+}  // namespace mbd
