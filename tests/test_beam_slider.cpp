@@ -246,5 +246,149 @@ TEST(BeamSlider, SpatialRowsMatchFiniteDifferencesAtADeformedMovingState) {
     expect_rows_match_differences(model, SliderMotion(model, m.q0, m.v0, m.a0));
 }
 
+
+// ---------------------------------------------------------------- dynamics
+
+using Trace = test::SampledRun;
+
+Trace run(const Model& model, double t_end, double tolerance, int samples = 50) {
+    return test::run_sampled(model, test::adaptive_run("augmented", "dopri5", tolerance, t_end, t_end / samples));
+}
+
+// A collar (0.5 kg, its point at its mass centre) on a straight cable inclined at alpha below the
+// x axis, clamped at both ends, released at s0 = 0.25 m: if the cable were rigid it would slide
+// as s(t) = s0 + g sin(alpha) t^2 / 2. The cable's bending under its weight and the collar's tilts
+// its centre line by at most theta, which changes the tangential acceleration by at most
+// g cos(alpha) theta: theta_w = 0.00802 w L^3 / EI (the largest slope of a clamped-clamped beam
+// under a uniform load w = rho A g cos(alpha), from w x^2 (L - x)^2 / (24 EI)), theta_P =
+// P L^2 / (16 EI) (the largest slope under a point load P = m g cos(alpha), a simply supported
+// beam's, which bounds the clamped one's), doubled for a load applied suddenly (the cable starts
+// straight): |s - s_closed| <= g cos(alpha) 2 (theta_w + theta_P) t^2 / 2.
+TEST(BeamSlider, ACollarSlidesDownAStiffInclinedBeamAsGSinAlphaTSquaredOverTwo) {
+    const double alpha = kPi / 6, L = 1.0, EI = 1.0e3, m = 0.5, s0 = 0.25;
+    const Vec2 t_hat(std::cos(alpha), -std::sin(alpha));
+    const Vec2 start = s0 * t_hat;
+    const Model model = test::scene(
+        "dimension: planar\ngravity: [0, -9.81]\nflexible_bodies:\n" +
+        cable("rail", "[0, 0]", "[" + test::g17(L * t_hat.x()) + ", " + test::g17(L * t_hat.y()) + "]", 4, EI * 10,
+              0.1) +
+        "bodies:\n  - {name: collar, mass: 0.5, inertia: 1.0e-4, position: [" + test::g17(start.x()) + ", " +
+        test::g17(start.y()) + "]}\n"
+        "joints:\n  - {name: left, type: fixed, bodies: [ground, {body: rail, node: 0}]}\n"
+        "  - {name: right, type: fixed, bodies: [ground, {body: rail, node: 4}]}\n"
+        "  - {name: sleeve, type: beam_slider, bodies: [{body: rail, at: 0.25}, collar]}\n");
+    const double t_end = 0.3;
+    const Trace trace = run(model, t_end, 1e-8, 30);
+    const double w = 1.0 * kG * std::cos(alpha), P = m * kG * std::cos(alpha);
+    const double theta = 0.00802 * w * L * L * L / EI + P * L * L / (16 * EI);
+    double worst = 0.0, across = 0.0;
+    for (size_t r = 0; r < trace.rows.size(); ++r) {
+        const double t = trace.at(r, "t");
+        const Vec2 R(trace.at(r, "collar.x"), trace.at(r, "collar.y"));
+        const double s = R.dot(t_hat), closed = s0 + 0.5 * kG * std::sin(alpha) * t * t;
+        const double bound = kG * std::cos(alpha) * 2 * theta * t * t / 2;
+        worst = std::max(worst, std::abs(s - closed) / std::max(bound, 1e-12));
+        across = std::max(across, std::abs(R.x() * t_hat.y() - R.y() * t_hat.x()));
+        if (r + 1 == trace.rows.size())
+            std::printf("s(%g) = %.9f m against %.9f m (difference %.2e, bound %.2e); largest sag at the collar %.2e m\n", t,
+                        s, closed, s - closed, bound, across);
+    }
+    EXPECT_LT(worst, 1.0);  // the difference within its bound at every sample
+    EXPECT_LT(trace.largest("constraint_position_violation"), 1e-12);
+}
+
+
+// The example scene: a collar threaded on a flexible cantilever under gravity. Nothing dissipates,
+// so kinetic energy (both bodies), strain energy and gravity's potential sum to a constant, to the
+// integrator's tolerance on the energy the motion exchanges.
+TEST(BeamSlider, ACollarOnAFlexibleCantileverKeepsTheEnergyAndStaysOnTheBeam) {
+    const std::filesystem::path file = test::source_dir() / "examples/beam_slider/collar-on-cantilever.yaml";
+    const Model model = test::scene(test::read_text(file), file.string());
+    const double t_end = 0.6, tolerance = 1e-8;
+    const Trace trace = run(model, t_end, tolerance, 30);
+    const double scale = (0.5 + 1.0) * kG * 0.3;  // the bodies' weight times the collar's drop, about
+    double slid = 0.0, tip = 0.0;
+    for (size_t r = 0; r < trace.rows.size(); ++r) {
+        slid = std::max(slid, trace.at(r, "collar.x") - 0.2);
+        tip = std::min(tip, trace.at(r, "rail.node8.y"));
+    }
+    std::printf("collar on a cantilever over %g s: energy drift %.3g J of %.3g J, |C| %.3g, slid %.3f m, tip lowest %.3f m\n",
+                t_end, trace.largest_energy_change(), scale, trace.largest("constraint_position_violation"), slid, tip);
+    EXPECT_LT(trace.largest_energy_change(), 10 * tolerance * scale);
+    EXPECT_LT(trace.largest("constraint_position_violation"), 1e-12);
+    EXPECT_GT(slid, 0.1);  // the collar slid along the beam
+    EXPECT_LT(tip, -0.1);  // and the beam bent under it
+}
+
+
+// The linear momentum and the angular momentum about the origin of a free cable (rho A = 1 kg/m)
+// and its collar, the cable's by 4-point Gauss quadrature of rho A rdot and rho A r x rdot over
+// each element (exact: r and rdot are cubic in x) from the cable's own material points.
+struct Momenta {
+    Vec2 linear = Vec2::Zero();
+    double angular = 0.0;
+};
+Momenta momenta(const Model& model, const State& state, double collar_mass, double collar_inertia) {
+    Momenta p;
+    const Vec2 R = state.q.head<2>(), Rdot = state.v.head<2>();
+    p.linear = collar_mass * Rdot;
+    p.angular = collar_mass * (R.x() * Rdot.y() - R.y() * Rdot.x()) + collar_inertia * state.v[2];
+    const FlexibleBodyInstance& f = model.flexible_bodies.front();
+    const Eigen::VectorXd q = state.q.segment(f.offset, f.size), v = state.v.segment(f.v_offset, f.size);
+    const int elements = f.body->node_count() - 1;
+    const double l = f.body->node_parameters(1)[0];
+    const double xi[4] = {0.0694318442029737, 0.3300094782075719, 0.6699905217924281, 0.9305681557970263};
+    const double weight[4] = {0.1739274225587269, 0.3260725774412731, 0.3260725774412731, 0.1739274225587269};
+    MaterialPoint point;
+    for (int e = 0; e < elements; ++e)
+        for (int g = 0; g < 4; ++g) {
+            const double x = (e + xi[g]) * l;
+            f.body->point(q, v, &x, point);
+            const double dm = 1.0 * weight[g] * l;
+            p.linear += dm * point.rdot.head<2>();
+            p.angular += dm * (point.r.x() * point.rdot.y() - point.r.y() * point.rdot.x());
+        }
+    return p;
+}
+
+// No gravity, no other joint: a spinning collar whose point sits 0.1 m off its mass centre,
+// threaded on a free cable at rest. The collar swings and bends the cable; the momenta of the two
+// together stay what they were.
+TEST(BeamSlider, AFreeCableAndItsSpinningCollarKeepTheirMomentaAndEnergy) {
+    const double m = 0.5, J = 2.0e-3, omega = 10.0;
+    // the collar's point (0.5, 0) on the cable, its centre at (0.5, 0.1), at rest: the point's
+    // velocity omega k x (0, -0.1) = (1, 0) runs along the cable (a consistent start)
+    const Model model = test::scene(
+        "dimension: planar\nflexible_bodies:\n" + cable("rail", "[0, 0]", "[1, 0]", 4, 1.0e4, 1.0e-3) +
+        "bodies:\n  - {name: collar, mass: 0.5, inertia: 2.0e-3, position: [0.5, 0.1], angular_velocity: 10}\n"
+        "joints:\n  - {name: sleeve, type: beam_slider, bodies: [{body: rail, at: 0.5}, collar]}\n");
+    SimulationSettings settings = test::adaptive_run("augmented", "dopri5", 1e-10, 0.3, 0.01);
+    std::vector<State> states;
+    simulate(model, test::shared_registry(), settings, [&](const SimulationSample& s) {
+        states.push_back(s.state);
+        return true;
+    });
+    ASSERT_GT(states.size(), 10u);
+    ModelSystem system(model);
+    const Momenta start = momenta(model, states.front(), m, J);
+    const double E0 = system.kinetic_energy(states.front()) + system.potential_energy(states.front());
+    double linear = 0.0, angular = 0.0, energy = 0.0, strain = 0.0;
+    for (const State& s : states) {
+        const Momenta p = momenta(model, s, m, J);
+        linear = std::max(linear, (p.linear - start.linear).norm());
+        angular = std::max(angular, std::abs(p.angular - start.angular));
+        energy = std::max(energy, std::abs(system.kinetic_energy(s) + system.potential_energy(s) - E0));
+        strain = std::max(strain, system.potential_energy(s));
+    }
+    std::printf("free cable and collar: p0 (%.6f, %.6f), L0 %.6f; largest change |p| %.2e, L %.2e, energy %.2e of "
+                "%.4f J (largest strain energy %.3g J)\n",
+                start.linear.x(), start.linear.y(), start.angular, linear, angular, energy, E0, strain);
+    // the scales: the momenta the collar's point carries at the start
+    EXPECT_LT(linear, 1e-9 * m * omega * 0.1);
+    EXPECT_LT(angular, 1e-9 * (J * omega + m * 0.1 * omega * 0.1));
+    EXPECT_LT(energy, 1e-8 * E0);
+    EXPECT_GT(strain, 1e-2 * E0);  // the cable bent: the exchange the conservation is about
+}
+
 }  // namespace
 }  // namespace mbd
