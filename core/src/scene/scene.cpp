@@ -477,6 +477,9 @@ void Loader::load_joint(const Param& node, int index) {
 
     const std::string at = key_where(node, "type");
     const bool slider = joint.type == kBeamSliderType;  // the core's own joint type (beam_slider.hpp)
+    if (const Param* axis = find(node, "axis"); slider && axis)
+        axis->fail(what + ": a beam_slider has no axis (its collar's point slides along the flexible body's centre "
+                          "line); remove 'axis'");
     joint.joint = create_checked(params, node, what, "joint", joint.type, [&]() -> std::shared_ptr<const Joint> {
         if (slider) return make_beam_slider(spec);
         return registry_.create_joint(spec, at);
