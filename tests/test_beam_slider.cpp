@@ -14,6 +14,8 @@
 #include "support/test_support.hpp"
 
 #include <mbd/model_system.hpp>
+#include <mbd/reactions.hpp>
+#include <mbd/statics_analysis.hpp>
 #include <mbd/sdk/rotation.hpp>
 #include <mbd/sdk/text.hpp>
 
@@ -428,6 +430,47 @@ TEST(BeamSlider, AStiffCableAgreesWithARigidBarAndAPrismaticJoint) {
     EXPECT_LT(b.at(last, "collar.y"), -0.1);  // the mechanism moved well beyond the bound
 }
 
+
+// ---------------------------------------------------------------- statics
+
+// A bead (0.5 kg) threaded on a cable (1 kg/m, 1 m) pinned at both ends, under gravity, started
+// at x = 0.3 on the straight cable: without friction it can rest only at the lowest point, by
+// symmetry the middle. The pins carry half of the total weight each; the slider holds the bead
+// up with its weight m g and presses the cable down with as much at the bead's point.
+TEST(BeamSlider, MbdStaticsRestsABeadAtTheMiddleOfAHangingCable) {
+    const double m = 0.5;
+    const Model model = test::scene(
+        "dimension: planar\ngravity: [0, -9.81]\nflexible_bodies:\n" + cable("rope", "[0, 0]", "[1, 0]", 8, 1.0e4, 1.0e-3) +
+        "bodies:\n  - {name: bead, mass: 0.5, inertia: 1.0e-3, position: [0.3, 0]}\n"
+        "joints:\n  - {name: left, type: revolute, bodies: [ground, {body: rope, node: 0}]}\n"
+        "  - {name: right, type: revolute, bodies: [ground, {body: rope, node: 8}]}\n"
+        "  - {name: sleeve, type: beam_slider, bodies: [{body: rope, at: 0.3}, bead]}\n");
+    StaticsOptions options;
+    options.analyse_stability = false;
+    const StaticsReport report = run_statics(model, test::shared_registry(), options);
+    ASSERT_TRUE(report.result.converged) << report.result.status << ": " << report.result.message;
+    const State& x = report.result.state;
+    const int o = model.flexible_bodies.front().offset;
+    ModelSystem system(model);
+    const std::vector<JointReaction> reactions = joint_reactions(system, x, report.result.lambda);
+    const BodyReaction& on_rope = reactions[2].on[0];
+    const BodyReaction& on_bead = reactions[2].on[1];
+    std::printf("bead at (%.12f, %.9f), the cable's middle node at (%.12f, %.9f); pins' vertical reactions %.9f, "
+                "%.9f N; on the bead (%.2e, %.9f) N, on the cable (%.2e, %.9f) N at (%.9f, %.9f)\n",
+                x.q[0], x.q[1], x.q[o + 16], x.q[o + 17], report.reactions[0].force.y(), report.reactions[1].force.y(),
+                on_bead.force.x(), on_bead.force.y(), on_rope.force.x(), on_rope.force.y(), on_rope.point.x(),
+                on_rope.point.y());
+    EXPECT_NEAR(x.q[0], 0.5, 1e-9);
+    EXPECT_LT(x.q[1], -0.01);  // the cable sags under the bead
+    EXPECT_NEAR(x.q[1], x.q[o + 17], 1e-9);  // on the cable: the middle node (node 4's y)
+    const double half_weight = (1.0 + m) * kG / 2;
+    EXPECT_NEAR(report.reactions[0].force.y(), half_weight, 1e-8 * half_weight);
+    EXPECT_NEAR(report.reactions[1].force.y(), half_weight, 1e-8 * half_weight);
+    EXPECT_TRUE(on_rope.material_frame);
+    EXPECT_LT((on_bead.force - Vec3(0, m * kG, 0)).norm(), 1e-8 * m * kG);
+    EXPECT_LT((on_rope.force - Vec3(0, -m * kG, 0)).norm(), 1e-8 * m * kG);
+    EXPECT_LT((on_rope.point - Vec3(x.q[0], x.q[1], 0)).norm(), 1e-12);  // where the bead is
+}
 
 // ---------------------------------------------------------------- refusals
 

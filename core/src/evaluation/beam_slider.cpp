@@ -96,6 +96,22 @@ public:
         }
     }
 
+    // The frame at s*: x along the tangent, y (and z) the rows' normals; the rows see the curve's
+    // point move with -N^T Rdot and do not see the frame turn.
+    void curve_frame(const BodyStates& bodies, const BodyCurve& curve, const Eigen::VectorXd& q,
+                     const Eigen::VectorXd& v, Mat3& A, Vec3& R, Eigen::MatrixXd& J_frame) const override {
+        CurvePoint c;
+        closest_parameter(curve, q, v, collar_point(bodies).r, c);
+        const Vec3 t = c.r_s.normalized();
+        const Normals N = normals_across(t, Vec3::Zero(), planar_);
+        A.col(0) = t;
+        A.col(1) = N.n[0];
+        A.col(2) = planar_ ? Vec3::UnitZ() : N.n[1];
+        R = c.r;
+        J_frame.setZero(N.count, planar_ ? 3 : 6);
+        for (int i = 0; i < N.count; ++i) J_frame.row(i).head(planar_ ? 2 : 3) = -N.n[i].head(planar_ ? 2 : 3).transpose();
+    }
+
 private:
     CollarPoint collar_point(const BodyStates& bodies) const {
         CollarPoint P;

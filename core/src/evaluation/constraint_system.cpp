@@ -357,11 +357,19 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
 bool ConstraintSystem::material_frame(size_t j, int slot, const State& state, Data& data, Mat3& A, Vec3& R,
                                       Eigen::MatrixXd& J_frame) const {
     const std::vector<FlexibleAttachment>& flexible = *flexible_[j];
-    if (!flexible.empty() && dynamic_cast<const CurveJoint*>(joint_[j]))
-        throw DynamicsError(state.t, "joint '" + model_->joints[j].name + "' (type " + model_->joints[j].type +
-                                         ") slides along flexible body '" +
-                                         model_->flexible_bodies[flexible.front().body].name +
-                                         "': its reaction on that body is not computed; run without --reactions");
+    const auto* along_curve = flexible.empty() ? nullptr : dynamic_cast<const CurveJoint*>(joint_[j]);
+    if (along_curve) {  // the frame at the curve's point where the joint acts, R shifted so that R + A u_bar is it
+        if (slot != CurveJoint::kCurveSlot) return false;
+        data.pose(state);
+        data.poses.fill(joint_bodies_[j], state.t, data.view);
+        const int body = flexible.front().body;
+        along_curve->curve_frame(data.view, dynamic_cast<const BodyCurve&>(*model_->flexible_bodies[body].body),
+                                 data.flexible_q[body], data.flexible_v[body], A, R, J_frame);
+        Vec3 u_bar = model_->joints[j].markers[slot].u_bar;
+        if (model_->dimension == Dimension::Planar) u_bar.z() = 0.0;
+        R -= A * u_bar;
+        return true;
+    }
     for (size_t a = 0; a < flexible.size(); ++a) {
         if (flexible[a].slot != slot) continue;
         data.pose(state);

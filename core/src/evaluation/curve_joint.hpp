@@ -26,6 +26,13 @@ public:
                                    const Eigen::VectorXd& v, ConstraintEval& out,
                                    Eigen::Ref<Eigen::MatrixXd> J_curve) const = 0;
 
+    // Where the joint acts on the curve, for its reaction there (reactions.hpp): a frame at the
+    // curve's point (origin R, axes A, world) and the rows' Jacobian J_frame (rows x 3 planar
+    // [Rdot, omega], rows x 6 spatial [Rdot, wbar]) over that frame's velocities, so that the
+    // reaction on the body there is -J_frame^T lambda.
+    virtual void curve_frame(const BodyStates& bodies, const BodyCurve& curve, const Eigen::VectorXd& q,
+                             const Eigen::VectorXd& v, Mat3& A, Vec3& R, Eigen::MatrixXd& J_frame) const = 0;
+
     // Without its curve the rows do not exist; the core always calls evaluate_on_curve.
     void evaluate(const BodyStates& /*bodies*/, ConstraintEval& /*out*/) const override {
         throw DomainError("this joint is evaluated on its flexible body's centre line only");
