@@ -26,6 +26,8 @@
 namespace mbd {
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+
 // The unit normals across the unit tangent t and their rates for the tangent's rate tdot.
 // Planar: the tangent turned by +90 degrees. Spatial: n1 = (a x t) / |a x t| with a the world
 // axis least along t (|a x t| >= sqrt(2/3)), n2 = t x n1; the choice of a may change between
@@ -64,12 +66,16 @@ struct CollarPoint {
 
 class BeamSlider final : public CurveJoint {
 public:
-    BeamSlider(Dimension dimension, const Vec3& u_bar) : planar_(dimension == Dimension::Planar), u_bar_(u_bar) {}
+    // along: the collar keeps the angle `offset` to the tangent (planar; a sleeve)
+    BeamSlider(Dimension dimension, const Vec3& u_bar, bool along, double offset)
+        : planar_(dimension == Dimension::Planar), along_(along), offset_(offset), u_bar_(u_bar) {}
 
-    int rows() const override { return planar_ ? 1 : 2; }
+    int rows() const override { return (planar_ ? 1 : 2) + (along_ ? 1 : 0); }
     std::string row_name(int row) const override {
+        if (along_ && row == 1) return "tangent angle";
         return planar_ ? "normal" : (row == 0 ? "normal 1" : "normal 2");
     }
+    double row_period(int row) const override { return along_ && row == 1 ? 2 * kPi : 0.0; }
 
     void evaluate_on_curve(const BodyStates& bodies, const BodyCurve& curve, const Eigen::VectorXd& q,
                            const Eigen::VectorXd& v, ConstraintEval& out,
@@ -94,10 +100,11 @@ public:
             curve.add_curve_jacobian(q, s, -n, J_curve, i);
             out.gamma[i] = -(2.0 * N.ndot[i].dot(w) + sdot * sdot * n.dot(c.r_ss) + n.dot(P.bias - c.bias));
         }
+        if (along_) tangent_angle_row(bodies, curve, q, s, c, P, w, sdot, out, J_curve);
     }
 
-    // The frame at s*: x along the tangent, y (and z) the rows' normals; the rows see the curve's
-    // point move with -N^T Rdot and do not see the frame turn.
+    // The frame at s*: x along the tangent, y (and z) the rows' normals; the normal rows see the
+    // curve's point move with -N^T Rdot and do not see the frame turn.
     void curve_frame(const BodyStates& bodies, const BodyCurve& curve, const Eigen::VectorXd& q,
                      const Eigen::VectorXd& v, Mat3& A, Vec3& R, Eigen::MatrixXd& J_frame) const override {
         CurvePoint c;
@@ -108,11 +115,46 @@ public:
         A.col(1) = N.n[0];
         A.col(2) = planar_ ? Vec3::UnitZ() : N.n[1];
         R = c.r;
-        J_frame.setZero(N.count, planar_ ? 3 : 6);
+        J_frame.setZero(rows(), planar_ ? 3 : 6);
         for (int i = 0; i < N.count; ++i) J_frame.row(i).head(planar_ ? 2 : 3) = -N.n[i].head(planar_ ? 2 : 3).transpose();
+        if (along_) {  // the sleeve's row sees the frame turn (-1) and the point move along r_s (tangent_angle_row)
+            const double g = c.r_s.squaredNorm(), kappa = c.r_s.x() * c.r_ss.y() - c.r_s.y() * c.r_ss.x();
+            J_frame.row(1) << kappa / (g * g) * c.r_s.x(), kappa / (g * g) * c.r_s.y(), -1.0;
+        }
     }
 
 private:
+    // The sleeve's row (planar), C = theta_collar - phi(s*) - offset with phi = atan2(r_s) the
+    // tangent's angle. With rho = rdot_s + r_ss sdot the tangent's rate, phidot = (r_s x rho) / g
+    // and sdot = r_s . w / g on the manifold, so over v
+    //     J = e_theta - (k x r_s)^T S_s / g - kappa~ r_s^T [J_P, -S] / g^2,   kappa~ = r_s x r_ss,
+    // and differentiating once more (s ddot from the rate of phi(s) = 0 below),
+    //     gamma = phiddot at vdot = 0 = (r_s x (bias_s + 2 rdot_ss sdot + r_sss sdot^2 + r_ss sddot_0)) / g
+    //             - 2 (r_s x rho)(r_s . rho) / g^2,
+    //     sddot_0 = (r_s . (a_P - a_S - rdot_s sdot) + w . rho + ddot . rdot_s - sdot (2 r_s . rho - ddot . r_ss)) / g,
+    // ddot = w - r_s sdot the rate of d.
+    void tangent_angle_row(const BodyStates& bodies, const BodyCurve& curve, const Eigen::VectorXd& q, double s,
+                           const CurvePoint& c, const CollarPoint& P, const Vec3& w, double sdot, ConstraintEval& out,
+                           Eigen::Ref<Eigen::MatrixXd> J_curve) const {
+        auto cross = [](const Vec3& a, const Vec3& b) { return a.x() * b.y() - a.y() * b.x(); };
+        const int row = 1;
+        const PlanarBody& collar = bodies.planar(1);
+        const double g = c.r_s.squaredNorm(), kappa = cross(c.r_s, c.r_ss);
+        const double phi = std::atan2(c.r_s.y(), c.r_s.x());
+        out.C[row] = std::remainder(collar.theta - phi - offset_, 2 * kPi);
+        auto collar_row = out.J.row(row).segment(3, 3);
+        add_collar_row(bodies, -kappa / (g * g) * c.r_s, collar_row);
+        collar_row(2) += 1.0;
+        curve.add_curve_slope_jacobian(q, s, -Vec3(-c.r_s.y(), c.r_s.x(), 0.0) / g, J_curve, row);
+        curve.add_curve_jacobian(q, s, kappa / (g * g) * c.r_s, J_curve, row);
+        const Vec3 rho = c.rdot_s + c.r_ss * sdot;
+        const Vec3 ddot = w - c.r_s * sdot;
+        const double sddot0 = (c.r_s.dot(P.bias - c.bias - c.rdot_s * sdot) + w.dot(rho) + ddot.dot(c.rdot_s) -
+                               sdot * (2.0 * c.r_s.dot(rho) - ddot.dot(c.r_ss))) / g;
+        const Vec3 rho_rate0 = c.bias_s + 2.0 * sdot * c.rdot_ss + sdot * sdot * c.r_sss + sddot0 * c.r_ss;
+        out.gamma[row] = cross(c.r_s, rho_rate0) / g - 2.0 * cross(c.r_s, rho) * c.r_s.dot(rho) / (g * g);
+    }
+
     CollarPoint collar_point(const BodyStates& bodies) const {
         CollarPoint P;
         if (planar_) {
@@ -185,6 +227,8 @@ private:
     }
 
     bool planar_;
+    bool along_;
+    double offset_;
     Vec3 u_bar_;  // the collar's point, its own axes
 };
 
@@ -197,7 +241,19 @@ std::string joint_label(const JointInstance& joint) {
 }  // namespace
 
 std::unique_ptr<Joint> make_beam_slider(const JointSpec& spec) {
-    return std::make_unique<BeamSlider>(spec.dimension, spec.markers.at(CurveJoint::kCurveSlot + 1).u_bar);
+    const std::string orientation = spec.params.string("orientation", "free");
+    if (orientation != "free" && orientation != "tangent")
+        spec.params.at("orientation").fail(spec.params.owner() + ": 'orientation' must be free (the collar turns "
+                                                                  "freely) or tangent (it keeps its angle to the "
+                                                                  "beam's tangent), not '" + orientation + "'");
+    const bool along = orientation == "tangent";
+    if (along && spec.dimension != Dimension::Planar)
+        spec.params.at("orientation").fail(spec.params.owner() + ": 'orientation: tangent' is planar only; in a "
+                                                                  "spatial scene the collar turns freely");
+    // the collar's angle to the tangent at t = 0 (the curve's slot: the material frame at s0)
+    const double offset = spec.bodies.at(1).angle - spec.bodies.at(0).angle;
+    return std::make_unique<BeamSlider>(spec.dimension, spec.markers.at(CurveJoint::kCurveSlot + 1).u_bar, along,
+                                        offset);
 }
 
 void check_beam_slider(const Model& model, const JointInstance& joint) {

@@ -48,7 +48,10 @@ public:
     double curve_break(int k) const override { return k * line_.element_length(); }
     void curve_point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double s, CurvePoint& out) const override {
         const Located at = locate(s);
-        const beam::Shape f = beam::shape(at.xi, line_.element_length());
+        const double l = line_.element_length();
+        const beam::Shape f = beam::shape(at.xi, l);
+        // the Hermite shapes' third derivatives (constant on an element)
+        const Eigen::Vector4d ddds(12 / (l * l * l), 6 / (l * l), -12 / (l * l * l), 6 / (l * l));
         out = CurvePoint{};
         for (int k = 0; k < 4; ++k) {
             const int c = centre_column(at.element, k);
@@ -56,8 +59,10 @@ public:
                 out.r[d] += f.s[k] * q[c + d];
                 out.r_s[d] += f.ds[k] * q[c + d];
                 out.r_ss[d] += f.dds[k] * q[c + d];
+                out.r_sss[d] += ddds[k] * q[c + d];
                 out.rdot[d] += f.s[k] * v[c + d];
                 out.rdot_s[d] += f.ds[k] * v[c + d];
+                out.rdot_ss[d] += f.dds[k] * v[c + d];
             }
         }
     }
@@ -65,8 +70,13 @@ public:
                             int row) const override {
         const Located at = locate(s);
         const beam::Shape f = beam::shape(at.xi, line_.element_length());
-        for (int k = 0; k < 4; ++k)
-            for (int d = 0; d < centre_.dimension; ++d) J(row, centre_column(at.element, k) + d) += f.s[k] * w[d];
+        add_rows(at.element, f.s, w, J, row);
+    }
+    void add_curve_slope_jacobian(const Eigen::VectorXd& /*q*/, double s, const Vec3& w, Eigen::Ref<Eigen::MatrixXd> J,
+                                  int row) const override {
+        const Located at = locate(s);
+        const beam::Shape f = beam::shape(at.xi, line_.element_length());
+        add_rows(at.element, f.ds, w, J, row);
     }
 
 protected:
@@ -79,6 +89,11 @@ protected:
     };
     MeshedBeam(BeamLine line, CentreLine centre) : line_(std::move(line)), centre_(centre) {}
     int centre_column(int element, int k) const { return centre_.stride * element + centre_.first[k]; }
+    // J(row, :) += w^T [h_k I] over the element's centre-line vectors, h the shapes or a derivative
+    void add_rows(int element, const Eigen::Vector4d& h, const Vec3& w, Eigen::Ref<Eigen::MatrixXd> J, int row) const {
+        for (int k = 0; k < 4; ++k)
+            for (int d = 0; d < centre_.dimension; ++d) J(row, centre_column(element, k) + d) += h[k] * w[d];
+    }
 
     struct Located {
         int element;

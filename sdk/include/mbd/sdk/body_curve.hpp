@@ -28,6 +28,10 @@ struct CurvePoint {
     Vec3 rdot = Vec3::Zero();    // velocity of the material point at s
     Vec3 rdot_s = Vec3::Zero();  // its s-derivative
     Vec3 bias = Vec3::Zero();    // acceleration at fixed s minus S vdot
+    // for a joint that also follows the tangent's direction (a sleeve):
+    Vec3 r_sss = Vec3::Zero();   // d3r/ds3
+    Vec3 rdot_ss = Vec3::Zero(); // d2(rdot)/ds2
+    Vec3 bias_s = Vec3::Zero();  // the s-derivative of bias (zero for ANCF)
 };
 
 class MBD_SDK_API BodyCurve {
@@ -47,6 +51,9 @@ public:
     // J(row, :) += w^T S(q, s): the row of a constraint w . r(q, s) over the body's velocities.
     virtual void add_curve_jacobian(const Eigen::VectorXd& q, double s, const Vec3& w, Eigen::Ref<Eigen::MatrixXd> J,
                                     int row) const = 0;
+    // J(row, :) += w^T S_s(q, s): the row of w . r_s(q, s), r_s's rate being S_s v + (its part of bias_s).
+    virtual void add_curve_slope_jacobian(const Eigen::VectorXd& q, double s, const Vec3& w,
+                                          Eigen::Ref<Eigen::MatrixXd> J, int row) const = 0;
 };
 
 }  // namespace mbd
