@@ -543,6 +543,14 @@ TEST(BeamSlider, BadInputNamesTheJointAndTheLine) {
     EXPECT_NE(axis.find("joint 'sleeve'"), std::string::npos) << axis;
     EXPECT_NE(axis.find("slider.yaml:8"), std::string::npos) << axis;
     EXPECT_NE(axis.find("has no axis"), std::string::npos) << axis;
+    // an orientation that is neither free nor tangent, and the sleeve in space
+    expect_named(refusal(slider_scene("[{body: rail, at: 0.3}, collar]", ", orientation: sideways")),
+                 "'orientation' must be free");
+    const std::string spatial = refusal(
+        "dimension: spatial\nflexible_bodies:\n" + cable("rail", "[0, 0, 0]", "[1, 0, 0]", 4, 1.0e4, 1.0e-3) +
+        "bodies:\n  - {name: collar, mass: 0.5, inertia: [1, 1, 1], position: [0.3, 0, 0]}\n\n"
+        "joints:\n  - {name: sleeve, type: beam_slider, bodies: [{body: rail, at: 0.3}, collar], orientation: tangent}\n");
+    expect_named(spatial, "planar only");
     // a flexible body without a centre line: the floating-frame body
     const std::string ffrf = refusal(slider_scene(
         "[{body: rail, at: 0.3}, collar]", "",
