@@ -128,7 +128,8 @@ private:
     // tangent's angle. With rho = rdot_s + r_ss sdot the tangent's rate, phidot = (r_s x rho) / g
     // and sdot = r_s . w / g on the manifold, so over v
     //     J = e_theta - (k x r_s)^T S_s / g - kappa~ r_s^T [J_P, -S] / g^2,   kappa~ = r_s x r_ss,
-    // and differentiating once more (s ddot from the rate of phi(s) = 0 below),
+    // and differentiating once more (sddot_0 from the second rate of the closest-point condition
+    // (r_P - r) . r_s = 0 at vdot = 0),
     //     gamma = phiddot at vdot = 0 = (r_s x (bias_s + 2 rdot_ss sdot + r_sss sdot^2 + r_ss sddot_0)) / g
     //             - 2 (r_s x rho)(r_s . rho) / g^2,
     //     sddot_0 = (r_s . (a_P - a_S - rdot_s sdot) + w . rho + ddot . rdot_s - sdot (2 r_s . rho - ddot . r_ss)) / g,
