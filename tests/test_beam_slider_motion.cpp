@@ -96,7 +96,9 @@ TEST(BeamSlider, ACollarOnAFlexibleCantileverKeepsTheEnergyAndStaysOnTheBeam) {
     }
     std::printf("collar on a cantilever over %g s: energy drift %.3g J of %.3g J, |C| %.3g, slid %.3f m, tip lowest %.3f m\n",
                 t_end, trace.largest_energy_change(), scale, trace.largest("constraint_position_violation"), slid, tip);
-    EXPECT_LT(trace.largest_energy_change(), 10 * tolerance * scale);
+    // the integrator's tolerance on the energy scale (measured 1000 times below; the factor 2 of
+    // gamma's 2 Ndot^T w halved gives 1.3e-7 J)
+    EXPECT_LT(trace.largest_energy_change(), tolerance * scale);
     EXPECT_LT(trace.largest("constraint_position_violation"), 1e-12);
     EXPECT_GT(slid, 0.1);  // the collar slid along the beam
     EXPECT_LT(tip, -0.1);  // and the beam bent under it
