@@ -195,7 +195,7 @@ private:
         const double first = curve.curve_break(0), last = curve.curve_break(pieces);
         const double span = last - first;
         double s = first, nearest = std::numeric_limits<double>::infinity();
-        constexpr int kSamples = 4;  // per piece: a cubic piece has at most two local minima of |d|
+        constexpr int kSamples = 4;  // intervals per piece; Newton starts from the nearest sample
         for (int k = 0; k < pieces; ++k) {
             const double a = curve.curve_break(k), b = curve.curve_break(k + 1);
             for (int i = 0; i <= kSamples; ++i) {
