@@ -1,5 +1,7 @@
 #include <mbd/constraint_system.hpp>
 
+#include "evaluation/curve_joint.hpp"
+
 #include <mbd/sdk/domain_error.hpp>
 #include <mbd/kit/formulation.hpp>
 #include <mbd/sdk/text.hpp>
@@ -64,6 +66,16 @@ void require_usable_motion(const Driver& driver, const TimeValue& f, double t) {
                                format_number(f.df) + ", d2f/dt2 = " + format_number(f.ddf) +
                                (finite ? "; beyond 1e150 a square overflows" : "") +
                                "): the time function overflows; check its parameters or shorten the run");
+}
+
+// A joint along a flexible body's curve (the scene checked that the body implements BodyCurve).
+const ConstraintEval& evaluate_along_curve(const Model& model, const CurveJoint& joint, const FlexibleAttachment& curve,
+                                          Data& data, Data::FlexibleSlot& slot, ConstraintEval& e) {
+    const std::shared_ptr<const FlexibleBody>& body = model.flexible_bodies[curve.body].body;
+    slot.J.setZero();
+    joint.evaluate_on_curve(data.view, dynamic_cast<const BodyCurve&>(*body), data.flexible_q[curve.body],
+                            data.flexible_v[curve.body], e, slot.J);
+    return e;
 }
 
 }  // namespace
@@ -315,11 +327,15 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
     e.C_t.setZero();
     e.gamma.setZero();
     const std::vector<FlexibleAttachment>& flexible = *flexible_[j];
-    if (flexible.empty())
+    // a joint along a flexible body's curve writes its block over the body itself (curve_joint.hpp)
+    const auto* along_curve = flexible.empty() ? nullptr : dynamic_cast<const CurveJoint*>(joint_[j]);
+    if (flexible.empty() || along_curve)
         data.poses.fill(joint_bodies_[j], state.t, data.view);
     else
         data.fill_view(joint_bodies_[j], flexible, data.joint_flexible[j], state.t);
     try {
+        if (along_curve)
+            return evaluate_along_curve(*model_, *along_curve, flexible.front(), data, data.joint_flexible[j].front(), e);
         joint_[j]->evaluate(data.view, e);
     } catch (const DomainError& outside) {
         // the plugin says where its geometry ended; the run stops here, naming the joint and the time
@@ -341,6 +357,19 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
 bool ConstraintSystem::material_frame(size_t j, int slot, const State& state, Data& data, Mat3& A, Vec3& R,
                                       Eigen::MatrixXd& J_frame) const {
     const std::vector<FlexibleAttachment>& flexible = *flexible_[j];
+    const auto* along_curve = flexible.empty() ? nullptr : dynamic_cast<const CurveJoint*>(joint_[j]);
+    if (along_curve) {  // the frame at the curve's point where the joint acts, R shifted so that R + A u_bar is it
+        if (slot != CurveJoint::kCurveSlot) return false;
+        data.pose(state);
+        data.poses.fill(joint_bodies_[j], state.t, data.view);
+        const int body = flexible.front().body;
+        along_curve->curve_frame(data.view, dynamic_cast<const BodyCurve&>(*model_->flexible_bodies[body].body),
+                                 data.flexible_q[body], data.flexible_v[body], A, R, J_frame);
+        Vec3 u_bar = model_->joints[j].markers[slot].u_bar;
+        if (model_->dimension == Dimension::Planar) u_bar.z() = 0.0;
+        R -= A * u_bar;
+        return true;
+    }
     for (size_t a = 0; a < flexible.size(); ++a) {
         if (flexible[a].slot != slot) continue;
         data.pose(state);

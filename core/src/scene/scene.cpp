@@ -7,6 +7,8 @@
 // accepted keys are the core's keys plus the keys the plugin asked for.
 #include "scene/scene_loader.hpp"
 
+#include "evaluation/beam_slider.hpp"
+
 #include <mbd/formulation_setup.hpp>
 
 #include <mutex>
@@ -474,9 +476,17 @@ void Loader::load_joint(const Param& node, int index) {
     spec.params = params;
 
     const std::string at = key_where(node, "type");
-    joint.joint = create_checked(params, node, what, "joint", joint.type, [&] { return registry_.create_joint(spec, at); });
+    const bool slider = joint.type == kBeamSliderType;  // the core's own joint type (beam_slider.hpp)
+    if (const Param* axis = find(node, "axis"); slider && axis)
+        axis->fail(what + ": a beam_slider has no axis (its collar's point slides along the flexible body's centre "
+                          "line); remove 'axis'");
+    joint.joint = create_checked(params, node, what, "joint", joint.type, [&]() -> std::shared_ptr<const Joint> {
+        if (slider) return make_beam_slider(spec);
+        return registry_.create_joint(spec, at);
+    });
     if (!joint.joint) type.fail(what + ": the plugin for type " + quote(joint.type) + " created no joint");
     load_joint_limits(node, joint);
+    if (slider) check_beam_slider(model_, joint);
     check_flexible_joint(joint);
     model_.joints.push_back(std::move(joint));
 }

@@ -24,7 +24,7 @@ using ancf::shear::Vec12;
 
 class AncfBeam final : public ancf::MeshedBeamOf<AncfBeam, 12, 6> {
 public:
-    explicit AncfBeam(const BodySpec& spec) : MeshedBeamOf(read_line(spec)) {
+    explicit AncfBeam(const BodySpec& spec) : MeshedBeamOf(read_line(spec), {2, 6, {kCentre[0], kCentre[1], kCentre[2], kCentre[3]}}) {
         const Params& p = spec.params;
         const double E = positive(p, "modulus"), G = positive(p, "shear_modulus");
         const double A = positive(p, "area"), I = positive(p, "second_moment"), rho = positive(p, "density");

@@ -24,7 +24,7 @@ using ancf::positive;
 
 class AncfCable final : public ancf::MeshedBeamOf<AncfCable, 8, 4> {
 public:
-    explicit AncfCable(const BodySpec& spec) : MeshedBeamOf(ancf::read_beam_line(spec.params, 2)) {
+    explicit AncfCable(const BodySpec& spec) : MeshedBeamOf(ancf::read_beam_line(spec.params, 2), {2, 4, {0, 2, 4, 6}}) {
         const Params& p = spec.params;
         from_ = line_.from;
         tangent_ = line_.tangent;

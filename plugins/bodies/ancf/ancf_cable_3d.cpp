@@ -74,7 +74,7 @@ struct TangentFrame {
 
 class SpatialCable final : public MeshedBeamOf<SpatialCable, 12, 6> {
 public:
-    explicit SpatialCable(const BodySpec& spec) : MeshedBeamOf(read_beam_line(spec.params, 3)) {
+    explicit SpatialCable(const BodySpec& spec) : MeshedBeamOf(read_beam_line(spec.params, 3), {3, 6, {0, 3, 6, 9}}) {
         const Params& p = spec.params;
         from_ = line_.from;
         tangent_ = line_.tangent;

@@ -1,12 +1,18 @@
 // What every ANCF body of this plugin shares: a straight reference line meshed into equal
 // elements, points named by their arc length x in [0, L] (the material parameter), a node at
 // each element end, a constant mass matrix, and a position linear in the coordinates (so the
-// gravity potential is -Q_g^T q). Header-only, shared by the types of this plugin.
+// gravity potential is -Q_g^T q), and a centre line r(x) = sum_k h_k(x) e_k of cubic Hermite
+// shape functions h_k over four nodal vectors e_k of each element, which makes the body a curve
+// (sdk body_curve.hpp) for a joint that slides along it. Header-only, shared by the types of
+// this plugin.
 #pragma once
 
 #include "beam_keys.hpp"
 
+#include "shared/hermite.hpp"
+
 #include <mbd/sdk/body.hpp>
+#include <mbd/sdk/body_curve.hpp>
 #include <mbd/sdk/text.hpp>
 
 #include <algorithm>
@@ -16,7 +22,7 @@
 
 namespace mbd::ancf {
 
-class MeshedBeam : public FlexibleBody {
+class MeshedBeam : public FlexibleBody, public BodyCurve {
 public:
     bool constant_mass() const override { return true; }
     void mass_matrix(const Eigen::VectorXd& /*q*/, Eigen::MatrixXd& M) const override { M = mass_; }
@@ -36,8 +42,58 @@ public:
     int node_count() const override { return line_.elements + 1; }
     std::vector<double> node_parameters(int node) const override { return {node * line_.element_length()}; }
 
+    // --- the centre line as a curve (sdk body_curve.hpp): S = [h_k I] does not depend on q, so
+    // rdot_s = S_s v and the bias is zero
+    int curve_pieces() const override { return line_.elements; }
+    double curve_break(int k) const override { return k * line_.element_length(); }
+    void curve_point(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double s, CurvePoint& out) const override {
+        const Located at = locate(s);
+        const double l = line_.element_length();
+        const beam::Shape f = beam::shape(at.xi, l);
+        // the Hermite shapes' third derivatives (constant on an element)
+        const Eigen::Vector4d ddds(12 / (l * l * l), 6 / (l * l), -12 / (l * l * l), 6 / (l * l));
+        out = CurvePoint{};
+        for (int k = 0; k < 4; ++k) {
+            const int c = centre_column(at.element, k);
+            for (int d = 0; d < centre_.dimension; ++d) {
+                out.r[d] += f.s[k] * q[c + d];
+                out.r_s[d] += f.ds[k] * q[c + d];
+                out.r_ss[d] += f.dds[k] * q[c + d];
+                out.r_sss[d] += ddds[k] * q[c + d];
+                out.rdot[d] += f.s[k] * v[c + d];
+                out.rdot_s[d] += f.ds[k] * v[c + d];
+                out.rdot_ss[d] += f.dds[k] * v[c + d];
+            }
+        }
+    }
+    void add_curve_jacobian(const Eigen::VectorXd& /*q*/, double s, const Vec3& w, Eigen::Ref<Eigen::MatrixXd> J,
+                            int row) const override {
+        const Located at = locate(s);
+        const beam::Shape f = beam::shape(at.xi, line_.element_length());
+        add_rows(at.element, f.s, w, J, row);
+    }
+    void add_curve_slope_jacobian(const Eigen::VectorXd& /*q*/, double s, const Vec3& w, Eigen::Ref<Eigen::MatrixXd> J,
+                                  int row) const override {
+        const Located at = locate(s);
+        const beam::Shape f = beam::shape(at.xi, line_.element_length());
+        add_rows(at.element, f.ds, w, J, row);
+    }
+
 protected:
-    explicit MeshedBeam(BeamLine line) : line_(std::move(line)) {}
+    // Where the centre line's nodal vectors e_0..e_3 of element j start: stride * j + first[k],
+    // each of `dimension` coordinates.
+    struct CentreLine {
+        int dimension;
+        int stride;
+        int first[4];
+    };
+    MeshedBeam(BeamLine line, CentreLine centre) : line_(std::move(line)), centre_(centre) {}
+    int centre_column(int element, int k) const { return centre_.stride * element + centre_.first[k]; }
+    // J(row, :) += w^T [h_k I] over the element's centre-line vectors, h the shapes or a derivative
+    void add_rows(int element, const Eigen::Vector4d& h, const Vec3& w, Eigen::Ref<Eigen::MatrixXd> J, int row) const {
+        for (int k = 0; k < 4; ++k)
+            for (int d = 0; d < centre_.dimension; ++d) J(row, centre_column(element, k) + d) += h[k] * w[d];
+    }
 
     struct Located {
         int element;
@@ -91,6 +147,7 @@ protected:
     }
 
     BeamLine line_;
+    CentreLine centre_;
     Eigen::MatrixXd mass_;
 };
 
