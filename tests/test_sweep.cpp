@@ -25,6 +25,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "support/sanitizer_build.hpp"
 #include "support/test_support.hpp"
 
 namespace {
@@ -197,10 +198,13 @@ TEST(SweepDesign, LognormalAndTriangularDrawsHaveTheirMoments) {
 }
 
 // The acceptance test: serial, 2 threads and 3 MPI ranks give the same table, and every case
-// is the `mbd simulate` of its own scene (the values written into the file) to 1e-12.
+// is the `mbd simulate` of its own scene (the values written into the file) to 1e-12. 200 cases;
+// 50 in the sanitizer build, where each case and each `mbd simulate` process is some 20 times
+// slower (still 25 cases per MPI worker, the threads and ranks taking cases as they free up).
 TEST(SweepCli, PendulumLhsSerialThreadsAndMpiAgreeWithSingleSimulations) {
+    const long count = mbd::test::kSanitizerBuild ? 50 : 200;
     const fs::path dir = scratch("lhs");
-    const fs::path study = write_text(dir / "study.yaml", pendulum_study(200));
+    const fs::path study = write_text(dir / "study.yaml", pendulum_study(count));
     const std::string base = "sweep " + study.string() + " -q -o ";
     auto r = run_mbd(base + (dir / "serial.h5").string() + " --csv " + (dir / "serial.csv").string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -211,12 +215,12 @@ TEST(SweepCli, PendulumLhsSerialThreadsAndMpiAgreeWithSingleSimulations) {
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
 
     const Table serial = read_table(dir / "serial.csv");
-    ASSERT_EQ(serial.rows.size(), 200u);
+    ASSERT_EQ(serial.rows.size(), static_cast<size_t>(count));
     EXPECT_EQ(numbers(read_table(dir / "threads.csv")), numbers(serial));
     EXPECT_EQ(numbers(read_table(dir / "mpi.csv")), numbers(serial));
     // the HDF5 table holds the same numbers
     const auto stored = stored_rows(study, dir / "mpi.h5");
-    ASSERT_EQ(stored.size(), 200u);
+    ASSERT_EQ(stored.size(), static_cast<size_t>(count));
     for (const auto& row : serial.rows)
         EXPECT_EQ(g17(stored.at(std::stol(row[0])).result.metrics[0]), row[serial.column("final(bob.x)")]);
 
@@ -301,7 +305,9 @@ pid_t rank_process(pid_t root, int rank) {
 // and machine (a sanitizer build is some 30 times slower than Release), within [fewest, most]:
 // the tests that must catch a sweep while it runs size it by its measured pace, not by a guess.
 // (A ceiling of 600 cases let a faster engine finish the kill test's sweep, on two MPI workers,
-// before its first third could be seen: the ceilings are now 6000.)
+// before its first third could be seen: the ceilings are now 6000.) The pace is measured on
+// sweeps of 10 and 40 cases, or of 3 and 12 in the sanitizer build, where a case of 8 to 20 s
+// takes a fifth to a half of a second of processor time (docs/ci.md, "Third pass").
 long cases_lasting(double seconds, double t_end, long fewest, long most) {
     auto timed = [t_end](long n) {
         const fs::path dir = scratch("pace-" + std::to_string(n));
@@ -310,10 +316,11 @@ long cases_lasting(double seconds, double t_end, long fewest, long most) {
         EXPECT_EQ(run_mbd("sweep " + study.string() + " -q -o " + (dir / "r.h5").string()).exit_code, 0);
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
-    // start-up cancels in the difference; a quarter of the 40-case average bounds it from below
+    // start-up cancels in the difference; a quarter of the larger run's average bounds it from below
     // should a load spike on the machine shorten the larger run
-    const double t10 = timed(10), t40 = timed(40);
-    const double per_case = std::max((t40 - t10) / 30.0, t40 / 160.0);
+    const long probe = mbd::test::kSanitizerBuild ? 3 : 10;
+    const double t_small = timed(probe), t_large = timed(4 * probe);
+    const double per_case = std::max((t_large - t_small) / (3.0 * probe), t_large / (16.0 * probe));
     return std::clamp(std::lround(seconds / per_case), fewest, most);
 }
 
@@ -322,9 +329,11 @@ long cases_lasting(double seconds, double t_end, long fewest, long most) {
 // sweep once ran to its end before the kill: OUTPUT.partial lags the cases finished by up to
 // ten of its own write times, and three ranks on a machine that a parallel test just left run
 // faster than the pace measured while it was busy.)
+// At least 90 cases (40 in the sanitizer build, whose cases last some 30 times longer: the kill
+// still comes at a tenth, seconds before the end).
 void kill_and_resume(const std::string& name, int rank) {
     const fs::path dir = scratch(name);
-    const long cases = cases_lasting(6.0, 8.0, 90, 6000);
+    const long cases = cases_lasting(6.0, 8.0, mbd::test::kSanitizerBuild ? 40 : 90, 6000);
     const fs::path study = write_text(dir / "study.yaml", pendulum_study(cases, 8.0));
     const fs::path output = dir / "killed.h5";
     const std::string sweep = " sweep " + study.string() + " -q --flush-seconds 0.02 -o " + output.string();
@@ -507,7 +516,8 @@ TEST(SweepCli, InverseSweepOverTheRodMassFollowsTheClosedForm) {
 // bar: cases done of all, elapsed time and time left, each redraw clearing its line.
 TEST(SweepCli, ATerminalShowsTheProgressBarWithTheTimeLeft) {
     const fs::path dir = scratch("progress");
-    const long cases = cases_lasting(3.0, 20.0, 60, 6000);
+    // at least 60 cases, or 15 in the sanitizer build: some 8 s of redraws there
+    const long cases = cases_lasting(3.0, 20.0, mbd::test::kSanitizerBuild ? 15 : 60, 6000);
     const fs::path study = write_text(dir / "study.yaml", pendulum_study(cases, 20.0));
     const fs::path log = dir / "terminal.txt";
     const auto r = run_command("script -qec 'env COLUMNS=100 " + std::string(MBD_EXECUTABLE) + " sweep " + study.string() + " -o " +
