@@ -5,6 +5,8 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   ccache  # a compiler cache (CMakeLists.txt, MBD_CCACHE): rebuilds compile only what changed
+  lld  # the linker of every build tree (CMakeLists.txt, MBD_LLD; docs/ci.md)
+  procps  # pgrep: .ci/run stops its background builds when a phase fails
   libeigen3-dev libboost-dev libboost-filesystem-dev
   libyaml-cpp-dev libsuitesparse-dev libcli11-dev nlohmann-json3-dev
   coinor-libipopt-dev libsundials-dev

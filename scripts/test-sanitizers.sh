@@ -12,12 +12,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/timing.sh
-bash scripts/install-deps.sh  # clang and libclang-rt-dev among them
-cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
-  -DCMAKE_CXX_COMPILER=clang++ -DMBD_SANITIZE=ON -DMBD_FUZZ=ON -DMBD_BUILD_BENCH=OFF ${MBD_CMAKE_ARGS:-}
-timing_start
-cmake --build build-sanitize -j2
-timing_report "test-sanitizers.sh: the build took"
+bash scripts/build-sanitize.sh  # nothing left to do when .ci/run built it beforehand
 cd build-sanitize
 # intercept_tls_get_addr=0: clang 14's LeakSanitizer tracks the dynamic TLS of dlopened libraries
 # through __tls_get_addr and, with Debian 12's glibc, records a bogus block that crashes its tracer

@@ -5,13 +5,7 @@
 # after the AddressSanitizer suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-source scripts/timing.sh
-bash scripts/install-deps.sh
-cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
-  -DMBD_THREAD_SANITIZER=ON -DMBD_BUILD_BENCH=OFF ${MBD_CMAKE_ARGS:-}
-timing_start
-cmake --build build-tsan -j2 --target test_threads
-timing_report "test-threads.sh: the build took"
+bash scripts/build-tsan.sh  # nothing left to do when .ci/run built it beforehand
 cd build-tsan
 export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
 ctest --output-on-failure --timeout 900 -R '^Threads\.'
