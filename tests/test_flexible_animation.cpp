@@ -298,5 +298,44 @@ TEST(FlexibleGlb, ASpatialCableWithARigidBallKeepsTheBallsAnimationAndFollowsThe
     EXPECT_LT(csv.rows.back()[x + 2], -0.2);  // it has fallen: the frames differ from the bind pose
 }
 
+TEST(FlexibleGlb, TheEquilibriumOfAFloatingFrameBodyIsDrawnThroughItsNodes) {
+    // an ffrf_body's CSV has its frame's columns (blade.x, blade.y, blade.angle) beside its
+    // nodes': `mbd statics --animation` once refused them as naming no body
+    const fs::path dir = test::scratch("flexible_glb_ffrf");
+    const fs::path scene = test::write_text(
+        dir / "cantilever.yaml",
+        "dimension: planar\ngravity: [0, -1]\nflexible_bodies:\n"
+        "  - {name: blade, type: ffrf_body, from: [0, 0], to: [1, 0], elements: 8, modes: 2, modulus: 1.0e6, "
+        "area: 1.0, second_moment: 1.0e-6, density: 1.0}\n"
+        "joints:\n  - {name: clamp, type: fixed, bodies: [ground, {body: blade, at: 0}]}\n");
+    const test::CommandResult r =
+        test::run_mbd("statics " + quoted(scene) + " --json --animation " + quoted(dir / "r.glb"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json nodes = nlohmann::json::parse(r.out)["flexible_bodies"]["blade"]["nodes"];
+    ASSERT_EQ(nodes.size(), 9u);
+    const test::Glb glb = test::load_glb(dir / "r.glb");
+    const SkinnedTube tube = skin_tube(glb, "blade", 1);
+    ASSERT_EQ(tube.frames.size(), 1u);
+    double worst = 0.0;
+    for (size_t k = 0; k < nodes.size(); ++k) {
+        const int joint = static_cast<int>(std::find(tube.joint_nodes.begin(), tube.joint_nodes.end(),
+                                                     glb.node("blade/node" + std::to_string(k))) -
+                                           tube.joint_nodes.begin());
+        Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+        int count = 0;
+        for (size_t v = 0; v < tube.vertex_joint.size(); ++v)
+            if (tube.vertex_joint[v] == joint) centre += tube.frames[0][v], ++count;
+        ASSERT_GT(count, 0) << "node " << k;
+        centre /= count;
+        worst = std::max(worst, (centre - Eigen::Vector3d(nodes[k][0], nodes[k][1], 0.0)).norm());
+    }
+    std::printf("ffrf cantilever at rest: tube centres to the report's nodes %.3g m (tip y %.6f)\n", worst,
+                nodes.back()[1].get<double>());
+    EXPECT_LT(nodes.back()[1].get<double>(), -0.1);  // bent: w L^4 / (8 EI) = 0.125 m
+    EXPECT_LT(worst, 1e-6);
+    const test::CommandResult page = test::run_mbd("statics " + quoted(scene) + " --animation " + quoted(dir / "r.html"));
+    EXPECT_EQ(page.exit_code, 0) << page.err;
+}
+
 }  // namespace
 }  // namespace mbd
