@@ -11,6 +11,8 @@
 // - the motor's torque on the cable (the driver's reaction, mbd/reactions.hpp driver_reactions) is dH/dt - M_g about the pin: H the
 //   angular momentum and M_g gravity's moment, both integrated over the cable's mass from its
 //   material points (4-point Gauss-Legendre per element), dH/dt by central differences.
+// - `mbd statics` holds the arm level with the motor's torque w L^2 / 2 (less the bent arm's
+//   shortening).
 // Only the augmented formulation takes flexible bodies (docs/formulations.md), with explicit
 // integrators: dopri5 here.
 #include "support/sampled_run.hpp"
@@ -21,9 +23,11 @@
 #include <mbd/sdk/body.hpp>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -146,6 +150,31 @@ TEST(FlexibleDrivers, TheMotorsTorqueIsTheRateOfAngularMomentumLessGravitysMomen
     std::printf("motor torque against dH/dt - M_g: largest difference %.3g N m of up to %.4g N m\n", worst, largest);
     EXPECT_GT(largest, 0.5 * kRhoA * kG * kL * kL / 2);  // at least half of holding the arm level
     EXPECT_LT(worst, 1e-3 * largest);
+}
+
+TEST(FlexibleDrivers, MbdStaticsHoldsTheArmLevelWithTheMotorsTorque) {
+    // `mbd statics` at t = 0 (theta = 0): the motor holds the arm level against its weight
+    // w = rho A g. Its effort is the weight's moment g int x dm = w L^2 / 2 less w int u ds, u the
+    // shortening of the bent arm's projection (1/2 int w'^2 <= L theta_tip^2 / 2 with theta_tip =
+    // w L^3 / (6 EI)); the hub carries the weight w L and no torque. The driver's load on the
+    // arm's root frame (`load`, System::driver_material_frame) is the same torque.
+    const std::filesystem::path dir = test::scratch("flexible_driver_statics");
+    const std::filesystem::path scene = test::write_text(dir / "arm.yaml", kScene);
+    const test::CommandResult r = test::run_mbd("statics '" + scene.string() + "' --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    const double w = kRhoA * kG, theta_tip = w * std::pow(kL, 3) / (6 * kEI);
+    const double shortening = w * kL * kL * theta_tip * theta_tip / 2;
+    const double effort = j["drivers"]["motor"]["effort"], load = j["drivers"]["motor"]["load"]["tz"];
+    std::printf("motor effort %.10g N m against w L^2 / 2 = %.10g (bound %.3g); its load on the frame %.10g; hub "
+                "F_y %.10g, T %.3g\n", effort, w * kL * kL / 2, shortening, load, j["reactions"]["hub"]["fy"].get<double>(),
+                j["reactions"]["hub"]["tz"].get<double>());
+    EXPECT_TRUE(j["converged"].get<bool>());
+    EXPECT_LE(effort, w * kL * kL / 2 + 1e-9);
+    EXPECT_GE(effort, w * kL * kL / 2 - shortening);
+    EXPECT_NEAR(load, effort, 1e-9 * effort);
+    EXPECT_NEAR(j["reactions"]["hub"]["fy"].get<double>(), w * kL, 1e-9);
+    EXPECT_NEAR(j["reactions"]["hub"]["tz"].get<double>(), 0.0, 1e-9);
 }
 
 }  // namespace
