@@ -20,6 +20,7 @@
 #include <sstream>
 #include <map>
 
+#include "support/glb_reader.hpp"
 #include "support/test_support.hpp"
 
 namespace {
@@ -31,6 +32,8 @@ using mbd::test::Csv;
 using mbd::test::read_csv;
 using mbd::test::run_mbd;
 using mbd::test::scratch;
+using mbd::test::Glb;
+using mbd::test::load_glb;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -275,42 +278,6 @@ TEST(Visual, TessellatedShapesHaveTheirClosedFormSize) {
 }
 
 // ---------------------------------------------------------------- glTF read back
-
-struct Glb {
-    tinygltf::Model model;
-    std::vector<float> floats(int accessor) const {
-        const auto& a = model.accessors[accessor];
-        const auto& v = model.bufferViews[a.bufferView];
-        const int components = tinygltf::GetNumComponentsInType(a.type);
-        std::vector<float> out(a.count * components);
-        std::memcpy(out.data(), model.buffers[v.buffer].data.data() + v.byteOffset + a.byteOffset,
-                    out.size() * sizeof(float));
-        return out;
-    }
-    int node(const std::string& name) const {
-        for (size_t k = 0; k < model.nodes.size(); ++k)
-            if (model.nodes[k].name == name) return static_cast<int>(k);
-        return -1;
-    }
-    // (input, output) of the channel animating `path` of node `index`
-    std::pair<std::vector<float>, std::vector<float>> channel(int index, const std::string& path) const {
-        for (const auto& animation : model.animations)
-            for (const auto& c : animation.channels)
-                if (c.target_node == index && c.target_path == path) {
-                    const auto& s = animation.samplers[c.sampler];
-                    return {floats(s.input), floats(s.output)};
-                }
-        return {};
-    }
-};
-
-Glb load_glb(const fs::path& file) {
-    Glb g;
-    tinygltf::TinyGLTF loader;
-    std::string error, warning;
-    EXPECT_TRUE(loader.LoadBinaryFromFile(&g.model, &error, &warning, file.string())) << error << warning;
-    return g;
-}
 
 // Every body's translation and rotation samples equal the CSV row by row within 1e-6
 // (the quaternion up to its sign: q and -q are one rotation).

@@ -38,7 +38,7 @@ Json statics_json(const Model& model, const StaticsReport& rep, const std::vecto
         }
     }
     o["bodies"] = std::move(bodies);
-    Json flexible = Json::object();  // each flexible body's node positions at the equilibrium
+    Json flexible = Json::object();  // each flexible body's node positions and coordinates at the equilibrium
     for (const FlexibleBodyInstance& f : model.flexible_bodies) {
         const Eigen::VectorXd q = r.state.q.segment(f.offset, f.size), v = Eigen::VectorXd::Zero(f.size);
         Json nodes = Json::array();
@@ -48,7 +48,9 @@ Json statics_json(const Model& model, const StaticsReport& rep, const std::vecto
             f.body->point(q, v, xi.data(), p);
             nodes.push_back(planar ? Json::array({p.r.x(), p.r.y()}) : Json::array({p.r.x(), p.r.y(), p.r.z()}));
         }
-        flexible[f.name] = {{"nodes", std::move(nodes)}};
+        Json coordinates = Json::object();  // by the body's names (an ffrf_body's x, y, angle, mode1 ...)
+        for (int k = 0; k < f.size; ++k) coordinates[f.body->coordinate_name(k)] = q[k];
+        flexible[f.name] = {{"nodes", std::move(nodes)}, {"coordinates", std::move(coordinates)}};
     }
     if (!model.flexible_bodies.empty()) o["flexible_bodies"] = std::move(flexible);
     Json reactions = Json::object();

@@ -1,8 +1,10 @@
 // glTF 2.0 binary export (Khronos glTF 2.0 specification; written with tinygltf): a node
 // per body carrying its shapes, animated by sampled translation and rotation channels
 // (LINEAR), springs as scaled cylinders animated in translation, rotation and scale, and
-// the ground with its grid. World axes are the scene's (planar scenes in the x-y plane).
+// the ground with its grid, and each flexible body as a skinned tube (flexible_tube.hpp).
+// World axes are the scene's (planar scenes in the x-y plane).
 #include <mbd/viewer/animation_export.hpp>
+#include <mbd/viewer/flexible_tube.hpp>
 #include <mbd/viewer/shape_mesh.hpp>
 
 #include <tiny_gltf.h>
@@ -57,6 +59,17 @@ public:
                 a.maxValues[i % components] = std::max(a.maxValues[i % components], double(values[i]));
             }
         }
+        model_.accessors.push_back(a);
+        return static_cast<int>(model_.accessors.size() - 1);
+    }
+
+    // Skin joint indices (JOINTS_0): four unsigned shorts per vertex.
+    int joints(const std::vector<uint16_t>& values) {
+        tinygltf::Accessor a;
+        a.bufferView = view(values.data(), values.size() * sizeof(uint16_t), TINYGLTF_TARGET_ARRAY_BUFFER);
+        a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+        a.count = values.size() / 4;
+        a.type = TINYGLTF_TYPE_VEC4;
         model_.accessors.push_back(a);
         return static_cast<int>(model_.accessors.size() - 1);
     }
@@ -279,12 +292,124 @@ int connector_node(GlbBuilder& b, const MotionTable& table, const std::vector<Po
     return index;
 }
 
+// A flexible body drawn as a skinned tube (issue 40): a ring of kTubeSides vertices around each
+// centreline point (flexible_tube.hpp), every vertex bound wholly to its point's joint node, and
+// the joints animated in translation and rotation, so the mesh follows the nodes at every row.
+// Skinning rather than morph targets: it stores 7 floats per centreline point and row, where
+// morph targets would store every vertex at every row. The mesh is bound at the first row (its
+// vertices where the tube is then; inverse bind matrices the joints' inverse poses there). The
+// tube's node is a root of the scene, as glTF wants of a skinned mesh (its parents' transforms
+// would not apply); the joints sit under a node named after the body.
+constexpr int kTubeSides = 12;
+
+Eigen::Matrix4d inverse_pose(const TubeFrame& f) {
+    const Eigen::Matrix3d rt = f.rotation.toRotationMatrix().transpose();
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.topLeftCorner<3, 3>() = rt;
+    m.topRightCorner<3, 1>() = -rt * f.position;
+    return m;
+}
+
+// The tube's mesh bound at the frames `bind`; its inverse bind matrices' accessor in `inverse_bind`.
+int tube_mesh(GlbBuilder& b, const std::vector<TubeFrame>& bind, double radius, const std::string& name,
+              int& inverse_bind) {
+    const size_t points = bind.size();
+    std::vector<float> positions, normals, weights, ibm;
+    std::vector<uint16_t> joints;
+    std::vector<uint32_t> triangles;
+    for (size_t i = 0; i < points; ++i) {
+        for (int j = 0; j < kTubeSides; ++j) {
+            const double phi = 2.0 * M_PI * j / kTubeSides;
+            const Vec3 radial = bind[i].rotation * Vec3(std::cos(phi), std::sin(phi), 0.0);
+            push(positions, Vec3(bind[i].position + radius * radial));
+            push(normals, radial.normalized());
+            joints.insert(joints.end(), {static_cast<uint16_t>(i), 0, 0, 0});
+            weights.insert(weights.end(), {1.0f, 0.0f, 0.0f, 0.0f});
+            if (i + 1 == points) continue;
+            const uint32_t a = static_cast<uint32_t>(i * kTubeSides + j);
+            const uint32_t next = static_cast<uint32_t>(i * kTubeSides + (j + 1) % kTubeSides);
+            triangles.insert(triangles.end(), {a, next, a + kTubeSides, next, next + kTubeSides, a + kTubeSides});
+        }
+        const Eigen::Matrix4d m = inverse_pose(bind[i]);
+        for (int c = 0; c < 4; ++c)  // column-major; the last row exactly (0, 0, 0, 1)
+            for (int r = 0; r < 4; ++r) ibm.push_back(r == 3 ? (c == 3 ? 1.0f : 0.0f) : static_cast<float>(m(r, c)));
+    }
+    tinygltf::Primitive p;
+    p.attributes["POSITION"] = b.accessor(positions, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, true,
+                                          name + " tube positions");
+    p.attributes["NORMAL"] = b.accessor(normals, TINYGLTF_TYPE_VEC3, 3, TINYGLTF_TARGET_ARRAY_BUFFER, false,
+                                        name + " tube normals");
+    p.attributes["JOINTS_0"] = b.joints(joints);
+    p.attributes["WEIGHTS_0"] = b.accessor(weights, TINYGLTF_TYPE_VEC4, 4, TINYGLTF_TARGET_ARRAY_BUFFER, false,
+                                           name + " tube weights");
+    if (!triangles.empty()) p.indices = b.indices(triangles);
+    p.mode = triangles.empty() ? TINYGLTF_MODE_POINTS : TINYGLTF_MODE_TRIANGLES;
+    p.material = b.material(Vec3(0.85, 0.55, 0.2), 0.1, 0.6);  // the page's tube colour
+    tinygltf::Mesh mesh;
+    mesh.name = name;
+    mesh.primitives.push_back(p);
+    b.model().meshes.push_back(mesh);
+    inverse_bind = b.accessor(ibm, TINYGLTF_TYPE_MAT4, 16, 0, false, name + " bind");
+    return static_cast<int>(b.model().meshes.size() - 1);
+}
+
+// The joint's name: a node's ("NAME/node3") or a point between two nodes ("NAME/segment3.1").
+std::string tube_joint_name(const std::string& body, size_t point) {
+    const size_t segment = point / kTubePointsPerSegment, inner = point % kTubePointsPerSegment;
+    return body + (inner == 0 ? "/node" + std::to_string(segment)
+                              : "/segment" + std::to_string(segment) + "." + std::to_string(inner));
+}
+
+// Adds the body's joints under `root` and returns the tube's node (a scene root).
+int flexible_tube(GlbBuilder& b, const MotionTable& table, const FlexibleNodeColumns& f, double radius,
+                  MotionChannels* motion, tinygltf::Node& root) {
+    std::vector<std::vector<TubeFrame>> rows(table.rows());
+    std::vector<Vec3> nodes(f.nodes.size());
+    for (size_t r = 0; r < table.rows(); ++r) {
+        for (size_t k = 0; k < nodes.size(); ++k) nodes[k] = node_position(table, f.nodes[k], r);
+        rows[r] = tube_frames(tube_centreline(nodes), r > 0 ? rows[r - 1] : std::vector<TubeFrame>{});
+    }
+    const size_t points = rows[0].size();
+    if (points > 65535)
+        throw InputError(table.source, "flexible body '" + f.name + "' has too many nodes for a glTF skin");
+    tinygltf::Node group;
+    group.name = f.name;
+    tinygltf::Skin skin;
+    skin.name = f.name;
+    for (size_t i = 0; i < points; ++i) {
+        tinygltf::Node joint;
+        joint.name = tube_joint_name(f.name, i);
+        joint.translation = to_vector(rows[0][i].position);
+        joint.rotation = to_vector(rows[0][i].rotation);
+        const int index = b.node(joint);
+        skin.joints.push_back(index);
+        group.children.push_back(index);
+        if (!motion) continue;
+        std::vector<float> translation, rotation;
+        for (size_t r = 0; r < rows.size(); ++r) {
+            push(translation, rows[r][i].position);
+            push(rotation, rows[r][i].rotation, r);
+        }
+        motion->add(index, "translation", translation, TINYGLTF_TYPE_VEC3, 3);
+        motion->add(index, "rotation", rotation, TINYGLTF_TYPE_VEC4, 4);
+    }
+    skin.skeleton = b.node(group);
+    root.children.push_back(skin.skeleton);
+    tinygltf::Node tube;
+    tube.name = f.name + "/tube";
+    tube.mesh = tube_mesh(b, rows[0], radius, f.name, skin.inverseBindMatrices);
+    b.model().skins.push_back(skin);
+    tube.skin = static_cast<int>(b.model().skins.size() - 1);
+    return b.node(tube);
+}
+
 }  // namespace
 
 void write_glb(const Model& model, const MotionTable& table, std::ostream& out) {
     const std::vector<PoseColumns> columns = match_pose_columns(model, table);
+    const std::vector<FlexibleNodeColumns> flexible = match_flexible_columns(model, table);
     VisualScene scene = build_visual_scene(model);
-    fit_ground_grid(model, scene, motion_extent(model, table, columns));
+    fit_ground_grid(model, scene, motion_extent(model, table, columns, flexible));
     const SceneMeshes meshes = scene_meshes(scene);
     const size_t rows = table.rows();
     const bool animated = rows > 1;
@@ -309,18 +434,24 @@ void write_glb(const Model& model, const MotionTable& table, std::ostream& out) 
     }
     MotionChannels* channels = animated ? &motion : nullptr;
 
-    // the binary chunk: about 7 floats per body and row
-    b.model().buffers[0].data.reserve(rows * (model.body_count() * 7 + scene.connectors.size() * 10 + 1) * 4 +
-                                      (1 << 20));
+    // the binary chunk: about 7 floats per body (and tube joint) and row
+    size_t tube_joints = 0;
+    for (const FlexibleNodeColumns& f : flexible) tube_joints += f.nodes.size() * kTubePointsPerSegment;
+    b.model().buffers[0].data.reserve(
+        rows * ((model.body_count() + tube_joints) * 7 + scene.connectors.size() * 10 + 1) * 4 + (1 << 20));
     for (int body = 0; body < model.body_count(); ++body)
         root.children.push_back(body_node(b, model, table, columns[body], meshes, body, channels));
     for (const VisualConnector& c : scene.connectors)
         root.children.push_back(connector_node(b, table, columns, meshes, c, channels));
+    std::vector<int> tubes;  // roots of the scene beside `root` (skinned meshes)
+    for (const FlexibleNodeColumns& f : flexible)  // the page's radius: as thick as the rigid links
+        tubes.push_back(flexible_tube(b, table, f, 0.04 * scene.length_scale, channels, root));
 
     const int root_index = b.node(root);
     tinygltf::Scene gltf_scene;
     gltf_scene.name = root.name;
     gltf_scene.nodes.push_back(root_index);
+    gltf_scene.nodes.insert(gltf_scene.nodes.end(), tubes.begin(), tubes.end());
     b.model().scenes.push_back(gltf_scene);
     b.model().defaultScene = 0;
     if (animated) b.model().animations.push_back(motion.animation);

@@ -253,6 +253,7 @@ std::vector<PoseColumns> match_pose_columns(const Model& model, const MotionTabl
         const std::string owner = c.substr(0, dot);
         const size_t node = owner.rfind(".node");  // a flexible body's node: match_flexible_columns
         if (node != std::string::npos && model.flexible_body_index(owner.substr(0, node)) >= 0) continue;
+        if (model.flexible_body_index(owner) >= 0) continue;  // an ffrf_body's frame (NAME.x NAME.y NAME.angle)
         if (model.body_index(owner) < 0 && owner != "ground")
             throw InputError(where, "column " + std::to_string(k + 1) + " " + quote(c) + " names no body of the scene " +
                                         scene + "; was the result made from another scene?");

@@ -33,4 +33,19 @@ joints:
 SCENE
 "$mbd" simulate "$out/cable-pendulum.yaml" --t-end 1 --output-step 0.01 --tol 1e-8 -q \
   --output "$out/cable-pendulum.csv" --animation "$out/cable-pendulum.html"
+"$mbd" animate "$out/cable-pendulum.yaml" "$out/cable-pendulum.csv" -o "$out/cable-pendulum.glb" > /dev/null
+# a spatial cable carrying a spinning rigid ball: a skinned tube beside a rigid body (validate_gltf.mjs)
+cat > "$out/cable-ball.yaml" <<'SCENE'
+dimension: spatial
+gravity: [0, 0, -9.81]
+flexible_bodies:
+  - {name: rope, type: ancf_cable, from: [0, 0, 0], to: [0.8, 0.6, 0], elements: 3, modulus: 1.0e4, area: 1.0, second_moment: 1.0e-3, density: 1.0}
+bodies:
+  - {name: ball, mass: 0.5, inertia: [1.0e-3, 1.0e-3, 1.0e-3], position: [0.8, 0.6, 0], angular_velocity: [0, 0, 3]}
+joints:
+  - {name: pin, type: spherical, bodies: [ground, {body: rope, node: 0}], point: [0, 0, 0]}
+  - {name: tip, type: spherical, bodies: [{body: rope, node: 3}, ball], point: [0.8, 0.6, 0]}
+SCENE
+"$mbd" simulate "$out/cable-ball.yaml" --t-end 0.4 --output-step 0.01 --tol 1e-8 -q \
+  --output "$out/cable-ball.csv" --animation "$out/cable-ball.glb"
 ls "$out"

@@ -55,12 +55,25 @@ public:
     // pose and the joint's Jacobian over its velocities at `state`; false for a rigid slot.
     bool material_frame(size_t j, int slot, const State& state, Data& data, Mat3& A, Vec3& R,
                         Eigen::MatrixXd& J_frame) const;
+    // The same for driver d's row (System::driver_material_frame; J_frame 1 x velocities_per_body).
+    bool driver_material_frame(size_t d, int slot, const State& state, Data& data, Mat3& A, Vec3& R,
+                               Eigen::MatrixXd& J_frame) const;
 
 private:
     // joint j evaluated at the posed state into data.joint_rows[j]
     const ConstraintEval& evaluate_joint(size_t j, const State& state, Data& data) const;
     // the named error of joint j's non-finite output, unless the state itself is not finite
     void throw_if_state_finite(size_t j, const ConstraintEval& e, const State& state) const;
+    // a material frame's pose as a body's (planar: embedded in 3D)
+    void frame_pose(const MaterialFrame& frame, Mat3& A, Vec3& R) const;
+    // data.view for an element of the joint's bodies; its flexible slots' material frames (if any)
+    // computed into `slots` and put in place of the ground the slots hold
+    static void fill_joint_view(BodyList bodies, const std::vector<FlexibleAttachment>& flexible,
+                                std::vector<Data::FlexibleSlot>& slots, double t, Data& data);
+    // the chain rule onto each flexible slot of rows J over the joint's bodies (the joint's or its
+    // driver's rows): slots[a].J = J_f G and gamma -= J_f a (sdk body.hpp)
+    void map_flexible_slots(const std::vector<FlexibleAttachment>& flexible, std::vector<Data::FlexibleSlot>& slots,
+                            const Eigen::Ref<const Eigen::MatrixXd>& J, Eigen::Ref<Eigen::VectorXd> gamma) const;
     // driver d's coordinate into data.driver_rows[d], and its motion f(t) (finite, or a named error)
     const CoordinateEval& evaluate_driver(size_t d, const State& state, Data& data, TimeValue& f) const;
     // evaluate()'s writer of the Jacobian's values, one slot_ entry after another

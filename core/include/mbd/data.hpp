@@ -44,6 +44,7 @@ struct Data {
     };
     std::vector<Eigen::VectorXd> flexible_q, flexible_v;
     std::vector<std::vector<FlexibleSlot>> joint_flexible;
+    std::vector<std::vector<FlexibleSlot>> driver_flexible;  // per driver, its joint's slots (J: 1 x n)
     std::vector<std::vector<FlexibleSlot>> force_flexible;  // per force element (J unused)
     // Fill `view` for an element's bodies, its flexible slots' material frames at the posed
     // state computed into `slots` and put in place of the ground the slots hold.

@@ -34,6 +34,10 @@ public:
                               Eigen::MatrixXd& J_frame) override {
         return joints_only_.material_frame(static_cast<size_t>(joint), slot, state, data_, A, R, J_frame);
     }
+    bool driver_material_frame(const State& state, int driver, int slot, Mat3& A, Vec3& R,
+                               Eigen::MatrixXd& J_frame) override {
+        return with_drivers_.driver_material_frame(static_cast<size_t>(driver), slot, state, data_, A, R, J_frame);
+    }
     int joint_count() const override { return static_cast<int>(joints_.size()); }
     const JointInfo& joint(int index) const override { return joints_.at(index); }
     int driver_count() const override { return static_cast<int>(drivers_.size()); }

@@ -96,22 +96,25 @@ struct RowRange {
 // The reaction on a flexible body's material frame at joint `joint`'s slot k from the joint's
 // rows [first, first + rows) of lambda (Eq. 6.146 on the frame's velocities); false for a
 // rigid slot (or the ground).
-inline bool material_frame_reaction(System& system, const State& state, int joint, int k, int first,
+inline bool material_frame_reaction(System& system, const State& state, int joint, int driver, int k, int first,
                                     const Eigen::VectorXd& lambda, Mat3& A, Vec3& R,
                                     Eigen::Matrix<double, 6, 1>& g) {
     Eigen::MatrixXd J_frame;
-    if (joint < 0 || !system.joint_material_frame(state, joint, k, A, R, J_frame)) return false;
+    const bool flexible = driver >= 0 ? system.driver_material_frame(state, driver, k, A, R, J_frame)
+                                      : joint >= 0 && system.joint_material_frame(state, joint, k, A, R, J_frame);
+    if (!flexible) return false;
     g.setZero();
     g.head(J_frame.cols()) = -J_frame.transpose() * lambda.segment(first, J_frame.rows());
     return true;
 }
 
-// joint_index: the joint whose rows the first range holds, for its slots on flexible bodies
-// (-1: a driver's row, which does not reach them).
+// joint_index: the joint whose rows the first range holds, for its slots on flexible bodies;
+// driver_index: the driver whose row it is instead (-1: none).
 inline JointReaction element_reaction(System& system, const State& state,
                                       const Eigen::SparseMatrix<double, Eigen::RowMajor>& J,
                                       const Eigen::VectorXd& lambda, const JointInfo& joint,
-                                      std::initializer_list<RowRange> ranges, int joint_index = -1) {
+                                      std::initializer_list<RowRange> ranges, int joint_index = -1,
+                                      int driver_index = -1) {
     const bool planar = system.dimension() == Dimension::Planar;
     const int nvb = velocities_per_body(system.dimension());
     JointReaction out;
@@ -126,7 +129,7 @@ inline JointReaction element_reaction(System& system, const State& state,
         Mat3 A;
         Vec3 R;
         if (body < 0) {
-            r.material_frame = material_frame_reaction(system, state, joint_index, static_cast<int>(k),
+            r.material_frame = material_frame_reaction(system, state, joint_index, driver_index, static_cast<int>(k),
                                                        ranges.begin()->first, lambda, A, R, g);
             if (!r.material_frame) {
                 r.point = marker.u_bar;  // the ground frame is the world
@@ -254,7 +257,8 @@ inline std::vector<JointReaction> driver_reactions(System& system, const State& 
     const Eigen::SparseMatrix<double, Eigen::RowMajor> J = cv.J;
     for (int d = 0; d < system.driver_count(); ++d) {
         const DriverInfo& info = system.driver(d);
-        JointReaction r = reactions_detail::element_reaction(system, state, J, lambda, system.joint(info.joint), {{info.row, 1}});
+        JointReaction r = reactions_detail::element_reaction(system, state, J, lambda, system.joint(info.joint),
+                                                             {{info.row, 1}}, -1, d);
         r.name = info.name;
         r.element = d;
         r.driver = true;

@@ -96,8 +96,8 @@ ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers, boo
     }
     const int nvb = velocities_per_body(model.dimension);
     // the element rows in evaluation order, each with the bodies its Jacobian row spans and the
-    // joint's slots on flexible bodies (the drivers' and velocity-level rows have none: the
-    // scene refuses them on a joint at a flexible body)
+    // joint's slots on flexible bodies (a driver's row spans its joint's; velocity-level rows have
+    // none: the scene refuses them on a joint at a flexible body)
     struct ElementRow {
         int row;
         const std::vector<int>* bodies;
@@ -120,7 +120,7 @@ ConstraintSystem::ConstraintSystem(const Model& model, bool include_drivers, boo
         for (size_t d = 0; d < model.drivers.size(); ++d) {
             const Driver& dr = model.drivers[d];
             owners_.push_back({RowOwner::Kind::Driver, static_cast<int>(d), 0, dr.name, "coordinate"});
-            element_rows.push_back({rows_, &model.joints[dr.joint].bodies, &none});
+            element_rows.push_back({rows_, &model.joints[dr.joint].bodies, &model.joints[dr.joint].flexible});
             ++rows_;
         }
     }
@@ -253,6 +253,7 @@ void ConstraintSystem::evaluate_drivers(const State& state, Data& data, Constrai
         out.C_t[row] = -f.df;
         out.gamma[row] = e.gamma + f.ddf;
         J.add(joint_bodies_[m.drivers[d].joint], e.J);
+        for (const Data::FlexibleSlot& slot : data.driver_flexible[d]) J.add_flexible(slot, 0);  // J_f G
     }
 }
 
@@ -329,10 +330,10 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
     const std::vector<FlexibleAttachment>& flexible = *flexible_[j];
     // a joint along a flexible body's curve writes its block over the body itself (curve_joint.hpp)
     const auto* along_curve = flexible.empty() ? nullptr : dynamic_cast<const CurveJoint*>(joint_[j]);
-    if (flexible.empty() || along_curve)
+    if (along_curve)
         data.poses.fill(joint_bodies_[j], state.t, data.view);
     else
-        data.fill_view(joint_bodies_[j], flexible, data.joint_flexible[j], state.t);
+        fill_joint_view(joint_bodies_[j], flexible, data.joint_flexible[j], state.t, data);
     try {
         if (along_curve)
             return evaluate_along_curve(*model_, *along_curve, flexible.front(), data, data.joint_flexible[j].front(), e);
@@ -344,14 +345,27 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
                                          (ji.where.empty() ? "" : ", " + ji.where) + ") left its domain at t = " +
                                          format_time(state.t) + ": " + outside.what());
     }
+    map_flexible_slots(flexible, data.joint_flexible[j], e.J, e.gamma);
+    return e;
+}
+
+void ConstraintSystem::fill_joint_view(BodyList bodies, const std::vector<FlexibleAttachment>& flexible,
+                                       std::vector<Data::FlexibleSlot>& slots, double t, Data& data) {
+    if (flexible.empty())
+        data.poses.fill(bodies, t, data.view);
+    else
+        data.fill_view(bodies, flexible, slots, t);
+}
+
+void ConstraintSystem::map_flexible_slots(const std::vector<FlexibleAttachment>& flexible,
+                                          std::vector<Data::FlexibleSlot>& slots,
+                                          const Eigen::Ref<const Eigen::MatrixXd>& J,
+                                          Eigen::Ref<Eigen::VectorXd> gamma) const {
     // the chain rule onto each flexible slot: J = J_f G, gamma -= J_f a (sdk body.hpp); the slot
     // holds the ground, so the rigid scatter skips its block J_f
     const int nvb = velocities_per_body(model_->dimension);
-    for (size_t a = 0; a < flexible.size(); ++a) {
-        Data::FlexibleSlot& slot = data.joint_flexible[j][a];
-        map_frame_rows(e.J.middleCols(nvb * flexible[a].slot, nvb), slot.frame, slot.J, e.gamma);
-    }
-    return e;
+    for (size_t a = 0; a < flexible.size(); ++a)
+        map_frame_rows(J.middleCols(nvb * flexible[a].slot, nvb), slots[a].frame, slots[a].J, gamma);
 }
 
 bool ConstraintSystem::material_frame(size_t j, int slot, const State& state, Data& data, Mat3& A, Vec3& R,
@@ -376,19 +390,39 @@ bool ConstraintSystem::material_frame(size_t j, int slot, const State& state, Da
         const ConstraintEval& e = evaluate_joint(j, state, data);
         const int nvb = velocities_per_body(model_->dimension);
         J_frame = e.J.middleCols(nvb * slot, nvb);  // evaluate_joint leaves the frame's block in place
-        const MaterialFrame& frame = data.joint_flexible[j][a].frame;
-        A.setIdentity();
-        R.setZero();
-        if (model_->dimension == Dimension::Planar) {
-            A.topLeftCorner<2, 2>() = frame.planar.A;
-            R.head<2>() = frame.planar.R;
-        } else {
-            A = frame.spatial.A;
-            R = frame.spatial.R;
-        }
+        frame_pose(data.joint_flexible[j][a].frame, A, R);
         return true;
     }
     return false;
+}
+
+bool ConstraintSystem::driver_material_frame(size_t d, int slot, const State& state, Data& data, Mat3& A, Vec3& R,
+                                             Eigen::MatrixXd& J_frame) const {
+    const std::vector<FlexibleAttachment>& flexible = *flexible_[model_->drivers[d].joint];
+    for (size_t a = 0; a < flexible.size(); ++a) {
+        if (flexible[a].slot != slot) continue;
+        data.pose(state);
+        TimeValue f;
+        const CoordinateEval& e = evaluate_driver(d, state, data, f);
+        const int nvb = velocities_per_body(model_->dimension);
+        // one row (evaluate_driver leaves the frame's block in place)
+        J_frame = Eigen::Map<const Eigen::MatrixXd>(e.J.data(), 1, e.J.size()).middleCols(nvb * slot, nvb);
+        frame_pose(data.driver_flexible[d][a].frame, A, R);
+        return true;
+    }
+    return false;
+}
+
+void ConstraintSystem::frame_pose(const MaterialFrame& frame, Mat3& A, Vec3& R) const {
+    A.setIdentity();
+    R.setZero();
+    if (model_->dimension == Dimension::Planar) {
+        A.topLeftCorner<2, 2>() = frame.planar.A;
+        R.head<2>() = frame.planar.R;
+    } else {
+        A = frame.spatial.A;
+        R = frame.spatial.R;
+    }
 }
 
 void ConstraintSystem::throw_if_state_finite(size_t j, const ConstraintEval& e, const State& state) const {
@@ -410,8 +444,12 @@ const CoordinateEval& ConstraintSystem::evaluate_driver(size_t d, const State& s
     CoordinateEval& e = data.driver_rows[d];
     e.J.setZero();
     e.gamma = 0.0;
-    data.poses.fill(joint_bodies_[dr.joint], state.t, data.view);
+    const std::vector<FlexibleAttachment>& flexible = *flexible_[dr.joint];
+    fill_joint_view(joint_bodies_[dr.joint], flexible, data.driver_flexible[d], state.t, data);
     joint_[dr.joint]->coordinate(data.view, e);
+    if (!flexible.empty())  // the coordinate's row by the same chain rule as the joint's rows (one row)
+        map_flexible_slots(flexible, data.driver_flexible[d], Eigen::Map<const Eigen::MatrixXd>(e.J.data(), 1, e.J.size()),
+                           Eigen::Map<Eigen::VectorXd>(&e.gamma, 1));
     f = dr.motion->evaluate(state.t);
     require_usable_motion(dr, f, state.t);
     return e;

@@ -51,6 +51,7 @@ Data::Data(const Model& model) : poses(model), model_(&model) {
         return slots;
     };
     for (const JointInstance& j : model.joints) joint_flexible.push_back(slots_of(j.flexible, j.joint->rows()));
+    for (const Driver& d : model.drivers) driver_flexible.push_back(slots_of(model.joints[d.joint].flexible, 1));
     for (const ForceInstance& f : model.forces) force_flexible.push_back(slots_of(f.flexible, 0));
     posed_q_.setZero(model.nq());
     posed_v_.setZero(model.nv());

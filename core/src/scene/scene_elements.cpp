@@ -251,10 +251,6 @@ void Loader::load_driver(const Param& node, int index) {
     const Param& joint = require(node, "joint", what, "the name of the joint whose coordinate it prescribes");
     driver.joint = coordinate_joint(joint, what, "to drive; drive a revolute, prismatic or other 1-DOF joint");
     const JointInstance& target = model_.joints[driver.joint];
-    if (!target.flexible.empty())
-        joint.fail(what + ": joint " + quote(target.name) + " is attached to flexible body " +
-                   quote(model_.flexible_bodies[target.flexible.front().body].name) +
-                   ", and drivers of such joints are not mapped yet; drive a joint between rigid bodies");
     for (const auto& other : model_.drivers)
         if (other.joint == driver.joint)
             joint.fail(what + ": joint " + quote(target.name) + " is already driven by driver " + quote(other.name) +

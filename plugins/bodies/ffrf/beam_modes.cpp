@@ -66,8 +66,11 @@ ModalModel cantilever_modes(double length, int elements, int modes, const BeamSe
         point.rotation = f.ds.transpose() * nodal;  // the slope w' turns the material frame
         return point;
     };
-    model.Kff = Phi->transpose() * K * *Phi;
-    // the inertia integrals and Kg by the same 5-point rule, element by element
+    // Kff, the inertia integrals and Kg by the same 5-point rule, element by element. Kff as the
+    // integral of EI (w'')^2 over the modes' curvatures, not as Phi^T K Phi: K's entries grow as
+    // elements^3 and K Phi cancels them to the modes' small curvatures, which cost Kff about
+    // eps elements^4 of relative accuracy (3e-8 for mode 1 at 100 elements; 8e-6 at 400).
+    model.Kff = Eigen::MatrixXd::Zero(modes, modes);
     model.Kg = Eigen::MatrixXd::Zero(modes, modes);
     const beam::GaussRule rule = beam::gauss_rule(5);
     for (int j = 0; j < elements; ++j)
@@ -75,6 +78,8 @@ ModalModel cantilever_modes(double length, int elements, int modes, const BeamSe
             const double x = (j + rule.xi[g]) * l, dm = rule.w[g] * l * section.rhoA;
             const ModalPoint point = model.at(x);
             model.add_mass(dm, point);
+            const Eigen::RowVectorXd curvature = beam::shape(rule.xi[g], l).dds.transpose() * element_modes(*Phi, j);
+            model.Kff += (rule.w[g] * l * section.EI) * curvature.transpose() * curvature;
             // the centrifugal axial force at x of a beam spinning about its root: rho A (L^2 - x^2) / 2 Omega^2
             model.Kg += (dm * 0.5 * (length * length - x * x)) * point.rotation.transpose() * point.rotation;
         }

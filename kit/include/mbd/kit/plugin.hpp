@@ -10,7 +10,7 @@
 #include <string>
 
 // Bumped whenever a type in the kit headers (kit/include/mbd/kit) changes layout or meaning.
-#define MBD_KIT_ABI_VERSION 2  // 2: Formulation::index3_problem() for supports_index3(); System::joint_material_frame()
+#define MBD_KIT_ABI_VERSION 3  // 2: Formulation::index3_problem() for supports_index3(); System::joint_material_frame(); 3: System::driver_material_frame()
 
 #define MBD_KIT_PLUGIN_SYMBOL(kind, type) \
     MBD_PLUGIN_CAT5(mbd_abi, MBD_KIT_ABI_VERSION, __, kind, MBD_PLUGIN_CAT5(__, type, , , ))

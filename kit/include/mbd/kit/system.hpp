@@ -83,6 +83,11 @@ public:
                                       Vec3& /*R*/, Eigen::MatrixXd& /*J_frame*/) {
         return false;
     }
+    // The same for a driver's row (its joint's coordinate; J_frame: 1 x velocities_per_body).
+    virtual bool driver_material_frame(const State& /*state*/, int /*driver*/, int /*slot*/, Mat3& /*A*/,
+                                       Vec3& /*R*/, Eigen::MatrixXd& /*J_frame*/) {
+        return false;
+    }
     int nq() const { return body_count() * coordinates_per_body(dimension()) + flexible_coordinates(); }
     int nv() const { return body_count() * velocities_per_body(dimension()) + flexible_coordinates(); }
     virtual Vec3 gravity() const = 0;
