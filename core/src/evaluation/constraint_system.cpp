@@ -222,6 +222,10 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         }
         const double* J = e.J.data();
         for (Eigen::Index k = 0; k < e.J.size(); ++k) sum += J[k];
+        if (flexible.empty()) {  // rigid bodies only: the common case, kept free of the slots' loop
+            for (int r = 0; r < rows; ++r) scatter.add(bodies, e.J.row(r));
+            return sum;
+        }
         for (int r = 0; r < rows; ++r) {
             scatter.add(bodies, e.J.row(r));
             for (const Data::FlexibleSlot& f : flexible) scatter.add_flexible(f, r);  // J_f G
@@ -236,8 +240,9 @@ void ConstraintSystem::evaluate(const State& state, Data& data, ConstraintValues
         if (!rows_finite(e, place(e, joint_offset_[j], joint_bodies_[j], data.joint_flexible[j])))
             throw_if_state_finite(j, e, state);
     }
-    if (include_drivers_) evaluate_drivers(state, data, out, scatter);
-    if (include_velocity_rows_) evaluate_velocity_rows(state, data, out, scatter);
+    const int driver_rows = include_drivers_ ? static_cast<int>(m.drivers.size()) : 0;
+    if (driver_rows > 0) evaluate_drivers(state, data, out, scatter);
+    if (include_velocity_rows_ && rows_ > joint_rows_ + driver_rows) evaluate_velocity_rows(state, data, out, scatter);
 }
 
 void ConstraintSystem::evaluate_drivers(const State& state, Data& data, ConstraintValues& out,
@@ -330,7 +335,7 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
     const std::vector<FlexibleAttachment>& flexible = *flexible_[j];
     // a joint along a flexible body's curve writes its block over the body itself (curve_joint.hpp)
     const auto* along_curve = flexible.empty() ? nullptr : dynamic_cast<const CurveJoint*>(joint_[j]);
-    if (along_curve)
+    if (flexible.empty() || along_curve)
         data.poses.fill(joint_bodies_[j], state.t, data.view);
     else
         fill_joint_view(joint_bodies_[j], flexible, data.joint_flexible[j], state.t, data);
@@ -345,7 +350,7 @@ const ConstraintEval& ConstraintSystem::evaluate_joint(size_t j, const State& st
                                          (ji.where.empty() ? "" : ", " + ji.where) + ") left its domain at t = " +
                                          format_time(state.t) + ": " + outside.what());
     }
-    map_flexible_slots(flexible, data.joint_flexible[j], e.J, e.gamma);
+    if (!flexible.empty()) map_flexible_slots(flexible, data.joint_flexible[j], e.J, e.gamma);
     return e;
 }
 
@@ -445,7 +450,10 @@ const CoordinateEval& ConstraintSystem::evaluate_driver(size_t d, const State& s
     e.J.setZero();
     e.gamma = 0.0;
     const std::vector<FlexibleAttachment>& flexible = *flexible_[dr.joint];
-    fill_joint_view(joint_bodies_[dr.joint], flexible, data.driver_flexible[d], state.t, data);
+    if (flexible.empty())
+        data.poses.fill(joint_bodies_[dr.joint], state.t, data.view);
+    else
+        fill_joint_view(joint_bodies_[dr.joint], flexible, data.driver_flexible[d], state.t, data);
     joint_[dr.joint]->coordinate(data.view, e);
     if (!flexible.empty())  // the coordinate's row by the same chain rule as the joint's rows (one row)
         map_flexible_slots(flexible, data.driver_flexible[d], Eigen::Map<const Eigen::MatrixXd>(e.J.data(), 1, e.J.size()),
