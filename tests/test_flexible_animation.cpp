@@ -58,6 +58,13 @@ std::vector<unsigned char> decode_base64(const std::string& text) {
     return out;
 }
 
+// A four-element cable pinned at one end, released horizontal (both the page's and the .glb's tests)
+const char* const kCablePendulum =
+    "dimension: planar\ngravity: [0, -9.81]\nflexible_bodies:\n"
+    "  - {name: rope, type: ancf_cable, from: [0, 0], to: [1, 0], elements: 4, modulus: 1.0e4, area: 1.0, "
+    "second_moment: 1.0e-3, density: 1.0}\n"
+    "joints:\n  - {name: pin, type: revolute, bodies: [ground, {body: rope, node: 0}]}\n";
+
 template <class T>
 T read_at(const std::vector<unsigned char>& bytes, size_t offset) {
     T x;
@@ -69,10 +76,7 @@ TEST(FlexibleAnimation, ThePageDrawsTheCableThroughTheNodesOfTheResultAtEveryKey
     const fs::path dir = test::scratch("flexible_animation");
     const fs::path scene = test::write_text(
         dir / "cable-pendulum.yaml",
-        "dimension: planar\ngravity: [0, -9.81]\nflexible_bodies:\n"
-        "  - {name: rope, type: ancf_cable, from: [0, 0], to: [1, 0], elements: 4, modulus: 1.0e4, area: 1.0, "
-        "second_moment: 1.0e-3, density: 1.0}\n"
-        "joints:\n  - {name: pin, type: revolute, bodies: [ground, {body: rope, node: 0}]}\n");
+        kCablePendulum);
     const fs::path csv = dir / "motion.csv", page = dir / "motion.html";
     const test::CommandResult run =
         test::run_mbd("simulate '" + scene.string() + "' --t-end 0.5 --output-step 0.01 -q -o '" + csv.string() + "'");
@@ -239,10 +243,7 @@ TEST(FlexibleGlb, ThePlanarCablesTubeIsAtTheCsvsNodesAtEveryFrameAndInItsPlane) 
     const fs::path dir = test::scratch("flexible_glb_planar");
     const fs::path scene = test::write_text(
         dir / "cable-pendulum.yaml",
-        "dimension: planar\ngravity: [0, -9.81]\nflexible_bodies:\n"
-        "  - {name: rope, type: ancf_cable, from: [0, 0], to: [1, 0], elements: 4, modulus: 1.0e4, area: 1.0, "
-        "second_moment: 1.0e-3, density: 1.0}\n"
-        "joints:\n  - {name: pin, type: revolute, bodies: [ground, {body: rope, node: 0}]}\n");
+        kCablePendulum);
     const test::CommandResult run = test::run_mbd("simulate " + quoted(scene) + " --t-end 0.5 --output-step 0.02 -q -o " +
                                                   quoted(dir / "r.csv") + " --animation " + quoted(dir / "r.glb"));
     ASSERT_EQ(run.exit_code, 0) << run.err;

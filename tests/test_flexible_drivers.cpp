@@ -15,6 +15,7 @@
 //   shortening).
 // Only the augmented formulation takes flexible bodies (docs/formulations.md), with explicit
 // integrators: dopri5 here.
+#include "support/mass_points.hpp"
 #include "support/sampled_run.hpp"
 #include "support/test_support.hpp"
 
@@ -84,19 +85,11 @@ struct Moments {
 };
 
 Moments moments(const FlexibleBodyInstance& f, const State& s) {
-    static const double xi[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
-    static const double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
-    const Eigen::VectorXd q = s.q.segment(f.offset, f.size), v = s.v.segment(f.v_offset, f.size);
-    const double l = kL / kElements;
     Moments out;
-    MaterialPoint p;
-    for (int j = 0; j < kElements; ++j)
-        for (int g = 0; g < 4; ++g) {
-            const double x = (j + 0.5 + 0.5 * xi[g]) * l, dm = kRhoA * 0.5 * w[g] * l;
-            f.body->point(q, v, &x, p);
-            out.H += dm * (p.r.x() * p.rdot.y() - p.r.y() * p.rdot.x());
-            out.gravity += -kG * dm * p.r.x();  // r x (0, -g dm)
-        }
+    test::for_each_mass_point(f, s, kElements, kL, kRhoA, [&](double dm, const MaterialPoint& p) {
+        out.H += dm * (p.r.x() * p.rdot.y() - p.r.y() * p.rdot.x());
+        out.gravity += -kG * dm * p.r.x();  // r x (0, -g dm)
+    });
     return out;
 }
 

@@ -15,6 +15,7 @@
 //    of cos x cosh x = -1) to 1e-6;
 //  - a mode file with a non-positive modal mass, or none at the path given, is refused naming the
 //    body and the file:line, exit 2.
+#include "support/mass_points.hpp"
 #include "support/sampled_run.hpp"
 #include "support/test_support.hpp"
 
@@ -73,20 +74,12 @@ struct Momenta {
 };
 
 Momenta momenta(const FlexibleBodyInstance& f, const State& s, int elements) {
-    static const double xi[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
-    static const double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
-    const Eigen::VectorXd q = s.q.segment(f.offset, f.size), v = s.v.segment(f.v_offset, f.size);
-    const double l = kLength / elements;
     Momenta out;
-    MaterialPoint p;
-    for (int j = 0; j < elements; ++j)
-        for (int g = 0; g < 4; ++g) {
-            const double x = (j + 0.5 + 0.5 * xi[g]) * l, dm = kRhoA * 0.5 * w[g] * l;
-            f.body->point(q, v, &x, p);
-            out.linear += dm * p.rdot.head<2>();
-            out.angular += dm * (p.r.x() * p.rdot.y() - p.r.y() * p.rdot.x());
-            out.kinetic += 0.5 * dm * p.rdot.head<2>().squaredNorm();
-        }
+    test::for_each_mass_point(f, s, elements, kLength, kRhoA, [&](double dm, const MaterialPoint& p) {
+        out.linear += dm * p.rdot.head<2>();
+        out.angular += dm * (p.r.x() * p.rdot.y() - p.r.y() * p.rdot.x());
+        out.kinetic += 0.5 * dm * p.rdot.head<2>().squaredNorm();
+    });
     return out;
 }
 
