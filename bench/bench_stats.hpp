@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <ctime>
 #include <vector>
@@ -44,6 +45,15 @@ struct thread_cpu_clock {
 // `clock` is thread_cpu_clock.
 template <class Call, class clock = std::chrono::steady_clock>
 double median_seconds_per_call(Call&& call, clock = {}) {
+    // MBD_BENCH_CALLS=N: exactly N calls after the warm-up, for instruction counts (callgrind) that
+    // do not depend on the machine's speed; two counts N1 < N2 give the cost of one call
+    if (const char* fixed = std::getenv("MBD_BENCH_CALLS")) {
+        const int n = std::atoi(fixed);
+        for (int k = 0; k < 5; ++k) call();
+        const auto t0 = clock::now();
+        for (int k = 0; k < n; ++k) call();
+        return std::chrono::duration<double>(clock::now() - t0).count() / std::max(n, 1);
+    }
     for (int k = 0; k < 5; ++k) call();
     int batch = 1;
     for (;;) {
